@@ -1,0 +1,37 @@
+# gfrf: `make demo` and `make test` work on a fresh machine with Python 3.11 and pip.
+PYTHON ?= python3.11
+VENV := .venv
+BIN := $(VENV)/bin
+STAMP := $(VENV)/.installed
+
+.PHONY: demo test test-slow bench report lint clean
+
+$(BIN)/python:
+	@command -v $(PYTHON) >/dev/null 2>&1 || { echo "need $(PYTHON) on PATH (or: make PYTHON=python3 ...)"; exit 2; }
+	$(PYTHON) -m venv $(VENV)
+
+$(STAMP): $(BIN)/python pyproject.toml
+	$(BIN)/python -m pip install --quiet --upgrade pip
+	$(BIN)/python -m pip install --quiet -e ".[test,fast]"
+	@touch $(STAMP)
+
+demo: $(STAMP)
+	@for m in models/*.toml; do \
+	  echo "== $$m"; $(BIN)/gfrf verdict $$m || true; \
+	done
+	$(BIN)/gfrf report --out reports/
+
+test: $(STAMP)
+	$(BIN)/python -m pytest -q
+
+test-slow: $(STAMP)
+	$(BIN)/python -m pytest -q -m slow
+
+bench: $(STAMP)
+	$(BIN)/gfrf bench --out reports/
+
+lint: $(STAMP)
+	$(BIN)/ruff check gfrf tests
+
+clean:
+	rm -rf $(VENV) build *.egg-info .pytest_cache

@@ -1,0 +1,103 @@
+"""Speed-versus-error benchmarks: ``gfrf bench`` writes ``reports/speed-vs-error.md``.
+
+Each computational kernel has a module here with ``run(quick: bool) -> BenchSection``;
+:data:`SECTION_MODULES` lists them.  Every section times our method and the naive
+baseline a user would write *in the same run*, and reports errors beside the
+times, so ratios are measured, never asserted.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import importlib
+import os
+import platform
+from dataclasses import dataclass, field
+from pathlib import Path
+
+__all__ = ["BenchSection", "SECTION_MODULES", "machine_description", "run_all", "write_report"]
+
+#: Modules that each define ``run(quick: bool) -> BenchSection``.
+SECTION_MODULES: tuple[str, ...] = (
+    "gfrf.bench.kernels",
+)
+
+
+@dataclass
+class BenchSection:
+    """One table of the speed-vs-error report.
+
+    Parameters
+    ----------
+    title : str
+        Section heading.
+    intro : str
+        One paragraph: what is timed, what the error is measured against.
+    columns : list of str
+        Column headers.
+    rows : list of list
+        Table rows (already formatted strings or numbers).
+    notes : list of str
+        Bullet points under the table (targets, caveats).
+    figures : list of str
+        File names of figures written next to the report.
+    """
+
+    title: str
+    intro: str
+    columns: list[str]
+    rows: list[list[object]]
+    notes: list[str] = field(default_factory=list)
+    figures: list[str] = field(default_factory=list)
+
+    def to_markdown(self) -> str:
+        """Render the section as Markdown."""
+        lines = [f"## {self.title}", "", self.intro, ""]
+        lines.append("| " + " | ".join(self.columns) + " |")
+        lines.append("|" + "---|" * len(self.columns))
+        for row in self.rows:
+            lines.append("| " + " | ".join(str(c) for c in row) + " |")
+        lines.append("")
+        lines += [f"- {n}" for n in self.notes]
+        lines += [f"![{f}]({f})" for f in self.figures]
+        return "\n".join(lines).rstrip() + "\n"
+
+
+def machine_description() -> str:
+    """Cores, CPU model, Python and date, for the report header."""
+    cpu = platform.processor() or "unknown CPU"
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as fh:
+            for line in fh:
+                if line.startswith("model name"):
+                    cpu = line.split(":", 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    return (f"{os.cpu_count()} cores, {cpu}, Python {platform.python_version()}, "
+            f"{platform.system()} {platform.machine()}, run on {_dt.date.today().isoformat()}")
+
+
+def run_all(quick: bool = False, only: list[str] | None = None) -> list[BenchSection]:
+    """Run every benchmark section (or those whose module name contains an ``only`` entry)."""
+    sections = []
+    for name in SECTION_MODULES:
+        if only and not any(o in name for o in only):
+            continue
+        sections.append(importlib.import_module(name).run(quick))
+    return sections
+
+
+def write_report(sections: list[BenchSection], out_dir: str | Path) -> Path:
+    """Write ``speed-vs-error.md`` into ``out_dir`` and return its path."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    text = ["# Speed versus error", "",
+            "Every row times a gfrf kernel and the naive baseline in the same run; "
+            "errors are measured against an independent reference named in each section.",
+            "", f"Machine: {machine_description()}.", "",
+            "Regenerate with `make bench` (or `gfrf bench --out reports/`).", ""]
+    text += [s.to_markdown() for s in sections]
+    path = out / "speed-vs-error.md"
+    path.write_text("\n".join(text), encoding="utf-8")
+    return path

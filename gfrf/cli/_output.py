@@ -1,0 +1,52 @@
+"""Shared printing helpers for the CLI: JSON or short human text, nothing else."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from typing import Any
+
+__all__ = ["add_json_flag", "emit", "to_jsonable"]
+
+
+def add_json_flag(parser: argparse.ArgumentParser) -> None:
+    """Add the ``--json`` flag every printing command has."""
+    parser.add_argument("--json", action="store_true", help="print one JSON object instead of text")
+
+
+def to_jsonable(value: Any) -> Any:
+    """Convert numpy scalars/arrays, complex numbers and infinities to JSON-safe values.
+
+    Infinite floats become the strings ``"inf"``/``"-inf"`` (JSON has no infinity);
+    NaN is never emitted silently: it becomes ``None``.
+    """
+    try:
+        import numpy as np
+    except ImportError:  # pragma: no cover
+        np = None
+    if np is not None:
+        if isinstance(value, np.ndarray):
+            return [to_jsonable(v) for v in value.tolist()]
+        if isinstance(value, np.generic):
+            value = value.item()
+    if isinstance(value, dict):
+        return {str(k): to_jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [to_jsonable(v) for v in value]
+    if isinstance(value, complex):
+        return {"re": to_jsonable(value.real), "im": to_jsonable(value.imag)}
+    if isinstance(value, float):
+        if math.isnan(value):
+            return None
+        if math.isinf(value):
+            return "inf" if value > 0 else "-inf"
+    return value
+
+
+def emit(args: argparse.Namespace, payload: dict[str, Any], text: str) -> None:
+    """Print ``payload`` as JSON when ``--json`` was given, else ``text``."""
+    if getattr(args, "json", False):
+        print(json.dumps(to_jsonable(payload), indent=2))
+    else:
+        print(text)
