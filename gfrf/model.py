@@ -224,6 +224,7 @@ def _atom(signal: str, order: int) -> sp.Symbol:
 def _split_equation(text: str) -> tuple[str, str]:
     if not isinstance(text, str) or not text.strip():
         raise ModelError("empty equation: expected text such as 'D(y,2) + 2*D(y) + y = u'")
+    text = " ".join(text.split())
     if "==" in text:
         raise ModelError(f"use a single '=' in the equation, not '==': {text!r}")
     sides = text.split("=")
@@ -376,8 +377,9 @@ def parse_model(text: str, *, sample_time: float | None = None, truncation: int 
         local["D"] = _D
         body = text
     lhs_text, rhs_text = _split_equation(body)
-    lhs = _parse_side(lhs_text, local, text)
-    rhs = _parse_side(rhs_text, local, text)
+    whole = " ".join(text.split()) if isinstance(text, str) else text
+    lhs = _parse_side(lhs_text, local, whole)
+    rhs = _parse_side(rhs_text, local, whole)
     expr = _replace_operators(lhs - rhs, y, u, discrete)
     expr = expr.xreplace({y: _atom(output, 0), u: _atom(input, 0)})
 

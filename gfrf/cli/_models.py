@@ -1,0 +1,36 @@
+"""Resolve the MODEL argument of a command: a model file path or an equation text."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from gfrf.errors import ModelError
+from gfrf.modelfile import ModelFile, load_model, model_from_dict
+
+__all__ = ["add_model_argument", "resolve_model"]
+
+
+def add_model_argument(parser: argparse.ArgumentParser) -> None:
+    """Add the positional MODEL and the ``--sample-time`` option for inline NARX text."""
+    parser.add_argument("model", metavar="MODEL",
+                        help="a model file (models/*.toml) or an equation in quotes, "
+                             "e.g. 'D(y,2) + 0.05*D(y) + 2.45*y - 0.41*y**3 = u'")
+    parser.add_argument("--sample-time", type=float, default=None, metavar="T",
+                        help="sample time in s when MODEL is an inline discrete (NARX) equation")
+
+
+def resolve_model(args: argparse.Namespace) -> ModelFile:
+    """Load ``args.model`` as a file if it names one (or ends in .toml), else parse it."""
+    text = args.model
+    if text.endswith(".toml") or Path(text).is_file():
+        if args.sample_time is not None:
+            raise ModelError("--sample-time is for inline equations; a model file sets "
+                             "sample_time itself")
+        return load_model(text)
+    data: dict[str, object] = {"equation": text, "name": "inline model"}
+    if args.sample_time is not None:
+        data["sample_time"] = args.sample_time
+    elif "[k" in text:
+        raise ModelError("a discrete (NARX) equation needs --sample-time")
+    return model_from_dict(data)

@@ -1,0 +1,105 @@
+"""``gfrf show`` and ``gfrf kernel``: the model and its GFRFs (angular frequency in rad/s)."""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+import sympy as sp
+
+from gfrf.cli._models import add_model_argument, resolve_model
+from gfrf.cli._output import add_json_flag, emit
+from gfrf.errors import ArgumentError
+from gfrf.kernels import kernel
+
+__all__ = ["register"]
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Register ``show`` and ``kernel``."""
+    show = subparsers.add_parser(
+        "show", help="print a model, its coefficient table and its GFRFs H1..Hn",
+        description="Print the polynomial model, its coefficients and the symbolic GFRFs "
+                    "H1..Hn in s_i = j*omega_i (rad/s), or q_i = exp(-j*omega_i*T) for NARX.")
+    add_model_argument(show)
+    show.add_argument("--order", type=int, default=3, help="highest kernel order (default 3)")
+    show.add_argument("--latex", action="store_true", help="print the kernels as LaTeX")
+    show.add_argument("--asymmetric", action="store_true",
+                      help="the asymmetric kernels of the recursion instead of the symmetric")
+    add_json_flag(show)
+    show.set_defaults(func=_show)
+
+    value = subparsers.add_parser(
+        "kernel", help="value of the symmetric kernel Hn at given angular frequencies",
+        description="Evaluate H_n(j*w1, ..., j*wn) at angular frequencies in rad/s.")
+    add_model_argument(value)
+    value.add_argument("--order", type=int, required=True, help="kernel order n")
+    value.add_argument("--at", required=True, metavar="W1,...,WN",
+                       help="n comma-separated angular frequencies in rad/s")
+    value.add_argument("--asymmetric", action="store_true",
+                       help="evaluate the asymmetric kernel instead of the symmetric one")
+    add_json_flag(value)
+    value.set_defaults(func=_kernel)
+
+
+def _format(expr: sp.Expr, latex: bool) -> str:
+    """Exact rationals of the recursion shown as 10-digit decimals."""
+    shown = sp.N(expr, 10)
+    return sp.latex(shown) if latex else str(shown)
+
+
+def _show(args: argparse.Namespace) -> int:
+    mf = resolve_model(args)
+    model = mf.plant
+    symmetric = not args.asymmetric
+    if args.order < 1:
+        raise ArgumentError(f"--order must be >= 1, got {args.order}")
+    rows = []
+    for n in range(1, args.order + 1):
+        k = kernel(model, n, symmetric)
+        rows.append({"order": n, "zero": k.is_zero,
+                     "recursive": _format(k.recursive_expr, args.latex),
+                     "explicit": _format(k.expr, args.latex) if n <= 3 else None})
+    variable = ("q_i = exp(-j*omega_i*T)" if model.is_discrete else "s_i = j*omega_i")
+    lines = [f"{mf.name}", f"  {model.equation()}",
+             f"  {'discrete, T = %g s' % model.sample_time if model.is_discrete else 'continuous'}"
+             f", degree {model.degree}, max order {model.max_order}", "",
+             "  coefficient      monomial          kind"]
+    lines += [f"  {r['coefficient']:<+16.8g} {r['monomial']:<17} {r['kind']}"
+              for r in model.coefficient_table()]
+    lines += ["", f"{'Symmetric' if symmetric else 'Asymmetric'} GFRFs in {variable}:"]
+    for r in rows:
+        body = "0 (structurally zero)" if r["zero"] else r["recursive"]
+        lines.append(f"  H{r['order']} = {body}")
+    payload = {"model": mf.to_dict(), "symmetric": symmetric, "variable": variable,
+               "kernels": rows}
+    emit(args, payload, "\n".join(lines))
+    return 0
+
+
+def _parse_omegas(text: str, order: int) -> list[float]:
+    try:
+        values = [float(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise ArgumentError(f"--at must be comma-separated numbers in rad/s, got {text!r}") \
+            from None
+    if len(values) != order:
+        raise ArgumentError(f"--at needs {order} angular frequencies for H{order}, "
+                            f"got {len(values)}")
+    if not all(np.isfinite(values)):
+        raise ArgumentError(f"--at values must be finite, got {text!r}")
+    return values
+
+
+def _kernel(args: argparse.Namespace) -> int:
+    mf = resolve_model(args)
+    k = kernel(mf.plant, args.order, not args.asymmetric)
+    omega = _parse_omegas(args.at, args.order)
+    value = complex(k(*omega))
+    payload = {"order": args.order, "omega": omega, "re": value.real, "im": value.imag,
+               "abs": abs(value), "phase_deg": float(np.degrees(np.angle(value))),
+               "symmetric": not args.asymmetric, "model": mf.name}
+    text = (f"H{args.order}(j*{omega} rad/s) = {value.real:.12g} {value.imag:+.12g}j"
+            f"   |H| = {abs(value):.12g}, phase = {payload['phase_deg']:.6g} deg")
+    emit(args, payload, text)
+    return 0

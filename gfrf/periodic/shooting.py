@@ -1,0 +1,251 @@
+"""Nonlinear ground truth: periodic orbits of eq (4) (or (3)) by Newton shooting.
+
+Eq ``x'' + (delta + eps cos t) g(x) = 0`` with odd ``g`` is invariant under
+``t -> -t`` and under ``(t, x) -> (2*pi - t, -x)``.  An orbit starting at
+``x(0) = amplitude``, ``x'(0) = 0`` is therefore even in ``t``, and
+
+* it is 2*pi-periodic (branch ``"0"``) when ``x'(pi) = 0`` (then it is also even
+  about ``t = pi``);
+* it is 4*pi-periodic with ``x(t + 2*pi) = -x(t)`` (branch ``"1/4"``) when
+  ``x(pi) = 0``.
+
+Shooting therefore solves one scalar equation at ``t = pi`` (the symmetry-reduced
+monodromy map) by Newton's method, with the derivative from the variational
+equations.  The unknown is ``delta`` (transition value for a given amplitude) or
+the amplitude (orbit at a given ``delta``).  The returned orbit is then checked on
+the full period, and its Floquet multipliers are those of the full-period map.
+Time ``t`` is dimensionless (excitation angular frequency 1).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from gfrf.errors import ArgumentError, ConvergenceError
+from gfrf.periodic.equation import branch_period, nonlinearity, parse_branch
+from gfrf.periodic.floquet import mathieu_transition
+
+__all__ = [
+    "PeriodicOrbit",
+    "exact_transition_curve",
+    "orbit_at_delta",
+    "orbit_on_transition",
+    "transition_delta",
+]
+
+_RTOL = 1e-12
+
+
+@dataclass
+class PeriodicOrbit:
+    """A converged periodic orbit with ``x(0) = amplitude``, ``x'(0) = 0``.
+
+    Attributes
+    ----------
+    eps, delta, amplitude : float
+        Parameters and initial displacement of the orbit.
+    branch : str
+        ``"0"`` (period ``2*pi``) or ``"1/4"`` (period ``4*pi``).
+    truncation : int or None
+        Taylor degree of ``sin`` (3: eq (4); None: eq (3)).
+    shooting_residual : float
+        ``|x'(pi)|`` or ``|x(pi)|`` divided by the amplitude at convergence.
+    period_residual : float
+        ``|state(T) - state(0)|`` over the full period ``T`` (absolute).
+    multipliers : ndarray
+        Floquet multipliers of the linearisation about the orbit over one period ``T``.
+    iterations : int
+        Newton iterations used.
+    """
+
+    eps: float
+    delta: float
+    amplitude: float
+    branch: str
+    truncation: int | None
+    shooting_residual: float
+    period_residual: float
+    multipliers: np.ndarray
+    iterations: int
+
+    @property
+    def period(self) -> float:
+        """Period in ``t``."""
+        return branch_period(self.branch)
+
+    def evaluate(self, t: np.ndarray) -> np.ndarray:
+        """Return ``x(t)`` at the (sorted, non-negative) times ``t``."""
+        t = np.asarray(t, dtype=float)
+        g, _ = nonlinearity(self.truncation)
+        eps, delta = self.eps, self.delta
+
+        def rhs(s: float, y: np.ndarray) -> np.ndarray:
+            return np.array([y[1], -(delta + eps * math.cos(s)) * g(y[0])])
+
+        sol = solve_ivp(rhs, (0.0, float(t.max())), [self.amplitude, 0.0], method="DOP853",
+                        rtol=_RTOL, atol=_RTOL * 1e-2 * self.amplitude, t_eval=t)
+        return sol.y[0]
+
+    def to_dict(self) -> dict[str, object]:
+        """Plain-dict view for JSON and reports."""
+        return {"eps": self.eps, "delta": self.delta, "amplitude": self.amplitude,
+                "branch": self.branch, "truncation": self.truncation, "period": self.period,
+                "shooting_residual": self.shooting_residual,
+                "period_residual": self.period_residual,
+                "multipliers": [complex(m) for m in self.multipliers],
+                "iterations": self.iterations}
+
+
+def _half_period(eps: float, delta: float, amp: float, truncation: int | None
+                 ) -> np.ndarray:
+    """State ``(x, x', dx/ddelta, dx'/ddelta, dx/damp, dx'/damp)`` at ``t = pi``."""
+    g, dg = nonlinearity(truncation)
+
+    def rhs(t: float, y: np.ndarray) -> np.ndarray:
+        k = delta + eps * math.cos(t)
+        kd = k * dg(y[0])
+        return np.array([y[1], -k * g(y[0]), y[3], -g(y[0]) - kd * y[2], y[5], -kd * y[4]])
+
+    sol = solve_ivp(rhs, (0.0, math.pi), [amp, 0.0, 0.0, 0.0, 1.0, 0.0], method="DOP853",
+                    rtol=_RTOL, atol=_RTOL * 1e-2 * amp)
+    return sol.y[:, -1]
+
+
+def _full_period_check(eps: float, delta: float, amp: float, branch: str,
+                       truncation: int | None) -> tuple[float, np.ndarray]:
+    """Periodicity residual and Floquet multipliers over the full period."""
+    g, dg = nonlinearity(truncation)
+
+    def rhs(t: float, y: np.ndarray) -> np.ndarray:
+        k = delta + eps * math.cos(t)
+        kd = k * dg(y[0])
+        return np.array([y[1], -k * g(y[0]), y[3], -kd * y[2], y[5], -kd * y[4]])
+
+    period = branch_period(branch)
+    sol = solve_ivp(rhs, (0.0, period), [amp, 0.0, 1.0, 0.0, 0.0, 1.0], method="DOP853",
+                    rtol=_RTOL, atol=_RTOL * 1e-2 * amp)
+    y = sol.y[:, -1]
+    residual = float(math.hypot(y[0] - amp, y[1]))
+    mono = np.array([[y[2], y[4]], [y[3], y[5]]])
+    return residual, np.linalg.eigvals(mono)
+
+
+def _newton(eps: float, delta: float, amp: float, branch: str, truncation: int | None,
+            unknown: str, tol: float, maxiter: int) -> PeriodicOrbit:
+    """Newton iteration on ``delta`` or ``amp`` for the symmetric shooting condition."""
+    b = parse_branch(branch)
+    idx = 1 if b == "0" else 0  # x'(pi) = 0 or x(pi) = 0
+    res = math.inf
+    for it in range(1, maxiter + 1):
+        y = _half_period(eps, delta, amp, truncation)
+        f = y[idx]
+        res = abs(f) / amp
+        if not math.isfinite(res):
+            break
+        if res <= tol:
+            period_res, mult = _full_period_check(eps, delta, amp, b, truncation)
+            return PeriodicOrbit(eps, delta, amp, b, truncation, res, period_res, mult, it)
+        if unknown == "delta":
+            delta -= f / y[2 + idx]
+        else:
+            amp -= f / y[4 + idx]
+            if not 0 < amp < math.pi:
+                res = math.inf
+                break
+    raise ConvergenceError(
+        f"shooting for a {b}-branch orbit (eps={eps}, delta={delta:.6g}, amplitude={amp:.6g}) "
+        f"did not converge: relative residual {res:.3g} after {maxiter} Newton steps "
+        f"(tolerance {tol:g}); no periodic orbit found near this guess")
+
+
+def orbit_on_transition(eps: float, amplitude: float, branch: str = "0",
+                        truncation: int | None = 3, delta_guess: float | None = None,
+                        tol: float = 1e-10, maxiter: int = 30) -> PeriodicOrbit:
+    """Periodic orbit with ``x(0) = amplitude`` and the ``delta`` that makes it exist.
+
+    Parameters
+    ----------
+    eps : float
+        Excitation amplitude.
+    amplitude : float
+        ``x(0) > 0`` (``x'(0) = 0``).
+    branch : {"0", "1/4"}
+        Which transition curve.
+    truncation : int or None
+        3 for eq (4), None for eq (3).
+    delta_guess : float, optional
+        Newton start; default the linear (Mathieu) value.
+    tol : float
+        Tolerance on the shooting residual relative to the amplitude.
+    maxiter : int
+        Newton iteration limit.
+
+    Raises
+    ------
+    ConvergenceError
+        If Newton does not converge (message gives the residual reached).
+    """
+    if amplitude <= 0:
+        raise ArgumentError(f"amplitude must be positive, got {amplitude}")
+    if delta_guess is None:
+        delta_guess = float(mathieu_transition(eps, branch))
+    return _newton(eps, delta_guess, amplitude, branch, truncation, "delta", tol, maxiter)
+
+
+def transition_delta(eps: float, amplitude: float, branch: str = "0",
+                     truncation: int | None = 3, step: float = 0.1,
+                     tol: float = 1e-10) -> PeriodicOrbit:
+    """Exact nonlinear transition orbit by continuation in the amplitude.
+
+    Starts at ``min(amplitude, step)`` from the Mathieu value and walks the amplitude up
+    in steps of at most ``step``, extrapolating ``delta`` linearly in ``amplitude**2``.
+    """
+    if amplitude <= 0:
+        raise ArgumentError(f"amplitude must be positive, got {amplitude}")
+    n = max(1, math.ceil(amplitude / step))
+    amps = np.linspace(amplitude / n, amplitude, n)
+    lin = float(mathieu_transition(eps, branch))
+    orbit = orbit_on_transition(eps, float(amps[0]), branch, truncation, lin, tol)
+    prev_a2, prev_d = 0.0, lin
+    for a in amps[1:]:
+        a2 = orbit.amplitude**2
+        slope = (orbit.delta - prev_d) / (a2 - prev_a2)
+        guess = orbit.delta + slope * (a * a - a2)
+        prev_a2, prev_d = a2, orbit.delta
+        orbit = orbit_on_transition(eps, float(a), branch, truncation, guess, tol)
+    return orbit
+
+
+def exact_transition_curve(eps: np.ndarray, amplitude: float, branch: str = "0",
+                           truncation: int | None = 3, tol: float = 1e-10) -> np.ndarray:
+    """``delta`` on the exact nonlinear transition curve at each ``eps`` (fixed amplitude)."""
+    out = np.empty(len(eps))
+    guess = None
+    for i, e in enumerate(eps):
+        if guess is None:
+            orbit = transition_delta(float(e), amplitude, branch, truncation, tol=tol)
+        else:
+            orbit = orbit_on_transition(float(e), amplitude, branch, truncation, guess, tol)
+        out[i] = orbit.delta
+        guess = orbit.delta + float(mathieu_transition(eps[min(i + 1, len(eps) - 1)], branch)
+                                    - mathieu_transition(e, branch))
+    return out
+
+
+def orbit_at_delta(eps: float, delta: float, amplitude_guess: float, branch: str = "0",
+                   truncation: int | None = 3, tol: float = 1e-10,
+                   maxiter: int = 40) -> PeriodicOrbit:
+    """Periodic orbit at fixed ``(eps, delta)``, Newton on the amplitude ``x(0)``.
+
+    Raises
+    ------
+    ConvergenceError
+        If no orbit is found from ``amplitude_guess`` (the residual is in the message).
+    """
+    if not 0 < amplitude_guess < math.pi:
+        raise ArgumentError(f"amplitude guess must be in (0, pi), got {amplitude_guess}")
+    return _newton(eps, delta, amplitude_guess, branch, truncation, "amp", tol, maxiter)
