@@ -1,4 +1,4 @@
-"""Generalized frequency response functions H1..Hn by the recursive (Billings / Peyton Jones) algorithm.
+"""GFRFs H1..Hn by the recursive (Billings / Peyton Jones) algorithm.
 
 For a model ``sum(terms) = 0`` with linear output part A(s) = sum a_l s^l, the n-th
 order kernel is
@@ -128,7 +128,7 @@ class GFRFGenerator:
 
     # -- variables -----------------------------------------------------------------
     def variables(self, n: int) -> tuple[sp.Symbol, ...]:
-        """Symbols s1..sn (continuous, s_i = j*omega_i) or q1..qn (discrete, q_i = exp(-j*omega_i*T))."""
+        """Symbols s1..sn (s_i = j*omega_i) or, discrete, q1..qn (q_i = exp(-j*omega_i*T))."""
         prefix = "q" if self.model.is_discrete else "s"
         return tuple(sp.Symbol(f"{prefix}{i + 1}") for i in range(n))
 

@@ -61,9 +61,10 @@ def _show(args: argparse.Namespace) -> int:
                      "recursive": _format(k.recursive_expr, args.latex),
                      "explicit": _format(k.expr, args.latex) if n <= 3 else None})
     variable = ("q_i = exp(-j*omega_i*T)" if model.is_discrete else "s_i = j*omega_i")
+    time_base = (f"discrete, T = {model.sample_time:g} s" if model.is_discrete
+                 else "continuous")
     lines = [f"{mf.name}", f"  {model.equation()}",
-             f"  {'discrete, T = %g s' % model.sample_time if model.is_discrete else 'continuous'}"
-             f", degree {model.degree}, max order {model.max_order}", "",
+             f"  {time_base}, degree {model.degree}, max order {model.max_order}", "",
              "  coefficient      monomial          kind"]
     lines += [f"  {r['coefficient']:<+16.8g} {r['monomial']:<17} {r['kind']}"
               for r in model.coefficient_table()]
