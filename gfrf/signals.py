@@ -1,0 +1,222 @@
+"""Input signals u(t) for simulation: text expressions in t (seconds) or a recorded CSV.
+
+Text inputs are sympy expressions in the time ``t`` in seconds, e.g.
+``0.1*sin(1.2*t)`` (1.2 rad/s), ``0.05*cos(t) + 0.02*sin(3*t + 0.4)`` (a sum of
+tones), ``0.3*step(t - 1)`` (a step at t = 1 s; ``step``/``Heaviside`` are 1 at the
+jump) or ``exp(-t)*sin(t)``.  Allowed functions: sin, cos, tan, exp, log, sqrt, tanh,
+abs, sign, step, Heaviside; constants ``pi`` and ``E``.  Derivatives for models with
+``D(u,k)`` terms are taken symbolically.  A recorded signal is ``csv:FILE`` or a path
+ending in ``.csv`` with columns ``t,u`` (optional header); it is interpolated by a
+cubic spline (derivatives from the spline) and held constant outside its time range.
+
+A text input that is a plain sum ``sum_k A_k cos(w_k t + phi_k)`` (sin allowed) also
+exposes its :attr:`InputSignal.tones`, which the Volterra prediction uses.
+
+Examples
+--------
+>>> u = parse_input("0.1*sin(1.2*t)")
+>>> round(float(u(0.5)), 6) == round(0.1 * __import__("math").sin(0.6), 6)
+True
+>>> [(round(a, 3), round(w, 3)) for a, w, _ in u.tones]
+[(0.1, 1.2)]
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from tokenize import TokenError
+from typing import Any
+
+import numpy as np
+import sympy as sp
+from scipy.interpolate import CubicSpline
+from sympy.core.function import AppliedUndef
+from sympy.parsing.sympy_parser import parse_expr, standard_transformations
+
+from gfrf.errors import ArgumentError
+
+__all__ = ["InputSignal", "parse_input", "zero_input", "tones_input", "T"]
+
+#: The time symbol of input expressions (seconds).
+T = sp.Symbol("t", real=True)
+
+_FUNCTIONS: dict[str, Any] = {
+    "sin": sp.sin, "cos": sp.cos, "tan": sp.tan, "exp": sp.exp, "log": sp.log,
+    "sqrt": sp.sqrt, "tanh": sp.tanh, "abs": sp.Abs, "Abs": sp.Abs, "sign": sp.sign,
+    "pi": sp.pi, "E": sp.E,
+    "step": lambda x: sp.Heaviside(x, 1), "Heaviside": lambda x: sp.Heaviside(x, 1),
+}
+_NUMPY_MODULES = [{"Heaviside": lambda x, _h0=1.0: np.heaviside(x, 1.0),
+                   "DiracDelta": lambda x: np.zeros_like(np.asarray(x, dtype=float))}, "numpy"]
+
+#: A tone (amplitude, angular frequency in rad/s, phase in rad) of A*cos(w*t + phi).
+Tone = tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class InputSignal:
+    """A scalar input u(t), t in seconds, with derivatives up to :attr:`max_derivative`.
+
+    Call it on a float or an array of times.  ``derivative(k)`` returns the callable
+    of the k-th time derivative.  :attr:`tones` is the list ``[(A, w, phi), ...]``
+    of ``A*cos(w*t + phi)`` (w in rad/s) for a pure sum of sinusoids, else None.
+    """
+
+    text: str
+    expr: sp.Expr | None
+    max_derivative: int
+    tones: tuple[Tone, ...] | None
+    _funcs: tuple[Callable[[Any], Any], ...] = field(repr=False, compare=False)
+
+    def __call__(self, t: Any) -> np.ndarray:
+        """Value of u at time(s) ``t`` in seconds."""
+        return self.derivative(0)(t)
+
+    def derivative(self, k: int) -> Callable[[Any], np.ndarray]:
+        """The k-th time derivative of u as a callable of t (seconds)."""
+        if not 0 <= k <= self.max_derivative:
+            raise ArgumentError(f"derivative {k} of the input was not prepared "
+                                f"(max_derivative={self.max_derivative})")
+        f = self._funcs[k]
+
+        def value(t: Any) -> np.ndarray:
+            t_arr = np.asarray(t, dtype=float)
+            return np.broadcast_to(np.asarray(f(t_arr), dtype=float), t_arr.shape).copy()
+
+        return value
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready description."""
+        return {"text": self.text, "expression": None if self.expr is None else str(self.expr),
+                "tones": None if self.tones is None else [list(x) for x in self.tones]}
+
+
+def zero_input(max_derivative: int = 0) -> InputSignal:
+    """The input u(t) = 0 (simulation from initial conditions only)."""
+    zero = sp.Integer(0)
+    funcs = tuple(sp.lambdify(T, zero, modules=_NUMPY_MODULES)
+                  for _ in range(max_derivative + 1))
+    return InputSignal("0", zero, max_derivative, (), funcs)
+
+
+def tones_input(tones: list[Tone] | tuple[Tone, ...], max_derivative: int = 0) -> InputSignal:
+    """The multi-tone input ``sum_k A_k cos(w_k t + phi_k)`` (w in rad/s, phi in rad)."""
+    text = " + ".join(f"{float(a)!r}*cos({float(w)!r}*t + {float(p)!r})" for a, w, p in tones)
+    return parse_input(text or "0*t", max_derivative=max_derivative)
+
+
+def parse_input(text: str, *, max_derivative: int = 0) -> InputSignal:
+    """Build an :class:`InputSignal` from text or a CSV recording.
+
+    Parameters
+    ----------
+    text : str
+        An expression in ``t`` (seconds), or ``csv:FILE`` / ``FILE.csv`` with columns t,u.
+    max_derivative : int, optional
+        Highest time derivative of u that will be requested (the largest k of D(u,k)).
+
+    Returns
+    -------
+    InputSignal
+
+    Raises
+    ------
+    ArgumentError
+        Unparsable text, unknown symbols or functions, an expression that does not
+        depend on t, a missing or malformed CSV file.
+    """
+    if not isinstance(text, str) or not text.strip():
+        raise ArgumentError("empty input: give an expression in t such as '0.1*sin(1.2*t)'")
+    if max_derivative < 0:
+        raise ArgumentError(f"max_derivative must be >= 0, got {max_derivative}")
+    stripped = text.strip()
+    if stripped.startswith("csv:") or stripped.lower().endswith(".csv"):
+        return _csv_input(stripped.removeprefix("csv:"), max_derivative)
+    expr = _parse_expression(stripped)
+    funcs = []
+    current = expr
+    for _ in range(max_derivative + 1):
+        funcs.append(sp.lambdify(T, current, modules=_NUMPY_MODULES))
+        current = sp.diff(current, T)
+    return InputSignal(stripped, expr, max_derivative, _tones(expr), tuple(funcs))
+
+
+def _parse_expression(text: str) -> sp.Expr:
+    try:
+        expr = parse_expr(text, local_dict={"t": T, **_FUNCTIONS},
+                          transformations=standard_transformations, evaluate=True)
+    except (SyntaxError, TypeError, ValueError, sp.SympifyError, AttributeError,
+            TokenError) as exc:
+        raise ArgumentError(f"cannot parse the input {text!r}: {exc}") from None
+    if not isinstance(expr, sp.Expr):
+        raise ArgumentError(f"the input {text!r} is not an expression in t")
+    undefined = sorted({str(f.func) for f in expr.atoms(AppliedUndef)})
+    if undefined:
+        raise ArgumentError(f"unknown function(s) {', '.join(undefined)} in the input "
+                            f"{text!r}; allowed: {', '.join(sorted(_FUNCTIONS))}")
+    unknown = sorted(str(s) for s in expr.free_symbols if s != T)
+    if unknown:
+        raise ArgumentError(f"unknown symbol(s) {', '.join(unknown)} in the input {text!r}: "
+                            f"the only variable is the time t (seconds)")
+    if T not in expr.free_symbols:
+        raise ArgumentError(f"the input {text!r} is not a function of t; a constant input "
+                            f"is e.g. '0.1*step(t)', and no input means omit it")
+    if expr.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
+        raise ArgumentError(f"the input {text!r} is not finite")
+    return expr
+
+
+def _tones(expr: sp.Expr) -> tuple[Tone, ...] | None:
+    tones = []
+    for term in sp.Add.make_args(expr):
+        coeff, rest = term.as_coeff_Mul()
+        if not isinstance(rest, (sp.sin, sp.cos)):
+            return None
+        poly = sp.Poly(rest.args[0], T) if rest.args[0].is_polynomial(T) else None
+        if poly is None or poly.degree() != 1:
+            return None
+        w, phi = (float(c) for c in poly.all_coeffs())
+        amp = float(coeff)
+        if isinstance(rest, sp.sin):
+            phi -= math.pi / 2
+        if w < 0:
+            w, phi = -w, -phi
+        if amp < 0:
+            amp, phi = -amp, phi + math.pi
+        tones.append((amp, w, math.remainder(phi, 2 * math.pi)))
+    return tuple(tones)
+
+
+def _csv_input(path_text: str, max_derivative: int) -> InputSignal:
+    path = Path(path_text)
+    if not path.is_file():
+        raise ArgumentError(f"input CSV file {path_text!r} does not exist")
+    try:
+        data = np.genfromtxt(path, delimiter=",", names=None, dtype=float)
+    except ValueError as exc:
+        raise ArgumentError(f"input CSV {path_text!r}: {exc}") from None
+    data = np.atleast_2d(data)
+    data = data[~np.isnan(data).all(axis=1)] if data.size else data
+    if data.ndim != 2 or data.shape[1] != 2 or len(data) < 2 or not np.isfinite(data).all():
+        raise ArgumentError(f"input CSV {path_text!r} must have two numeric columns t,u "
+                            f"(seconds, input) and at least two rows")
+    t, u = data[:, 0], data[:, 1]
+    if np.any(np.diff(t) <= 0):
+        raise ArgumentError(f"input CSV {path_text!r}: the times must increase strictly")
+    spline = CubicSpline(t, u)
+    lo, hi = float(t[0]), float(t[-1])
+
+    def make(k: int) -> Callable[[Any], np.ndarray]:
+        def f(tt: Any) -> np.ndarray:
+            arr = np.asarray(tt, dtype=float)
+            value = spline(np.clip(arr, lo, hi), k)
+            if k:
+                value = np.where((arr < lo) | (arr > hi), 0.0, value)
+            return value
+        return f
+
+    return InputSignal(f"csv:{path_text}", None, max_derivative, None,
+                       tuple(make(k) for k in range(max_derivative + 1)))

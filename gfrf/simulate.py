@@ -1,0 +1,514 @@
+"""Time simulation of model files: open and closed loop, polynomial or physical equation.
+
+A continuous model ``F(y, y', ..., y^(n), u, u', ...) = 0`` is solved once, with sympy,
+for its highest output derivative y^(n) (the equation must be linear in it, which every
+mechanical model is), giving the first-order state form z = (y, y', ..., y^(n-1))
+that is printed to Python source (common subexpressions eliminated) and compiled.
+The same source feeds scipy's ``solve_ivp`` here and the numba fast path in
+:mod:`gfrf.fastsim`, so both integrate the same right-hand side.
+
+``equation="physical"`` (default) integrates the untruncated equation of the model
+file (``sin``/``cos`` kept) when it has one; ``"polynomial"`` the truncated model the
+GFRFs describe.  ``closed_loop=True`` closes the loop with the file's controller,
+``u = r + feedback*C[y]`` (feedback -1: ``u = r - C[y]``), where the given input is
+the reference r.  A controller C(s) = num/den is split into a polynomial part q(s)
+acting on derivatives of y and a strictly proper rest realised in controllable
+canonical form (extra states).  The cart-pole controller a s^2 + b s + c is improper:
+its s^2 term feeds theta'' back into u, so the loop equation is implicit in theta''.
+It is solved algebraically for theta'' (plant and controller are both linear in it),
+which is exact as long as the coefficient of theta'' stays non-zero; the simulation
+stops with status ``"singular"`` where it vanishes.
+
+Before integrating, the linearisation at z = 0 is checked: an unstable linear part
+(open-loop cart-pole, an unstable closed loop) is reported in ``notes`` and as a
+``UserWarning``, and every run stops at ``blowup`` (default 1e6) on |y| with status
+``"blowup"`` and the blow-up time, never with silent NaN arrays.  Discrete (NARX)
+models are simulated by direct recursion on t = k*T.
+
+Examples
+--------
+>>> from gfrf.model import parse_model
+>>> res = simulate(parse_model("D(y) + y = u"), "step(t)", t_end=2.0, rtol=1e-10, atol=1e-12)
+>>> bool(abs(res.y[-1] - (1 - __import__("math").exp(-2.0))) < 1e-8)
+True
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import sympy as sp
+from scipy.integrate import solve_ivp
+
+from gfrf.errors import ArgumentError, ModelError
+from gfrf.model import Model
+from gfrf.modelfile import Controller, ModelFile
+from gfrf.signals import InputSignal, parse_input, zero_input
+
+__all__ = ["OdeSystem", "SimulationResult", "build_system", "simulate", "METHODS"]
+
+#: Integration methods: scipy's RK45, DOP853, Radau, LSODA, and the numba fast path.
+METHODS = ("rk45", "dop853", "radau", "lsoda", "fast")
+_SCIPY = {"rk45": "RK45", "dop853": "DOP853", "radau": "Radau", "lsoda": "LSODA"}
+
+
+@dataclass(frozen=True)
+class OdeSystem:
+    """A model in first-order state form, generated once from sympy.
+
+    Attributes
+    ----------
+    n_states : int
+        Number of states: output derivatives 0..n-1 then controller states.
+    order : int
+        Output order n (highest output derivative in the equation).
+    n_inputs : int
+        Number of input values passed to the right-hand side: u, u', ... (open loop)
+        or r (closed loop).
+    source : str
+        Python source of ``rhs(z, v, out)`` and ``plant_input(z, v, dz)`` (module
+        ``math``), shared by scipy and numba.
+    linear_eigenvalues : numpy.ndarray
+        Eigenvalues (1/s) of the Jacobian at z = 0, v = 0.
+    discrete : bool
+        True for a NARX model (then ``source`` is the recursion ``y[k] = ...``).
+    """
+
+    n_states: int
+    order: int
+    n_inputs: int
+    source: str
+    linear_eigenvalues: np.ndarray
+    label: str
+    closed_loop: bool = False
+    discrete: bool = False
+    sample_time: float | None = None
+    notes: tuple[str, ...] = ()
+    _functions: dict[str, Callable[..., Any]] = field(default_factory=dict, repr=False,
+                                                      compare=False)
+
+    @property
+    def linear_unstable(self) -> bool:
+        """True if a linearised eigenvalue has a positive real part (|z| > 1 for NARX).
+
+        A marginal linearisation (eigenvalues on the axis, e.g. an undamped
+        oscillator) is not called unstable.
+        """
+        ev = self.linear_eigenvalues
+        if ev.size == 0:
+            return False
+        if self.discrete:
+            return bool(np.any(np.abs(ev) > 1.0 + 1e-12))
+        return bool(np.any(ev.real > 1e-9 * max(1.0, float(np.max(np.abs(ev))))))
+
+    def function(self, name: str) -> Callable[..., Any]:
+        """The compiled pure-Python function ``rhs`` or ``plant_input`` of :attr:`source`."""
+        if not self._functions:
+            namespace: dict[str, Any] = {"math": math}
+            exec(compile(self.source, f"<gfrf rhs {self.label}>", "exec"), namespace)  # noqa: S102
+            self._functions.update({k: namespace[k] for k in ("rhs", "plant_input")})
+        return self._functions[name]
+
+
+@dataclass
+class SimulationResult:
+    """Output of :func:`simulate`.
+
+    Attributes
+    ----------
+    t : numpy.ndarray
+        Times in seconds (up to the blow-up time if the run blew up).
+    y : numpy.ndarray
+        Output y(t).
+    u : numpy.ndarray
+        Plant input u(t) (in closed loop: r + feedback*C[y]).
+    states : numpy.ndarray
+        State trajectory, shape (n_states, len(t)).
+    status : str
+        ``"ok"``, ``"blowup"`` (|y| reached the threshold or became non-finite),
+        ``"singular"`` (the coefficient of y^(n) vanished) or ``"failed"``.
+    blowup_time : float or None
+        Time in seconds at which |y| crossed the blow-up threshold.
+    """
+
+    t: np.ndarray
+    y: np.ndarray
+    u: np.ndarray
+    states: np.ndarray
+    status: str
+    method: str
+    blowup_time: float | None = None
+    message: str = ""
+    nfev: int = 0
+    wall_time: float = 0.0
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def bounded(self) -> bool:
+        """True if the run reached t_end without blowing up."""
+        return self.status == "ok"
+
+    @property
+    def peak(self) -> float:
+        """max |y| over the run."""
+        return float(np.max(np.abs(self.y))) if self.y.size else 0.0
+
+    def to_dict(self, arrays: bool = False) -> dict[str, Any]:
+        """JSON-ready summary; ``arrays=True`` adds t, y, u."""
+        out: dict[str, Any] = {
+            "status": self.status, "method": self.method, "blowup_time": self.blowup_time,
+            "message": self.message, "t_final": float(self.t[-1]) if self.t.size else 0.0,
+            "samples": int(self.t.size), "peak_abs_y": self.peak,
+            "y_final": float(self.y[-1]) if self.y.size else None,
+            "nfev": self.nfev, "wall_time_s": self.wall_time, "notes": list(self.notes)}
+        if arrays:
+            out.update(t=self.t, y=self.y, u=self.u)
+        return out
+
+
+def _solve_for(expr: sp.Expr, top: sp.Symbol, what: str) -> sp.Expr:
+    coefficient = sp.diff(expr, top)
+    if coefficient == 0:
+        raise ModelError(f"the {what} does not contain its highest output term {top}")
+    if sp.diff(coefficient, top) != 0:
+        raise ModelError(f"the {what} is not linear in its highest output term {top}: "
+                         f"cannot put it in state form")
+    return -expr.subs(top, 0) / coefficient
+
+
+def _controller_law(ctrl: Controller, y_atom: Callable[[int], sp.Symbol], order: int,
+                    r: sp.Symbol) -> tuple[sp.Expr, list[sp.Symbol], list[sp.Expr]]:
+    """u = r + feedback*C[y] with C = num/den: (u expression, controller states, their rates)."""
+    if ctrl.model is not None:
+        raise ModelError("closed-loop simulation needs a transfer-function controller "
+                         "(num/den); a nonlinear controller equation is not supported")
+    s = sp.Symbol("s")
+    num = sp.Poly([sp.Float(c) for c in ctrl.num], s)
+    den = sp.Poly([sp.Float(c) for c in ctrl.den], s)
+    quotient, remainder = num.div(den)
+    if quotient.degree() > order:
+        raise ModelError(f"the controller's improper part has degree {quotient.degree()}, "
+                         f"above the plant order {order}: the loop has no state form")
+    v = sum((sp.Float(c) * y_atom(k) for k, c in enumerate(reversed(quotient.all_coeffs()))),
+            sp.Integer(0))
+    states: list[sp.Symbol] = []
+    rates: list[sp.Expr] = []
+    m = den.degree()
+    if m > 0 and not remainder.is_zero:
+        lead = den.LC()
+        d = [c / lead for c in reversed(den.all_coeffs())]  # d0..dm, dm = 1
+        rc = [c / lead for c in reversed(remainder.all_coeffs())]
+        rc += [0] * (m - len(rc))
+        states = [sp.Symbol(f"xc{i}", real=True) for i in range(m)]
+        rates = [states[i + 1] for i in range(m - 1)]
+        rates.append(-sum(d[i] * states[i] for i in range(m)) + y_atom(0))
+        v += sum(rc[i] * states[i] for i in range(m))
+    return r + ctrl.feedback * v, states, rates
+
+
+def _source(z: list[sp.Symbol], v: list[sp.Symbol], rates: list[sp.Expr],
+            plant_u: sp.Expr, dz: list[sp.Symbol]) -> str:
+    """Python source of rhs(z, v, out) and plant_input(z, v, dz), cse-optimised."""
+    lines = ["def rhs(z, v, out):"]
+    unpack = [f"    {s.name} = z[{i}]" for i, s in enumerate(z)]
+    unpack += [f"    {s.name} = v[{i}]" for i, s in enumerate(v)]
+    subs, reduced = sp.cse(rates, symbols=sp.numbered_symbols("_c"))
+    lines += unpack
+    lines += [f"    {name} = {sp.pycode(expr)}" for name, expr in subs]
+    lines += [f"    out[{i}] = {sp.pycode(expr)}" for i, expr in enumerate(reduced)]
+    lines += ["", "", "def plant_input(z, v, dz):"]
+    lines += unpack + [f"    {s.name} = dz[{i}]" for i, s in enumerate(dz)]
+    lines.append(f"    return {sp.pycode(plant_u)}")
+    return "\n".join(lines) + "\n"
+
+
+def build_system(source: ModelFile | Model, *, closed_loop: bool = False,
+                 equation: str = "physical") -> OdeSystem:
+    """Generate the first-order state form of a model (open or closed loop).
+
+    Parameters
+    ----------
+    source : ModelFile or Model
+        A loaded model file (needed for ``closed_loop``) or a bare model.
+    closed_loop : bool, optional
+        Close the loop with the model file's controller; the input becomes the reference.
+    equation : {"physical", "polynomial"}
+        The untruncated equation (when the model has one) or the truncated polynomial.
+
+    Returns
+    -------
+    OdeSystem
+
+    Raises
+    ------
+    ModelError
+        No controller for a closed loop, an equation not linear in its highest output
+        derivative, a controller too improper for the plant, input derivatives in a
+        closed loop.
+    """
+    mf = source if isinstance(source, ModelFile) else None
+    model = source.plant if isinstance(source, ModelFile) else source
+    if equation not in ("physical", "polynomial"):
+        raise ArgumentError(f"equation must be 'physical' or 'polynomial', got {equation!r}")
+    expr = model.physical if (equation == "physical" and model.physical is not None) \
+        else model.polynomial()
+    label = f"{model.output}: {equation}{', closed loop' if closed_loop else ''}"
+    y_atom = lambda k: model.atom(model.output, k)  # noqa: E731
+    u_atom = lambda k: model.atom(model.input, k)  # noqa: E731
+    atoms = expr.free_symbols
+    y_orders = sorted(int(a.name.rsplit("__", 1)[1]) for a in atoms
+                      if a.name.startswith(f"{model.output}__"))
+    u_orders = sorted(int(a.name.rsplit("__", 1)[1]) for a in atoms
+                      if a.name.startswith(f"{model.input}__"))
+    if model.is_discrete:
+        if closed_loop:
+            raise ModelError("closed-loop simulation of a discrete (NARX) model is not supported")
+        return _narx_system(model, expr, y_orders, u_orders, label)
+    n = y_orders[-1]
+    notes: list[str] = []
+    r = sp.Symbol("r__0", real=True)
+    ctrl_states: list[sp.Symbol] = []
+    ctrl_rates: list[sp.Expr] = []
+    if closed_loop:
+        if mf is None or mf.controller is None:
+            raise ModelError("closed loop requested but the model file has no [controller]")
+        if any(k > 0 for k in u_orders):
+            raise ModelError("closed-loop simulation with input derivatives D(u,k) in the "
+                             "plant is not supported")
+        law, ctrl_states, ctrl_rates = _controller_law(mf.controller, y_atom, n, r)
+        if law.has(y_atom(n)):
+            notes.append(f"the controller is improper: its D({model.output},{n}) term makes "
+                         f"the loop implicit; solved algebraically for D({model.output},{n})")
+        loop = expr.xreplace({u_atom(0): law})
+        top = _solve_for(loop, y_atom(n), "closed-loop equation")
+        plant_u = law
+        inputs = [r]
+    else:
+        top = _solve_for(expr, y_atom(n), "model equation")
+        inputs = [u_atom(k) for k in range(max(u_orders) + 1)]
+        plant_u = u_atom(0)
+    z = [y_atom(k) for k in range(n)] + ctrl_states
+    rates = [y_atom(k + 1) for k in range(n - 1)] + [top]
+    rates += [rate.xreplace({y_atom(n): top}) for rate in ctrl_rates]
+    dz = [sp.Symbol(f"_dz{i}", real=True) for i in range(len(z))]
+    plant_u = plant_u.xreplace({y_atom(n): dz[n - 1]})
+    jac = sp.Matrix(rates).jacobian(z).subs({s: 0 for s in z + inputs})
+    eig = np.linalg.eigvals(np.array(jac.evalf(), dtype=float)) if z else np.zeros(0)
+    system = OdeSystem(n_states=len(z), order=n, n_inputs=len(inputs),
+                       source=_source(z, inputs, rates, plant_u, dz), linear_eigenvalues=eig,
+                       label=label, closed_loop=closed_loop, notes=tuple(notes))
+    return system
+
+
+def _narx_system(model: Model, expr: sp.Expr, y_orders: list[int], u_orders: list[int],
+                 label: str) -> OdeSystem:
+    y_atom = lambda k: model.atom(model.output, k)  # noqa: E731
+    now = _solve_for(expr, y_atom(0), "NARX equation")
+    lags = max(y_orders)
+    z = [y_atom(k) for k in range(1, lags + 1)]
+    inputs = [model.atom(model.input, k) for k in range(max(u_orders) + 1)]
+    jac = sp.Matrix([now] + z[:-1]).jacobian(z).subs({s: 0 for s in z + inputs})
+    eig = np.linalg.eigvals(np.array(jac.evalf(), dtype=float)) if z else np.zeros(0)
+    src = _source(z, inputs, [now], inputs[0], [])
+    return OdeSystem(n_states=len(z), order=lags, n_inputs=len(inputs), source=src,
+                     linear_eigenvalues=eig, label=label, discrete=True,
+                     sample_time=model.sample_time)
+
+
+def _check(t_end: float, rtol: float, atol: float, blowup: float) -> None:
+    if not (isinstance(t_end, (int, float)) and math.isfinite(t_end) and t_end > 0):
+        raise ArgumentError(f"t_end must be a positive number of seconds, got {t_end!r}")
+    for name, value in (("rtol", rtol), ("atol", atol), ("blowup", blowup)):
+        if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+            raise ArgumentError(f"{name} must be a positive number, got {value!r}")
+
+
+def _initial(system: OdeSystem, initial: Any) -> np.ndarray:
+    z0 = np.zeros(system.n_states)
+    if initial is None:
+        return z0
+    values = np.atleast_1d(np.asarray(initial, dtype=float))
+    limit = system.order
+    if values.ndim != 1 or values.size > limit or not np.all(np.isfinite(values)):
+        raise ArgumentError(f"initial conditions must be up to {limit} finite numbers "
+                            f"(y, y', ... for continuous models; y[-1], y[-2], ... for NARX), "
+                            f"got {initial!r}")
+    z0[:values.size] = values
+    return z0
+
+
+def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | None = None,  # noqa: A002
+             *, t_end: float, closed_loop: bool = False, equation: str = "physical",
+             initial: Any = None, method: str = "rk45", rtol: float = 1e-8,
+             atol: float = 1e-10, t_eval: np.ndarray | None = None, n_out: int = 2001,
+             blowup: float = 1e6, dt: float | None = None) -> SimulationResult:
+    """Simulate a model from an input and/or initial conditions.
+
+    Parameters
+    ----------
+    source : ModelFile, Model or OdeSystem
+        What to simulate (an :class:`OdeSystem` from :func:`build_system` is reused as is).
+    input : str or InputSignal, optional
+        Input u(t) (open loop) or reference r(t) (closed loop); text as in
+        :func:`gfrf.signals.parse_input`.  None: zero.
+    t_end : float
+        Final time in seconds (> 0).
+    closed_loop, equation
+        See :func:`build_system`.
+    initial : sequence of float, optional
+        y(0), y'(0), ... (radians, rad/s for the pendulums); NARX: y[-1], y[-2], ...
+    method : {"rk45", "dop853", "radau", "lsoda", "fast"}
+        scipy ``solve_ivp`` method, or the numba fixed-step RK4 of :mod:`gfrf.fastsim`.
+    rtol, atol : float
+        Tolerances of ``solve_ivp`` (> 0).  The fast path uses them only when ``dt``
+        is not given, to choose its step by step doubling.
+    t_eval : array_like, optional
+        Output times in seconds; default ``n_out`` points on [0, t_end].
+    blowup : float
+        Threshold on |y| at which the run is stopped and reported as a blow-up.
+    dt : float, optional
+        Fixed step in seconds of the fast path.
+
+    Returns
+    -------
+    SimulationResult
+    """
+    _check(t_end, rtol, atol, blowup)
+    if method not in METHODS:
+        raise ArgumentError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    system = source if isinstance(source, OdeSystem) else build_system(
+        source, closed_loop=closed_loop, equation=equation)
+    z0 = _initial(system, initial)
+    signal = _signal(input, system)
+    notes = list(system.notes)
+    if system.linear_unstable:
+        ev = ", ".join(f"{complex(e):.4g}" for e in system.linear_eigenvalues)
+        note = (f"the linearisation of the {'closed loop' if system.closed_loop else 'system'} "
+                f"is unstable (eigenvalues {ev}): expect growth; the run stops at |y| = "
+                f"{blowup:g}")
+        warnings.warn(note, UserWarning, stacklevel=2)
+        notes.append(note)
+    if t_eval is None:
+        t_eval = np.linspace(0.0, t_end, n_out) if not system.discrete else None
+    else:
+        t_eval = np.asarray(t_eval, dtype=float)
+        if t_eval.ndim != 1 or t_eval.size < 1 or np.any(np.diff(t_eval) <= 0) \
+                or t_eval[0] < 0 or t_eval[-1] > t_end:
+            raise ArgumentError("t_eval must be increasing times within [0, t_end]")
+    start = time.perf_counter()
+    if system.discrete:
+        result = _narx(system, signal, z0, t_end, blowup)
+    elif method == "fast":
+        from gfrf.fastsim import simulate_fast
+        result = simulate_fast(system, signal, z0, t_end, t_eval, blowup=blowup, dt=dt,
+                               rtol=rtol, atol=atol)
+    else:
+        result = _scipy(system, signal, z0, t_end, t_eval, method, rtol, atol, blowup)
+    result.wall_time = time.perf_counter() - start
+    result.notes = notes + result.notes
+    return result
+
+
+def _signal(input_: str | InputSignal | None, system: OdeSystem) -> InputSignal:
+    need = 0 if system.closed_loop else system.n_inputs - 1
+    if input_ is None:
+        return zero_input(need)
+    if isinstance(input_, InputSignal):
+        if input_.max_derivative < need:
+            raise ArgumentError(f"the model needs {need} input derivatives; build the "
+                                f"input with max_derivative={need}")
+        return input_
+    return parse_input(input_, max_derivative=need)
+
+
+def input_values(signal: InputSignal, n_inputs: int, t: np.ndarray) -> np.ndarray:
+    """Array (n_inputs, len(t)) of u, u', ... at times ``t`` (seconds)."""
+    return np.array([signal.derivative(k)(t) for k in range(n_inputs)]).reshape(n_inputs, -1)
+
+
+def plant_input(system: OdeSystem, states: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """The plant input u along a trajectory (evaluates ``plant_input`` of the source)."""
+    rhs, pin = system.function("rhs"), system.function("plant_input")
+    out = np.empty(system.n_states)
+    u = np.empty(states.shape[1])
+    for i in range(states.shape[1]):
+        rhs(states[:, i], v[:, i], out)
+        u[i] = pin(states[:, i], v[:, i], out)
+    return u
+
+
+def _scipy(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end: float,
+           t_eval: np.ndarray, method: str, rtol: float, atol: float,
+           blowup: float) -> SimulationResult:
+    rhs = system.function("rhs")
+    funcs = [signal.derivative(k) for k in range(system.n_inputs)]
+
+    def f(t: float, z: np.ndarray) -> np.ndarray:
+        v = [float(g(t)) for g in funcs]
+        out = np.empty(system.n_states)
+        try:
+            rhs(z, v, out)
+        except ZeroDivisionError:
+            out[:] = np.nan
+        return out
+
+    def escape(t: float, z: np.ndarray) -> float:
+        return blowup - abs(z[0]) if np.all(np.isfinite(z)) else -1.0
+
+    escape.terminal = True  # type: ignore[attr-defined]
+    with np.errstate(all="ignore"):
+        sol = solve_ivp(f, (0.0, t_end), z0, method=_SCIPY[method], t_eval=t_eval,
+                        rtol=rtol, atol=atol, events=escape)
+    states = sol.y
+    finite = np.all(np.isfinite(states), axis=0)
+    status, blow_t, message = "ok", None, sol.message
+    if sol.t_events[0].size:
+        status, blow_t = "blowup", float(sol.t_events[0][0])
+        message = f"|y| reached {blowup:g} at t = {blow_t:.6g} s"
+    elif not finite.all() or sol.status < 0:
+        first = int(np.argmin(finite)) if not finite.all() else states.shape[1]
+        states = states[:, :first]
+        blow_t = float(sol.t[first]) if first < sol.t.size else float(sol.t[-1]) \
+            if sol.t.size else 0.0
+        status = "blowup" if not finite.all() else "failed"
+        message = f"the integration failed near t = {blow_t:.6g} s: {sol.message}"
+    t = sol.t[:states.shape[1]]
+    v = input_values(signal, system.n_inputs, t)
+    u = plant_input(system, states, v) if t.size else np.zeros(0)
+    return SimulationResult(t=t, y=states[0] if states.size else np.zeros(0), u=u,
+                            states=states, status=status, method=method,
+                            blowup_time=blow_t, message=message, nfev=int(sol.nfev))
+
+
+def _narx(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end: float,
+          blowup: float) -> SimulationResult:
+    rhs = system.function("rhs")
+    period = float(system.sample_time)  # type: ignore[arg-type]
+    steps = int(math.floor(t_end / period)) + 1
+    t = np.arange(steps) * period
+    u_seq = signal(t)
+    lags = system.n_inputs
+    y = np.zeros(steps)
+    z = z0.copy()
+    out = np.empty(1)
+    status, blow_t, message = "ok", None, "recursion finished"
+    for k in range(steps):
+        v = [u_seq[k - i] if k - i >= 0 else 0.0 for i in range(lags)]
+        rhs(z, v, out)
+        y[k] = out[0]
+        if not math.isfinite(y[k]) or abs(y[k]) >= blowup:
+            status, blow_t = "blowup", float(t[k])
+            message = f"|y| reached {blowup:g} at t = {blow_t:.6g} s (sample {k})"
+            y, t, u_seq = y[:k + 1], t[:k + 1], u_seq[:k + 1]
+            break
+        if z.size:
+            z = np.concatenate(([y[k]], z[:-1]))
+    return SimulationResult(t=t, y=y, u=u_seq, states=y[None, :], status=status,
+                            method="recursion", blowup_time=blow_t, message=message,
+                            nfev=int(t.size))

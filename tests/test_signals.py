@@ -1,0 +1,58 @@
+"""Tests of gfrf.signals: parsing, derivatives, tones, CSV, bad input."""
+
+import math
+
+import numpy as np
+import pytest
+
+from gfrf.errors import ArgumentError
+from gfrf.signals import parse_input, tones_input
+
+
+def test_sum_of_tones_value_and_tones():
+    u = parse_input("0.1*sin(1.2*t) - 0.3*cos(2*t + 1)")
+    t = 0.7
+    assert float(u(t)) == pytest.approx(0.1 * math.sin(0.84) - 0.3 * math.cos(2.4))
+    (a1, w1, p1), (a2, w2, p2) = u.tones
+    # rebuild the signal from the extracted tones: independent of the parser's algebra
+    rebuilt = a1 * math.cos(w1 * t + p1) + a2 * math.cos(w2 * t + p2)
+    assert rebuilt == pytest.approx(float(u(t)))
+    assert {w1, w2} == {1.2, 2.0} and min(a1, a2) == pytest.approx(0.1)
+
+
+def test_symbolic_derivative():
+    u = parse_input("exp(-t)*sin(3*t)", max_derivative=2)
+    t = np.array([0.0, 0.4])
+    d1 = np.exp(-t) * (3 * np.cos(3 * t) - np.sin(3 * t))
+    assert np.allclose(u.derivative(1)(t), d1)
+    with pytest.raises(ArgumentError):
+        u.derivative(3)
+
+
+def test_step_is_one_at_jump_and_not_tones():
+    u = parse_input("0.5*step(t - 1)")
+    assert np.allclose(u([0.0, 1.0, 2.0]), [0.0, 0.5, 0.5])
+    assert u.tones is None
+
+
+def test_tones_input_roundtrip():
+    u = tones_input([(0.2, 1.5, 0.3)])
+    assert float(u(1.1)) == pytest.approx(0.2 * math.cos(1.5 * 1.1 + 0.3))
+
+
+def test_csv_input(tmp_path):
+    path = tmp_path / "u.csv"
+    t = np.linspace(0, 2, 41)
+    np.savetxt(path, np.c_[t, 3 * t], delimiter=",", header="t,u", comments="")
+    u = parse_input(str(path), max_derivative=1)
+    assert float(u(1.234)) == pytest.approx(3 * 1.234)
+    assert float(u.derivative(1)(0.5)) == pytest.approx(3.0)
+    assert float(u(5.0)) == pytest.approx(6.0)  # held after the recording
+
+
+@pytest.mark.parametrize("text, word", [("0.5", "not a function of t"), ("x*t", "x"),
+                                        ("foo(t)", "foo"), ("sin(", "cannot parse"),
+                                        ("", "empty"), ("csv:/nonexistent.csv", "does not exist")])
+def test_bad_input(text, word):
+    with pytest.raises(ArgumentError, match=word):
+        parse_input(text)

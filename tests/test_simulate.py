@@ -1,0 +1,135 @@
+"""Tests of gfrf.simulate and gfrf.fastsim against closed forms and each other."""
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from gfrf.errors import ArgumentError, ModelError
+from gfrf.model import parse_model
+from gfrf.modelfile import load_model
+from gfrf.simulate import build_system, simulate
+
+MODELS = "models"
+
+
+def test_first_order_step_closed_form():
+    res = simulate(parse_model("2*D(y) + y = 3*u"), "step(t)", t_end=4.0, rtol=1e-10,
+                   atol=1e-12)
+    assert res.status == "ok"
+    assert np.allclose(res.y, 3 * (1 - np.exp(-res.t / 2)), atol=1e-8)
+
+
+def test_damped_oscillator_sine_closed_form():
+    # y'' + 2 z w y' + w^2 y = cos(W t), zero state: steady state + homogeneous part
+    w, z, W = 2.0, 0.3, 1.3
+    res = simulate(parse_model(f"D(y,2) + {2*z*w}*D(y) + {w*w}*y = u"), f"cos({W}*t)",
+                   t_end=30.0, method="dop853", rtol=1e-11, atol=1e-13)
+    H = 1 / (w * w - W * W + 2j * z * w * W)
+    wd = w * math.sqrt(1 - z * z)
+    # homogeneous solution fixed by y(0) = y'(0) = 0
+    A = -H.real
+    B = (W * H.imag + z * w * A) / wd  # y'(0) = -W*Im(H)... derived: ss'(0) = -W*Im(H)
+    ss = np.real(H * np.exp(1j * W * res.t))
+    hom = np.exp(-z * w * res.t) * (A * np.cos(wd * res.t) + B * np.sin(wd * res.t))
+    assert np.allclose(res.y, ss + hom, atol=1e-8)
+
+
+def test_input_derivative_model():
+    # y' + y = u' with u = sin(t): y = (cos t + sin t - e^{-t})/2... derived by hand:
+    # Y = s/(s+1) U, steady state Re(j/(1+j) e^{jt}) = (cos t + sin t)/2, y(0)=0
+    res = simulate(parse_model("D(y) + y = D(u)"), "sin(t)", t_end=5.0, rtol=1e-10,
+                   atol=1e-12)
+    expected = 0.5 * (np.cos(res.t) + np.sin(res.t) - np.exp(-res.t))
+    assert np.allclose(res.y, expected, atol=1e-8)
+
+
+def test_fast_path_matches_dop853():
+    mf = load_model(f"{MODELS}/hanging_pendulum.toml")
+    system = build_system(mf, equation="polynomial")
+    ref = simulate(system, "0.05*sin(1.565*t)", t_end=40.0, method="dop853", rtol=1e-12,
+                   atol=1e-14)
+    fast = simulate(system, "0.05*sin(1.565*t)", t_end=40.0, method="fast", dt=0.005)
+    assert fast.status == "ok"
+    assert np.max(np.abs(fast.y - ref.y)) < 1e-8
+    auto = simulate(system, "0.05*sin(1.565*t)", t_end=40.0, method="fast", rtol=1e-7)
+    assert np.max(np.abs(auto.y - ref.y)) < 1e-7 * ref.peak * 2
+
+
+def test_fast_rk4_is_fourth_order():
+    system = build_system(parse_model("D(y,2) + 0.5*D(y) + y + 0.3*y**3 = u"))
+    ref = simulate(system, "cos(t)", t_end=10.0, method="dop853", rtol=1e-13, atol=1e-15)
+    errs = [np.max(np.abs(simulate(system, "cos(t)", t_end=10.0, method="fast", dt=dt).y
+                          - ref.y)) for dt in (0.04, 0.02)]
+    assert 12 < errs[0] / errs[1] < 20  # 2^4 = 16
+
+
+@pytest.mark.parametrize("method", ["rk45", "fast"])
+def test_blowup_reported(method):
+    model = parse_model("D(y,2) + y - y**3 = u")
+    # energy E = y'^2/2 + y^2/2 - y^4/4 above the barrier 1/4 with y' > 0: escapes
+    res = simulate(model, None, t_end=20.0, initial=[1.5, 0.5], method=method, dt=0.001,
+                   blowup=1e3)
+    assert res.status == "blowup" and not res.bounded
+    assert res.blowup_time is not None and 0.5 < res.blowup_time < 5.0
+    assert np.all(np.isfinite(res.y)) and np.max(np.abs(res.y)) <= 1e3 * 1.01
+    # escape time from the conserved energy: t = int dy / sqrt(2E - y^2 + y^4/2)
+    from scipy.integrate import quad
+    energy = 0.5**2 / 2 + 1.5**2 / 2 - 1.5**4 / 4
+    t_exact = quad(lambda y: 1 / math.sqrt(2 * energy - y * y + y**4 / 2), 1.5, 1e3)[0]
+    assert res.blowup_time == pytest.approx(t_exact, abs=2e-3)
+
+
+def test_unstable_open_loop_warns():
+    mf = load_model(f"{MODELS}/cartpole_reduced.toml")
+    with pytest.warns(UserWarning, match="unstable"):
+        res = simulate(mf, None, t_end=1.0, initial=[0.01, 0.0])
+    assert any("unstable" in n for n in res.notes)
+
+
+def test_closed_loop_improper_controller_linear_limit():
+    # linear loop: (1 - 39.3185 a) th'' - 39.3185 b th' - (67.578 + 39.3185 c) th = 0
+    mf = load_model(f"{MODELS}/cartpole_reduced.toml")
+    a, b, c, k = 15.6, 379.3, 0.1331, 39.3185
+    system = build_system(mf, closed_loop=True)
+    assert any("improper" in n for n in system.notes)
+    poles = np.roots([1 - k * a, -k * b, -(67.578 + k * c)])
+    assert np.allclose(np.sort(system.linear_eigenvalues.real), np.sort(poles.real))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        res = simulate(system, None, t_end=3.0, initial=[1e-4, 0.0], rtol=1e-11, atol=1e-15)
+    p1, p2 = poles
+    # closed form with th(0) = 1e-4, th'(0) = 0
+    expected = 1e-4 * (p2 * np.exp(p1 * res.t) - p1 * np.exp(p2 * res.t)) / (p2 - p1)
+    assert np.allclose(res.y, expected, rtol=1e-5, atol=1e-12)
+    # the plant input u = -(a th'' + b th' + c th) is reported, not the reference;
+    # at t = 0: th' = 0, th'' = -1e-4 p1 p2 from the closed form
+    assert res.u[0] == pytest.approx(-(a * (-1e-4 * p1 * p2) + c * 1e-4), rel=1e-6)
+
+
+def test_narx_recursion_by_hand():
+    mf = load_model(f"{MODELS}/narx_example.toml")
+    res = simulate(mf, "step(t)", t_end=0.35)
+    y = [0.0] * 4
+    u = [1.0] * 4
+    for k in range(4):
+        y1 = y[k - 1] if k >= 1 else 0.0
+        u1 = u[k - 1] if k >= 1 else 0.0
+        u2 = u[k - 2] if k >= 2 else 0.0
+        y[k] = 0.5 * y1 - 0.2 * y1**2 * u2 + u1
+    assert np.allclose(res.y, y)
+
+
+@pytest.mark.parametrize("kwargs, word", [({"t_end": 0.0}, "t_end"),
+                                          ({"t_end": 1.0, "rtol": 0.0}, "rtol"),
+                                          ({"t_end": 1.0, "method": "euler"}, "method"),
+                                          ({"t_end": 1.0, "initial": [1, 2, 3]}, "initial")])
+def test_bad_arguments(kwargs, word):
+    with pytest.raises(ArgumentError, match=word):
+        simulate(parse_model("D(y,2) + D(y) + y = u"), None, **kwargs)
+
+
+def test_closed_loop_without_controller():
+    with pytest.raises(ModelError, match="controller"):
+        build_system(load_model(f"{MODELS}/duffing.toml"), closed_loop=True)
