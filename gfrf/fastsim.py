@@ -213,4 +213,5 @@ def simulate_fast(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end:
     v = input_values(signal, system.n_inputs, t)
     u = plant_input(system, Y, v) if t.size else np.zeros(0)
     return SimulationResult(t=t, y=Y[0], u=u, states=Y, status=status, method="fast",
-                            blowup_time=blow_t, message=message, nfev=4 * nsteps, notes=notes)
+                            blowup_time=blow_t, message=message, nfev=4 * nsteps, notes=notes,
+                            compile_time=load_time)

@@ -16,8 +16,8 @@ acting on derivatives of y and a strictly proper rest realised in controllable
 canonical form (extra states).  The cart-pole controller a s^2 + b s + c is improper:
 its s^2 term feeds theta'' back into u, so the loop equation is implicit in theta''.
 It is solved algebraically for theta'' (plant and controller are both linear in it),
-which is exact as long as the coefficient of theta'' stays non-zero; the simulation
-stops with status ``"singular"`` where it vanishes.
+which is exact as long as the coefficient of theta'' stays non-zero; where it vanishes
+the state becomes non-finite and the run stops there like a blow-up, with its time.
 
 Before integrating, the linearisation at z = 0 is checked: an unstable linear part
 (open-loop cart-pole, an unstable closed loop) is reported in ``notes`` and as a
@@ -131,10 +131,12 @@ class SimulationResult:
     states : numpy.ndarray
         State trajectory, shape (n_states, len(t)).
     status : str
-        ``"ok"``, ``"blowup"`` (|y| reached the threshold or became non-finite),
-        ``"singular"`` (the coefficient of y^(n) vanished) or ``"failed"``.
+        ``"ok"``, ``"blowup"`` (|y| reached the threshold or the state became
+        non-finite) or ``"failed"`` (the integrator gave up).
     blowup_time : float or None
         Time in seconds at which |y| crossed the blow-up threshold.
+    wall_time, compile_time : float
+        Seconds spent integrating, and (fast path) loading/compiling with numba.
     """
 
     t: np.ndarray
@@ -147,6 +149,7 @@ class SimulationResult:
     message: str = ""
     nfev: int = 0
     wall_time: float = 0.0
+    compile_time: float = 0.0
     notes: list[str] = field(default_factory=list)
 
     @property
@@ -166,7 +169,8 @@ class SimulationResult:
             "message": self.message, "t_final": float(self.t[-1]) if self.t.size else 0.0,
             "samples": int(self.t.size), "peak_abs_y": self.peak,
             "y_final": float(self.y[-1]) if self.y.size else None,
-            "nfev": self.nfev, "wall_time_s": self.wall_time, "notes": list(self.notes)}
+            "nfev": self.nfev, "wall_time_s": self.wall_time,
+            "compile_time_s": self.compile_time, "notes": list(self.notes)}
         if arrays:
             out.update(t=self.t, y=self.y, u=self.u)
         return out
@@ -410,7 +414,7 @@ def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | N
                                rtol=rtol, atol=atol)
     else:
         result = _scipy(system, signal, z0, t_end, t_eval, method, rtol, atol, blowup)
-    result.wall_time = time.perf_counter() - start
+    result.wall_time = time.perf_counter() - start - result.compile_time
     result.notes = notes + result.notes
     return result
 

@@ -1,0 +1,58 @@
+"""CLI contract of ``gfrf simulate`` and ``gfrf predict``."""
+
+import json
+import math
+
+import numpy as np
+
+from gfrf.cli import main
+
+
+def test_simulate_json_and_csv(tmp_path, capsys):
+    csv = tmp_path / "out.csv"
+    png = tmp_path / "out.png"
+    code = main(["simulate", "D(y) + y = u", "--input", "step(t)", "--t-end", "3",
+                 "--rtol", "1e-10", "--atol", "1e-12", "--points", "31", "--csv", str(csv),
+                 "--plot", str(png), "--json"])
+    assert code == 0
+    payload = json.loads(capsys.readouterr().out)
+    assert payload["status"] == "ok" and payload["samples"] == 31
+    assert payload["y_final"] == __import__("pytest").approx(1 - math.exp(-3), abs=1e-8)
+    data = np.loadtxt(csv, delimiter=",", skiprows=1)
+    assert data.shape == (31, 3) and np.allclose(data[:, 2], 1.0)
+    assert png.stat().st_size > 1000
+
+
+def test_simulate_blowup_exit_1(capsys):
+    code = main(["simulate", "D(y,2) + y - y**3 = u", "--initial", "1.5,0.5", "--t-end",
+                 "20"])
+    out = capsys.readouterr().out
+    assert code == 1 and "BLOW-UP" in out
+
+
+def test_closed_loop_cartpole_text(capsys):
+    code = main(["simulate", "models/cartpole.toml", "--closed-loop", "--initial", "0.0873,0",
+                 "--t-end", "2"])
+    out = capsys.readouterr().out
+    assert code == 0 and "improper" in out
+
+
+def test_bad_input_exit_2(capsys):
+    for argv in (["simulate", "models/duffing.toml", "--input", "0.5", "--t-end", "1"],
+                 ["simulate", "models/duffing.toml", "--input", "sin(x)", "--t-end", "1"],
+                 ["simulate", "models/duffing.toml", "--t-end", "-1"],
+                 ["simulate", "models/duffing.toml", "--t-end", "1", "--rtol", "0"],
+                 ["simulate", "models/duffing.toml", "--t-end", "1", "--closed-loop"],
+                 ["predict", "models/duffing.toml", "--input", "step(t)"]):
+        assert main(argv) == 2, argv
+        assert "gfrf: error:" in capsys.readouterr().err
+
+
+def test_predict_linear_json(capsys):
+    # H1(j*2) of y'' + y' + 4y = u is -0.5j: amplitude 1.5 for 3*cos(2t)
+    code = main(["predict", "D(y,2) + D(y) + 4*y = u", "--input", "3*cos(2*t)", "--order",
+                 "3", "--json"])
+    payload = json.loads(capsys.readouterr().out)
+    assert code == 0
+    (row,) = payload["components"]
+    assert abs(row["amplitude"] - 1.5) < 1e-12 and abs(row["phase"] + math.pi / 2) < 1e-12
