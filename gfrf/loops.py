@@ -1,0 +1,198 @@
+"""Linear plant, controller and closed loop as python-control objects (continuous time).
+
+The loop of a model file with a controller C is ``y = P[u]``, ``u = r + f * C[y]``
+with ``f = controller.feedback`` (-1, the default, is negative feedback
+``u = r - C[y]``).  Its linear part has the characteristic polynomial
+
+    chi(s) = D_P(s) D_C(s) - f * N_P(s) N_C(s),
+
+where H1 = P = N_P / D_P (``N_P = -B``, ``D_P = A`` of the plant model) and
+C = N_C / D_C.  The sensitivity g1 = (1 - f P C)^{-1} = D_P D_C / chi is the
+paper's g1 = [1 + h1 s1]^{-1} of section 5, and its peak sup |g1(j w)| (rad/s) is the
+rho_1 of Theorem 2 as section 5 uses it.
+
+python-control refuses improper transfer functions in some operations (``norm``,
+conversion to state space): the characteristic polynomial and the sensitivity are
+therefore formed with ``numpy.polymul``/``polyadd``, and ``control.feedback`` is used
+only for the returned :class:`control.TransferFunction` objects.  An improper
+controller (the paper's ``a s^2 + b s + c`` without its lags) has an infinite
+H-infinity norm lambda_1; that is reported, not replaced by a big number.
+
+Examples
+--------
+>>> from gfrf.modelfile import load_model
+>>> loop = closed_loop(load_model("models/cartpole_reduced.toml"))
+>>> loop.stable, loop.controller_proper
+(True, False)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import control
+import numpy as np
+
+from gfrf.errors import ArgumentError
+from gfrf.majorant import linear_polynomials
+from gfrf.model import Model
+from gfrf.modelfile import Controller, ModelFile
+from gfrf.rational import rational_sup
+
+__all__ = ["ClosedLoop", "linear_plant", "controller_tf", "controller_polynomials",
+           "closed_loop", "characteristic"]
+
+
+def _continuous(model: Model, what: str) -> None:
+    if model.is_discrete:
+        raise ArgumentError(f"{what} is discrete-time: closed loops are implemented for "
+                            "continuous-time models only")
+
+
+def linear_plant(model: Model) -> control.TransferFunction:
+    """H1 = -B/A of ``model`` as a :class:`control.TransferFunction`.
+
+    A discrete (NARX) model gives a discrete transfer function in z = 1/q with
+    ``dt = sample_time``.
+    """
+    num, den = linear_polynomials(model)
+    if model.is_discrete:
+        size = max(num.size, den.size)
+        pad = [np.concatenate([c, np.zeros(size - c.size)]) for c in (num, den)]
+        return control.tf(pad[0], pad[1], model.sample_time)
+    return control.tf(num, den)
+
+
+def controller_polynomials(controller: Controller) -> tuple[np.ndarray, np.ndarray]:
+    """(N_C, D_C) highest power first: the transfer function, or a polynomial
+    controller's linear part."""
+    if controller.is_linear:
+        return np.asarray(controller.num, dtype=float), np.asarray(controller.den, dtype=float)
+    _continuous(controller.model, "the controller")  # type: ignore[arg-type]
+    return linear_polynomials(controller.model)  # type: ignore[arg-type]
+
+
+def controller_tf(controller: Controller) -> control.TransferFunction:
+    """The controller's linear part as a :class:`control.TransferFunction` (may be improper)."""
+    num, den = controller_polynomials(controller)
+    return control.tf(num, den)
+
+
+def _degree(coefficients: np.ndarray) -> int:
+    nz = np.flatnonzero(coefficients)
+    return int(coefficients.size - 1 - nz[0]) if nz.size else 0
+
+
+def characteristic(plant: tuple[np.ndarray, np.ndarray], ctrl: tuple[np.ndarray, np.ndarray],
+                   feedback: int) -> np.ndarray:
+    """chi = D_P D_C - feedback * N_P N_C, highest power first, leading zeros trimmed."""
+    chi = np.polysub(np.polymul(plant[1], ctrl[1]),
+                     feedback * np.polymul(plant[0], ctrl[0]))
+    nz = np.flatnonzero(np.abs(chi) > 0)
+    return chi[nz[0]:] if nz.size else np.zeros(1)
+
+
+@dataclass(frozen=True)
+class ClosedLoop:
+    """The linear closed loop of a plant and controller (angular frequency in rad/s).
+
+    Attributes
+    ----------
+    plant, controller : control.TransferFunction
+        H1 of the plant and the controller's linear part.
+    reference_to_output, sensitivity : control.TransferFunction
+        y/r = P / (1 - f P C) and g1 = 1 / (1 - f P C).
+    characteristic : numpy.ndarray
+        chi(s), highest power first.
+    poles : numpy.ndarray
+        Roots of chi.
+    stable : bool
+        All poles in the open left half plane.
+    sensitivity_peak : float
+        sup |g1(j w)| (Theorem 2's rho_1 in the section-5 reading); inf if chi has
+        imaginary-axis roots.
+    sensitivity_peak_omega : float
+        Where it is attained (rad/s; inf for the limit w -> inf).
+    controller_norm : float
+        lambda_1 = sup |C(j w)|, inf for an improper controller.
+    controller_proper, plant_stable : bool
+    feedback : int
+    notes : tuple of str
+    """
+
+    plant: control.TransferFunction
+    controller: control.TransferFunction
+    reference_to_output: control.TransferFunction
+    sensitivity: control.TransferFunction
+    characteristic: np.ndarray
+    poles: np.ndarray
+    stable: bool
+    sensitivity_peak: float
+    sensitivity_peak_omega: float
+    controller_norm: float
+    controller_proper: bool
+    plant_stable: bool
+    feedback: int
+    notes: tuple[str, ...] = field(default=())
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary."""
+        monic = self.characteristic / self.characteristic[0]
+        return {"characteristic": self.characteristic.tolist(),
+                "characteristic_monic": monic.tolist(),
+                "poles": [complex(p) for p in self.poles], "stable": self.stable,
+                "sensitivity_peak": self.sensitivity_peak,
+                "sensitivity_peak_omega": self.sensitivity_peak_omega,
+                "controller_norm": self.controller_norm,
+                "controller_proper": self.controller_proper,
+                "plant_stable": self.plant_stable, "feedback": self.feedback,
+                "notes": list(self.notes)}
+
+
+def closed_loop(model_file: ModelFile, feedback: int | None = None) -> ClosedLoop:
+    """Build the linear closed loop of a model file's plant and controller.
+
+    Parameters
+    ----------
+    model_file : ModelFile
+        Must have a controller.
+    feedback : int, optional
+        Override the file's feedback sign (-1 negative, +1 positive).
+
+    Returns
+    -------
+    ClosedLoop
+
+    Raises
+    ------
+    ArgumentError
+        No controller, a discrete-time model, or a feedback sign other than +-1.
+    """
+    if model_file.controller is None:
+        raise ArgumentError(f"{model_file.name or 'model'} has no [controller] table")
+    _continuous(model_file.plant, "the plant")
+    sign = model_file.controller.feedback if feedback is None else feedback
+    if sign not in (-1, 1):
+        raise ArgumentError(f"feedback must be -1 or +1, got {sign!r}")
+    plant_poly = linear_polynomials(model_file.plant)
+    ctrl_poly = controller_polynomials(model_file.controller)
+    chi = characteristic(plant_poly, ctrl_poly, sign)
+    poles = np.roots(chi) if chi.size > 1 else np.zeros(0, dtype=complex)
+    stable = bool(np.all(poles.real < 0))
+    sens_num = np.polymul(plant_poly[1], ctrl_poly[1])
+    peak = rational_sup(sens_num, chi)
+    lam = rational_sup(*ctrl_poly)
+    plant_poles = np.roots(plant_poly[1]) if plant_poly[1].size > 1 else np.zeros(0)
+    notes = []
+    if lam.reason:
+        notes.append(f"controller norm lambda_1 = inf: {lam.reason}")
+    if not stable:
+        notes.append("linear closed loop unstable: poles "
+                     + ", ".join(f"{p:.6g}" for p in poles if p.real >= 0))
+    p_tf = control.tf(*plant_poly)
+    c_tf = control.tf(*ctrl_poly)
+    return ClosedLoop(p_tf, c_tf, control.tf(np.polymul(plant_poly[0], ctrl_poly[1]), chi),
+                      control.tf(sens_num, chi), chi, poles, stable, peak.value,
+                      peak.omega, lam.value, _degree(ctrl_poly[0]) <= _degree(ctrl_poly[1]),
+                      bool(np.all(plant_poles.real < 0)), sign, tuple(notes))
