@@ -20,6 +20,7 @@ __all__ = ["BenchSection", "SECTION_MODULES", "machine_description", "run_all", 
 #: Modules that each define ``run(quick: bool) -> BenchSection``.
 SECTION_MODULES: tuple[str, ...] = (
     "gfrf.bench.kernels",
+    "gfrf.bench.simulation",
 )
 
 
