@@ -1,0 +1,495 @@
+"""Theorems 1 and 2 of the GFRF stability paper, with a rigorous series decision.
+
+Theorem 1 (open loop, eq (1) models).  The system is L2 stable if
+  1) every H_n is a proper rational function,
+  2) A_1(s) = sum_p a_{1,p} s^p is Hurwitz (all zeros in the open left half plane),
+  3) the norm series sum_n ||H_n||_inf converges.
+
+Theorem 2 (closed loop, plant kernels h_n, controller kernels s_n, reference r).
+The tracking loop is internally L2 stable if
+  1) all h_n and s_n are proper rational functions,
+  2) the linear closed loop is L2 stable,
+  3) with beta_n = ||h_n||, lambda_1 = ||s_1|| > 0, lambda_n = ||s_n|| <= alpha_n lambda_1^n,
+     phi_1 = beta_1, phi_n = sum_{m=1}^n beta_m sum_{k_1+..+k_m=n} alpha_{k_1}..alpha_{k_m},
+     rho_1 = ||g_1||, theta_1 = 1,
+     theta_n = rho_1 sum_{m=2}^n phi_m lambda_1^m sum_{k_1+..+k_m=n} theta_{k_1}..theta_{k_m},
+     the series sum phi_m lambda_1^m and sum theta_n rho_1^n converge,
+  4) the reference spectrum is absolutely integrable.
+
+How the ambiguous symbols are read
+----------------------------------
+* rho_1.  Theorem 2 prints ||g_1|| = sup|(1 + h_1) s_1|; section 5 computes
+  rho_1 = sup|(1 + h_1 s_1)^{-1}|, the sensitivity peak.  Only the latter makes the
+  theta recursion a bound: the loop error e solves (1 + h_1 s_1) e_1 = r at first
+  order and e_n = -g_1 [sum_{m>=2} N_m(e, .., e)]_n with ||N_m|| <= phi_m lambda_1^m, so
+  ||e_n|| <= theta_n rho_1^n by induction.  We use the sensitivity peak
+  (:attr:`gfrf.loops.ClosedLoop.sensitivity_peak`) and report the literal reading too.
+* alpha_1.  Undefined in the paper; lambda_1 = alpha_1 lambda_1 forces alpha_1 = 1.  A
+  linear controller has lambda_n = alpha_n = 0 for n >= 2 ("<" read as "<="), so
+  phi_n = beta_n.
+* beta_n for an unstable plant (the inverted pendulum) is the sup of |h_n| on the
+  frequency axis (an L-infinity, not H-infinity, norm), as the paper's beta_1 = 0.58 is.
+* Section 3 applies Theorem 2's theta recursion to the open-loop pendulum with
+  rho_1 := ||H_1|| and rho_3 := |c_3| sup|1/A| (the cubic term's gain, not ||H_3||).
+  That recursion is exactly the generating function of our majorant
+  E = rho_1 r + rho_3 E^3 (see :mod:`gfrf.paper_checks`); Theorem 1 is decided here
+  with the certified majorant of every ||H_n|| instead.
+* "converges".  Every series is a power series in the input amplitude r (the paper
+  tests r = 1).  Its radius r* is computed from the certified majorant's generating
+  function (:mod:`gfrf.majorant`): the verdict says the series converges for every
+  amplitude below r*, and whether the requested amplitude is inside.  Beyond r* the
+  majorant diverges, which decides nothing: the condition is then "not established"
+  (``passed = None``), and a finite-term root-test estimate from the *lower* bounds of
+  ||H_n|| is reported, labelled an estimate.
+
+Verdicts: ``stable`` when every condition holds (certified); ``unstable`` when the
+linearisation has a pole in the open right half plane (Lyapunov's indirect method:
+the equilibrium is unstable; the theorem is then inapplicable); ``inconclusive``
+otherwise.  Angular frequencies are in rad/s throughout.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from gfrf.errors import ArgumentError
+from gfrf.loops import closed_loop
+from gfrf.majorant import Majorant, Radius, majorant, radius
+from gfrf.model import Model
+from gfrf.modelfile import ModelFile, model_from_dict
+from gfrf.norms import Bound, _linear_stability, kernel_norm
+from gfrf.rational import rational_sup
+
+__all__ = ["Condition", "Verdict", "Margin", "theorem1", "theorem2", "verdict",
+           "parameter_margin", "theta_series"]
+
+
+@dataclass(frozen=True)
+class Condition:
+    """One hypothesis of a theorem: ``passed`` True, False, or None (not established)."""
+
+    name: str
+    passed: bool | None
+    value: Any
+    detail: str
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary."""
+        return {"name": self.name, "passed": self.passed, "value": self.value,
+                "detail": self.detail}
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """Outcome of Theorem 1 or 2 for one model and input amplitude.
+
+    Attributes
+    ----------
+    verdict : str
+        ``stable`` (every condition proven), ``inconclusive`` or ``unstable``.
+    theorem : int
+        1 (open loop) or 2 (closed loop).
+    radius : float
+        r*: the certified series converges for every amplitude r < r*.
+    radius_certified : bool
+        True when r* comes from exact sups (continuous model).
+    amplitude : float
+        The input amplitude r tested (the paper's r = 1).
+    conditions : tuple of Condition
+    norms : tuple of Bound
+        ||H_n|| brackets (plant) for n = 1..order.
+    series : tuple of dict
+        Per order n: the series terms (certified majorant and estimates).
+    radius_estimate : float or None
+        Root-test estimate of the true radius from lower bounds (estimate only).
+    summary : str
+        One sentence.
+    """
+
+    verdict: str
+    theorem: int
+    radius: float
+    radius_certified: bool
+    amplitude: float
+    conditions: tuple[Condition, ...]
+    norms: tuple[Bound, ...] = field(default=())
+    series: tuple[dict[str, Any], ...] = field(default=())
+    radius_estimate: float | None = None
+    summary: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary (the ``--json`` output of ``gfrf verdict``)."""
+        return {"verdict": self.verdict, "theorem": self.theorem, "radius": self.radius,
+                "radius_certified": self.radius_certified, "amplitude": self.amplitude,
+                "conditions": [c.to_dict() for c in self.conditions],
+                "norms": [b.to_dict() for b in self.norms], "series": list(self.series),
+                "radius_estimate": self.radius_estimate, "summary": self.summary}
+
+
+def _check_amplitude(amplitude: float, order: int) -> None:
+    if not (isinstance(amplitude, float | int) and math.isfinite(amplitude) and amplitude > 0):
+        raise ArgumentError(f"amplitude must be a positive finite number, got {amplitude!r}")
+    if isinstance(order, bool) or not isinstance(order, int) or order < 1:
+        raise ArgumentError(f"order must be a positive integer, got {order!r}")
+
+
+def _plant_radius(maj: Majorant) -> Radius:
+    return radius(lambda x, r: maj.rhs(x, r), len(maj.powers))
+
+
+def _proper_condition(model: Model, maj: Majorant, what: str) -> Condition:
+    """Condition 1: bounded kernels.  Improper H1 fails; an infinite majorant is undecided."""
+    a, b = model.linear_output, model.linear_input
+    if b and max(b) > max(a):
+        return Condition(f"{what}: proper rational kernels", False, math.inf,
+                         f"H1 improper: input derivative order {max(b)} > output order "
+                         f"{max(a)}")
+    if not maj.finite:
+        return Condition(f"{what}: proper rational kernels", None, math.inf,
+                         "not established: " + "; ".join(maj.reasons))
+    return Condition(f"{what}: proper rational kernels", True, None,
+                     "every H_n bounded by the finite certified majorant (hence proper on "
+                     "the frequency axis)")
+
+
+def _stability_condition(model: Model) -> tuple[Condition, str]:
+    stable, poles = _linear_stability(model)
+    kind = "|z| < 1" if model.is_discrete else "Re s < 0"
+    values = [complex(p) for p in poles]
+    if stable:
+        return Condition("linear part A_1 stable", True, values, f"all poles have {kind}"), ""
+    if model.is_discrete:
+        strict = any(abs(p) > 1 + 1e-12 for p in poles)
+    else:
+        strict = any(p.real > 1e-12 * (1 + abs(p)) for p in poles)
+    detail = ("pole outside the stability region: the equilibrium is unstable "
+              "(Lyapunov's indirect method); Theorem 1 is inapplicable" if strict else
+              "pole on the stability boundary: Theorem 1 is inapplicable")
+    return Condition("linear part A_1 stable", False, values, detail), \
+        "unstable" if strict else "inconclusive"
+
+
+def _norms_and_series(model: Model, maj: Majorant, order: int, amplitude: float,
+                      with_lower: bool) -> tuple[tuple[Bound, ...], tuple[dict[str, Any], ...],
+                                                 float | None]:
+    coefficients = maj.coefficients(order)[:, 0]
+    norms, rows = [], []
+    for n in range(1, order + 1):
+        bound = kernel_norm(model, n) if with_lower else None
+        if bound is not None:
+            norms.append(bound)
+        upper = bound.upper if bound is not None else float(coefficients[n])
+        rows.append({"order": n, "lower": bound.lower if bound else None, "upper": upper,
+                     "majorant": float(coefficients[n]),
+                     "majorant_term": float(coefficients[n]) * amplitude ** n
+                     if math.isfinite(coefficients[n]) else math.inf})
+    return tuple(norms), tuple(rows), _root_estimate([r["lower"] for r in rows])
+
+
+def _root_estimate(lower: list[float | None]) -> float | None:
+    """Estimate of the radius from the last two nonzero lower bounds (ratio test)."""
+    nonzero = [(n + 1, v) for n, v in enumerate(lower) if v]
+    if len(nonzero) < 2:
+        return None
+    (m, a), (n, b) = nonzero[-2], nonzero[-1]
+    if n == 1 or not (math.isfinite(a) and math.isfinite(b)):
+        return None
+    return float((b / a) ** (-1.0 / (n - m)))
+
+
+def theorem1(model: Model, order: int = 5, amplitude: float = 1.0,
+             with_norms: bool = True) -> Verdict:
+    """Theorem 1 (open loop) for ``model`` at input amplitude ``amplitude``.
+
+    Parameters
+    ----------
+    model : Model
+    order : int
+        Highest order whose norm bracket is reported (the decision uses all orders).
+    amplitude : float
+        Input amplitude r (the paper's test is r = 1).
+    with_norms : bool
+        Compute the lower bounds of ||H_n|| (slower); False for margins.
+
+    Returns
+    -------
+    Verdict
+    """
+    _check_amplitude(amplitude, order)
+    maj = majorant(model)
+    proper = _proper_condition(model, maj, "H_n")
+    stable, bad = _stability_condition(model)
+    rad = _plant_radius(maj)
+    norms, rows, estimate = _norms_and_series(model, maj, order, amplitude, with_norms)
+    series = _series_condition("norm series sum ||H_n|| r^n converges", rad, amplitude,
+                               maj.exact, estimate)
+    conditions = (proper, stable, series)
+    result = bad or ("stable" if all(c.passed for c in conditions) else "inconclusive")
+    summary = _summary(result, 1, rad, amplitude, conditions)
+    return Verdict(result, 1, rad.value, maj.exact, float(amplitude), conditions, norms, rows,
+                   estimate, summary)
+
+
+def _series_condition(name: str, rad: Radius, amplitude: float, exact: bool,
+                      estimate: float | None) -> Condition:
+    label = "certified" if exact else "estimate (grid sups of a discrete model)"
+    est = (f"; finite-term estimate of the true radius (from lower bounds): {estimate:.4g}"
+           if estimate else "")
+    if amplitude < rad.certified_below:
+        return Condition(name, True if exact else None, rad.value,
+                         f"majorant converges for r < r* = {rad.value:.6g} ({label}); "
+                         f"r = {amplitude:g} is inside{est}")
+    return Condition(name, None, rad.value,
+                     f"not established: the majorant diverges for r >= r* = {rad.value:.6g} "
+                     f"({label}) and r = {amplitude:g} is outside{est}")
+
+
+def _summary(result: str, theorem: int, rad: Radius, amplitude: float,
+             conditions: tuple[Condition, ...]) -> str:
+    failed = [c.name for c in conditions if c.passed is False]
+    open_ = [c.name for c in conditions if c.passed is None]
+    text = (f"Theorem {theorem}: {result}. The certified norm series converges for every "
+            f"input amplitude r < r* = {rad.value:.6g}; r = {amplitude:g} is "
+            f"{'inside' if amplitude < rad.certified_below else 'outside'}.")
+    if failed:
+        text += " Failed: " + "; ".join(failed) + "."
+    if open_:
+        text += " Not established: " + "; ".join(open_) + "."
+    return text
+
+
+def theta_series(phi: list[float], lambda1: float, rho1: float, order: int) -> list[float]:
+    """theta_1..theta_order of Theorem 2 from phi_1..phi_order (index 0 is phi_1).
+
+    theta_1 = 1, theta_n = rho_1 sum_{m=2}^n phi_m lambda_1^m [x^n] Theta(x)^m, with
+    Theta(x) = sum theta_k x^k (the sum over compositions k_1 + .. + k_m = n).
+    """
+    theta = np.zeros(order + 1)
+    theta[1] = 1.0
+    for n in range(2, order + 1):
+        total = 0.0
+        power = theta.copy()  # Theta^1, truncated
+        for m in range(2, n + 1):
+            power = np.convolve(power, theta)[: order + 1]
+            if phi[m - 1]:
+                total += phi[m - 1] * lambda1 ** m * power[n]
+        theta[n] = rho1 * total
+    return theta[1:].tolist()
+
+
+def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
+             with_norms: bool = True) -> Verdict:
+    """Theorem 2 (closed loop) for a model file with a linear controller.
+
+    Parameters
+    ----------
+    model_file : ModelFile
+        Plant and controller (``[controller]`` with ``num``/``den``).
+    order, amplitude, with_norms
+        As in :func:`theorem1`; the amplitude scales the reference r.
+
+    Returns
+    -------
+    Verdict
+    """
+    _check_amplitude(amplitude, order)
+    controller = model_file.controller
+    if controller is None:
+        raise ArgumentError("Theorem 2 needs a controller; use theorem1 for an open loop")
+    if not controller.is_linear and controller.model.nonlinear_terms:  # type: ignore[union-attr]
+        raise ArgumentError("Theorem 2 with a nonlinear (polynomial) controller is not "
+                            "implemented: its lambda_n, alpha_n are not computed yet")
+    plant = model_file.plant
+    loop = closed_loop(model_file)
+    maj = majorant(plant)
+    lam, rho1 = loop.controller_norm, loop.sensitivity_peak
+    literal = _literal_rho(loop)
+    plant_proper = _proper_condition(plant, maj, "plant h_n")
+    ctrl_ok = loop.controller_proper and math.isfinite(lam)
+    c1 = Condition("plant h_n and controller s_n proper rational",
+                   False if not ctrl_ok or plant_proper.passed is False else plant_proper.passed,
+                   {"lambda_1": lam}, ("controller improper: s_1 = N_C/D_C with deg N_C > "
+                                       "deg D_C, lambda_1 = ||s_1|| = inf; " if not ctrl_ok
+                                       else "controller proper; ") + plant_proper.detail)
+    c2 = Condition("linear closed loop L2 stable", loop.stable,
+                   [complex(p) for p in loop.poles],
+                   "characteristic polynomial " + _poly_text(loop.characteristic)
+                   + ("" if loop.stable else "; " + "; ".join(loop.notes)))
+    c3 = Condition("lambda_1 > 0 finite, lambda_n <= alpha_n lambda_1^n", ctrl_ok and lam > 0,
+                   {"lambda_1": lam, "alpha_1": 1.0, "alpha_n": 0.0},
+                   "linear controller: lambda_n = alpha_n = 0 for n >= 2, phi_n = beta_n")
+    plant_rad = _plant_radius(maj)
+    norms, rows, estimate = _norms_and_series(plant, maj, order, amplitude, with_norms)
+    if ctrl_ok:
+        phi_ok = lam < plant_rad.certified_below
+        c4 = Condition("sum phi_m lambda_1^m converges", phi_ok if maj.exact else None,
+                       {"lambda_1": lam, "plant_radius": plant_rad.value},
+                       f"phi_m = beta_m <= majorant; the series is the plant majorant at "
+                       f"amplitude lambda_1 = {lam:.6g}, radius {plant_rad.value:.6g}")
+        rad = _loop_radius(maj, lam, rho1)
+    else:
+        c4 = Condition("sum phi_m lambda_1^m converges", False, {"lambda_1": lam},
+                       "lambda_1 = inf: the series diverges from its second term")
+        rad = Radius(0.0, 0.0, None)
+    c5 = _series_condition("sum theta_n rho_1^n r^n converges", rad, amplitude, maj.exact,
+                           None)
+    c5 = Condition(c5.name, c5.passed if ctrl_ok else False,
+                   {"rho_1": rho1, "rho_1_literal": literal, "radius": rad.value},
+                   f"rho_1 = sup|(1 + h1 s1)^-1| = {rho1:.6g} at w = "
+                   f"{loop.sensitivity_peak_omega:.4g} rad/s (the literal sup|(1 + h1) s1| "
+                   f"= {literal:.4g}); " + c5.detail)
+    c6 = Condition("reference spectrum absolutely integrable", True, None,
+                   "hypothesis on the input, assumed; its size is the amplitude r")
+    if ctrl_ok:
+        phi = [row["majorant"] for row in rows]
+        theta = theta_series(phi, lam, rho1, order)
+        for row, th in zip(rows, theta, strict=True):
+            row["theta"] = th
+            row["theta_term"] = th * (rho1 * amplitude) ** row["order"]
+    conditions = (c1, c2, c3, c4, c5, c6)
+    result = ("stable" if all(c.passed for c in conditions) else
+              "unstable" if any(p.real > 0 for p in loop.poles) else "inconclusive")
+    summary = _summary(result, 2, rad, amplitude, conditions)
+    return Verdict(result, 2, rad.value, maj.exact, float(amplitude), conditions, norms, rows,
+                   estimate, summary)
+
+
+def _poly_text(coefficients: np.ndarray) -> str:
+    """Monic polynomial in s as text, e.g. ``s^2 + 24.3538 s + 0.118901``."""
+    monic = coefficients / coefficients[0]
+    degree = monic.size - 1
+    parts = []
+    for i, c in enumerate(monic):
+        power = degree - i
+        var = "" if power == 0 else ("s" if power == 1 else f"s^{power}")
+        coef = "" if (abs(c) == 1 and power) else f"{abs(c):.6g}"
+        parts.append(("- " if c < 0 else "+ ") + (f"{coef} {var}".strip()))
+    return " ".join(parts).lstrip("+ ")
+
+
+def _literal_rho(loop: Any) -> float:
+    """Theorem 2's printed sup|(1 + h1(jw)) s1(jw)| (reported, not used)."""
+    num_p, den_p = np.asarray(loop.plant.num[0][0]), np.asarray(loop.plant.den[0][0])
+    num_c, den_c = np.asarray(loop.controller.num[0][0]), np.asarray(loop.controller.den[0][0])
+    return rational_sup(np.polymul(np.polyadd(den_p, num_p), num_c),
+                        np.polymul(den_p, den_c)).value
+
+
+def _loop_radius(maj: Majorant, lam: float, rho1: float) -> Radius:
+    """Radius in r of E = rho_1 r + rho_1 sum_{m>=2} phi_m lambda_1^m E^m (certified)."""
+    dim = len(maj.powers)
+
+    def step(z: np.ndarray, r: float) -> np.ndarray:
+        x, e = z[:dim], z[dim]
+        amp = lam * e
+        x_new = maj.rhs(x, amp)
+        e_new = rho1 * r + rho1 * maj.gains[0] * maj.nonlinear(x, amp)
+        return np.append(x_new, e_new)
+
+    return radius(step, dim + 1)
+
+
+def verdict(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
+            with_norms: bool = True) -> Verdict:
+    """Theorem 2 when the model file has a controller, Theorem 1 otherwise."""
+    if model_file.controller is not None:
+        return theorem2(model_file, order, amplitude, with_norms)
+    return theorem1(model_file.plant, order, amplitude, with_norms)
+
+
+@dataclass(frozen=True)
+class Margin:
+    """Smallest (or largest) parameter value for which the certified verdict is ``stable``.
+
+    Attributes
+    ----------
+    parameter : str
+    value : float
+        The boundary found by bisection (relative width ``tolerance``).
+    direction : str
+        ``"above"``: stable for parameter > value (e.g. damping); ``"below"`` otherwise.
+    amplitude : float
+    current : float
+        The model file's own value.
+    tolerance : float
+    """
+
+    parameter: str
+    value: float
+    direction: str
+    amplitude: float
+    current: float
+    tolerance: float
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary."""
+        return {"parameter": self.parameter, "value": self.value, "direction": self.direction,
+                "amplitude": self.amplitude, "current": self.current,
+                "tolerance": self.tolerance}
+
+
+def parameter_margin(model_file: ModelFile, parameter: str, amplitude: float = 1.0,
+                     tolerance: float = 1e-6) -> Margin:
+    """Boundary value of a model-file parameter for a certified ``stable`` verdict.
+
+    The verdict is assumed monotone in the parameter near the boundary (true for the
+    damping of the pendulum: r* increases with rho).  Bisection on the parameter, with
+    the model rebuilt from the file each time; norms are not bracketed (majorant only).
+
+    Parameters
+    ----------
+    model_file : ModelFile
+        Loaded from a TOML file (its ``path`` is re-read).
+    parameter : str
+        A key of the file's ``[parameters]`` table.
+    amplitude : float
+    tolerance : float
+        Relative width of the final bracket.
+
+    Returns
+    -------
+    Margin
+    """
+    if parameter not in model_file.parameters:
+        raise ArgumentError(f"{parameter!r} is not a parameter of {model_file.name!r}; "
+                            f"parameters: {', '.join(sorted(model_file.parameters))}")
+    if not model_file.path:
+        raise ArgumentError("parameter margins need a model file (its path is re-read)")
+    data = tomllib.loads(Path(model_file.path).read_text(encoding="utf-8"))
+    current = model_file.parameters[parameter]
+
+    def passes(value: float) -> bool:
+        changed = {**data, "parameters": {**data.get("parameters", {}), parameter: value}}
+        mf = model_from_dict(changed, path=model_file.path)
+        return verdict(mf, 1, amplitude, with_norms=False).verdict == "stable"
+
+    ok_now = passes(current)
+    lo, hi = current, current
+    factor = 2.0 if current > 0 else -2.0
+    for _ in range(60):
+        probe = hi * factor if ok_now is False else lo / factor
+        if passes(probe) != ok_now:
+            lo, hi = (current, probe) if ok_now is False else (probe, current)
+            break
+        if ok_now is False:
+            hi = probe
+        else:
+            lo = probe
+    else:
+        raise ArgumentError(f"no change of verdict found when scaling {parameter!r} by up "
+                            "to 2^60")
+    good_high = passes(hi)
+    while abs(hi - lo) > tolerance * max(abs(lo), abs(hi)):
+        mid = 0.5 * (lo + hi)
+        if passes(mid) == good_high:
+            hi = mid
+        else:
+            lo = mid
+    return Margin(parameter, hi if good_high else lo, "above" if good_high else "below",
+                  float(amplitude), current, tolerance)
