@@ -63,7 +63,7 @@ from gfrf.loops import closed_loop
 from gfrf.majorant import Majorant, Radius, majorant, radius
 from gfrf.model import Model
 from gfrf.modelfile import ModelFile, model_from_dict
-from gfrf.norms import Bound, _linear_stability, kernel_norm
+from gfrf.norms import Bound, linear_stability, kernel_norm
 from gfrf.rational import rational_sup
 
 __all__ = ["Condition", "Verdict", "Margin", "theorem1", "theorem2", "verdict",
@@ -159,7 +159,7 @@ def _proper_condition(model: Model, maj: Majorant, what: str) -> Condition:
 
 
 def _stability_condition(model: Model) -> tuple[Condition, str]:
-    stable, poles = _linear_stability(model)
+    stable, poles = linear_stability(model)
     kind = "|z| < 1" if model.is_discrete else "Re s < 0"
     values = [complex(p) for p in poles]
     if stable:

@@ -52,7 +52,7 @@ from gfrf.majorant import linear_polynomials, majorant
 from gfrf.model import Model
 from gfrf.rational import discrete_rational_sup, rational_sup
 
-__all__ = ["Bound", "h1_norm", "kernel_norm"]
+__all__ = ["Bound", "h1_norm", "kernel_norm", "linear_stability"]
 
 #: Largest number of start points evaluated for the lower bound.
 MAX_STARTS = 4000
@@ -114,7 +114,7 @@ class Bound:
                 "notes": list(self.notes), "reference": self.reference}
 
 
-def _linear_stability(model: Model) -> tuple[bool, np.ndarray]:
+def linear_stability(model: Model) -> tuple[bool, np.ndarray]:
     """(stable, poles) of A: open left half plane, or |z| < 1 in z = 1/q for NARX."""
     _, den = linear_polynomials(model)
     if model.is_discrete:
@@ -141,12 +141,12 @@ def h1_norm(model: Model) -> Bound:
         value is then the L-infinity norm on the axis, not an H-infinity norm.
     """
     num, den = linear_polynomials(model)
-    stable, poles = _linear_stability(model)
+    stable, poles = linear_stability(model)
     notes = []
     if not stable:
         unstable = ", ".join(f"{p:.6g}" for p in poles
                              if (abs(p) >= 1 if model.is_discrete else p.real >= 0))
-        notes.append(f"linear part unstable (poles {unstable}): the value is the "
+        notes.append(f"linear part not asymptotically stable (poles {unstable}): the value is the "
                      "L-infinity norm on the frequency axis, not an H-infinity norm")
     if model.is_discrete:
         sup = discrete_rational_sup(num, den, model.sample_time)  # type: ignore[arg-type]
@@ -241,7 +241,7 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6)
         b = h1_norm(model)
         return Bound(b.lower, b.upper, b.argmax, b.certified, b.method, 1, symmetric,
                      b.stable, b.notes, b.reference)
-    stable, _ = _linear_stability(model)
+    stable, _ = linear_stability(model)
     notes = [] if stable else ["linear part unstable: L-infinity norm on the frequency axis"]
     if k.is_zero:
         return Bound(0.0, 0.0, tuple([0.0] * n), True, "kernel identically zero", n,

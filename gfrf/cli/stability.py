@@ -1,0 +1,125 @@
+"""``gfrf verdict`` and ``gfrf norm``: Theorems 1/2 and GFRF norm brackets (rad/s).
+
+``gfrf verdict MODEL [--order N] [--amplitude R] [--margin PARAM] [--json]`` applies
+Theorem 2 when the model file has a ``[controller]``, Theorem 1 otherwise; it prints
+every condition with pass/FAIL/open and its numbers, the bracket of ||H_n|| for
+n = 1..N, the series terms, the certified radius r* and the verdict.  Exit code 0:
+stability proven; 1: not proven or unstable; 2: bad input.
+
+``gfrf norm MODEL --order N [--tol T] [--asymmetric] [--json]`` prints the bracket
+[lower, upper] of ||H_N||_inf (symmetric kernel unless ``--asymmetric``), its
+relative gap and whether the upper bound is certified.  Infinite norms print as
+``inf`` (JSON ``"inf"``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+from gfrf.cli._models import add_model_argument, resolve_model
+from gfrf.cli._output import add_json_flag, emit
+from gfrf.criteria import Verdict, parameter_margin, verdict
+from gfrf.errors import ArgumentError
+from gfrf.norms import Bound, kernel_norm
+
+__all__ = ["register"]
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Register ``verdict`` and ``norm``."""
+    v = subparsers.add_parser(
+        "verdict", help="stability verdict by Theorem 1 (open loop) or 2 (with controller)",
+        description="Check every condition of the paper's Theorem 1 (no controller) or "
+                    "Theorem 2 (model file with [controller]); the norm series is decided "
+                    "by its certified radius of convergence r* in the input amplitude. "
+                    "Exit code 0: stability proven, 1: not proven or unstable, 2: bad input.")
+    add_model_argument(v)
+    v.add_argument("--order", type=int, default=5,
+                   help="highest order of the reported norm brackets (default 5)")
+    v.add_argument("--amplitude", type=float, default=1.0, metavar="R",
+                   help="input amplitude r at which the series is tested (default 1)")
+    v.add_argument("--margin", metavar="PARAM", default=None,
+                   help="also find the boundary value of this model-file parameter for a "
+                        "certified 'stable' verdict at the amplitude")
+    add_json_flag(v)
+    v.set_defaults(func=_verdict)
+
+    n = subparsers.add_parser(
+        "norm", help="bracket [lower, upper] of the H-infinity norm of H_n",
+        description="Bracket ||H_n||_inf = sup over R^n of |H_n(j w_1, .., j w_n)| (rad/s): "
+                    "certified upper bound, best-found lower bound.")
+    add_model_argument(n)
+    n.add_argument("--order", type=int, required=True, help="kernel order n >= 1")
+    n.add_argument("--tol", type=float, default=1e-6, help="target relative gap (default 1e-6)")
+    n.add_argument("--asymmetric", action="store_true",
+                   help="norm of the asymmetric kernel of the recursion (default symmetric)")
+    add_json_flag(n)
+    n.set_defaults(func=_norm)
+
+
+def _num(x: float | None) -> str:
+    if x is None:
+        return "-"
+    return "inf" if math.isinf(x) else f"{x:.10g}"
+
+
+def _bound_line(b: Bound) -> str:
+    gap = "inf" if math.isinf(b.gap) else f"{b.gap:.2e}"
+    return (f"  ||H{b.order}|| in [{_num(b.lower)}, {_num(b.upper)}]  gap {gap}  "
+            f"{'certified' if b.certified else 'estimate'}")
+
+
+def _norm(args: argparse.Namespace) -> int:
+    mf = resolve_model(args)
+    if args.order < 1:
+        raise ArgumentError(f"--order must be >= 1, got {args.order}")
+    b = kernel_norm(mf.plant, args.order, not args.asymmetric, args.tol)
+    kind = "symmetric" if not args.asymmetric else "asymmetric"
+    lines = [f"{mf.name}: {kind} kernel, angular frequencies in rad/s", _bound_line(b),
+             f"  attained at w = ({', '.join(f'{w:.8g}' for w in b.argmax)}) rad/s",
+             f"  method: {b.method}"]
+    if b.reference is not None:
+        lines.append(f"  python-control norm(sys, 'inf'): {b.reference:.10g}")
+    lines += [f"  note: {note}" for note in b.notes]
+    emit(args, {"model": mf.name, **b.to_dict()}, "\n".join(lines))
+    return 0
+
+
+def _mark(passed: bool | None) -> str:
+    return {True: "pass", False: "FAIL", None: "open"}[passed]
+
+
+def _verdict_text(name: str, v: Verdict) -> list[str]:
+    kind = "open loop" if v.theorem == 1 else "closed loop"
+    lines = [f"{name}: Theorem {v.theorem} ({kind}), amplitude r = {v.amplitude:g}", "",
+             "Conditions:"]
+    lines += [f"  [{_mark(c.passed)}] {c.name}: {c.detail}" for c in v.conditions]
+    if v.norms:
+        lines += ["", "Norms (symmetric kernels, rad/s):"] + [_bound_line(b) for b in v.norms]
+    lines += ["", "Series (certified majorant M_n >= ||H_n||, term M_n r^n):"]
+    for row in v.series:
+        extra = (f"  theta_n rho_1^n r^n = {_num(row['theta_term'])}"
+                 if "theta_term" in row else "")
+        lines.append(f"  n = {row['order']}: M_n = {_num(row['majorant'])}, "
+                     f"term = {_num(row['majorant_term'])}{extra}")
+    est = (f"; estimate of the true radius from lower bounds: {v.radius_estimate:.4g}"
+           if v.radius_estimate else "")
+    lines += ["", f"r* = {_num(v.radius)} ({'certified' if v.radius_certified else 'estimate'})"
+                  f"{est}", f"verdict: {v.verdict}", v.summary]
+    return lines
+
+
+def _verdict(args: argparse.Namespace) -> int:
+    mf = resolve_model(args)
+    v = verdict(mf, args.order, args.amplitude)
+    payload = {"model": mf.name, **v.to_dict()}
+    lines = _verdict_text(mf.name, v)
+    if args.margin:
+        margin = parameter_margin(mf, args.margin, args.amplitude)
+        payload["margin"] = margin.to_dict()
+        lines.append(f"margin: certified stable for {margin.parameter} {margin.direction} "
+                     f"{margin.value:.6g} at r = {margin.amplitude:g} (file value "
+                     f"{margin.current:g})")
+    emit(args, payload, "\n".join(lines))
+    return 0 if v.verdict == "stable" else 1
