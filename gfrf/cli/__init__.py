@@ -21,6 +21,7 @@ __all__ = ["main", "build_parser", "COMMAND_MODULES"]
 COMMAND_MODULES: tuple[str, ...] = (
     "gfrf.cli.core",
     "gfrf.cli.simulation",
+    "gfrf.cli.stability",
 )
 
 
