@@ -55,7 +55,7 @@ class CheckRow:
 
 def printed_match(paper: float, ours: float) -> bool:
     """Whether ``ours`` rounds to ``paper`` at the paper's printed number of decimals."""
-    text = repr(float(paper))
+    text = repr(float(paper)).removesuffix(".0")
     decimals = len(text.split(".")[1]) if "." in text and "e" not in text else 0
     return abs(paper - ours) <= 0.5 * 10.0 ** (-decimals) * (1 + 1e-9)
 
