@@ -145,3 +145,11 @@ def test_wrong_number_of_frequencies_and_non_finite_values():
         kernel(DUFFING, 3)(1.0, 2.0)
     with pytest.raises(ArgumentError, match="finite"):
         kernel(DUFFING, 1)(np.nan)
+
+
+@pytest.mark.parametrize("model, n", [(CARTPOLE, 3), (EVERYTHING, 4), (NARX, 3), (CARTPOLE, 5)])
+def test_compiled_ufunc_agrees_with_numpy_path(model, n):
+    pytest.importorskip("numba")
+    w = RNG.uniform(-5, 5, (n, 200))
+    np.testing.assert_allclose(kernel(model, n).compiled()(*w), kernel(model, n)(*w),
+                               rtol=1e-12)

@@ -1,0 +1,119 @@
+"""Straight-line code generation for a GFRF: one fused function per model, order and kind.
+
+:class:`gfrf.kernels.GFRFGenerator` evaluates H_n bottom-up over the subsets of the
+frequencies with a Python-level memo.  Here the same recursion is unrolled once into
+Python source: one assignment per lower-order kernel on a block, each the block's
+recursion step after common-subexpression elimination, then the top-level kernel.
+The source runs as is on numpy arrays, and compiled with numba (when installed) it
+becomes a scalar function wrapped in a numpy ufunc, which is the fast path for
+millions of points (no temporary arrays at all).
+"""
+
+from __future__ import annotations
+
+import cmath
+from typing import TYPE_CHECKING, Any
+
+import sympy as sp
+from sympy.printing.pycode import PythonCodePrinter
+
+if TYPE_CHECKING:
+    from gfrf.kernels import GFRFGenerator
+
+__all__ = ["kernel_source", "numba_ufunc", "HAVE_NUMBA"]
+
+try:
+    import numba
+
+    HAVE_NUMBA = True
+except ImportError:  # pragma: no cover - numba is the optional `fast` extra
+    numba = None
+    HAVE_NUMBA = False
+
+
+class _Printer(PythonCodePrinter):
+    """Plain arithmetic: rationals as float literals, complex unit as 1j."""
+
+    def _print_Rational(self, expr: sp.Rational) -> str:
+        return repr(float(expr))
+
+    def _print_ImaginaryUnit(self, expr: sp.Expr) -> str:
+        return "1j"
+
+    def _print_Pow(self, expr: sp.Pow, rational: bool = False) -> str:
+        """Small integer powers as products: complex ``**`` is a slow library call."""
+        base, exponent = expr.args
+        if exponent.is_Integer and 1 < int(exponent) <= 8:
+            factor = self.parenthesize(base, 100)
+            return "(" + "*".join([factor] * int(exponent)) + ")"
+        return super()._print_Pow(expr, rational=rational)
+
+
+def kernel_source(gen: GFRFGenerator, n: int, symmetric: bool, name: str = "kernel") -> str:
+    """Python source of ``name(w0, ..., w{n-1}) -> H_n`` (angular frequencies in rad/s)."""
+    printer = _Printer()
+    model = gen.model
+    lines = [f"def {name}({', '.join(f'w{i}' for i in range(n))}):"]
+    for i in range(n):
+        if model.is_discrete:
+            lines.append(f"    x{i} = cmath_exp(-1j * {model.sample_time!r} * w{i})")
+        else:
+            lines.append(f"    x{i} = 1j * w{i}")
+    names: dict[tuple[int, ...], str] = {}
+    linear = model.linear_output
+
+    def emit(block: tuple[int, ...]) -> str:
+        if block in names:
+            return names[block]
+        plan = gen.plan(len(block), symmetric)
+        label = "h_" + "_".join(map(str, block))
+        if plan.is_zero:
+            names[block] = "0.0"
+            return "0.0"
+        inner = gen.variables(len(block))
+        mapping: dict[sp.Symbol, sp.Symbol] = {v: sp.Symbol(f"x{block[i]}")
+                                               for i, v in enumerate(inner)}
+        for sub, placeholder in zip(plan.blocks, plan.placeholders, strict=True):
+            mapping[placeholder] = sp.Symbol(emit(tuple(block[j] for j in sub)))
+        numerator = plan.numerator.xreplace(mapping)
+        replacements, (reduced,) = sp.cse(numerator, symbols=sp.numbered_symbols(f"{label}_c"))
+        for sym, value in replacements:
+            lines.append(f"    {sym} = {printer.doprint(value)}")
+        xs = [f"x{i}" for i in block]
+        combined = " * ".join(xs) if model.is_discrete else "(" + " + ".join(xs) + ")"
+        lines.append(f"    {label}_z = {combined}")
+        denominator = _horner([linear.get(p, 0.0) for p in range(max(linear) + 1)],
+                              f"{label}_z")
+        lines.append(f"    {label} = -({printer.doprint(reduced)}) / ({denominator})")
+        names[block] = label
+        return label
+
+    result = emit(tuple(range(n)))
+    lines.append(f"    return {result}")
+    return "\n".join(lines) + "\n"
+
+
+def _horner(coefficients: list[float], variable: str) -> str:
+    """``a0 + z*(a1 + z*(a2 + ...))`` as source text."""
+    text = repr(coefficients[-1])
+    for coefficient in reversed(coefficients[:-1]):
+        text = f"{coefficient!r} + {variable} * ({text})"
+    return text
+
+
+def numba_ufunc(gen: GFRFGenerator, n: int, symmetric: bool) -> Any:
+    """A numba-compiled numpy ufunc ``f(w1..wn) -> complex128`` of H_n.
+
+    Raises
+    ------
+    ImportError
+        If numba is not installed (``pip install gfrf[fast]``).
+    """
+    if not HAVE_NUMBA:
+        raise ImportError("the compiled kernel needs numba: pip install 'gfrf[fast]'")
+    namespace: dict[str, Any] = {"cmath_exp": cmath.exp}
+    source = kernel_source(gen, n, symmetric, name="scalar_kernel")
+    exec(compile(source, f"<gfrf H{n}>", "exec"), namespace)  # noqa: S102 - generated code
+    scalar = numba.njit(namespace["scalar_kernel"], fastmath=False)
+    signature = f"complex128({', '.join(['float64'] * n)})"
+    return numba.vectorize([signature])(scalar)
