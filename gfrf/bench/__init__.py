@@ -15,7 +15,8 @@ import platform
 from dataclasses import dataclass, field
 from pathlib import Path
 
-__all__ = ["BenchSection", "SECTION_MODULES", "machine_description", "run_all", "write_report"]
+__all__ = ["BenchSection", "SECTION_MODULES", "figure_dir", "machine_description", "run_all",
+           "write_report"]
 
 #: Modules that each define ``run(quick: bool) -> BenchSection``.
 SECTION_MODULES: tuple[str, ...] = (
@@ -79,8 +80,19 @@ def machine_description() -> str:
             f"{platform.system()} {platform.machine()}, run on {_dt.date.today().isoformat()}")
 
 
-def run_all(quick: bool = False, only: list[str] | None = None) -> list[BenchSection]:
-    """Run every benchmark section (or those whose module name contains an ``only`` entry)."""
+def figure_dir() -> Path:
+    """The folder where sections write their figures (set by :func:`run_all`)."""
+    return Path(os.environ.get("GFRF_REPORT_DIR", "reports"))
+
+
+def run_all(quick: bool = False, only: list[str] | None = None,
+            out_dir: str | Path = "reports") -> list[BenchSection]:
+    """Run every benchmark section (or those whose module name contains an ``only`` entry).
+
+    Figures go to ``out_dir`` (sections read it through :func:`figure_dir`).
+    """
+    os.environ["GFRF_REPORT_DIR"] = str(out_dir)
+    Path(out_dir).mkdir(parents=True, exist_ok=True)
     sections = []
     for name in SECTION_MODULES:
         if only and not any(o in name for o in only):

@@ -10,14 +10,13 @@ error.  numba compile/cache-load time is excluded from the timings and reported.
 
 from __future__ import annotations
 
-import os
 import time
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from gfrf.bench import BenchSection
+from gfrf.bench import BenchSection, figure_dir
 from gfrf.modelfile import load_model
 from gfrf.signals import parse_input
 from gfrf.simulate import build_system, simulate
@@ -110,8 +109,7 @@ def run(quick: bool) -> BenchSection:
             rows.append([f"solve_ivp {method.upper()}", f"rtol = {rtol:g}", f"{err:.2e}",
                          f"{sec * 1e3:.2f}", f"{t_fast * 1e3:.2f}" if t_fast else "n/a",
                          f"{ratio:.0f}x" if ratio else "outside fast range"])
-    out_dir = Path(os.environ.get("GFRF_REPORT_DIR", "reports"))
-    out_dir.mkdir(parents=True, exist_ok=True)
+    out_dir = figure_dir()
     figure = "speed-vs-error-simulation.png"
     _figure(curves, out_dir / figure)
     notes = [f"numba compile / cache load (excluded from the timings): "

@@ -20,6 +20,7 @@ __all__ = ["main", "build_parser", "COMMAND_MODULES"]
 #: Modules that each define ``register(subparsers)``; one line per feature.
 COMMAND_MODULES: tuple[str, ...] = (
     "gfrf.cli.core",
+    "gfrf.cli.bench",
     "gfrf.cli.simulation",
     "gfrf.cli.stability",
 )

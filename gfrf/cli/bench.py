@@ -1,0 +1,34 @@
+"""``gfrf bench``: run the speed-vs-error benchmarks and write ``speed-vs-error.md``."""
+
+from __future__ import annotations
+
+import argparse
+
+from gfrf.bench import run_all, write_report
+from gfrf.cli._output import add_json_flag, emit
+
+__all__ = ["register"]
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Register ``bench``."""
+    bench = subparsers.add_parser(
+        "bench", help="time each kernel against its naive baseline; write speed-vs-error.md",
+        description="Measure time and error of every computational kernel and of the naive "
+                    "baseline in the same run; write OUT/speed-vs-error.md.")
+    bench.add_argument("--out", default="reports", help="output folder (default reports/)")
+    bench.add_argument("--quick", action="store_true", help="small sizes, for a smoke test")
+    bench.add_argument("--only", action="append", metavar="NAME",
+                       help="run only the sections whose module name contains NAME")
+    add_json_flag(bench)
+    bench.set_defaults(func=_bench)
+
+
+def _bench(args: argparse.Namespace) -> int:
+    sections = run_all(quick=args.quick, only=args.only, out_dir=args.out)
+    path = write_report(sections, args.out)
+    payload = {"report": str(path),
+               "sections": [{"title": s.title, "columns": s.columns, "rows": s.rows,
+                             "notes": s.notes} for s in sections]}
+    emit(args, payload, "\n".join(s.to_markdown() for s in sections) + f"\nwrote {path}")
+    return 0
