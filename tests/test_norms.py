@@ -1,0 +1,156 @@
+"""Tests of gfrf.norms, gfrf.majorant and gfrf.rational against hand-derived closed forms."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from gfrf.errors import ArgumentError
+from gfrf.kernels import kernel
+from gfrf.majorant import majorant, radius
+from gfrf.model import parse_model
+from gfrf.modelfile import load_model
+from gfrf.norms import h1_norm, kernel_norm
+
+C = 2.45
+
+
+def peak(b: float, c: float = C) -> float:
+    """Peak of |1/(c - w^2 + j b w)| for b^2 < 2c: 1/(b sqrt(c - b^2/4))."""
+    return 1.0 / (b * math.sqrt(c - b * b / 4.0))
+
+
+@pytest.mark.parametrize("b", [0.5, 0.05, 1e-3, 1e-6, 1e-9])
+def test_h1_second_order_peak(b: float) -> None:
+    m = parse_model(f"D(y,2) + {b!r}*D(y) + {C}*y = u")
+    bound = h1_norm(m)
+    assert bound.lower == bound.upper
+    assert bound.upper == pytest.approx(peak(b), rel=1e-9)
+    assert bound.argmax[0] == pytest.approx(math.sqrt(C - b * b / 2), rel=1e-6)
+    assert bound.certified and bound.stable
+
+
+def test_h1_cross_check_python_control() -> None:
+    bound = h1_norm(parse_model("D(y,2) + 0.05*D(y) + 2.45*y = u"))
+    assert bound.reference == pytest.approx(bound.upper, rel=1e-5)
+
+
+def test_h1_overdamped_peak_at_zero() -> None:
+    # b^2 = 9 > 2c = 4: |A(jw)|^2 = (2 - w^2)^2 + 9 w^2 increases, sup = 1/c at w = 0
+    bound = h1_norm(parse_model("D(y,2) + 3*D(y) + 2*y = u"))
+    assert bound.upper == pytest.approx(0.5, rel=1e-12)
+    assert bound.argmax == (0.0,)
+
+
+def test_h1_improper_is_infinite_with_reason() -> None:
+    bound = h1_norm(parse_model("D(y,2) + D(y) + y = D(u,3)"))
+    assert math.isinf(bound.upper) and math.isinf(bound.lower)
+    assert any("improper" in n for n in bound.notes)
+
+
+def test_h1_imaginary_axis_pole_is_infinite() -> None:
+    bound = h1_norm(parse_model("D(y,2) + 2*y = u"))
+    assert math.isinf(bound.upper)
+    assert any("imaginary axis" in n for n in bound.notes)
+
+
+def test_h1_unstable_flagged_with_finite_axis_sup() -> None:
+    # |2 - w^2 - j w| = |2 - w^2 + j w|: the same sup as the stable mirror, 1/sqrt(1.75)
+    bound = h1_norm(parse_model("D(y,2) - D(y) + 2*y = u"))
+    assert bound.stable is False
+    assert bound.upper == pytest.approx(1 / math.sqrt(1.75), rel=1e-9)
+
+
+@pytest.mark.parametrize("b", [0.2, 0.05, 1e-6])
+def test_h3_duffing_closed_form(b: float) -> None:
+    # H3 = -c3 H1(w1) H1(w2) H1(w3) / A(w1+w2+w3), H1 = 1/A: sup = |c3| peak^4,
+    # attained at (w_r, w_r, -w_r).
+    m = parse_model(f"D(y,2) + {b!r}*D(y) + y + 0.5*y**3 = u")
+    bound = kernel_norm(m, 3)
+    expected = 0.5 * peak(b, 1.0) ** 4
+    assert bound.upper == pytest.approx(expected, rel=1e-9)
+    assert bound.lower == pytest.approx(expected, rel=1e-8)
+    assert bound.gap < 1e-8 and bound.certified
+
+
+def test_pendulum_h3_symmetric_equals_asymmetric() -> None:
+    m = load_model("models/hanging_pendulum.toml").plant
+    sym, asym = kernel_norm(m, 3), kernel_norm(m, 3, symmetric=False)
+    assert not asym.symmetric
+    assert sym.upper == pytest.approx(asym.upper, rel=1e-12)
+    assert sym.lower == pytest.approx(asym.lower, rel=1e-8)
+
+
+def test_cartpole_h3_exact_value_inside_bracket() -> None:
+    # Reduced cart-pole: x_i = H1(j w_i) = 39.3185/(w_i^2 + 67.578) in (0, beta1], and
+    # |H3| = |11.2455 x1x2x3 - (19.66/3)(x1x2 + x1x3 + x2x3)| / (S^2 + 67.578),
+    # increasing in each x_i on (0, beta1]: the sup is at w = 0.
+    m = load_model("models/cartpole_reduced.toml").plant
+    beta1 = 39.3185 / 67.578
+    exact = (19.66 * beta1**2 - 11.2455 * beta1**3) / 67.578
+    bound = kernel_norm(m, 3)
+    assert bound.lower == pytest.approx(exact, rel=1e-9)
+    assert bound.upper >= exact
+    # the majorant |c| sums: (11.2455 beta1^3 + 19.66 beta1^2) / 67.578
+    assert bound.upper == pytest.approx((11.2455 * beta1**3 + 19.66 * beta1**2) / 67.578,
+                                        rel=1e-9)
+
+
+def test_bracket_contains_random_grid_max() -> None:
+    m = parse_model("D(y,2) + 0.3*D(y) + 1.5*y + 0.4*y**2 - 0.2*y**3 + 0.1*y*u = u")
+    rng = np.random.default_rng(1)
+    for n in (2, 3):
+        bound = kernel_norm(m, n)
+        w = rng.uniform(-4, 4, size=(n, 20000))
+        grid = float(np.max(np.abs(kernel(m, n)(*w))))
+        assert grid <= bound.upper * (1 + 1e-12)
+        assert bound.lower >= grid * (1 - 1e-9)
+
+
+def test_zero_kernel() -> None:
+    bound = kernel_norm(load_model("models/hanging_pendulum.toml").plant, 2)
+    assert bound.lower == bound.upper == 0.0 and bound.certified
+
+
+def test_input_derivative_term_gives_honest_infinite_upper() -> None:
+    bound = kernel_norm(parse_model("D(y,2) + D(y) + y + y*D(u) = u"), 2)
+    assert math.isinf(bound.upper) and math.isfinite(bound.lower)
+    assert any("input derivative" in n for n in bound.notes)
+
+
+def test_bad_tolerance() -> None:
+    with pytest.raises(ArgumentError):
+        kernel_norm(parse_model("D(y,2) + D(y) + y + y**3 = u"), 3, tol=0)
+
+
+def test_majorant_pure_cubic_coefficients_and_radius() -> None:
+    # B = beta1 r + g B^3: B3 = g beta1^3, B5 = 3 g^2 beta1^5, branch point
+    # 1 = 3 g B^2 gives r* = 2 / (3 beta1 sqrt(3 g)).
+    m = parse_model("D(y,2) + 0.5*D(y) + 2.45*y - 0.3*y**3 = u")
+    maj = majorant(m)
+    beta1 = peak(0.5)
+    g = 0.3 * beta1
+    coefficients = maj.coefficients(5)[:, 0]
+    assert coefficients[3] == pytest.approx(g * beta1**3, rel=1e-12)
+    assert coefficients[5] == pytest.approx(3 * g**2 * beta1**5, rel=1e-12)
+    rad = radius(lambda x, r: maj.rhs(x, r), len(maj.powers))
+    assert rad.value == pytest.approx(2 / (3 * beta1 * math.sqrt(3 * g)), rel=1e-8)
+    assert rad.certified_below <= rad.value
+
+
+def test_linear_model_has_infinite_radius() -> None:
+    maj = majorant(parse_model("D(y,2) + D(y) + y = u"))
+    assert math.isinf(radius(lambda x, r: maj.rhs(x, r), 1).value)
+
+
+@pytest.mark.slow
+def test_order_9_bracket() -> None:
+    m = load_model("models/duffing.toml").plant
+    bound = kernel_norm(m, 9)
+    rng = np.random.default_rng(2)
+    w = rng.uniform(-1.5, 1.5, size=(9, 3000))
+    grid = float(np.max(np.abs(kernel(m, 9)(*w))))
+    assert grid <= bound.lower <= bound.upper
+    assert math.isfinite(bound.upper) and bound.certified
