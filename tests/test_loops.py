@@ -1,0 +1,105 @@
+"""Tests of gfrf.loops: closed-loop polynomials derived by hand, sign conventions."""
+
+from __future__ import annotations
+
+import math
+
+import control
+import numpy as np
+import pytest
+
+from gfrf.errors import ArgumentError
+from gfrf.loops import closed_loop, controller_tf, linear_plant
+from gfrf.modelfile import load_model, model_from_dict
+from gfrf.paper_checks import loop_sign_variants
+
+CARTPOLE = "models/cartpole_reduced.toml"
+
+
+def test_cartpole_characteristic_by_hand() -> None:
+    # theta'' - 67.578 theta + 39.3185 u = 0: H1 = -39.3185 / (s^2 - 67.578);
+    # u = r - (15.6 s^2 + 379.3 s + 0.1331) theta:
+    # chi = (s^2 - 67.578) + (-39.3185)(15.6 s^2 + 379.3 s + 0.1331)
+    loop = closed_loop(load_model(CARTPOLE))
+    expected = [1 - 39.3185 * 15.6, -39.3185 * 379.3, -67.578 - 39.3185 * 0.1331]
+    assert loop.characteristic == pytest.approx(expected, rel=1e-12)
+    assert loop.stable and not loop.plant_stable
+    a, b, c = expected
+    disc = math.sqrt(b * b - 4 * a * c)
+    roots = sorted([(-b + disc) / (2 * a), (-b - disc) / (2 * a)])
+    assert sorted(loop.poles.real) == pytest.approx(roots, rel=1e-9)
+
+
+def test_cartpole_sensitivity_peak_at_zero() -> None:
+    loop = closed_loop(load_model(CARTPOLE))
+    expected = 67.578 / (67.578 + 39.3185 * 0.1331)
+    assert loop.sensitivity_peak == pytest.approx(expected, rel=1e-12)
+    w = np.linspace(0, 200, 200001)
+    sens = np.abs(np.polyval([1, 0, -67.578], 1j * w) / np.polyval(loop.characteristic, 1j * w))
+    assert sens.max() <= loop.sensitivity_peak * (1 + 1e-12)
+
+
+def test_improper_controller_reported() -> None:
+    loop = closed_loop(load_model(CARTPOLE))
+    assert not loop.controller_proper and math.isinf(loop.controller_norm)
+    assert any("improper" in n for n in loop.notes)
+    # python-control agrees on the closed-loop poles
+    cl = control.feedback(loop.plant, loop.controller)
+    assert sorted(control.poles(cl).real) == pytest.approx(sorted(loop.poles.real), rel=1e-9)
+
+
+def test_positive_feedback_unstable() -> None:
+    loop = closed_loop(load_model(CARTPOLE), feedback=1)
+    assert not loop.stable
+    assert max(loop.poles.real) > 0
+
+
+def _lagged(t: float) -> dict:
+    return {"equation": "D(y,2) + D(y) + 2*y + 0.1*y**3 = u",
+            "controller": {"num": [1.0, 2.0], "den": [t**2, 2 * t, 1.0]}}
+
+
+def test_proper_controller_norm() -> None:
+    mf = model_from_dict(_lagged(0.1))
+    loop = closed_loop(mf)
+    w = np.linspace(0, 100, 400001)
+    grid = np.abs(np.polyval([1.0, 2.0], 1j * w) / np.polyval([0.01, 0.2, 1.0], 1j * w)).max()
+    assert loop.controller_proper
+    assert grid <= loop.controller_norm <= grid * (1 + 1e-6)
+
+
+def test_transfer_function_objects() -> None:
+    mf = load_model(CARTPOLE)
+    assert control.poles(linear_plant(mf.plant)).real.max() == pytest.approx(math.sqrt(67.578))
+    assert controller_tf(mf.controller).num[0][0].tolist() == [15.6, 379.3, 0.1331]
+    narx = linear_plant(load_model("models/narx_example.toml").plant)
+    assert narx.dt == 0.1
+
+
+def test_no_controller_refused() -> None:
+    with pytest.raises(ArgumentError, match="controller"):
+        closed_loop(load_model("models/duffing.toml"))
+
+
+def test_paper_sign_convention() -> None:
+    variants = loop_sign_variants()
+    good = [v for v in variants if v["reproduces"]]
+    assert len(good) == 2
+    for v in good:
+        assert v["plant_denominator"] == "s^2 + 67.568"
+        assert v["b"] == pytest.approx(12554 / 39.3185)
+        assert v["gain"] * -v["feedback"] > 0  # loop gain +39.3185 s1 in chi
+    own = next(v for v in variants if v["gain"] < 0 and v["plant_denominator"] == "s^2 - 67.568"
+               and v["feedback"] == -1 and v["b"] == 379.3)
+    assert own["stable"] and not own["reproduces"]
+
+
+def test_stiff_closed_loop_poles() -> None:
+    # chi = 612.3686 s^2 + 12554 s + 72.80: poles ~ -20.5 and -0.0058 (ratio ~3500)
+    own = next(v for v in loop_sign_variants() if v["gain"] < 0 and v["feedback"] == -1
+               and v["plant_denominator"] == "s^2 - 67.568" and v["b"] != 379.3)
+    a, b, c = own["characteristic"]
+    p = sorted(z.real for z in own["poles"])
+    assert p[0] * p[1] == pytest.approx(c / a, rel=1e-10)
+    assert p[0] + p[1] == pytest.approx(-b / a, rel=1e-12)
+    assert p[0] < -20 and -0.01 < p[1] < 0
