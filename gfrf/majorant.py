@@ -29,7 +29,8 @@ iteration from 0 is then bounded).  The radius r* is the branch point where the
 Jacobian of (*) reaches spectral radius 1 (for a pure cubic, X = beta1 r + g X^3
 gives r* = 2 / (3 beta1 sqrt(3 g))).  :func:`radius` finds it by bisection on r with
 Newton continuation and checks, at the reported lower end, the certificate
-``rhs(X_hat) <= X_hat`` for an inflated X_hat, which proves convergence there.
+``rhs(X', r) <= X'`` for the solution X' at a slightly larger r, which proves
+convergence there.
 
 Examples
 --------
@@ -165,7 +166,8 @@ def _product_coefficient(series: list[np.ndarray], n: int) -> float:
             if acc[k] == 0.0:
                 continue
             tail = s[: n + 1 - k]
-            finite = np.where(tail == 0.0, 0.0, acc[k] * tail)
+            with np.errstate(invalid="ignore"):
+                finite = np.where(tail == 0.0, 0.0, acc[k] * tail)
             new[k:k + tail.size] += finite
         acc = new
     return float(acc[n])
@@ -241,7 +243,7 @@ class Radius:
     value : float
         r* (``inf`` when the system is linear in x, 0 when some entry is infinite).
     certified_below : float
-        An amplitude at which convergence is certified (``rhs(x_hat) <= x_hat``);
+        An amplitude at which convergence is certified (a supersolution exists);
         within 1e-9 relative of ``value``.
     solution : numpy.ndarray or None
         The fixed point at ``certified_below``.
@@ -254,15 +256,17 @@ class Radius:
 
 def certify(step: Callable[[np.ndarray, float], np.ndarray], dim: int, r: float,
             start: np.ndarray | None = None) -> np.ndarray | None:
-    """The minimal fixed point of ``x = step(x, r)`` if a certificate exists, else None.
+    """A nonnegative supersolution of ``x = step(x, r)``, or None if none was found.
 
-    Newton's method from ``start`` (or 0) finds a fixed point; it is accepted when it is
-    nonnegative and ``step(x_hat, r) <= x_hat`` holds for x_hat = x (1 + 1e-9) + 1e-300,
-    which makes the monotone iteration from 0 bounded, hence convergent.
+    Newton's method from ``start`` (or 0) solves x = step(x, r') at r' = r (1 + 1e-9).
+    A nonnegative solution x' satisfies step(x', r) <= step(x', r') = x' (monotone in
+    r), so the monotone iteration from 0 at amplitude r stays below x' and converges:
+    that is the certificate, checked componentwise up to 1e-12 relative rounding.
     """
+    r_up = r * (1 + 1e-9)
     x = np.zeros(dim) if start is None else start.copy()
     for _ in range(100):
-        f = step(x, r) - x
+        f = step(x, r_up) - x
         if not np.all(np.isfinite(f)):
             return None
         jac = np.empty((dim, dim))
@@ -270,7 +274,7 @@ def certify(step: Callable[[np.ndarray, float], np.ndarray], dim: int, r: float,
             h = 1e-7 * (1.0 + abs(x[i]))
             e = x.copy()
             e[i] += h
-            jac[:, i] = (step(e, r) - e - f) / h
+            jac[:, i] = (step(e, r_up) - e - f) / h
         try:
             dx = np.linalg.solve(jac, -f)
         except np.linalg.LinAlgError:
@@ -278,11 +282,11 @@ def certify(step: Callable[[np.ndarray, float], np.ndarray], dim: int, r: float,
         x = x + dx
         if np.any(x < -1e-12 * (1 + np.max(np.abs(x)))) or not np.all(np.isfinite(x)):
             return None
-        if np.max(np.abs(dx)) <= 1e-14 * (1 + np.max(np.abs(x))):
+        if np.max(np.abs(dx)) <= 1e-15 * (1 + np.max(np.abs(x))):
             break
     x = np.maximum(x, 0.0)
-    x_hat = x * (1 + 1e-9) + 1e-300
-    if np.all(step(x_hat, r) <= x_hat):
+    residual = np.abs(step(x, r_up) - x)
+    if np.all(residual <= 1e-12 * (x + 1e-300)) and np.all(step(x, r) <= x * (1 + 1e-12)):
         return x
     return None
 

@@ -1,0 +1,129 @@
+"""Tests of gfrf.criteria (Theorems 1 and 2, r*, margins) and gfrf.paper_checks."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from gfrf.criteria import parameter_margin, theorem1, theorem2, theta_series, verdict
+from gfrf.errors import ArgumentError
+from gfrf.majorant import majorant
+from gfrf.model import parse_model
+from gfrf.modelfile import load_model, model_from_dict
+from gfrf.paper_checks import paper_checks, printed_match
+
+C3 = 9.8 / (6 * 4.0)  # g / (6 L) of the hanging pendulum
+
+
+def pendulum_radius(b: float, c: float = 2.45) -> float:
+    """r* of B = beta1 r + g B^3, beta1 = sup|1/A| (unit input gain), g = C3 beta1."""
+    beta1 = 1 / (b * math.sqrt(c - b * b / 4))
+    return 2 / (3 * beta1 * math.sqrt(3 * C3 * beta1))
+
+
+@pytest.mark.parametrize(("name", "b"), [("hanging_pendulum", 0.05),
+                                         ("hanging_pendulum_damped", 0.5)])
+def test_pendulum_radius_closed_form(name: str, b: float) -> None:
+    v = verdict(load_model(f"models/{name}.toml"), order=3)
+    assert v.theorem == 1
+    assert v.radius == pytest.approx(pendulum_radius(b), rel=1e-8)
+    assert v.radius_certified
+    assert v.verdict == "inconclusive"  # r = 1 > r* for both paper examples
+    assert [c.passed for c in v.conditions] == [True, True, None]
+
+
+def test_pendulum_stable_inside_radius() -> None:
+    mf = load_model("models/hanging_pendulum_damped.toml")
+    v = verdict(mf, order=3, amplitude=0.99 * pendulum_radius(0.5))
+    assert v.verdict == "stable"
+    assert all(c.passed for c in v.conditions)
+
+
+def test_damping_margin() -> None:
+    # r* = 1 <=> beta1^(3/2) = 2 / (3 sqrt(3 C3)); with beta1 = 1/(b sqrt(c - b^2/4)):
+    # x = b^2 solves x^2 - 4 c x + 4 / beta1^2 = 0, and rho = b m L^2 = 16 b.
+    beta1 = (2 / (3 * math.sqrt(3 * C3))) ** (2 / 3)
+    x = 2 * 2.45 - math.sqrt(4 * 2.45**2 - 4 / beta1**2)
+    margin = parameter_margin(load_model("models/hanging_pendulum.toml"), "rho")
+    assert margin.direction == "above"
+    assert margin.value == pytest.approx(16 * math.sqrt(x), rel=1e-5)
+
+
+def test_unstable_open_loop() -> None:
+    v = theorem1(parse_model("D(y,2) - D(y) + 2*y + y**3 = u"), order=3)
+    assert v.verdict == "unstable"
+    assert v.conditions[1].passed is False
+    assert "inapplicable" in v.conditions[1].detail
+
+
+def test_imaginary_axis_poles_inconclusive() -> None:
+    v = theorem1(parse_model("D(y,2) + 2*y + y**3 = u"), order=3)
+    assert v.verdict == "inconclusive"
+    assert v.conditions[1].passed is False
+
+
+def test_cartpole_theorem2_improper_controller() -> None:
+    v = verdict(load_model("models/cartpole_reduced.toml"), order=3)
+    assert v.theorem == 2 and v.verdict == "inconclusive"
+    names = {c.name: c for c in v.conditions}
+    assert names["plant h_n and controller s_n proper rational"].passed is False
+    assert names["linear closed loop L2 stable"].passed is True
+    rho = names["sum theta_n rho_1^n r^n converges"].value["rho_1"]
+    assert rho == pytest.approx(67.578 / (67.578 + 39.3185 * 0.1331), rel=1e-12)
+
+
+def test_theta_series_by_hand() -> None:
+    # theta_2 = rho1 phi2 lam^2; theta_3 = rho1 (phi2 lam^2 2 theta_2 + phi3 lam^3)
+    phi, lam, rho = [0.7, 0.3, 0.2], 0.5, 0.9
+    t = theta_series(phi, lam, rho, 3)
+    t2 = rho * 0.3 * lam**2
+    assert t == pytest.approx([1.0, t2, rho * (0.3 * lam**2 * 2 * t2 + 0.2 * lam**3)])
+
+
+def test_theorem2_radius_matches_series_ratio() -> None:
+    # Proper lag controller: the fixed-point radius must agree with the ratio test of
+    # the explicit theta_n rho_1^n series built from the majorant coefficients.
+    mf = model_from_dict({"equation": "D(y,2) + D(y) + 2*y + 0.3*y**3 = u",
+                          "controller": {"num": [0.5], "den": [0.1, 1.0]}})
+    v = theorem2(mf, order=3, amplitude=0.01)
+    lam = v.conditions[2].value["lambda_1"]
+    rho = v.conditions[4].value["rho_1"]
+    n = 301
+    phi = majorant(mf.plant).coefficients(n)[1:, 0].tolist()
+    theta = np.array(theta_series(phi, lam, rho, n))
+    terms = theta * rho ** np.arange(1, n + 1)
+    estimate = (terms[n - 3] / terms[n - 1]) ** 0.5
+    assert v.radius == pytest.approx(estimate, rel=2e-2)
+    assert v.verdict == "stable"
+
+
+def test_bad_amplitude_and_order() -> None:
+    mf = load_model("models/duffing.toml")
+    with pytest.raises(ArgumentError):
+        verdict(mf, amplitude=-1.0)
+    with pytest.raises(ArgumentError):
+        verdict(mf, order=0)
+
+
+def test_discrete_radius_is_estimate() -> None:
+    v = verdict(load_model("models/narx_example.toml"), order=3, amplitude=0.1)
+    assert not v.radius_certified
+    assert v.verdict == "inconclusive"  # an estimate never proves stability
+
+
+def test_paper_checks_rows() -> None:
+    rows = {(r.section, r.quantity): r for r in paper_checks()}
+    r1 = rows[("3 (rho = 0.8)", "rho_1 = ||H1||")]
+    assert r1.match and r1.ours == pytest.approx(1 / (0.05 * math.sqrt(2.45 - 0.05**2 / 4)))
+    r3 = rows[("3 (rho = 0.8)", "rho_3 = |c3| sup|1/A| (cubic gain)")]
+    assert not r3.match
+    assert printed_match(r3.paper, 0.41 * r1.ours)  # the reason: rounded 0.41
+    assert r3.ours == pytest.approx(C3 * r1.ours)
+    damped = rows[("3 (rho = 8)", "rho_1 = ||H1||")]
+    assert not damped.match and printed_match(1.2944, damped.ours)
+    rho = rows[("5 (cart-pole, eq (16))", "rho_1 = sup|(1 + h1 s1)^-1|")]
+    assert rho.paper == 0.0016 and rho.ours == pytest.approx(0.928, abs=1e-3)
+    assert math.isinf(rows[("5 (cart-pole, eq (16))", "lambda_1 = ||s1||")].ours)
+    assert all(r.match or r.reason for r in rows.values())
