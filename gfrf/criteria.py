@@ -63,7 +63,7 @@ from gfrf.loops import closed_loop
 from gfrf.majorant import Majorant, Radius, majorant, radius
 from gfrf.model import Model
 from gfrf.modelfile import ModelFile, model_from_dict
-from gfrf.norms import Bound, linear_stability, kernel_norm
+from gfrf.norms import Bound, kernel_norm, linear_stability
 from gfrf.rational import rational_sup
 
 __all__ = ["Condition", "Verdict", "Margin", "theorem1", "theorem2", "verdict",
