@@ -1,0 +1,83 @@
+"""CLI contract of ``gfrf verdict`` and ``gfrf norm``: JSON keys and exit codes 0/1/2."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+from gfrf.cli import main
+
+STABLE = "D(y,2) + D(y) + 2*y + y**3 = u"
+
+
+def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_verdict_json_inconclusive_exit_1(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = run(capsys, "verdict", "models/hanging_pendulum_damped.toml", "--order", "3",
+                       "--json")
+    data = json.loads(out)
+    assert code == 1
+    assert {"verdict", "theorem", "radius", "conditions"} <= set(data)
+    assert data["verdict"] == "inconclusive" and data["theorem"] == 1
+    assert all({"name", "passed", "value", "detail"} <= set(c) for c in data["conditions"])
+    assert len(data["norms"]) == 3
+
+
+def test_verdict_stable_exit_0(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = run(capsys, "verdict", STABLE, "--order", "3", "--amplitude", "0.1")
+    assert code == 0
+    assert "verdict: stable" in out and "[pass]" in out
+
+
+def test_verdict_closed_loop_theorem_2(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = run(capsys, "verdict", "models/cartpole_reduced.toml", "--order", "3",
+                       "--json")
+    data = json.loads(out)
+    assert code == 1 and data["theorem"] == 2 and data["radius"] == 0.0
+
+
+def test_verdict_unstable_exit_1(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = run(capsys, "verdict", "D(y,2) - D(y) + 2*y + y**3 = u", "--order", "3",
+                       "--json")
+    assert code == 1 and json.loads(out)["verdict"] == "unstable"
+
+
+def test_norm_order_1(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = run(capsys, "norm", "D(y,2) + 0.05*D(y) + 2.45*y = u", "--order", "1",
+                       "--json")
+    data = json.loads(out)
+    assert code == 0
+    expected = 1 / (0.05 * math.sqrt(2.45 - 0.05**2 / 4))
+    assert data["lower"] == data["upper"] == pytest.approx(expected, rel=1e-9)
+
+
+def test_norm_improper_is_inf(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = run(capsys, "norm", "D(y,2) + D(y) + y = D(u,3)", "--order", "1", "--json")
+    data = json.loads(out)
+    assert code == 0 and data["lower"] == data["upper"] == "inf"
+
+
+def test_norm_text_and_asymmetric(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = run(capsys, "norm", "models/duffing.toml", "--order", "3", "--asymmetric")
+    assert code == 0 and "asymmetric" in out and "certified" in out
+
+
+@pytest.mark.parametrize("argv", [
+    ["norm", "models/duffing.toml", "--order", "0"],
+    ["norm", "models/duffing.toml", "--order", "3", "--tol", "2"],
+    ["verdict", "models/missing.toml"],
+    ["verdict", "models/duffing.toml", "--amplitude", "-1"],
+    ["verdict", "models/parametric_pendulum.toml"],
+    ["verdict", "models/duffing.toml", "--margin", "nope"],
+    ["verdict", "D(y,2) + = u"],
+])
+def test_bad_input_exit_2(capsys: pytest.CaptureFixture[str], argv: list[str]) -> None:
+    code, out, err = run(capsys, *argv)
+    assert code == 2
+    assert err.startswith("gfrf: error:") and "Traceback" not in err
