@@ -22,6 +22,7 @@ __all__ = ["BenchSection", "SECTION_MODULES", "figure_dir", "machine_description
 SECTION_MODULES: tuple[str, ...] = (
     "gfrf.bench.kernels",
     "gfrf.bench.simulation",
+    "gfrf.bench.norms",
 )
 
 
