@@ -197,3 +197,29 @@ class CosSeries:
         for k in range(1, H + 1):
             out = out + 2 * cks[H + k] * np.cos(k * tau)
         return out
+
+
+def trig_harmonic(expr: object, theta: object, k: int = 0, kind: str = "cos") -> object:
+    """Exact ``(1/pi) int_0^{2pi} expr * cos(k theta) dtheta`` (``1/2pi`` for ``k=0``).
+
+    For a trigonometric polynomial in ``theta`` (sympy expression).  Works by writing
+    ``exp(i theta) = z`` and reading off Laurent coefficients, so no symbolic
+    integration or trigonometric simplification is involved.  ``kind="sin"`` gives the
+    ``sin(k theta)`` coefficient.
+    """
+    import sympy as sp
+
+    z = sp.Symbol("_z")
+    e = sp.expand(sp.expand(sp.sympify(expr).rewrite(sp.exp)).subs(sp.exp(sp.I * theta), z))
+    if e.has(theta):
+        raise ArithmeticError(f"{expr} is not a trigonometric polynomial in {theta}")
+    terms = sp.collect(e, z, evaluate=False)
+
+    def coeff(n: int) -> object:
+        return terms.get(z**n if n else sp.S.One, sp.S.Zero)
+
+    if k == 0:
+        return sp.simplify(sp.expand(coeff(0)).rewrite(sp.cos))
+    cp, cm = coeff(k), coeff(-k)
+    val = cp + cm if kind == "cos" else sp.I * (cp - cm)
+    return sp.simplify(sp.expand(val).rewrite(sp.cos))
