@@ -169,10 +169,14 @@ def _pad(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.concatenate([a, np.zeros(max(a.size, b.size) - a.size)])
 
 
-def _control_norm(system: control.TransferFunction) -> float:
+def _control_norm(system: control.TransferFunction) -> float | None:
+    """python-control's H-infinity norm, or None where it fails (e.g. a zero system)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return float(control.norm(system, p="inf", print_warning=False))
+        try:
+            return float(control.norm(system, p="inf", print_warning=False))
+        except (np.linalg.LinAlgError, ValueError):
+            return None
 
 
 def _frequencies(model: Model) -> tuple[list[float], float]:
