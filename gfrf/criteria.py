@@ -60,14 +60,14 @@ import numpy as np
 
 from gfrf.errors import ArgumentError
 from gfrf.loops import closed_loop
-from gfrf.majorant import Majorant, Radius, majorant, radius
+from gfrf.majorant import Majorant, Radius, certify, majorant, radius
 from gfrf.model import Model
 from gfrf.modelfile import ModelFile, model_from_dict
 from gfrf.norms import Bound, kernel_norm, linear_stability
 from gfrf.rational import rational_sup
 
 __all__ = ["Condition", "Verdict", "Margin", "theorem1", "theorem2", "verdict",
-           "parameter_margin", "theta_series"]
+           "parameter_margin", "theta_series", "phi_series"]
 
 
 @dataclass(frozen=True)
@@ -283,14 +283,37 @@ def theta_series(phi: list[float], lambda1: float, rho1: float, order: int) -> l
     return theta[1:].tolist()
 
 
+def phi_series(beta: list[float], alpha: list[float], order: int) -> list[float]:
+    """phi_1..phi_order: phi_n = sum_m beta_m sum_{k_1+..+k_m=n} alpha_{k_1}..alpha_{k_m}.
+
+    ``beta[0]`` is beta_1 and ``alpha[0]`` is alpha_1 (= 1); phi_1 = beta_1.
+    """
+    a = np.zeros(order + 1)
+    a[1:len(alpha) + 1] = alpha[:order]
+    phi = np.zeros(order + 1)
+    power = np.zeros(order + 1)
+    power[0] = 1.0
+    for m in range(1, order + 1):
+        power = np.convolve(power, a)[: order + 1]
+        if beta[m - 1]:
+            phi += beta[m - 1] * power
+    return phi[1:].tolist()
+
+
 def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
              with_norms: bool = True) -> Verdict:
-    """Theorem 2 (closed loop) for a model file with a linear controller.
+    """Theorem 2 (closed loop) for a model file with a controller.
+
+    A transfer-function controller has lambda_n = alpha_n = 0 (n >= 2).  A polynomial
+    controller (``[controller] equation``) gets its own certified majorant M^c_n >=
+    lambda_n, and alpha_n = M^c_n / lambda_1^n; then sum_n phi_n lambda_1^n is the plant
+    majorant evaluated at the controller majorant C(1), and the theta series has the
+    generating function E = rho_1 r + rho_1 [B(C(E)) - beta_1 lambda_1 E].
 
     Parameters
     ----------
     model_file : ModelFile
-        Plant and controller (``[controller]`` with ``num``/``den``).
+        Plant and controller.
     order, amplitude, with_norms
         As in :func:`theorem1`; the amplitude scales the reference r.
 
@@ -302,62 +325,73 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
     controller = model_file.controller
     if controller is None:
         raise ArgumentError("Theorem 2 needs a controller; use theorem1 for an open loop")
-    if not controller.is_linear and controller.model.nonlinear_terms:  # type: ignore[union-attr]
-        raise ArgumentError("Theorem 2 with a nonlinear (polynomial) controller is not "
-                            "implemented: its lambda_n, alpha_n are not computed yet")
     plant = model_file.plant
     loop = closed_loop(model_file)
     maj = majorant(plant)
+    cmaj = None if controller.is_linear else majorant(controller.model)  # type: ignore[arg-type]
     lam, rho1 = loop.controller_norm, loop.sensitivity_peak
-    literal = _literal_rho(loop)
     plant_proper = _proper_condition(plant, maj, "plant h_n")
-    ctrl_ok = loop.controller_proper and math.isfinite(lam)
+    ctrl_ok = loop.controller_proper and math.isfinite(lam) and (cmaj is None or cmaj.finite)
     c1 = Condition("plant h_n and controller s_n proper rational",
                    False if not ctrl_ok or plant_proper.passed is False else plant_proper.passed,
-                   {"lambda_1": lam}, ("controller improper: s_1 = N_C/D_C with deg N_C > "
-                                       "deg D_C, lambda_1 = ||s_1|| = inf; " if not ctrl_ok
-                                       else "controller proper; ") + plant_proper.detail)
+                   {"lambda_1": lam}, ("controller improper or unbounded: lambda_1 = "
+                                       f"{lam:g}; " if not ctrl_ok else "controller proper; ")
+                   + plant_proper.detail)
     c2 = Condition("linear closed loop L2 stable", loop.stable,
                    [complex(p) for p in loop.poles],
                    "characteristic polynomial " + _poly_text(loop.characteristic)
                    + ("" if loop.stable else "; " + "; ".join(loop.notes)))
+    alpha = ([1.0] + [0.0] * (order - 1) if cmaj is None or not ctrl_ok else
+             [float(m) / lam ** n for n, m in
+              enumerate(cmaj.coefficients(order)[1:, 0], start=1)])
     c3 = Condition("lambda_1 > 0 finite, lambda_n <= alpha_n lambda_1^n", ctrl_ok and lam > 0,
-                   {"lambda_1": lam, "alpha_1": 1.0, "alpha_n": 0.0},
-                   "linear controller: lambda_n = alpha_n = 0 for n >= 2, phi_n = beta_n")
+                   {"lambda_1": lam, "alpha": alpha},
+                   "linear controller: lambda_n = alpha_n = 0 for n >= 2, phi_n = beta_n"
+                   if cmaj is None else "alpha_n = M^c_n / lambda_1^n from the controller's "
+                   "certified majorant M^c_n >= lambda_n")
     plant_rad = _plant_radius(maj)
     norms, rows, estimate = _norms_and_series(plant, maj, order, amplitude, with_norms)
+    exact = maj.exact and (cmaj is None or cmaj.exact)
     if ctrl_ok:
-        phi_ok = lam < plant_rad.certified_below
-        c4 = Condition("sum phi_m lambda_1^m converges", phi_ok if maj.exact else None,
-                       {"lambda_1": lam, "plant_radius": plant_rad.value},
-                       f"phi_m = beta_m <= majorant; the series is the plant majorant at "
-                       f"amplitude lambda_1 = {lam:.6g}, radius {plant_rad.value:.6g}")
-        rad = _loop_radius(maj, lam, rho1)
+        c_at_1 = lam if cmaj is None else _controller_output(cmaj)
+        phi_ok = c_at_1 < plant_rad.certified_below
+        c4 = Condition("sum phi_m lambda_1^m converges", phi_ok if exact else None,
+                       {"controller_majorant_at_1": c_at_1, "plant_radius": plant_rad.value},
+                       f"the series is the plant majorant at amplitude C(1) = {c_at_1:.6g} "
+                       f"(C = controller majorant; lambda_1 for a linear controller), "
+                       f"plant radius {plant_rad.value:.6g}")
+        rad = _loop_radius(maj, lam, rho1, cmaj)
     else:
         c4 = Condition("sum phi_m lambda_1^m converges", False, {"lambda_1": lam},
                        "lambda_1 = inf: the series diverges from its second term")
         rad = Radius(0.0, 0.0, None)
-    c5 = _series_condition("sum theta_n rho_1^n r^n converges", rad, amplitude, maj.exact,
-                           None)
+    c5 = _series_condition("sum theta_n rho_1^n r^n converges", rad, amplitude, exact, None)
     c5 = Condition(c5.name, c5.passed if ctrl_ok else False,
-                   {"rho_1": rho1, "rho_1_literal": literal, "radius": rad.value},
+                   {"rho_1": rho1, "rho_1_literal": _literal_rho(loop), "radius": rad.value},
                    f"rho_1 = sup|(1 + h1 s1)^-1| = {rho1:.6g} at w = "
                    f"{loop.sensitivity_peak_omega:.4g} rad/s (the literal sup|(1 + h1) s1| "
-                   f"= {literal:.4g}); " + c5.detail)
+                   f"= {_literal_rho(loop):.4g}); " + c5.detail)
     c6 = Condition("reference spectrum absolutely integrable", True, None,
                    "hypothesis on the input, assumed; its size is the amplitude r")
     if ctrl_ok:
-        phi = [row["majorant"] for row in rows]
+        phi = phi_series([row["majorant"] for row in rows], alpha, order)
         theta = theta_series(phi, lam, rho1, order)
-        for row, th in zip(rows, theta, strict=True):
+        for row, ph, th in zip(rows, phi, theta, strict=True):
+            row["phi"] = ph
             row["theta"] = th
             row["theta_term"] = th * (rho1 * amplitude) ** row["order"]
     conditions = (c1, c2, c3, c4, c5, c6)
     result = ("stable" if all(c.passed for c in conditions) else
               "unstable" if any(p.real > 0 for p in loop.poles) else "inconclusive")
     summary = _summary(result, 2, rad, amplitude, conditions)
-    return Verdict(result, 2, rad.value, maj.exact, float(amplitude), conditions, norms, rows,
+    return Verdict(result, 2, rad.value, exact, float(amplitude), conditions, norms, rows,
                    estimate, summary)
+
+
+def _controller_output(cmaj: Majorant) -> float:
+    """C(1) = sum_n M^c_n, the controller majorant at unit amplitude (inf if divergent)."""
+    x = certify(lambda z, r: cmaj.rhs(z, r), len(cmaj.powers), 1.0)
+    return math.inf if x is None else float(x[0])
 
 
 def _poly_text(coefficients: np.ndarray) -> str:
@@ -381,18 +415,27 @@ def _literal_rho(loop: Any) -> float:
                         np.polymul(den_p, den_c)).value
 
 
-def _loop_radius(maj: Majorant, lam: float, rho1: float) -> Radius:
-    """Radius in r of E = rho_1 r + rho_1 sum_{m>=2} phi_m lambda_1^m E^m (certified)."""
+def _loop_radius(maj: Majorant, lam: float, rho1: float,
+                 cmaj: Majorant | None = None) -> Radius:
+    """Radius in r of E = rho_1 r + rho_1 [B(C(E)) - beta_1 lambda_1 E] (certified).
+
+    B is the plant majorant, C(E) the controller majorant (lambda_1 E for a linear
+    controller); unknowns: plant majorant vector at amplitude C(E), controller majorant
+    vector at amplitude E, and E.
+    """
     dim = len(maj.powers)
+    cdim = 0 if cmaj is None else len(cmaj.powers)
+    beta1 = maj.linear[0]
 
     def step(z: np.ndarray, r: float) -> np.ndarray:
-        x, e = z[:dim], z[dim]
-        amp = lam * e
-        x_new = maj.rhs(x, amp)
-        e_new = rho1 * r + rho1 * maj.gains[0] * maj.nonlinear(x, amp)
-        return np.append(x_new, e_new)
+        x, xc, e = z[:dim], z[dim:dim + cdim], z[-1]
+        y = lam * e if cmaj is None else xc[0]
+        x_new = maj.rhs(x, y)
+        xc_new = np.zeros(0) if cmaj is None else cmaj.rhs(xc, e)
+        e_new = rho1 * r + rho1 * (beta1 * (y - lam * e) + maj.gains[0] * maj.nonlinear(x, y))
+        return np.concatenate([x_new, xc_new, [e_new]])
 
-    return radius(step, dim + 1)
+    return radius(step, dim + cdim + 1)
 
 
 def verdict(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,

@@ -7,7 +7,14 @@ import math
 import numpy as np
 import pytest
 
-from gfrf.criteria import parameter_margin, theorem1, theorem2, theta_series, verdict
+from gfrf.criteria import (
+    parameter_margin,
+    phi_series,
+    theorem1,
+    theorem2,
+    theta_series,
+    verdict,
+)
 from gfrf.errors import ArgumentError
 from gfrf.majorant import majorant
 from gfrf.model import parse_model
@@ -127,3 +134,42 @@ def test_paper_checks_rows() -> None:
     assert rho.paper == 0.0016 and rho.ours == pytest.approx(0.928, abs=1e-3)
     assert math.isinf(rows[("5 (cart-pole, eq (16))", "lambda_1 = ||s1||")].ours)
     assert all(r.match or r.reason for r in rows.values())
+
+
+PLANT = "D(y,2) + D(y) + 2*y + 0.3*y**3 = u"
+
+
+def test_polynomial_controller_linear_equals_transfer_function() -> None:
+    tf = theorem2(model_from_dict({"equation": PLANT,
+                                   "controller": {"num": [5.0], "den": [1.0, 10.0]}}), order=3)
+    eq = theorem2(model_from_dict({"equation": PLANT,
+                                   "controller": {"equation": "D(u) + 10*u = 5*y"}}), order=3)
+    assert eq.radius == pytest.approx(tf.radius, rel=1e-12)
+
+
+def test_polynomial_controller_radius_matches_series_ratio() -> None:
+    # Controller u-part: D(u) + 10 u = 5 y + 0.5 y^3: lambda_1 = 0.5, and its H3 =
+    # 0.5 / (S + 10) has sup 0.05 = alpha_3 lambda_1^3, so alpha_3 = 0.4 (by hand).
+    mf = model_from_dict({"equation": PLANT,
+                          "controller": {"equation": "D(u) + 10*u = 5*y + 0.5*y**3"}})
+    v = theorem2(mf, order=3, amplitude=0.01)
+    alpha = v.conditions[2].value["alpha"]
+    assert alpha == pytest.approx([1.0, 0.0, 0.4], rel=1e-12)
+    lam, rho = 0.5, v.conditions[4].value["rho_1"]
+    n = 301
+    beta = majorant(mf.plant).coefficients(n)[1:, 0].tolist()
+    cmaj = majorant(mf.controller.model).coefficients(n)[1:, 0]
+    alpha_n = (cmaj / lam ** np.arange(1, n + 1)).tolist()
+    theta = np.array(theta_series(phi_series(beta, alpha_n, n), lam, rho, n))
+    terms = theta * rho ** np.arange(1, n + 1)
+    estimate = (terms[n - 3] / terms[n - 1]) ** 0.5
+    assert v.radius == pytest.approx(estimate, rel=2e-2)
+    linear = theorem2(model_from_dict({"equation": PLANT, "controller": {
+        "equation": "D(u) + 10*u = 5*y"}}), order=3)
+    assert v.radius < linear.radius
+
+
+def test_phi_series_by_hand() -> None:
+    # phi_3 = beta_1 alpha_3 + beta_2 (2 alpha_1 alpha_2) + beta_3 alpha_1^3
+    phi = phi_series([2.0, 3.0, 5.0], [1.0, 0.5, 0.25], 3)
+    assert phi == pytest.approx([2.0, 2 * 0.5 + 3.0, 2 * 0.25 + 3 * 2 * 0.5 + 5.0])
