@@ -59,6 +59,8 @@ __all__ = ["Kernel", "GFRFGenerator", "generator", "kernel", "MAX_KERNEL_ORDER"]
 
 #: Largest kernel order the generator accepts (the symbolic sums grow like p! S(n, p)).
 MAX_KERNEL_ORDER = 12
+#: Terms per lambdified chunk of a recursion numerator (Python's compiler nests sums).
+_CHUNK = 500
 
 
 def _ordered_set_partitions(items: tuple[int, ...], parts: int) -> Iterator[list[tuple[int, ...]]]:
@@ -269,7 +271,13 @@ class GFRFGenerator:
         if key not in self._compiled:
             plan = self.plan(n, symmetric)
             args = [*self.variables(n), *plan.placeholders]
-            self._compiled[key] = sp.lambdify(args, plan.numerator, modules="numpy", cse=True)
+            # One lambdify of a sum of thousands of terms (order 9) exceeds the Python
+            # compiler's recursion limit: compile it in chunks and add the parts.
+            terms = sp.Add.make_args(plan.numerator)
+            parts = [sp.lambdify(args, sp.Add(*terms[i:i + _CHUNK]), modules="numpy",
+                                 cse=True) for i in range(0, len(terms), _CHUNK)]
+            self._compiled[key] = parts[0] if len(parts) == 1 else (
+                lambda *a: sum(part(*a) for part in parts))
         return self._compiled[key]
 
     def _to_variables(self, omegas: list[np.ndarray]) -> list[np.ndarray]:
@@ -322,9 +330,15 @@ def _sum_of_reachable(total: int, parts: int, reachable: dict[int, bool]) -> boo
                for first in range(1, total - parts + 2))
 
 
-@lru_cache(maxsize=64)
 def generator(model: Model) -> GFRFGenerator:
-    """The memoised GFRF generator of ``model`` (one per model object)."""
+    """The memoised GFRF generator of ``model`` (one per model and coefficient set)."""
+    # Model equality ignores the coefficients (Term.coefficient has compare=False): two
+    # points of a parameter sweep would share one generator without them in the key.
+    return _generator(model, tuple(t.coefficient for t in model.terms))
+
+
+@lru_cache(maxsize=64)
+def _generator(model: Model, coefficients: tuple[float, ...]) -> GFRFGenerator:
     return GFRFGenerator(model)
 
 
