@@ -246,13 +246,20 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6)
         return Bound(b.lower, b.upper, b.argmax, b.certified, b.method, 1, symmetric,
                      b.stable, b.notes, b.reference)
     stable, _ = linear_stability(model)
-    notes = [] if stable else ["linear part unstable: L-infinity norm on the frequency axis"]
+    notes = [] if stable else ["linear part not asymptotically stable: L-infinity norm on the "
+                               "frequency axis"]
     if k.is_zero:
         return Bound(0.0, 0.0, tuple([0.0] * n), True, "kernel identically zero", n,
                      symmetric, stable, tuple(notes))
     maj = majorant(model)
     upper = float(maj.coefficients(n)[n, 0])
     notes += list(maj.reasons)
+    blowup = _axis_blowup(k, model, n)
+    if blowup is not None:
+        return Bound(math.inf, math.inf, blowup, True,
+                     "A(j w) = 0 on the axis and P_n != 0 there", n, symmetric, stable,
+                     (*notes, "||H_n|| = inf: H_n = -P_n / A(j(w_1+..+w_n)) with A(j w0) = 0 "
+                      "and P_n bounded away from 0 near the hyperplane w_1+..+w_n = w0"))
     lower, argmax = _search(k, model, n, symmetric, upper, tol)
     gap = 0.0 if upper == lower else (upper - lower) / upper
     if gap > tol:
@@ -262,6 +269,32 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6)
               if maj.exact else "recursive majorant from grid sups (estimate) + local search")
     return Bound(lower, max(upper, lower), argmax, maj.exact, method, n, symmetric, stable,
                  tuple(notes))
+
+
+def _axis_blowup(k: Any, model: Model, n: int) -> tuple[float, ...] | None:
+    """A point near which |H_n| is unbounded because A(j w0) = 0, or None.
+
+    On the hyperplane w_1 + .. + w_n = w0 the denominator A(j w0) vanishes; if the
+    numerator P_n = -H_n A is nonzero at a generic point of it (|H_n A| evaluated at
+    distances 1e-6 and 1e-8 from the hyperplane agree and are not tiny), H_n is
+    unbounded there.  Continuous models only.
+    """
+    if model.is_discrete:
+        return None
+    _, den = linear_polynomials(model)
+    roots = np.roots(den) if den.size > 1 else np.zeros(0)
+    axis = [float(abs(r.imag)) for r in roots if abs(r.real) <= 1e-12 * (1 + abs(r))]
+    rng = np.random.default_rng(0)
+    for w0 in axis:
+        base = rng.uniform(-1.0, 1.0, n - 1) * (1 + w0) + 0.123
+        products = []
+        for eps in (1e-6, 1e-8):
+            point = (*base, w0 + eps - float(np.sum(base)))
+            value = complex(k(*point))
+            products.append(abs(value * np.polyval(den, 1j * (w0 + eps))))
+        if products[1] > 1e-12 and abs(products[0] - products[1]) <= 1e-3 * products[1]:
+            return (*(float(b) for b in base), w0 - float(np.sum(base)))
+    return None
 
 
 def _search(k: Any, model: Model, n: int, symmetric: bool, upper: float,

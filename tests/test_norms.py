@@ -154,3 +154,10 @@ def test_order_9_bracket() -> None:
     grid = float(np.max(np.abs(kernel(m, 9)(*w))))
     assert grid <= bound.lower <= bound.upper
     assert math.isfinite(bound.upper) and bound.certified
+
+
+def test_imaginary_axis_pole_makes_h3_infinite() -> None:
+    # H3 = -H1(w1) H1(w2) H1(w3) / A(j(w1+w2+w3)), A(j sqrt 2) = 0: unbounded, never a
+    # big finite number
+    bound = kernel_norm(parse_model("D(y,2) + 2*y + y**3 = u"), 3)
+    assert math.isinf(bound.lower) and math.isinf(bound.upper)
