@@ -139,6 +139,7 @@ def _newton(eps: float, delta: float, amp: float, branch: str, truncation: int |
     """Newton iteration on ``delta`` or ``amp`` for the symmetric shooting condition."""
     b = parse_branch(branch)
     idx = 1 if b == "0" else 0  # x'(pi) = 0 or x(pi) = 0
+    g_of = nonlinearity(truncation)[0]
     res = math.inf
     for it in range(1, maxiter + 1):
         y = _half_period(eps, delta, amp, truncation)
@@ -147,12 +148,18 @@ def _newton(eps: float, delta: float, amp: float, branch: str, truncation: int |
         if not math.isfinite(res):
             break
         if res <= tol:
+            if unknown == "amp" and abs(g_of(amp)) < 1e-6 * amp:
+                raise ConvergenceError(
+                    f"shooting converged to the equilibrium x = {amp:.6g} (g(x) = 0), not to "
+                    f"a {b}-branch orbit at eps={eps}, delta={delta:.6g}; try another amplitude")
             period_res, mult = _full_period_check(eps, delta, amp, b, truncation)
-            return PeriodicOrbit(eps, delta, amp, b, truncation, res, period_res, mult, it)
+            return PeriodicOrbit(float(eps), float(delta), float(amp), b, truncation, res,
+                                 period_res, mult, it)
         if unknown == "delta":
             delta -= f / y[2 + idx]
-        else:
-            amp -= f / y[4 + idx]
+        else:  # damped: the amplitude moves by at most half of itself per step
+            step = f / y[4 + idx]
+            amp -= math.copysign(min(abs(step), 0.5 * amp), step)
             if not 0 < amp < math.pi:
                 res = math.inf
                 break
