@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -27,10 +28,12 @@ from gfrf.criteria import theorem1, theta_series
 from gfrf.kernels import kernel
 from gfrf.loops import characteristic, closed_loop
 from gfrf.majorant import majorant
+from gfrf.model import parse_model
 from gfrf.modelfile import load_model
 from gfrf.norms import h1_norm, kernel_norm
 
-__all__ = ["CheckRow", "paper_checks", "loop_sign_variants", "printed_match"]
+__all__ = ["CheckRow", "paper_checks", "coefficient_rows", "loop_sign_variants",
+           "printed_match"]
 
 #: The paper's cart-pole closed loop denominator 614 s^2 + 12554 s + 73 (section 5).
 PAPER_CLOSED_LOOP = (614.0, 12554.0, 73.0)
@@ -172,7 +175,7 @@ def _closed_loop_rows(path: Path) -> list[CheckRow]:
         CheckRow(section, "beta_1 = ||h1|| (L-inf, unstable plant)", 0.58, beta1.upper,
                  printed_match(0.58, beta1.upper), "attained at w = 0"),
         CheckRow(section, "h1(jw)", "39.3185/(-w^2 + 67.568)",
-                 f"{-plant.linear_input[0]:g}/(w^2 + {-plant.linear_output[0]:g})", False,
+                 f"{plant.linear_input[0]:g}/(w^2 + {-plant.linear_output[0]:g})", False,
                  "s^2 - 67.568 at s = jw is -w^2 - 67.568; the printed form has a pole at "
                  "w = 8.22 rad/s and an infinite sup, yet the paper's beta_1 = 0.58 is the "
                  "sup of the correct form"),
@@ -210,6 +213,55 @@ def _closed_loop_rows(path: Path) -> list[CheckRow]:
     ]
 
 
+#: eq (12) monomials and the keys of their printed magnitudes in cartpole.toml [paper].
+_EQ12_KEYS = {"theta": "linear_coefficient", "theta**3": "cubic_coefficient",
+              "theta*D(theta)**2": "theta_thetadot2_coefficient",
+              "theta**2*D(theta,2)": "theta2_thetaddot_coefficient", "u": "input_gain",
+              "theta**2*u": "theta2_u_coefficient"}
+
+
+def coefficient_rows(path: str | Path) -> list[CheckRow]:
+    """Eq (12)'s printed coefficients against the truncation of the physical model.
+
+    ``physical_equation`` of the model file (eqs (8)-(9), M, m, L, g of its
+    ``[parameters]``) is Taylor-truncated at order 3 and divided by its theta''
+    coefficient (4M + m)/3; each monomial of eq (12) is compared in magnitude and sign.
+    """
+    section = "4 (cart-pole, eq (12))"
+    data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
+    mf = load_model(path)
+    truncated = parse_model(data["physical_equation"], truncation=3,
+                            parameters=mf.parameters, output=mf.plant.output)
+    ours = {r["monomial"]: r["coefficient"] for r in truncated.coefficient_table()}
+    printed = {r["monomial"]: r["coefficient"] for r in mf.plant.coefficient_table()}
+    lead = ours["D(theta,2)"]
+    rows = []
+    for monomial, key in _EQ12_KEYS.items():
+        value = ours[monomial] / lead
+        paper = mf.paper[key]
+        same_sign = (value > 0) == (printed[monomial] > 0)
+        match = same_sign and printed_match(paper, abs(value))
+        reason = "" if match else (
+            f"|{monomial}| coefficient of the truncated physical model with the file's "
+            f"M, m, L, g is {abs(value):.6g} (relative difference "
+            f"{abs(abs(value) - paper) / paper:.2g})" + ("" if same_sign else "; sign differs"))
+        if monomial in ("theta", "theta**3") and not match:
+            reason += (f"; the printed value needs g = "
+                       f"{mf.parameters['g'] * paper / abs(value):.5g} m/s^2 (rounding or "
+                       "inconsistent constants; eq (12) and (16) use it as printed)")
+        if monomial == "theta**2*u" and not match:
+            reason += (f"; eq (11) prints 3m/(2(4M+m)L) = "
+                       f"{mf.parameters['m'] * abs(ours['u'] / lead) / 2:.4g}, but 19.66 = "
+                       "39.3185/2 is 3/(2(4M+m)L): the factor m in eq (11) is a typo")
+        rows.append(CheckRow(section, f"eq (12) coefficient of {monomial}", paper, value,
+                             match, reason))
+    rows.append(CheckRow(section, "eq (13) linear coefficient (vs eq (12))",
+                         mf.paper["linear_coefficient_in_eq13"], mf.paper["linear_coefficient"],
+                         False, "typo: eq (13) and section 5 print 67.568 where eq (12) and "
+                         "eq (16) print 67.578"))
+    return rows
+
+
 def paper_checks(models_dir: str | Path = "models") -> list[CheckRow]:
     """All rows for the paper's examples (sections 3 and 5).
 
@@ -225,5 +277,6 @@ def paper_checks(models_dir: str | Path = "models") -> list[CheckRow]:
     d = Path(models_dir)
     rows = _open_loop_rows(d / "hanging_pendulum.toml", "3 (rho = 0.8)")
     rows += _open_loop_rows(d / "hanging_pendulum_damped.toml", "3 (rho = 8)")
+    rows += coefficient_rows(d / "cartpole.toml")
     rows += _closed_loop_rows(d / "cartpole_reduced.toml")
     return rows

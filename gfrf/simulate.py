@@ -420,7 +420,8 @@ def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | N
 
 
 def _signal(input_: str | InputSignal | None, system: OdeSystem) -> InputSignal:
-    need = 0 if system.closed_loop else system.n_inputs - 1
+    # A NARX model reads past samples of u, not derivatives: only u itself is needed.
+    need = 0 if system.closed_loop or system.discrete else system.n_inputs - 1
     if input_ is None:
         return zero_input(need)
     if isinstance(input_, InputSignal):

@@ -23,6 +23,8 @@ COMMAND_MODULES: tuple[str, ...] = (
     "gfrf.cli.bench",
     "gfrf.cli.simulation",
     "gfrf.cli.stability",
+    "gfrf.cli.report",
+    "gfrf.cli.periodic",
 )
 
 

@@ -1,0 +1,93 @@
+"""Reports: the paper reproduced, its errors shown, every verdict explained.
+
+:func:`write_reports` regenerates, deterministically (fixed seeds, Agg figures, no
+dates), into one folder:
+
+* ``paper-gfrf.md`` (:mod:`gfrf.report.paper_gfrf`): every number the GFRF paper
+  prints against ours, the paper's figures 3-6, Theorems 1 and 2 with r*, simulations;
+* ``paper-periodic.md`` through ``gfrf.report.periodic.write`` when that module exists;
+* ``models/<stem>.md`` (:mod:`gfrf.report.model_page`): one verdict page per bundled
+  GFRF model file;
+* ``README.md``: an index of the above.
+
+``speed-vs-error.md`` is written by ``gfrf bench`` (minutes of timing) and only linked.
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.util
+import tomllib
+from pathlib import Path
+
+from gfrf.report import model_page, paper_gfrf
+from gfrf.report._format import header, table
+from gfrf.report.analysis import MODELS_DIR, analyse
+
+__all__ = ["MODELS_DIR", "bundled_models", "write_reports", "write_index"]
+
+
+def bundled_models(models_dir: Path = MODELS_DIR) -> list[str]:
+    """Paths ``models/<stem>.toml`` of the bundled GFRF models (parametric ones excluded)."""
+    out = []
+    for path in sorted(models_dir.glob("*.toml")):
+        kind = tomllib.loads(path.read_text(encoding="utf-8")).get("kind", "ode")
+        if kind == "ode":
+            out.append(str(path))
+    return out
+
+
+def write_index(out_dir: Path, models: list[str], quick: bool) -> Path:
+    """``README.md`` listing every report with its one-line verdict."""
+    rows = []
+    for path in models:
+        a = analyse(path, quick)
+        v = a.verdict
+        rows.append([f"[{a.model_file.name}](models/{a.stem}.md)", f"Theorem {v.theorem}",
+                     v.verdict, v.radius, "certified" if v.radius_certified else "estimate"])
+    summary = ["Reports of gfrf: the GFRF paper reproduced, the periodic paper checked, and one "
+               "verdict page per model.",
+               f"{len(models)} model pages; the verdict is at input amplitude r = 1 and r* is "
+               "the amplitude below which stability is proven.",
+               "Timing tables are in speed-vs-error.md (written by `gfrf bench`)."]
+    text = [header("gfrf reports", summary, f"gfrf report --out {out_dir.as_posix()}/"),
+            "- [paper-gfrf.md](paper-gfrf.md): the GFRF stability paper, number by number.",
+            "- [paper-periodic.md](paper-periodic.md): the parametrically excited pendulum.",
+            "- [speed-vs-error.md](speed-vs-error.md): benchmarks (`make bench`).", "",
+            table(["model", "theorem", "verdict at r = 1", "r*", "r* is"], rows)]
+    path = out_dir / "README.md"
+    path.write_text("\n".join(text), encoding="utf-8")
+    return path
+
+
+def write_reports(out_dir: str | Path = "reports", models: list[str] | None = None,
+                  quick: bool = False) -> list[Path]:
+    """Regenerate reports into ``out_dir``.
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        Output folder (created).
+    models : list of str, optional
+        Model files whose pages to write; None writes everything (the paper reports,
+        every bundled model's page and the index).
+    quick : bool
+        Reduced setting for tests (norm order 3, 20 s simulations).
+
+    Returns
+    -------
+    list of Path
+        The Markdown files written.
+    """
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    if models:
+        return [model_page.write(m, out, quick) for m in models]
+    paths = bundled_models()
+    written = [model_page.write(m, out, quick) for m in paths]
+    written.append(paper_gfrf.write(out, quick))
+    if importlib.util.find_spec("gfrf.report.periodic") is not None:
+        periodic = importlib.import_module("gfrf.report.periodic")
+        written.append(periodic.write(out, quick=quick))
+    written.append(write_index(out, paths, quick))
+    return written

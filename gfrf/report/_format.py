@@ -1,0 +1,97 @@
+"""Markdown building blocks shared by the reports: numbers, tables, headers, figures.
+
+Every number that reaches a report goes through :func:`cell`, so a test can render a
+result object's value and find exactly that text in the report.  Figures are written
+with matplotlib's Agg backend at a fixed dpi without a creation date, so two runs give
+byte-identical PNG files.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
+
+__all__ = ["num", "cell", "table", "header", "save_figure", "mark", "code", "DPI"]
+
+#: Resolution of every report figure (small PNGs that still read well on a code host).
+DPI = 100
+
+
+def num(x: float | None, digits: int = 6) -> str:
+    """A float with ``digits`` significant digits; ``inf``, ``-inf``, ``-`` for None."""
+    if x is None:
+        return "-"
+    x = float(x)
+    if math.isnan(x):
+        return "nan"
+    if math.isinf(x):
+        return "inf" if x > 0 else "-inf"
+    if x == 0:
+        return "0"
+    return f"{x:.{digits}g}"
+
+
+def cell(value: Any) -> str:
+    """Render one table cell: numbers via :func:`num`, lists element-wise, text escaped."""
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if value is None:
+        return "-"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        return num(value)
+    if isinstance(value, complex):
+        if value.imag == 0:
+            return num(value.real)
+        sign = "+" if value.imag > 0 else "-"
+        return f"{num(value.real)} {sign} {num(abs(value.imag))}j"
+    if isinstance(value, list | tuple):
+        return "[" + ", ".join(cell(v) for v in value) + "]"
+    if hasattr(value, "item"):  # numpy scalar
+        return cell(value.item())
+    return str(value).replace("|", "\\|").replace("\n", " ")
+
+
+def mark(passed: bool | None) -> str:
+    """pass / FAIL / open for a theorem condition."""
+    return {True: "pass", False: "**FAIL**", None: "open"}[passed]
+
+
+def code(text: str) -> str:
+    """Inline code span (for commands beside numbers)."""
+    return f"`{text}`"
+
+
+def table(headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
+    """A GitHub Markdown table; every header and entry is rendered by :func:`cell`."""
+    lines = ["| " + " | ".join(cell(h) for h in headers) + " |", "|" + "---|" * len(headers)]
+    for row in rows:
+        lines.append("| " + " | ".join(cell(c) for c in row) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def header(title: str, summary: Sequence[str], regenerate: str) -> str:
+    """Title, a three-line summary and the command that regenerates the report."""
+    if len(summary) != 3:
+        raise ValueError(f"a report summary has three lines, got {len(summary)}")
+    lines = [f"# {title}", "", *(f"> {s}  " for s in summary), "",
+             f"Regenerate: `{regenerate}` (deterministic: same numbers and figures on every "
+             "run). Angular frequencies are in rad/s unless a column says Hz.", ""]
+    return "\n".join(lines)
+
+
+def save_figure(fig: Figure, path: Path) -> str:
+    """Write ``fig`` as PNG (Agg, :data:`DPI`, no date metadata), close it, return the name."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=DPI, metadata={"Software": None})
+    plt.close(fig)
+    return path.name
