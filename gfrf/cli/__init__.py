@@ -24,7 +24,6 @@ COMMAND_MODULES: tuple[str, ...] = (
     "gfrf.cli.simulation",
     "gfrf.cli.stability",
     "gfrf.cli.report",
-    "gfrf.cli.periodic",
 )
 
 
