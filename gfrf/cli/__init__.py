@@ -24,6 +24,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "gfrf.cli.simulation",
     "gfrf.cli.stability",
     "gfrf.cli.report",
+    "gfrf.cli.periodic",
 )
 
 
