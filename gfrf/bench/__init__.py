@@ -23,6 +23,7 @@ SECTION_MODULES: tuple[str, ...] = (
     "gfrf.bench.kernels",
     "gfrf.bench.simulation",
     "gfrf.bench.norms",
+    "gfrf.bench.periodic",
 )
 
 
