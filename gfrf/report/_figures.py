@@ -110,6 +110,6 @@ def response_figure(responses: Sequence[Response], path: Path, title: str,
     ax.set_ylim(-1.5 * peak, 1.5 * peak)
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=7, loc="upper right")
-    ax.set_title(title)
+    ax.set_title(title, fontsize=9)
     fig.tight_layout()
     return save_figure(fig, path)

@@ -185,7 +185,7 @@ def _simulation_section(a: ModelAnalysis, out_dir: Path) -> list[str]:
     kind = ("closed loop from initial angles, zero reference" if a.closed else
             "sinusoidal input at the H1 peak, below and above r*")
     png = response_figure(a.responses, out_dir / f"{a.stem}-sim.png",
-                          f"{a.model_file.name}: {kind}", ylabel)
+                          f"{a.model_file.name}:\n{kind}", ylabel)
     out = ["## Simulations", "",
            f"Polynomial model simulated with scipy (RK45, rtol 1e-8), horizon {num(a.t_end)} s; "
            "a run stops when |y| reaches 1e3 (blow-up). Figure: "
