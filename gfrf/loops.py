@@ -28,7 +28,7 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import control
@@ -41,7 +41,7 @@ from gfrf.modelfile import Controller, ModelFile
 from gfrf.rational import rational_sup
 
 __all__ = ["ClosedLoop", "linear_plant", "controller_tf", "controller_polynomials",
-           "closed_loop", "characteristic"]
+           "closed_loop", "characteristic", "with_lags"]
 
 
 def _continuous(model: Model, what: str) -> None:
@@ -196,3 +196,25 @@ def closed_loop(model_file: ModelFile, feedback: int | None = None) -> ClosedLoo
                       control.tf(sens_num, chi), chi, poles, stable, peak.value,
                       peak.omega, lam.value, _degree(ctrl_poly[0]) <= _degree(ctrl_poly[1]),
                       bool(np.all(plant_poles.real < 0)), sign, tuple(notes))
+
+
+def with_lags(model_file: ModelFile, time_constants: tuple[float, ...]) -> ModelFile:
+    """The model file with its transfer-function controller divided by prod (T_i s + 1).
+
+    Restores the first-order lags of the paper's eq (15), ``(a s^2 + b s + c) /
+    ((T1 s + 1)(T2 s + 1)(T3 s + 1))``, which the paper neglects; T_i in seconds.
+
+    Raises
+    ------
+    ArgumentError
+        No transfer-function controller, or a negative or non-finite time constant.
+    """
+    controller = model_file.controller
+    if controller is None or not controller.is_linear:
+        raise ArgumentError("lags can only be added to a transfer-function controller")
+    den = np.asarray(controller.den, dtype=float)
+    for t in time_constants:
+        if not (np.isfinite(t) and t >= 0):
+            raise ArgumentError(f"time constants must be finite and >= 0 s, got {t!r}")
+        den = np.polymul(den, [t, 1.0])
+    return replace(model_file, controller=replace(controller, den=tuple(den.tolist())))

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from gfrf.errors import ArgumentError
-from gfrf.loops import closed_loop, controller_tf, linear_plant
+from gfrf.loops import closed_loop, controller_tf, linear_plant, with_lags
 from gfrf.modelfile import load_model, model_from_dict
 from gfrf.paper_checks import loop_sign_variants
 
@@ -103,3 +103,17 @@ def test_stiff_closed_loop_poles() -> None:
     assert p[0] * p[1] == pytest.approx(c / a, rel=1e-10)
     assert p[0] + p[1] == pytest.approx(-b / a, rel=1e-12)
     assert p[0] < -20 and -0.01 < p[1] < 0
+
+
+def test_neglected_lags_destabilise_the_model_sign_loop() -> None:
+    # chi = (s^2 - 67.578)(T s + 1)^3 - 39.3185 (15.6 s^2 + 379.3 s + 0.1331): for any
+    # T > 0 the s^5 coefficient T^3 > 0 while the s^2 coefficient ~ 1 - 613 < 0, so
+    # the coefficients change sign and the loop is unstable (it is stable at T = 0 only
+    # because the improper controller flips the leading coefficient).
+    mf = load_model(CARTPOLE)
+    assert closed_loop(with_lags(mf, (0.0, 0.0, 0.0))).stable
+    for t in (1e-2, 1e-3):
+        loop = closed_loop(with_lags(mf, (t, t, t)))
+        assert loop.controller_proper and not loop.stable
+    with pytest.raises(ArgumentError):
+        with_lags(mf, (-1.0,))
