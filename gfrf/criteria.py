@@ -46,6 +46,13 @@ Verdicts: ``stable`` when every condition holds (certified); ``unstable`` when t
 linearisation has a pole in the open right half plane (Lyapunov's indirect method:
 the equilibrium is unstable; the theorem is then inapplicable); ``inconclusive``
 otherwise.  Angular frequencies are in rad/s throughout.
+
+Examples
+--------
+>>> from gfrf.model import parse_model
+>>> v = theorem1(parse_model("D(y,2) + D(y) + 2*y + y**3 = u"), order=3, amplitude=0.1)
+>>> v.verdict, round(v.radius, 4), [c.passed for c in v.conditions]
+('stable', 0.5856, [True, True, True])
 """
 
 from __future__ import annotations
