@@ -116,13 +116,12 @@ class Bound:
 
 def linear_stability(model: Model) -> tuple[bool, np.ndarray]:
     """(stable, poles) of A: open left half plane, or |z| < 1 in z = 1/q for NARX."""
+    # For a NARX model den is A's coefficients, lowest power of q first; in z = 1/q the
+    # polynomial z^L A(1/z) has those same coefficients, highest power of z first.
     _, den = linear_polynomials(model)
-    if model.is_discrete:
-        poles = np.roots(den[::-1][::-1]) if den.size > 1 else np.zeros(0)
-        # den is lowest power of q first; in z = 1/q the polynomial is z^L A(1/z),
-        # whose coefficients highest first are den itself.
-        return bool(np.all(np.abs(poles) < 1.0)), poles
     poles = np.roots(den) if den.size > 1 else np.zeros(0)
+    if model.is_discrete:
+        return bool(np.all(np.abs(poles) < 1.0)), poles
     return bool(np.all(poles.real < 0.0)), poles
 
 

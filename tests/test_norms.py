@@ -161,3 +161,12 @@ def test_imaginary_axis_pole_makes_h3_infinite() -> None:
     # big finite number
     bound = kernel_norm(parse_model("D(y,2) + 2*y + y**3 = u"), 3)
     assert math.isinf(bound.lower) and math.isinf(bound.upper)
+
+
+def test_narx_linear_stability_and_h1() -> None:
+    # y[k] = 0.5 y[k-1] + u[k-1]: H1 = q / (1 - 0.5 q), |H1| max at w = 0: 1 / 0.5 = 2;
+    # y[k] = 1.5 y[k-1] + u[k-1] has its pole z = 1.5 outside the unit circle.
+    stable = h1_norm(parse_model("y[k] = 0.5*y[k-1] + u[k-1]", sample_time=0.1))
+    assert stable.stable and stable.upper == pytest.approx(2.0, rel=1e-9)
+    assert not stable.certified  # discrete sups are polished-grid estimates
+    assert h1_norm(parse_model("y[k] = 1.5*y[k-1] + u[k-1]", sample_time=0.1)).stable is False
