@@ -24,7 +24,7 @@ from gfrf.periodic.energy import energy_solution, energy_transition
 from gfrf.periodic.equation import branch_period, parse_branch
 from gfrf.periodic.homotopy import ham_optimal
 from gfrf.periodic.perturbation import PerturbationSeries, perturbation_series
-from gfrf.periodic.shooting import orbit_at_delta, transition_delta
+from gfrf.periodic.shooting import PeriodicOrbit, orbit_at_delta, transition_delta
 
 __all__ = [
     "DEFAULT_ORDER",
@@ -228,6 +228,17 @@ def _method_amplitude(method: str, eps: float, delta: float, branch: str, order:
     return float(brentq(f, lo, hi, xtol=1e-12))
 
 
+@functools.lru_cache(maxsize=256)
+def _exact(eps: float, amplitude: float, branch: str, delta: float | None
+           ) -> tuple[PeriodicOrbit, np.ndarray]:
+    """Shooting orbit and its samples (cached: tables reuse it for every method)."""
+    if delta is None:
+        orbit = transition_delta(eps, amplitude, branch)
+    else:
+        orbit = orbit_at_delta(eps, delta, amplitude, branch)
+    return orbit, orbit.evaluate(np.linspace(0.0, branch_period(branch), _N_SAMPLES))
+
+
 def compare_periodic(method: str, eps: float, amplitude: float, branch: str = "1/4",
                      order: int | None = None, delta: float | None = None
                      ) -> PeriodicComparison:
@@ -256,12 +267,8 @@ def compare_periodic(method: str, eps: float, amplitude: float, branch: str = "1
     b = parse_branch(branch)
     k = _order(method, order)
     _check_eps(method, eps, b)
-    if delta is None:
-        exact = transition_delta(eps, amplitude, b)
-    else:
-        exact = orbit_at_delta(eps, delta, amplitude, b)
+    exact, x_exact = _exact(eps, amplitude, b, delta)
     t = np.linspace(0.0, branch_period(b), _N_SAMPLES)
-    x_exact = exact.evaluate(t)
     t0 = time.perf_counter()
     a_m = amplitude if delta is None else exact.amplitude
     if delta is not None and method != "exact":

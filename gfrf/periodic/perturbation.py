@@ -70,14 +70,21 @@ class PerturbationSeries:
 
     def delta(self, eps: float, amplitude: float, order: int | None = None) -> float:
         """``delta`` on the transition curve for ``x(0) = amplitude``, truncated at ``order``."""
-        a = self.paper_a(eps, amplitude)
+        return self.delta_at(eps, self.paper_a(eps, amplitude), order)
+
+    def delta_at(self, eps: float, a: float, order: int | None = None) -> float:
+        """``delta`` at the series parameter ``a`` (any normalisation)."""
         k = self.order if order is None else order
         return float(sum(poly_eval(d, a) * eps**n for n, d in enumerate(self.delta_coeffs[:k + 1])))
 
     def solution(self, eps: float, amplitude: float, t: np.ndarray,
                  order: int | None = None) -> np.ndarray:
         """Periodic orbit ``x(t)`` with ``x(0) = amplitude`` (terms up to ``eps**order``)."""
-        a = self.paper_a(eps, amplitude)
+        return self.evaluate(eps, self.paper_a(eps, amplitude), t, order)
+
+    def evaluate(self, eps: float, a: float, t: np.ndarray,
+                 order: int | None = None) -> np.ndarray:
+        """Orbit ``x(t)`` at the series parameter ``a`` (any normalisation)."""
         k = self.order if order is None else order
         tau = np.asarray(t, dtype=float) / (1 if self.branch == "0" else 2)
         x = sum(s.evaluate(tau, a) * eps**n for n, s in enumerate(self.x_coeffs[:k + 1]))
