@@ -52,8 +52,9 @@ def summary_lines(a: ModelAnalysis) -> list[str]:
     else:
         below = [t for t in val.trials if t.below_radius]
         above = [t for t in val.trials if not t.below_radius]
-        sims = (f"Simulations: {sum(t.bounded for t in below)}/{len(below)} trials below the "
-                f"scale bounded, {sum(t.bounded for t in above)}/{len(above)} above; "
+        scale = "r*" if a.trial_scale_certified else "the radius estimate"
+        sims = (f"Simulations: {sum(t.bounded for t in below)}/{len(below)} trials below "
+                f"{scale} stay bounded, {sum(t.bounded for t in above)}/{len(above)} above; "
                 f"{len(val.contradictions)} contradiction(s) of the verdict.")
     return [first, f"Norms: {norms}.", sims]
 
