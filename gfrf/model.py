@@ -17,8 +17,10 @@ degree, and the untruncated equation is kept in :attr:`Model.physical` for simul
 Examples
 --------
 >>> m = parse_model("D(y,2) + 0.05*D(y) + 2.45*y - 0.41*y**3 = u")
->>> [str(t) for t in m.terms]
-['-0.41*y**3', '2.45*y', '0.05*D(y)', 'D(y,2)', '-u']
+>>> m.equation()
+'-0.41*y**3 + 2.45*y + 0.05*D(y) + D(y,2) - u = 0'
+>>> m.linear_output
+{0: 2.45, 1: 0.05, 2: 1.0}
 >>> m.degree
 3
 """
@@ -258,15 +260,38 @@ def _rewrite_lags(text: str, signals: tuple[str, str]) -> str:
 
 def _parse_side(text: str, local: dict[str, Any], whole: str) -> sp.Expr:
     try:
+        # Unevaluated first, so that powers like 9**9**9 or y**10**9 are refused before
+        # sympy tries to compute or expand them (it would hang or exhaust memory).
+        _check_powers(parse_expr(text, local_dict=local,
+                                 transformations=standard_transformations, evaluate=False),
+                      whole)
         expr = parse_expr(text, local_dict=local, transformations=standard_transformations,
                           evaluate=True)
+    except ModelError:
+        raise
     except (SyntaxError, TypeError, ValueError, sp.SympifyError, AttributeError,
-            TokenError) as exc:
+            TokenError, IndexError) as exc:
         raise ModelError(f"cannot parse the equation {whole!r}: {exc}") from None
-    if not isinstance(expr, sp.Expr):
+    if not isinstance(expr, sp.Expr) or expr.has(sp.Lambda):
         raise ModelError(f"cannot parse the equation {whole!r}: {text.strip()!r} is not an "
                          f"expression")
     return expr
+
+
+def _check_powers(expr: Any, whole: str) -> None:
+    """Refuse exponents that are not small numbers: degree > MAX_DEGREE, or |n| > 1000."""
+    if not isinstance(expr, sp.Basic):
+        return
+    for node in sp.postorder_traversal(expr):
+        if not isinstance(node, sp.Pow) or not node.exp.is_number:
+            continue
+        try:
+            size = abs(complex(node.exp))
+        except (TypeError, ValueError, OverflowError):
+            size = math.inf
+        if size > 1000 or (node.base.free_symbols and size > MAX_DEGREE):
+            raise ModelError(f"the power {node.exp} in {whole!r} exceeds the limit "
+                             f"{MAX_DEGREE if node.base.free_symbols else 1000}")
 
 
 def _replace_operators(expr: sp.Expr, output: sp.Symbol, input_: sp.Symbol,
