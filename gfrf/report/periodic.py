@@ -375,7 +375,7 @@ def write(out_dir: Path, quick: bool = False) -> Path:
         v.max_error for k, v in grid14.rows.items() if k[0] == lab))
     summary = [
         f"{len(checks)} formulas/references of the paper regenerated: {len(checks) - n_bad} "
-        f"agree, {n_bad} are misprints or inconsistencies (corrected forms below).",
+        f"agree, {n_bad} are misprints, inconsistencies or flaws (corrected forms below).",
         f"Against exact shooting orbits of eq (4), {best} is the most accurate method on the "
         f"1/4 branch; at x(0) = 0.5 the energy method has no solution from eps = "
         f"{num(energy_edge, 3)} on.",
