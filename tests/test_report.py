@@ -8,7 +8,7 @@ import pytest
 
 from gfrf.cli import main
 from gfrf.paper_checks import coefficient_rows, paper_checks
-from gfrf.report import MODELS_DIR, bundled_models, write_reports
+from gfrf.report import MODELS_DIR, bundled_models, paper_gfrf, write_reports
 from gfrf.report._format import cell, table
 from gfrf.report.analysis import analyse
 from gfrf.report.paper_gfrf import check_table
@@ -85,15 +85,15 @@ def test_cartpole_coefficient_rows_match_closed_forms() -> None:
 
 def test_two_runs_are_identical(built: Path, tmp_path: Path) -> None:
     analyse.cache_clear()
-    write_reports(tmp_path, quick=True)
-    for page in _pages(built):
+    write_reports(tmp_path, bundled_models(), quick=True)  # the model pages
+    paper_gfrf.write(tmp_path, quick=True)
+    for page in _pages(tmp_path):
+        page = built / page.relative_to(tmp_path)
         other = tmp_path / page.relative_to(built)
         first = page.read_text(encoding="utf-8").replace(str(built), "OUT")
         assert first == other.read_text(encoding="utf-8").replace(str(tmp_path), "OUT"), page
-    for png in sorted(built.rglob("*.png")):
-        if png.name.startswith("paper-periodic"):
-            continue
-        assert png.read_bytes() == (tmp_path / png.relative_to(built)).read_bytes(), png
+    for png in sorted(tmp_path.rglob("*.png")):
+        assert png.read_bytes() == (built / png.relative_to(tmp_path)).read_bytes(), png
 
 
 def test_cli_report_one_model(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
