@@ -69,3 +69,12 @@ def test_error_shrinks_with_order_and_eps(series, branch):
         assert errs[e][0] > errs[e][1] > errs[e][2]
     # error of the order-2 truncation is O(eps^3): halving eps divides it by ~8
     assert 4 < errs[0.2][0] / errs[0.1][0] < 12
+
+
+def test_paper_a_to_initial_displacement():
+    # (16) at t = 0, to O(eps^2) in x: x(0) = eps a + eps^2 a/4 (paper's normalisation)
+    s = perturbation_series("1/4", 1, "kernel")
+    assert s.amplitude_of(0.1, 2.0) == pytest.approx(0.1 * 2.0 + 0.01 * 2.0 / 4, abs=1e-15)
+    # (14): x(0) = a + eps a (1 - a^2/6) at first order
+    s0 = perturbation_series("0", 1, "kernel")
+    assert s0.amplitude_of(0.1, 0.5) == pytest.approx(0.5 + 0.1 * 0.5 * (1 - 0.25 / 6))

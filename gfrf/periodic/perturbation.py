@@ -72,6 +72,15 @@ class PerturbationSeries:
         """``delta`` on the transition curve for ``x(0) = amplitude``, truncated at ``order``."""
         return self.delta_at(eps, self.paper_a(eps, amplitude), order)
 
+    def amplitude_of(self, eps: float, a: float, order: int | None = None) -> float:
+        """``x(0)`` of the orbit with series parameter ``a``: converts the paper's ``a``.
+
+        With ``normalization="kernel"`` this is the paper's convention of (10) and (16):
+        branch 0 gives ``x(0) = a + eps a (1 - a**2/6) + ...``, branch 1/4 gives
+        ``x(0) = eps a (1 + eps/4 + ...)``.
+        """
+        return float(self.evaluate(eps, a, np.array([0.0]), order)[0])
+
     def delta_at(self, eps: float, a: float, order: int | None = None) -> float:
         """``delta`` at the series parameter ``a`` (any normalisation)."""
         k = self.order if order is None else order
