@@ -253,7 +253,9 @@ def coefficient_rows(path: str | Path) -> list[CheckRow]:
             reason += (f"; eq (11) prints 3m/(2(4M+m)L) = "
                        f"{mf.parameters['m'] * abs(ours['u'] / lead) / 2:.4g}, but 19.66 = "
                        "39.3185/2 is 3/(2(4M+m)L): the factor m in eq (11) is a typo")
-        rows.append(CheckRow(section, f"eq (12) coefficient of {monomial}", paper, value,
+        # quote the printed coefficient with the sign it has in eq (12)
+        signed = paper if printed[monomial] > 0 else -paper
+        rows.append(CheckRow(section, f"eq (12) coefficient of {monomial}", signed, value,
                              match, reason))
     rows.append(CheckRow(section, "eq (13) linear coefficient (vs eq (12))",
                          mf.paper["linear_coefficient_in_eq13"], mf.paper["linear_coefficient"],
