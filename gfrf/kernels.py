@@ -226,13 +226,25 @@ class GFRFGenerator:
                 blocks = [tuple(range(starts[i], starts[i + 1])) for i in range(p)]
                 yield sp.Integer(1), blocks, u_slots
             return
+        # Interchangeable factors (equal derivative orders) give equal products: keep one
+        # canonical order of their blocks (increasing smallest element) and count it
+        # multiplicity times, which divides the symbolic work by prod(m!).
+        multiplicity = math.prod(math.factorial(term.y_orders.count(o))
+                                 for o in set(term.y_orders))
+        multiplicity *= math.prod(math.factorial(term.u_orders.count(o))
+                                  for o in set(term.u_orders))
         everything = tuple(range(n))
         for u_slots in itertools.permutations(everything, q):
+            if not _canonical(term.u_orders, [(slot,) for slot in u_slots]):
+                continue
             rest = tuple(i for i in everything if i not in u_slots)
             for blocks in _ordered_set_partitions(rest, p):
+                if not _canonical(term.y_orders, blocks):
+                    continue
                 if not all(self.structurally_nonzero(len(b)) for b in blocks):
                     continue
-                weight = sp.Rational(math.prod(math.factorial(len(b)) for b in blocks),
+                weight = sp.Rational(multiplicity * math.prod(math.factorial(len(b))
+                                                              for b in blocks),
                                      math.factorial(n))
                 yield weight, blocks, u_slots
 
@@ -320,6 +332,12 @@ class GFRFGenerator:
 
             self._ufuncs[key] = numba_ufunc(self, n, symmetric)
         return self._ufuncs[key]
+
+
+def _canonical(orders: tuple[int, ...], blocks: list[tuple[int, ...]]) -> bool:
+    """True if blocks of consecutive equal-order factors have increasing smallest elements."""
+    return all(orders[i] != orders[i + 1] or blocks[i][0] < blocks[i + 1][0]
+               for i in range(len(orders) - 1))
 
 
 def _sum_of_reachable(total: int, parts: int, reachable: dict[int, bool]) -> bool:
