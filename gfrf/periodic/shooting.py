@@ -138,6 +138,7 @@ def _newton(eps: float, delta: float, amp: float, branch: str, truncation: int |
             unknown: str, tol: float, maxiter: int) -> PeriodicOrbit:
     """Newton iteration on ``delta`` or ``amp`` for the symmetric shooting condition."""
     b = parse_branch(branch)
+    guess = amp
     idx = 1 if b == "0" else 0  # x'(pi) = 0 or x(pi) = 0
     g_of = nonlinearity(truncation)[0]
     res = math.inf
@@ -164,9 +165,10 @@ def _newton(eps: float, delta: float, amp: float, branch: str, truncation: int |
                 res = math.inf
                 break
     raise ConvergenceError(
-        f"shooting for a {b}-branch orbit (eps={eps}, delta={delta:.6g}, amplitude={amp:.6g}) "
-        f"did not converge: relative residual {res:.3g} after {maxiter} Newton steps "
-        f"(tolerance {tol:g}); no periodic orbit found near this guess")
+        f"shooting for a {b}-branch orbit (eps={eps}, delta={delta:.6g}, x(0) guess "
+        f"{guess:.6g}) did not converge: relative residual {res:.3g} after {maxiter} Newton "
+        f"steps (tolerance {tol:g}, last x(0) = {amp:.3g}); no periodic orbit found near "
+        f"this guess")
 
 
 def orbit_on_transition(eps: float, amplitude: float, branch: str = "0",
