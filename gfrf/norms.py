@@ -14,8 +14,12 @@ on the axis (the L-infinity norm, used by Theorem 2 for an unstable plant), flag
 * ``upper`` is certified: the recursive majorant of :mod:`gfrf.majorant`, valid for the
   symmetric and the asymmetric kernel.  For a pure-output polynomial with constant
   input gain (Duffing, the hanging pendulum) it equals |c3| ||H1||^3 sup|1/A| for H3
-  and is attained at (w_r, w_r, -w_r): the gap is rounding only.  Where the terms'
-  signs partly cancel (the cart-pole's theta^3 and theta^2 u) the bracket stays open.
+  and is attained at (w_r, w_r, -w_r): the gap is rounding only.  Where the majorant
+  is not attained (the cart-pole's theta^3 and theta^2 u partly cancel; resonances
+  that cannot coincide) a continuous model of order n <= 5 is refined by the
+  certified branch-and-bound of :mod:`gfrf.branch_bound` (majorant tail outside a
+  box, second-order Taylor enclosures on sub-boxes) within a budget of
+  :data:`BOX_BUDGET` boxes; the bracket stays open where that budget is too small.
 * ``lower`` is the best value found: |H_n| evaluated at all start points built from the
   resonance frequencies of the linear part (each w_i in {0, +-damped natural
   frequencies, +-peak frequencies of |H1| and |1/A|}, plus points whose sum hits a
@@ -46,6 +50,7 @@ import control
 import numpy as np
 from scipy.optimize import minimize
 
+from gfrf.branch_bound import MAX_ORDER, branch_and_bound
 from gfrf.errors import ArgumentError
 from gfrf.kernels import kernel
 from gfrf.majorant import linear_polynomials, majorant
@@ -56,6 +61,8 @@ __all__ = ["Bound", "h1_norm", "kernel_norm", "linear_stability"]
 
 #: Largest number of start points evaluated for the lower bound.
 MAX_STARTS = 4000
+#: Boxes the branch-and-bound may evaluate per kernel norm (about 1-3 s at order 5).
+BOX_BUDGET = 60_000
 
 
 @dataclass(frozen=True)
@@ -260,12 +267,21 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6)
                      (*notes, "||H_n|| = inf: H_n = -P_n / A(j(w_1+..+w_n)) with A(j w0) = 0 "
                       "and P_n bounded away from 0 near the hyperplane w_1+..+w_n = w0"))
     lower, argmax = _search(k, model, n, symmetric, upper, tol)
+    method = ("recursive majorant (certified upper) + resonance-start Nelder-Mead (lower)"
+              if maj.exact else "recursive majorant from grid sups (estimate) + local search")
+    if (upper - lower > tol * upper and math.isfinite(upper) and not model.is_discrete
+            and n <= MAX_ORDER):
+        bb = branch_and_bound(model, n, symmetric, lower, argmax, tol, max_boxes=BOX_BUDGET)
+        if bb.lower > lower:
+            lower, argmax = bb.lower, bb.argmax
+        upper = min(upper, bb.upper)
+        method = (f"branch-and-bound, {bb.boxes} boxes in [-{bb.width:.4g}, {bb.width:.4g}]^{n} "
+                  "rad/s + majorant tail (certified upper); local search (lower)")
     gap = 0.0 if upper == lower else (upper - lower) / upper
     if gap > tol:
         notes.append(f"relative gap {gap:.3g} > tol {tol:g}: the majorant is not attained "
-                     "(terms of different sign or phase); honest bracket")
-    method = ("recursive majorant (certified upper) + resonance-start Nelder-Mead (lower)"
-              if maj.exact else "recursive majorant from grid sups (estimate) + local search")
+                     "(terms of different sign or phase) and the branch-and-bound budget "
+                     "did not close the gap; honest bracket")
     return Bound(lower, max(upper, lower), argmax, maj.exact, method, n, symmetric, stable,
                  tuple(notes))
 

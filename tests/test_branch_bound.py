@@ -1,0 +1,129 @@
+"""Tests of gfrf.branch_bound: soundness of the box and tail bounds, and closed gaps."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.optimize import minimize
+
+from gfrf.branch_bound import box_bounds, branch_and_bound, tail_bound
+from gfrf.errors import ArgumentError
+from gfrf.kernels import kernel
+from gfrf.majorant import majorant
+from gfrf.model import parse_model
+from gfrf.modelfile import load_model
+
+QUADRATIC = "D(y,2) + 0.2*D(y) + y + 0.4*y**2 = u"
+MIXED = "D(y,2) + 0.3*D(y) + 1.5*y + 0.4*y**2 - 0.2*y**3 + 0.1*y*u = u"
+CARTPOLE = "models/cartpole.toml"
+
+
+def quadratic_h2(w: np.ndarray) -> np.ndarray:
+    """H2 of QUADRATIC by hand: -0.4 H1(w1) H1(w2) / A(w1 + w2), H1 = 1/A."""
+
+    def a(x: np.ndarray) -> np.ndarray:
+        return 1.0 - x * x + 0.2j * x
+
+    return -0.4 / (a(w[0]) * a(w[1]) * a(w[0] + w[1]))
+
+
+def true_quadratic_max() -> float:
+    """Fine grid on [-3, 3]^2 then Nelder-Mead polishing of the best points."""
+    axis = np.linspace(-3.0, 3.0, 1201)
+    w1, w2 = np.meshgrid(axis, axis, indexing="ij")
+    values = np.abs(quadratic_h2(np.array([w1, w2])))
+    best = 0.0
+    for k in np.argsort(values, axis=None)[::-1][:8]:
+        x0 = np.array([w1.flat[k], w2.flat[k]])
+        res = minimize(lambda x: -abs(quadratic_h2(x)), x0, method="Nelder-Mead",
+                       options={"xatol": 1e-13, "fatol": 1e-15, "maxiter": 4000})
+        best = max(best, -float(res.fun))
+    return best
+
+
+@pytest.mark.parametrize(("text", "n", "symmetric"), [
+    (QUADRATIC, 2, True), (MIXED, 3, True), (MIXED, 3, False),
+    ("D(y,2) + 0.5*D(y) + 2*y + 0.3*y*D(y)**2 + 0.2*y**2*D(y,2) - 0.5*y**2*u = u", 3, True)])
+def test_box_bounds_enclose_every_sampled_point(text: str, n: int, symmetric: bool) -> None:
+    m = parse_model(text)
+    rng = np.random.default_rng(7)
+    centre = rng.uniform(-3, 3, (300, n))
+    half = 10.0 ** rng.uniform(-4, 0.5, (300, 1)) * rng.uniform(0.2, 1.0, (300, n))
+    lo, hi = centre - half, centre + half
+    bound, value, _ = box_bounds(m, n, lo, hi, symmetric)
+    k = kernel(m, n, symmetric)
+    assert np.allclose(value, k(*centre.T), rtol=1e-12, atol=0)
+    for _ in range(20):
+        points = lo + rng.uniform(0, 1, lo.shape) * (hi - lo)
+        points[:5] = np.where(rng.uniform(size=(5, n)) < 0.5, lo[:5], hi[:5])  # corners
+        assert np.all(np.abs(k(*points.T)) <= bound * (1 + 1e-12))
+
+
+def test_tail_bound_encloses_far_points() -> None:
+    m = load_model(CARTPOLE).plant
+    k = kernel(m, 3)
+    rng = np.random.default_rng(3)
+    width = 20.0
+    w = rng.uniform(-60, 60, (3, 200000))
+    w[0] = np.where(np.abs(w[0]) > width, w[0], width + rng.uniform(0, 1, w.shape[1]))
+    # the worst far points: two large coordinates that cancel in the sum
+    w[1, :1000] = -w[0, :1000] + rng.uniform(-1, 1, 1000)
+    bound = tail_bound(m, 3, width)
+    assert np.max(np.abs(k(*w))) <= bound
+    assert bound < tail_bound(m, 3, width / 4) < majorant(m).coefficients(3)[3, 0] * (1 + 1e-12)
+
+
+def test_quadratic_oscillator_gap_below_tol() -> None:
+    exact = true_quadratic_max()
+    m = parse_model(QUADRATIC)
+    r = branch_and_bound(m, 2, tol=1e-7)
+    assert r.converged and r.upper - r.lower <= 1e-7 * r.upper
+    assert r.lower <= exact * (1 + 1e-12) <= r.upper * (1 + 1e-12)
+    assert r.lower == pytest.approx(exact, rel=1e-9)
+    assert r.upper < 0.25 * majorant(m).coefficients(2)[2, 0]  # the majorant is 5x loose
+
+
+@pytest.mark.parametrize(("path", "n"), [(CARTPOLE, 3), ("models/cartpole_reduced.toml", 3)])
+def test_cartpole_bracket_contains_grid_and_random_max(path: str, n: int) -> None:
+    m = load_model(path).plant
+    r = branch_and_bound(m, n)
+    assert r.converged and r.upper - r.lower <= 1e-6 * r.upper
+    k = kernel(m, n)
+    axis = np.linspace(-12, 12, 97)
+    grid = np.abs(k(*np.meshgrid(axis, axis, axis, indexing="ij"))).max()
+    sample = np.abs(k(*np.random.default_rng(5).uniform(-30, 30, (n, 200000)))).max()
+    assert max(grid, sample) <= r.upper
+    assert abs(k(*r.argmax)) == pytest.approx(r.lower, rel=1e-12)
+
+
+def test_mixed_model_bracket_against_local_search() -> None:
+    m = parse_model(MIXED)
+    k = kernel(m, 3)
+    r = branch_and_bound(m, 3)
+    assert r.converged
+    rng = np.random.default_rng(2)
+    points = rng.uniform(-4, 4, (3, 100000))
+    values = np.abs(k(*points))
+    assert values.max() <= r.upper
+    x0 = points[:, int(np.argmax(values))]
+    res = minimize(lambda x: -abs(complex(k(*x))), x0, method="Nelder-Mead",
+                   options={"xatol": 1e-12, "fatol": 1e-15, "maxiter": 3000})
+    assert -res.fun <= r.upper and r.lower >= -res.fun * (1 - 1e-6)
+
+
+def test_budget_exhausted_gives_honest_bracket() -> None:
+    m = load_model("models/hanging_pendulum.toml").plant
+    r = branch_and_bound(m, 5, max_boxes=3000)
+    assert not r.converged and r.lower < r.upper
+    assert r.upper < majorant(m).coefficients(5)[5, 0]
+    assert abs(complex(kernel(m, 5)(*r.argmax))) == pytest.approx(r.lower, rel=1e-12)
+    assert math.isfinite(r.tail) and r.tail < r.lower
+
+
+def test_refusals() -> None:
+    with pytest.raises(ArgumentError):
+        branch_and_bound(parse_model(QUADRATIC), 6)
+    with pytest.raises(ArgumentError):
+        branch_and_bound(load_model("models/narx_example.toml").plant, 3)
