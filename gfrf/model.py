@@ -272,7 +272,8 @@ def _parse_side(text: str, local: dict[str, Any], whole: str) -> sp.Expr:
     except (SyntaxError, TypeError, ValueError, sp.SympifyError, AttributeError,
             TokenError, IndexError) as exc:
         raise ModelError(f"cannot parse the equation {whole!r}: {exc}") from None
-    if not isinstance(expr, sp.Expr) or expr.has(sp.Lambda):
+    if not isinstance(expr, sp.Expr) or any(isinstance(node, sp.Lambda)
+                                            for node in sp.preorder_traversal(expr)):
         raise ModelError(f"cannot parse the equation {whole!r}: {text.strip()!r} is not an "
                          f"expression")
     return expr
