@@ -25,6 +25,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "gfrf.cli.stability",
     "gfrf.cli.report",
     "gfrf.cli.periodic",
+    "gfrf.cli.sweep",
 )
 
 

@@ -1,0 +1,95 @@
+"""``gfrf sweep``: verdict, radius r*, norms or boundedness over a parameter grid.
+
+``gfrf sweep MODEL --param NAME=START:STOP:N [--param ...] [--what verdict|radius|norm|
+bounded] [--scheduler local|processes|ADDRESS] [--out FILE.csv|.parquet] [--plot FILE.png]
+[--json]`` evaluates the quantity at every grid point (see :mod:`gfrf.sweep`), prints
+a summary (points per class, range of r*, throughput), writes the table and the
+stability map.  Exit code 0 when the sweep ran (whatever the verdicts), 2 on bad input.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import tomllib
+from collections import Counter
+from pathlib import Path
+
+from gfrf.cli._output import add_json_flag, emit
+from gfrf.modelfile import load_model
+from gfrf.sweep import WHAT, SweepResult, check_output, parse_axis, sweep
+
+__all__ = ["register"]
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Register ``sweep``."""
+    p = subparsers.add_parser(
+        "sweep", help="stability map: verdict / r* / norms / simulations over a parameter grid",
+        description="Evaluate the verdict and certified radius r* (or norms, or simulated "
+                    "boundedness) at every point of a grid over model-file parameters, "
+                    "in-process or on a dask cluster; write the table and a stability map.")
+    p.add_argument("model", metavar="MODEL", help="a model file (models/*.toml)")
+    p.add_argument("--param", action="append", required=True, metavar="NAME=START:STOP:N",
+                   help="a swept parameter of [parameters] or controller.parameters, N values "
+                        "from START to STOP inclusive; repeat for a grid")
+    p.add_argument("--what", choices=WHAT, default="verdict",
+                   help="quantity per point (default verdict)")
+    p.add_argument("--amplitude", type=float, default=1.0, metavar="R",
+                   help="input amplitude r of the verdict and simulations (default 1)")
+    p.add_argument("--order", type=int, default=5,
+                   help="highest majorant order of --what norm (default 5)")
+    p.add_argument("--t-end", type=float, default=50.0, metavar="T",
+                   help="simulated time in s of --what bounded (default 50)")
+    p.add_argument("--scheduler", default="local",
+                   help="'local' (in-process, default), 'processes' (dask LocalCluster, one "
+                        "worker per core) or a dask scheduler address tcp://host:port")
+    p.add_argument("--workers", type=int, default=None,
+                   help="worker processes of --scheduler processes (default: all cores)")
+    p.add_argument("--chunk", type=int, default=None, help="points per task (default: auto)")
+    p.add_argument("--out", default=None, metavar="FILE", help="write the table (.csv/.parquet)")
+    p.add_argument("--plot", default=None, metavar="FILE.png", help="write the stability map")
+    add_json_flag(p)
+    p.set_defaults(func=_sweep)
+
+
+def _summary(name: str, result: SweepResult) -> list[str]:
+    rows = result.rows
+    lines = [f"{name}: {result.what} over "
+             + " x ".join(f"{a.name} in [{a.values[0]:g}, {a.values[-1]:g}] ({len(a.values)})"
+                          for a in result.axes)
+             + f" = {len(rows)} points"]
+    for key in ("verdict", "bounded", "linear_stable"):
+        if key in result.columns:
+            counts = Counter(str(r.get(key)) for r in rows if not r["error"])
+            lines.append(f"  {key}: " + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
+    radii = [r["radius"] for r in rows if not r["error"] and "radius" in r]
+    if radii:
+        finite = [x for x in radii if math.isfinite(x)]
+        if finite:
+            lines.append(f"  r*: min {min(finite):.4g}, max {max(finite):.4g}")
+    lines += [f"  note: {n}" for n in result.notes]
+    lines.append(f"  {result.points_per_second:.3g} points/s on '{result.scheduler}' "
+                 f"({result.seconds:.3g} s; symbolic template {result.template_seconds:.3g} s)")
+    return lines
+
+
+def _sweep(args: argparse.Namespace) -> int:
+    axes = [parse_axis(spec) for spec in args.param]
+    if args.out:
+        check_output(args.out)
+    mf = load_model(args.model)  # validates the file and gives its errors their names
+    data = tomllib.loads(Path(args.model).read_text(encoding="utf-8"))
+    result = sweep(data, axes, what=args.what, amplitude=args.amplitude, order=args.order,
+                   t_end=args.t_end, scheduler=args.scheduler, workers=args.workers,
+                   chunk_size=args.chunk, path=args.model)
+    lines = _summary(mf.name, result)
+    payload = {"model": mf.name, **result.to_dict()}
+    if args.out:
+        lines.append(f"  table: {result.write(args.out)}")
+    if args.plot:
+        from gfrf.sweep_plot import plot_stability_map
+
+        lines.append(f"  map: {plot_stability_map(result, args.plot, mf.name)}")
+    emit(args, payload, "\n".join(lines))
+    return 0

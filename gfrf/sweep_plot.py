@@ -1,0 +1,136 @@
+"""Stability maps of a parameter sweep (matplotlib, Agg backend).
+
+One swept parameter: the certified radius r* (log scale) against the parameter, each
+point coloured by its class, the amplitude r as a dashed line (the verdict is
+``stable`` where r* lies above it), and the parameter ranges where the linear part is
+unstable shaded.  Two swept parameters: the plane coloured by class, with contours of
+log10 r*.  Classes: Theorem 1/2 proves stability; not proven (inconclusive); linear
+part unstable; invalid model at that point.  ``norm`` sweeps plot ||H1|| and the
+majorants; ``bounded`` sweeps colour points by bounded / blown-up simulations.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from gfrf.errors import ArgumentError
+from gfrf.sweep import SweepResult
+
+__all__ = ["plot_stability_map", "point_class", "CLASSES"]
+
+#: Class label and colour of each point kind, in legend order.
+CLASSES = {
+    "stable": ("stability proven (Theorem {theorem})", "#2b8a3e"),
+    "inconclusive": ("not proven", "#f2c94c"),
+    "linear unstable": ("linear part unstable", "#c92a2a"),
+    "bounded": ("simulation bounded", "#2b8a3e"),
+    "blowup": ("simulation blew up", "#c92a2a"),
+    "error": ("invalid model", "#868e96"),
+}
+
+
+def point_class(row: dict) -> str:
+    """The map class of one table row."""
+    if row["error"]:
+        return "error"
+    if "bounded" in row:
+        return "bounded" if row["bounded"] else "blowup"
+    if not row["linear_stable"]:
+        return "linear unstable"
+    return row.get("verdict", "inconclusive") if row.get("verdict") != "unstable" \
+        else "linear unstable"
+
+
+def _label(kind: str, result: SweepResult) -> str:
+    theorem = next((r["theorem"] for r in result.rows if "theorem" in r), "1/2")
+    return CLASSES[kind][0].format(theorem=theorem)
+
+
+def plot_stability_map(result: SweepResult, path: str | Path, title: str = "") -> Path:
+    """Write the stability map of ``result`` to ``path`` (PNG, PDF, SVG by suffix).
+
+    Raises
+    ------
+    ArgumentError
+        More than two swept parameters (a map is one- or two-dimensional).
+    """
+    if len(result.axes) > 2:
+        raise ArgumentError(f"--plot draws one or two swept parameters, got "
+                            f"{len(result.axes)}: sweep fewer or drop --plot")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.4, 4.8))
+    if len(result.axes) == 1:
+        _one(ax, result)
+    else:
+        _two(ax, result)
+    ax.set_title(title or f"gfrf sweep --what {result.what}")
+    fig.tight_layout()
+    out = Path(path)
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+    return out
+
+
+def _one(ax: object, result: SweepResult) -> None:
+    name = result.axes[0].name
+    x = np.array([r[name] for r in result.rows])
+    kinds = [point_class(r) for r in result.rows]
+    if result.what == "norm":
+        ax.semilogy(x, [r["h1"] for r in result.rows], "k.-", label="||H1||")
+        for column in [c for c in result.columns if c.startswith("M")]:
+            values = np.array([r[column] for r in result.rows], dtype=float)
+            if np.any(values > 0):
+                ax.semilogy(x, values, ".-", label=f"majorant of ||H{column[1:]}||")
+        ax.set_ylabel("norm bound")
+    else:
+        key = "peak" if result.what == "bounded" else "radius"
+        y = np.array([r.get(key) or np.nan for r in result.rows], dtype=float)
+        y = np.where(y > 0, y, np.nan)
+        ax.semilogy(x, y, "-", color="0.6", lw=1)
+        for kind in dict.fromkeys(kinds):
+            mask = np.array([k == kind for k in kinds])
+            ax.semilogy(x[mask], np.where(np.isnan(y[mask]), np.nanmin(y, initial=1.0),
+                                          y[mask]), "o", color=CLASSES[kind][1],
+                        label=_label(kind, result))
+        if result.what != "bounded":
+            ax.axhline(result.amplitude, ls="--", color="k", lw=1,
+                       label=f"amplitude r = {result.amplitude:g}")
+            ax.set_ylabel("certified radius r*")
+        else:
+            ax.set_ylabel("peak |y|")
+        for xi, kind in zip(x, kinds, strict=True):
+            if kind == "linear unstable":
+                step = np.diff(x).min() / 2 if x.size > 1 else 0.5
+                ax.axvspan(xi - step, xi + step, color=CLASSES[kind][1], alpha=0.12, lw=0)
+    ax.set_xlabel(name)
+    ax.legend(fontsize=8)
+
+
+def _two(ax: object, result: SweepResult) -> None:
+    from matplotlib.colors import ListedColormap
+    from matplotlib.patches import Patch
+
+    (a, b) = result.axes
+    kinds = [point_class(r) for r in result.rows]
+    present = list(dict.fromkeys(k for k in CLASSES if k in kinds))
+    index = np.array([present.index(k) for k in kinds]).reshape(len(a.values), len(b.values))
+    cmap = ListedColormap([CLASSES[k][1] for k in present])
+    ax.pcolormesh(b.values, a.values, index, cmap=cmap, vmin=-0.5,
+                  vmax=len(present) - 0.5, shading="nearest")
+    if result.what in ("verdict", "radius") and min(len(a.values), len(b.values)) > 1:
+        radius = np.array([r.get("radius") or np.nan for r in result.rows], dtype=float)
+        with np.errstate(divide="ignore"):
+            level = np.log10(np.where(radius > 0, radius, np.nan)).reshape(index.shape)
+        if np.isfinite(level).sum() > 3:
+            contours = ax.contour(b.values, a.values, level, colors="k", linewidths=0.7)
+            ax.clabel(contours, fmt="log10 r* = %.1f", fontsize=7)
+    ax.set_xlabel(b.name)
+    ax.set_ylabel(a.name)
+    ax.legend(handles=[Patch(color=CLASSES[k][1], label=_label(k, result)) for k in present],
+              fontsize=8, loc="best")

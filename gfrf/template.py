@@ -1,0 +1,262 @@
+"""Model templates: the symbolic work of a parameter sweep, done once per model structure.
+
+A sweep changes only the values of some ``[parameters]`` (or ``controller.parameters``)
+of a model file; the terms that exist, their derivative orders and the truncation
+are the same at every point.  :func:`model_template` parses the equation once with
+the swept parameters left as symbols, Taylor-truncates it, and keeps each term's
+coefficient (and each controller ``num``/``den`` entry) as a formula in the swept
+parameters, printed to Python source.  :meth:`ModelTemplate.instantiate` evaluates
+those formulas (plain float arithmetic, ~10 us) and assembles the
+:class:`~gfrf.modelfile.ModelFile` of one grid point without touching sympy, so only
+numeric work is shipped to sweep workers.  The template pickles as text and
+recompiles its formulas on first use in each process.
+
+The instantiated plant has ``physical = None``: it serves the GFRF criteria, not
+simulation (simulation sweeps rebuild the file with :func:`gfrf.modelfile.model_from_dict`).
+
+Examples
+--------
+>>> data = {"equation": "D(y,2) + c*D(y) + y + 0.5*y**3 = u", "parameters": {"c": 0.2}}
+>>> t = model_template(data, ["c"])
+>>> t.instantiate({"c": 0.4}).plant.linear_output[1]
+0.4
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import sympy as sp
+
+from gfrf.errors import ArgumentError, ModelError
+from gfrf.model import (
+    Term,
+    _atom,
+    _parse_side,
+    _replace_operators,
+    _split_equation,
+    _truncate,
+)
+from gfrf.modelfile import ModelFile, model_from_dict
+
+__all__ = ["ModelTemplate", "model_template", "rebuild", "parameter_names"]
+
+
+def parameter_names(data: Mapping[str, Any]) -> dict[str, str]:
+    """Sweepable parameter names of a model-file table, mapped to their table.
+
+    Returns ``{name: "parameters"}`` for the top-level table and
+    ``{name: "controller.parameters"}`` for the controller's own table.
+    """
+    names = {name: "parameters" for name in (data.get("parameters") or {})}
+    controller = data.get("controller") or {}
+    if isinstance(controller, dict):
+        names.update({name: "controller.parameters"
+                      for name in (controller.get("parameters") or {})})
+    return names
+
+
+def rebuild(data: Mapping[str, Any], values: Mapping[str, float], path: str = "") -> ModelFile:
+    """The model file ``data`` with some parameter values replaced (full parse, slow path)."""
+    where = parameter_names(data)
+    changed: dict[str, Any] = dict(data)
+    top = dict(data.get("parameters") or {})
+    controller = dict(data.get("controller") or {})
+    own = dict(controller.get("parameters") or {})
+    for name, value in values.items():
+        if where.get(name) == "parameters":
+            top[name] = value
+        elif where.get(name) == "controller.parameters":
+            own[name] = value
+        else:
+            raise ArgumentError(_unknown(name, where))
+    if top:
+        changed["parameters"] = top
+    if controller:
+        changed["controller"] = {**controller, "parameters": own} if own else controller
+    return model_from_dict(changed, path=path)
+
+
+def _unknown(name: str, where: Mapping[str, str]) -> str:
+    known = ", ".join(sorted(where)) or "none"
+    return f"unknown parameter {name!r}; the model file's parameters are: {known}"
+
+
+@dataclass
+class ModelTemplate:
+    """Coefficient formulas of a model file in its swept parameters.
+
+    Attributes
+    ----------
+    names : tuple of str
+        The swept parameters, in argument order.
+    base : ModelFile
+        The model file at its own parameter values (fully validated).
+    structure : tuple of (y_orders, u_orders)
+        One entry per plant coefficient formula.
+    source : str
+        Python source of ``lambda <names>: (plant coefficients, num, den)``.
+    """
+
+    names: tuple[str, ...]
+    base: ModelFile
+    structure: tuple[tuple[tuple[int, ...], tuple[int, ...]], ...]
+    source: str
+    n_num: int
+    _function: Callable[..., tuple[float, ...]] | None = field(default=None, repr=False)
+
+    def __getstate__(self) -> dict[str, Any]:
+        return {**self.__dict__, "_function": None}
+
+    def _formulas(self) -> Callable[..., tuple[float, ...]]:
+        if self._function is None:
+            self._function = eval(self.source, {"math": math})  # noqa: S307 - our own source
+        return self._function
+
+    def instantiate(self, values: Mapping[str, float]) -> ModelFile:
+        """The model file at ``values`` of the swept parameters (numeric work only).
+
+        Raises
+        ------
+        ModelError
+            A coefficient is not finite, or a vanishing coefficient removes the linear
+            output term, the input or the output (the message names the point).
+        """
+        args = [float(values[n]) for n in self.names]
+        try:
+            numbers = self._formulas()(*args)
+        except (ZeroDivisionError, ValueError, OverflowError) as exc:
+            raise ModelError(f"{self._where(values)}: {exc}") from None
+        plant = self.base.plant
+        terms = []
+        for (y_orders, u_orders), c in zip(self.structure, numbers, strict=False):
+            if not math.isfinite(c):
+                raise ModelError(f"{self._where(values)}: coefficient of "
+                                 f"{Term(y_orders, u_orders, 1.0, plant.output, plant.input)} "
+                                 f"is not finite")
+            if c != 0.0:
+                terms.append(Term(y_orders, u_orders, float(c), plant.output, plant.input,
+                                  plant.is_discrete))
+        self._check(terms, values)
+        model = replace(plant, terms=tuple(sorted(terms)), physical=None)
+        controller = self.base.controller
+        if controller is not None and controller.is_linear:
+            rest = numbers[len(self.structure):]
+            num, den = rest[:self.n_num], rest[self.n_num:]
+            if not any(den):
+                raise ModelError(f"{self._where(values)}: controller.den is zero")
+            controller = replace(controller, num=tuple(num), den=tuple(den))
+        return replace(self.base, plant=model, controller=controller,
+                       parameters={**self.base.parameters, **dict(zip(self.names, args,
+                                                                       strict=True))})
+
+    def _where(self, values: Mapping[str, float]) -> str:
+        return "at " + ", ".join(f"{n} = {values[n]:g}" for n in self.names)
+
+    def _check(self, terms: list[Term], values: Mapping[str, float]) -> None:
+        plant = self.base.plant
+        if not any(t.is_linear_output for t in terms):
+            raise ModelError(f"{self._where(values)}: no linear term in the output "
+                             f"{plant.output!r}: H1 is undefined")
+        if not any(t.u_orders for t in terms):
+            raise ModelError(f"{self._where(values)}: the equation has no input "
+                             f"{plant.input!r}")
+
+
+def _symbolic_table(table: Mapping[str, Any] | None, swept: Mapping[str, sp.Symbol],
+                    known: dict[str, sp.Expr]) -> dict[str, sp.Expr]:
+    values = dict(known)
+    for name, value in (table or {}).items():
+        if name in swept:
+            values[name] = swept[name]
+        elif isinstance(value, str):
+            values[name] = sp.sympify(value, locals=values)
+        else:
+            values[name] = sp.Float(value)
+    return values
+
+
+def _plant_coefficients(base: ModelFile, data: Mapping[str, Any],
+                        values: dict[str, sp.Expr]) -> dict[tuple, sp.Expr]:
+    """Coefficient formulas {(y_orders, u_orders): expr} of the plant equation."""
+    plant = base.plant
+    y, u = sp.Symbol(plant.output, real=True), sp.Symbol(plant.input, real=True)
+    local: dict[str, Any] = {plant.output: y, plant.input: u, "D": sp.Function("D"), **values}
+    text = data["equation"]
+    lhs, rhs = _split_equation(text)
+    expr = _parse_side(lhs, local, text) - _parse_side(rhs, local, text)
+    expr = _replace_operators(expr, y, u, False)
+    expr = expr.xreplace({y: _atom(plant.output, 0), u: _atom(plant.input, 0)})
+    atoms = sorted((s for s in expr.free_symbols
+                    if s.name.startswith((f"{plant.output}__", f"{plant.input}__"))),
+                   key=lambda s: s.name)
+    polynomial = (_truncate(expr, atoms, plant.truncation) if plant.truncation
+                  else sp.expand(expr))
+    formulas: dict[tuple, sp.Expr] = {}
+    for monom, coeff in sp.Poly(polynomial, *atoms).terms():
+        y_orders: list[int] = []
+        u_orders: list[int] = []
+        for atom, power in zip(atoms, monom, strict=True):
+            name, order = atom.name.rsplit("__", 1)
+            (y_orders if name == plant.output else u_orders).extend([int(order)] * power)
+        if y_orders or u_orders:
+            formulas[(tuple(sorted(y_orders)), tuple(sorted(u_orders)))] = coeff
+    return formulas
+
+
+def _exact(expr: sp.Expr) -> sp.Expr:
+    """Floats as exact binary fractions, so the printed source loses no digit."""
+    return expr.xreplace({f: sp.Rational(f) for f in expr.atoms(sp.Float)})
+
+
+def model_template(data: Mapping[str, Any], names: Sequence[str], path: str = "") -> ModelTemplate:
+    """Build the template of the model-file table ``data`` for sweeping ``names``.
+
+    Parameters
+    ----------
+    data : mapping
+        The parsed TOML table of a model file.
+    names : sequence of str
+        Parameters to sweep: keys of ``[parameters]`` or of ``controller.parameters``.
+    path : str
+        The file, for messages.
+
+    Returns
+    -------
+    ModelTemplate
+
+    Raises
+    ------
+    ArgumentError
+        An unknown parameter name, or a model this fast path does not cover (discrete,
+        a polynomial controller): use :func:`rebuild` per point instead.
+    ModelError
+        The model file itself is invalid.
+    """
+    where = parameter_names(data)
+    for name in names:
+        if name not in where:
+            raise ArgumentError(_unknown(name, where))
+    base = model_from_dict(dict(data), path=path)
+    if base.plant.is_discrete:
+        raise ArgumentError("sweep templates cover continuous models only")
+    if base.controller is not None and not base.controller.is_linear:
+        raise ArgumentError("sweep templates cover linear (num/den) controllers only")
+    swept = {n: sp.Symbol(n, real=True) for n in names}
+    values = _symbolic_table(data.get("parameters"), swept, {})
+    formulas = _plant_coefficients(base, data, values)
+    exprs = list(formulas.values())
+    n_num = 0
+    if base.controller is not None:
+        controller = data["controller"]
+        own = _symbolic_table(controller.get("parameters"), swept, values)
+        num = [sp.sympify(v, locals=own) for v in controller.get("num", [1])]
+        den = [sp.sympify(v, locals=own) for v in controller.get("den", [1])]
+        exprs += num + den
+        n_num = len(num)
+    body = ", ".join(sp.pycode(_exact(e)) for e in exprs)
+    source = f"lambda {', '.join(names) or '*_'}: ({body},)"
+    return ModelTemplate(tuple(names), base, tuple(formulas), source, n_num)
