@@ -24,6 +24,7 @@ SECTION_MODULES: tuple[str, ...] = (
     "gfrf.bench.simulation",
     "gfrf.bench.norms",
     "gfrf.bench.periodic",
+    "gfrf.bench.sweep",
 )
 
 
