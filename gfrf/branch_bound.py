@@ -5,11 +5,14 @@ of factors; it is loose wherever terms cancel or resonances cannot coincide.  He
 the sup is enclosed directly (angular frequencies in rad/s throughout):
 
 * **Tail.**  Outside the box |w_i| <= W (some |w_i| > W) a recursion on the majorant
-  bounds |H_n|: either the block sum sigma satisfies |sigma| >= W/2, and the top
-  factor sigma^l / A(j sigma) is bounded by its exact sup over |sigma| >= W/2, or two
-  coordinates exceed W / (2(m-1)) and (unless both are input slots) one of them sits
-  in a lower-order factor, bounded recursively; H1 factors use their exact sup over
-  |w| >= V.  W is doubled until this tail bound is below half the best value found.
+  bounds |H_n|: either the block sum sigma satisfies |sigma| >= alpha W, and the top
+  factor sigma^l / A(j sigma) is bounded by its exact sup over |sigma| >= alpha W, or
+  two coordinates exceed (1 - alpha) W / (m-1) and (unless both are input slots) one
+  of them sits in a lower-order factor, bounded recursively (best alpha of a few);
+  H1 factors use their exact sup over |w| >= V.  W is doubled until this tail bound
+  is below half the best value found (at most 60 times; a factor s^2 H1 of relative
+  degree 0, as in theta^2 theta'', does not decay, and the bracket then keeps the
+  smallest tail bound met as its floor).
 * **Boxes.**  Inside, each box gets a second-order Taylor enclosure: for every
   quantity of the straight-line recursion (the code of
   :func:`gfrf.compiled.kernel_source`, evaluated with :class:`_Taylor` numbers) the
@@ -67,6 +70,8 @@ __all__ = ["BranchBoundResult", "branch_and_bound", "tail_bound", "box_bounds", 
 MAX_ORDER = 5
 #: Boxes bisected per vectorised step.
 BATCH = 2048
+#: Splits |sigma| >= alpha W of the tail recursion tried at each level.
+_ALPHAS = (0.25, 0.5, 0.75)
 
 
 @dataclass(frozen=True)
@@ -78,7 +83,8 @@ class BranchBoundResult:
     lower : float
         Best |H_n| found (attained at ``argmax``).
     upper : float
-        Certified upper bound: max of the tail bound and of every box bound.
+        Certified upper bound: max of the tail bound and of every box bound (never above
+        the recursive majorant).
     argmax : tuple of float
         Where ``lower`` is attained (rad/s).
     converged : bool
@@ -427,10 +433,13 @@ def tail_bound(model: Model, n: int, width: float, maj: Majorant | None = None) 
         shift = np.zeros(ell)
         if order == 1:
             return _sup_beyond(np.concatenate([num, shift]), den, w)
-        gain_far = _sup_beyond(np.concatenate([np.ones(1), shift]), den, w / 2)
-        v = w / (2 * (order - 1))
-        near = maj.gains[ell] * numerator(order, lambda s, e: tail(s, e, v))
-        return max(gain_far * numerator(order, None), near)
+        best = math.inf
+        for alpha in _ALPHAS:
+            far = _sup_beyond(np.concatenate([np.ones(1), shift]), den, alpha * w)
+            v = (1 - alpha) * w / (order - 1)
+            near = maj.gains[ell] * numerator(order, lambda s, e, v=v: tail(s, e, v))
+            best = min(best, max(far * numerator(order, None), near))
+        return best
 
     return tail(n, 0, float(width))
 
@@ -500,17 +509,21 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
     maj = majorant(model)
     poles = np.roots(den) if den.size > 1 else np.zeros(1)
     width = 2.0 * (1.0 + float(np.max(np.abs(poles))))
-    tail = tail_bound(model, n, width, maj)
-    for _ in range(60):
-        if tail <= 0.5 * best or not math.isfinite(tail):
-            break
+    tails = [(width, tail_bound(model, n, width, maj))]
+    while tails[-1][1] > 0.5 * best and len(tails) < 60:
+        tails.append((2.0 * width, tail_bound(model, n, 2.0 * width, maj)))
         width *= 2.0
-        tail = tail_bound(model, n, width, maj)
+    floor = min(t for _, t in tails)
+    width, tail = next((w, t) for w, t in tails if t <= max(floor * 1.01, 0.5 * best))
+    ceiling = float(maj.coefficients(n)[n, 0])
+    if not tail < ceiling:
+        return BranchBoundResult(best, max(ceiling, best), tuple(float(x) for x in best_x),
+                                 False, 0, time.perf_counter() - start, width, tail)
     lo, hi = -width * np.ones((1, n)), width * np.ones((1, n))
     bound, value, split = _box_bounds(taylor, inverse, lo, hi)
     boxes, pruned, polishes = 1, 0.0, 0
     while True:
-        threshold = best / (1.0 - tol)
+        threshold = max(best / (1.0 - tol), tail)  # upper >= tail whatever the boxes give
         keep = bound > threshold
         pruned = max(pruned, float(np.max(bound[~keep], initial=0.0)))
         lo, hi, bound, split = lo[keep], hi[keep], bound[keep], split[keep]
@@ -546,7 +559,7 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
         lo, hi = np.vstack([lo[rest], c_lo]), np.vstack([hi[rest], c_hi])
         bound = np.concatenate([bound[rest], c_bound])
         split = np.concatenate([split[rest], c_split])
-    upper = max(upper, best)
+    upper = max(min(upper, ceiling), best)
     return BranchBoundResult(best, upper, tuple(float(x) for x in best_x),
                              upper - best <= tol * upper, boxes, time.perf_counter() - start,
                              width, tail)
