@@ -270,7 +270,7 @@ def _parse_side(text: str, local: dict[str, Any], whole: str) -> sp.Expr:
     except ModelError:
         raise
     except (SyntaxError, TypeError, ValueError, sp.SympifyError, AttributeError,
-            TokenError, IndexError) as exc:
+            TokenError, IndexError, ArithmeticError) as exc:
         raise ModelError(f"cannot parse the equation {whole!r}: {exc}") from None
     if not isinstance(expr, sp.Expr) or any(isinstance(node, sp.Lambda)
                                             for node in sp.preorder_traversal(expr)):

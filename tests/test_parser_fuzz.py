@@ -58,12 +58,14 @@ def test_discrete_parser_raises_only_model_error(text: str) -> None:
 
 @pytest.mark.parametrize(("text", "fragment"), [
     # Found by fuzzing: sympy computed 9**(9**9) (hung), expanded y**100000 into a dense
-    # polynomial (memory); a Python lambda crashed Poly (PolynomialError) or hashing (TypeError).
+    # polynomial (memory); a Python lambda crashed Poly (PolynomialError) or hashing
+    # (TypeError); integer division by zero raised ZeroDivisionError.
     ("D(y) + y + 9**9**9*y = u", "the power 9**9"),
     ("D(y) + y + y**100000 = u", "the power 100000"),
     ("D(y) + y = u + (y + u)**40", "the power 40 "),
     ("D(y) + y = lambda: 0", "is not an expression"),
     ("lambda:[k]", "is not an expression"),
+    ("0//0", "cannot parse the equation"),
 ])
 def test_fuzz_regressions(text: str, fragment: str) -> None:
     with pytest.raises(ModelError) as info:
