@@ -10,9 +10,9 @@ the sup is enclosed directly (angular frequencies in rad/s throughout):
   two coordinates exceed (1 - alpha) W / (m-1) and (unless both are input slots) one
   of them sits in a lower-order factor, bounded recursively (best alpha of a few);
   H1 factors use their exact sup over |w| >= V.  W is doubled until this tail bound
-  is below half the best value found (at most 60 times; a factor s^2 H1 of relative
-  degree 0, as in theta^2 theta'', does not decay, and the bracket then keeps the
-  smallest tail bound met as its floor).
+  is below half the best value found (or stops decreasing: a factor s^2 H1 of
+  relative degree 0, as in theta^2 theta'', does not decay, and the bracket then
+  keeps the smallest tail bound met as its floor).
 * **Boxes.**  Inside, each box gets a second-order Taylor enclosure: for every
   quantity of the straight-line recursion (the code of
   :func:`gfrf.compiled.kernel_source`, evaluated with :class:`_Taylor` numbers) the
@@ -351,29 +351,44 @@ def _box_bounds(taylor: Callable[..., Any], inverse: _InverseA, lo: np.ndarray,
 
 
 # -- tail ------------------------------------------------------------------------------
-def _sup_beyond(num: np.ndarray, den: np.ndarray, v: float) -> float:
-    """sup over |w| >= v of |N(j w) / D(j w)| (coefficients highest first), exactly."""
+class _Beyond:
+    """sup over |w| >= v of |N(j w) / D(j w)| (coefficients highest first), exactly.
 
-    def squared(c: np.ndarray) -> Polynomial:
-        low = c[::-1].astype(complex) * (1j ** np.arange(c.size))
-        p = Polynomial(low)
-        return Polynomial((p * Polynomial(np.conj(low))).coef.real)
+    The interior extrema are the real roots of P'Q - PQ' (P = |N|^2, Q = |D|^2 as
+    polynomials in w), found once; a query evaluates |N/D| at v, at the roots beyond v
+    and takes the limit at infinity.
+    """
 
-    num, den = np.trim_zeros(num, "f"), np.trim_zeros(den, "f")
-    if num.size == 0:
-        return 0.0
-    if num.size > den.size:
-        return math.inf
-    p, q = squared(num), squared(den)
-    roots = (p.deriv() * q - p * q.deriv()).trim().roots()
-    points = [v, *(r.real for r in roots if abs(r.imag) <= 1e-9 * (1 + abs(r)) and r.real > v)]
-    with np.errstate(divide="ignore"):
-        values = np.abs(np.polyval(num, 1j * np.array(points)) /
-                        np.polyval(den, 1j * np.array(points)))
-    limit = abs(num[0] / den[0]) if num.size == den.size else 0.0
-    return float(max(np.max(values), limit))
+    def __init__(self, num: np.ndarray, den: np.ndarray) -> None:
+        self.num, self.den = np.trim_zeros(num, "f"), np.trim_zeros(den, "f")
+        self.roots = np.zeros(0)
+        self.limit = 0.0
+        if self.num.size > self.den.size:
+            self.limit = math.inf
+        elif self.num.size:
+            p, q = _abs_squared(self.num), _abs_squared(self.den)
+            roots = (p.deriv() * q - p * q.deriv()).trim().roots()
+            self.roots = roots.real[np.abs(roots.imag) <= 1e-9 * (1 + np.abs(roots))]
+            if self.num.size == self.den.size:
+                self.limit = abs(self.num[0] / self.den[0])
+
+    def sup(self, v: float) -> float:
+        """The sup over |w| >= v."""
+        if not self.num.size:
+            return 0.0
+        points = 1j * np.array([v, *self.roots[self.roots > v]])
+        with np.errstate(divide="ignore"):
+            values = np.abs(np.polyval(self.num, points) / np.polyval(self.den, points))
+        return float(max(np.max(values), self.limit))
 
 
+def _abs_squared(c: np.ndarray) -> Polynomial:
+    """|F(j w)|^2 as a real polynomial in w, F given highest power first."""
+    low = c[::-1].astype(complex) * (1j ** np.arange(c.size))
+    return Polynomial((Polynomial(low) * Polynomial(np.conj(low))).coef.real)
+
+
+@lru_cache(maxsize=256)
 def _compositions(total: int, parts: int) -> list[tuple[int, ...]]:
     if parts == 0:
         return [()] if total == 0 else []
@@ -428,17 +443,20 @@ def tail_bound(model: Model, n: int, width: float, maj: Majorant | None = None) 
                 total += t.weight * best if best else 0.0
         return total
 
+    linear = {ell: _Beyond(np.concatenate([num, np.zeros(ell)]), den) for ell in maj.powers}
+    gain = {ell: _Beyond(np.concatenate([np.ones(1), np.zeros(ell)]), den)
+            for ell in maj.powers}
+    whole = {order: numerator(order, None) for order in range(2, n + 1)}
+
     @cache
     def tail(order: int, ell: int, w: float) -> float:
-        shift = np.zeros(ell)
         if order == 1:
-            return _sup_beyond(np.concatenate([num, shift]), den, w)
+            return linear[ell].sup(w)
         best = math.inf
         for alpha in _ALPHAS:
-            far = _sup_beyond(np.concatenate([np.ones(1), shift]), den, alpha * w)
             v = (1 - alpha) * w / (order - 1)
             near = maj.gains[ell] * numerator(order, lambda s, e, v=v: tail(s, e, v))
-            best = min(best, max(far * numerator(order, None), near))
+            best = min(best, max(gain[ell].sup(alpha * w) * whole[order], near))
         return best
 
     return tail(n, 0, float(width))
@@ -510,7 +528,8 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
     poles = np.roots(den) if den.size > 1 else np.zeros(1)
     width = 2.0 * (1.0 + float(np.max(np.abs(poles))))
     tails = [(width, tail_bound(model, n, width, maj))]
-    while tails[-1][1] > 0.5 * best and len(tails) < 60:
+    while tails[-1][1] > 0.5 * best and len(tails) < 60 and not (
+            len(tails) > 8 and tails[-1][1] >= 0.99 * tails[-5][1]):  # floor reached
         tails.append((2.0 * width, tail_bound(model, n, 2.0 * width, maj)))
         width *= 2.0
     floor = min(t for _, t in tails)
