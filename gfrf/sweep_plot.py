@@ -91,12 +91,17 @@ def _one(ax: object, result: SweepResult) -> None:
     else:
         key = "peak" if result.what == "bounded" else "radius"
         y = np.array([r.get(key) or np.nan for r in result.rows], dtype=float)
-        y = np.where(y > 0, y, np.nan)
+        positive = y[y > 0]
+        floor = positive.min() / 10 if positive.size else result.amplitude / 100
+        if np.any(~(y > 0)):  # r* = 0 (or no value) cannot sit on a log axis
+            ax.axhline(floor, color="0.6", lw=0.8, ls=":")
+            ax.annotate(f"{key} = 0 or undefined", (x.min(), floor), fontsize=7,
+                        xytext=(2, 3), textcoords="offset points")
+        y = np.where(y > 0, y, floor)
         ax.semilogy(x, y, "-", color="0.6", lw=1)
         for kind in dict.fromkeys(kinds):
             mask = np.array([k == kind for k in kinds])
-            ax.semilogy(x[mask], np.where(np.isnan(y[mask]), np.nanmin(y, initial=1.0),
-                                          y[mask]), "o", color=CLASSES[kind][1],
+            ax.semilogy(x[mask], y[mask], "o", color=CLASSES[kind][1],
                         label=_label(kind, result))
         if result.what != "bounded":
             ax.axhline(result.amplitude, ls="--", color="k", lw=1,

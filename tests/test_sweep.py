@@ -168,3 +168,16 @@ def test_cli_parquet_round_trip(tmp_path: Path, capsys: pytest.CaptureFixture) -
 def test_module_examples(name: str) -> None:
     result = doctest.testmod(importlib.import_module(name), optionflags=doctest.ELLIPSIS)
     assert result.attempted > 0 and result.failed == 0
+
+
+def test_map_classes_and_dimension_limit(tmp_path: Path) -> None:
+    from gfrf.sweep_plot import plot_stability_map, point_class
+
+    assert point_class({"error": "bad", "linear_stable": True}) == "error"
+    assert point_class({"error": "", "linear_stable": False, "verdict": "unstable"}) \
+        == "linear unstable"
+    assert point_class({"error": "", "linear_stable": True, "verdict": "stable"}) == "stable"
+    result = sweep(table(CARTPOLE), [parse_axis("a=0:20:2"), parse_axis("b=300:400:2"),
+                                     parse_axis("c=0.1:1:2")], what="radius", progress=False)
+    with pytest.raises(ArgumentError, match="one or two swept parameters, got 3"):
+        plot_stability_map(result, tmp_path / "x.png")
