@@ -118,8 +118,10 @@ class _Modulus:
         squared = Polynomial((p * Polynomial(np.conj(p.coef))).coef.real)
         stationary = squared.deriv().trim()
         roots = stationary.roots() if stationary.degree() >= 1 else np.zeros(0)
-        crit = roots.real[np.abs(roots.imag) <= 1e-9 * (1 + np.abs(roots))]
-        self.crit = np.sort(crit)
+        # Every root's real part is a candidate: a multiple real root that rounding
+        # splits into a complex pair is kept, and a spurious candidate only adds an
+        # attained value, so the extrema stay exact.
+        self.crit = np.sort(roots.real)
         self.crit_abs = np.abs(np.polyval(self.coef, self.crit))
 
     def __call__(self, sigma: np.ndarray) -> np.ndarray:
@@ -368,7 +370,7 @@ class _Beyond:
         elif self.num.size:
             p, q = _abs_squared(self.num), _abs_squared(self.den)
             roots = (p.deriv() * q - p * q.deriv()).trim().roots()
-            self.roots = roots.real[np.abs(roots.imag) <= 1e-9 * (1 + np.abs(roots))]
+            self.roots = roots.real  # all real parts: see _Modulus
             if self.num.size == self.den.size:
                 self.limit = abs(self.num[0] / self.den[0])
 
