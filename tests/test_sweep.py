@@ -181,3 +181,16 @@ def test_map_classes_and_dimension_limit(tmp_path: Path) -> None:
                                      parse_axis("c=0.1:1:2")], what="radius", progress=False)
     with pytest.raises(ArgumentError, match="one or two swept parameters, got 3"):
         plot_stability_map(result, tmp_path / "x.png")
+
+
+@pytest.mark.slow
+def test_scheduler_address(capsys: pytest.CaptureFixture) -> None:
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1,
+                                  dashboard_address=None) as cluster:
+        code = main(["sweep", str(PENDULUM), "--param", "rho=14:16:3", "--json",
+                     "--scheduler", cluster.scheduler_address])
+    payload = json.loads(capsys.readouterr().out)
+    assert code == 0
+    assert payload["scheduler"] == cluster.scheduler_address
+    assert [r["verdict"] for r in payload["rows"]] == ["inconclusive", "inconclusive", "stable"]
