@@ -279,6 +279,8 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
         if bb.lower > lower:
             lower, argmax = bb.lower, bb.argmax
         upper = min(upper, bb.upper)
+        notes.append(f"branch-and-bound: {bb.boxes} boxes; |H_{n}| <= "
+                     f"{bb.tail:.6g} where some |w_i| > {bb.width:.6g} rad/s (tail bound)")
         method = (f"branch-and-bound, {bb.boxes} boxes in [-{bb.width:.4g}, {bb.width:.4g}]^{n} "
                   "rad/s + majorant tail (certified upper); local search (lower)")
     gap = 0.0 if upper == lower else (upper - lower) / upper
