@@ -362,6 +362,11 @@ def sweep(data: Mapping[str, Any], axes: Sequence[Axis], *, what: str = "verdict
         raise ArgumentError(f"order must be an integer >= 2, got {order!r}")
     if not axes:
         raise ArgumentError("a sweep needs at least one --param NAME=START:STOP:N")
+    for name, value in (("chunk size", chunk_size), ("workers", workers)):
+        if value is not None and (isinstance(value, bool) or value < 1):
+            raise ArgumentError(f"{name} must be a positive integer, got {value!r}")
+    if not (math.isfinite(t_end) and t_end > 0):
+        raise ArgumentError(f"t_end must be a positive number of seconds, got {t_end!r}")
     points = grid(axes)
     start = time.perf_counter()
     task = _Task(model_template(data, [a.name for a in axes], path), what, float(amplitude),

@@ -170,6 +170,12 @@ CLI_CASES = [
      "unknown parameter 'a'"),
     ("sweep bad scheduler", ["sweep", CARTPOLE, "--param", "a=1:2:2", "--scheduler", "bogus"],
      "scheduler 'bogus'"),
+    ("sweep zero chunk", ["sweep", PENDULUM, "--param", "rho=1:2:2", "--chunk", "0"],
+     "chunk size must be a positive integer, got 0"),
+    ("sweep negative horizon", ["sweep", PENDULUM, "--param", "rho=1:2:2", "--what", "bounded",
+                                "--t-end", "-5"], "t_end must be a positive number"),
+    ("sweep unknown quantity", ["sweep", PENDULUM, "--param", "rho=1:2:2", "--what", "gain"],
+     "invalid choice: 'gain'"),
 ]
 
 
