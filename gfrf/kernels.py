@@ -348,15 +348,9 @@ def _sum_of_reachable(total: int, parts: int, reachable: dict[int, bool]) -> boo
                for first in range(1, total - parts + 2))
 
 
-def generator(model: Model) -> GFRFGenerator:
-    """The memoised GFRF generator of ``model`` (one per model and coefficient set)."""
-    # Model equality ignores the coefficients (Term.coefficient has compare=False): two
-    # points of a parameter sweep would share one generator without them in the key.
-    return _generator(model, tuple(t.coefficient for t in model.terms))
-
-
 @lru_cache(maxsize=64)
-def _generator(model: Model, coefficients: tuple[float, ...]) -> GFRFGenerator:
+def generator(model: Model) -> GFRFGenerator:
+    """The memoised GFRF generator of ``model`` (equal models share one)."""
     return GFRFGenerator(model)
 
 

@@ -67,7 +67,7 @@ class Term:
 
     y_orders: tuple[int, ...]
     u_orders: tuple[int, ...]
-    coefficient: float = field(compare=False)
+    coefficient: float
     output: str = field(default="y", compare=False)
     input: str = field(default="u", compare=False)
     discrete: bool = field(default=False, compare=False)

@@ -153,3 +153,12 @@ def test_compiled_ufunc_agrees_with_numpy_path(model, n):
     w = RNG.uniform(-5, 5, (n, 200))
     np.testing.assert_allclose(kernel(model, n).compiled()(*w), kernel(model, n)(*w),
                                rtol=1e-12)
+
+
+def test_models_differing_only_in_a_coefficient_do_not_share_kernels():
+    # regression: sweeps build many models of one structure; the memo must see coefficients
+    a = parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u")
+    b = parse_model("D(y,2) + 0.4*D(y) + y + 0.5*y**3 = u")
+    assert a != b
+    assert complex(kernel(a, 1)(1.0)) == pytest.approx(1 / 0.2j)
+    assert complex(kernel(b, 1)(1.0)) == pytest.approx(1 / 0.4j)
