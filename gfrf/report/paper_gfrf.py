@@ -169,7 +169,8 @@ def write(out_dir: Path, quick: bool = False) -> Path:
     parts = [header("The GFRF stability paper, reproduced", summary,
                     f"gfrf report --out {out_dir.as_posix()}/"),
              "Paper: Cao Jianfu, Cao Fumin, *The robust stability analysis of a balance "
-             "inverted pendulum* (`/work/shared/papers/001_2d500e4ecf148e2c.txt`). Printed "
+             "inverted pendulum* (`../shared/papers/001_2d500e4ecf148e2c.txt` beside this "
+             "repository). Printed "
              "values are quoted from the model files' `[paper]` tables and from "
              "`gfrf.paper_checks`; every other number is computed in this run. Certified: "
              "exact H1 norms, majorant upper bounds, r*; estimates: lower bounds found by "
