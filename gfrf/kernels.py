@@ -46,6 +46,7 @@ import itertools
 import math
 from collections.abc import Iterator
 from dataclasses import dataclass, field
+from fractions import Fraction
 from functools import lru_cache
 from typing import Any
 
@@ -127,7 +128,7 @@ class GFRFGenerator:
         self._ufuncs: dict[tuple[int, bool], Any] = {}
         linear = model.linear_output
         self._denominator = np.array([linear.get(k, 0.0) for k in range(max(linear), -1, -1)])
-        self._coefficients = {t: sp.Rational(repr(t.coefficient)) for t in model.terms}
+        self._coefficients = {t: _exact(t.coefficient) for t in model.terms}
 
     # -- variables -----------------------------------------------------------------
     def variables(self, n: int) -> tuple[sp.Symbol, ...]:
@@ -332,6 +333,14 @@ class GFRFGenerator:
 
             self._ufuncs[key] = numba_ufunc(self, n, symmetric)
         return self._ufuncs[key]
+
+
+def _exact(value: float) -> sp.Rational:
+    """The simplest rational that rounds to ``value`` (49/120 for 0.408333...), else its decimal."""
+    simple = Fraction(value).limit_denominator(10**6)
+    if float(simple) == value:
+        return sp.Rational(simple.numerator, simple.denominator)
+    return sp.Rational(repr(value))
 
 
 def _canonical(orders: tuple[int, ...], blocks: list[tuple[int, ...]]) -> bool:
