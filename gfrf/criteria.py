@@ -238,7 +238,7 @@ def theorem1(model: Model, order: int = 5, amplitude: float = 1.0,
                                maj.exact, estimate)
     conditions = (proper, stable, series)
     result = bad or ("stable" if all(c.passed for c in conditions) else "inconclusive")
-    summary = _summary(result, 1, rad, amplitude, conditions)
+    summary = _summary(result, 1, rad, amplitude, conditions, maj.exact)
     return Verdict(result, 1, rad.value, maj.exact, float(amplitude), conditions, norms, rows,
                    estimate, summary)
 
@@ -258,10 +258,11 @@ def _series_condition(name: str, rad: Radius, amplitude: float, exact: bool,
 
 
 def _summary(result: str, theorem: int, rad: Radius, amplitude: float,
-             conditions: tuple[Condition, ...]) -> str:
+             conditions: tuple[Condition, ...], certified: bool) -> str:
     failed = [c.name for c in conditions if c.passed is False]
     open_ = [c.name for c in conditions if c.passed is None]
-    text = (f"Theorem {theorem}: {result}. The certified norm series converges for every "
+    kind = "certified" if certified else "estimated (not certified)"
+    text = (f"Theorem {theorem}: {result}. The {kind} norm series converges for every "
             f"input amplitude r < r* = {rad.value:.6g}; r = {amplitude:g} is "
             f"{'inside' if amplitude < rad.certified_below else 'outside'}.")
     if failed:
@@ -390,7 +391,7 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
     conditions = (c1, c2, c3, c4, c5, c6)
     result = ("stable" if all(c.passed for c in conditions) else
               "unstable" if any(p.real > 0 for p in loop.poles) else "inconclusive")
-    summary = _summary(result, 2, rad, amplitude, conditions)
+    summary = _summary(result, 2, rad, amplitude, conditions, exact)
     return Verdict(result, 2, rad.value, exact, float(amplitude), conditions, norms, rows,
                    estimate, summary)
 
