@@ -15,6 +15,8 @@ import platform
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from tqdm import tqdm
+
 __all__ = ["BenchSection", "SECTION_MODULES", "figure_dir", "machine_description", "run_all",
            "write_report"]
 
@@ -96,12 +98,9 @@ def run_all(quick: bool = False, only: list[str] | None = None,
     """
     os.environ["GFRF_REPORT_DIR"] = str(out_dir)
     Path(out_dir).mkdir(parents=True, exist_ok=True)
-    sections = []
-    for name in SECTION_MODULES:
-        if only and not any(o in name for o in only):
-            continue
-        sections.append(importlib.import_module(name).run(quick))
-    return sections
+    names = [n for n in SECTION_MODULES if not only or any(o in n for o in only)]
+    return [importlib.import_module(name).run(quick)
+            for name in tqdm(names, desc="bench", disable=None)]
 
 
 def write_report(sections: list[BenchSection], out_dir: str | Path) -> Path:

@@ -18,7 +18,11 @@ from __future__ import annotations
 import importlib
 import importlib.util
 import tomllib
+from collections.abc import Callable
+from functools import partial
 from pathlib import Path
+
+from tqdm import tqdm
 
 from gfrf.report import model_page, paper_gfrf
 from gfrf.report._format import header, table
@@ -82,12 +86,14 @@ def write_reports(out_dir: str | Path = "reports", models: list[str] | None = No
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     if models:
-        return [model_page.write(m, out, quick) for m in models]
+        return [model_page.write(m, out, quick) for m in tqdm(models, desc="report",
+                                                               disable=None)]
     paths = bundled_models()
-    written = [model_page.write(m, out, quick) for m in paths]
-    written.append(paper_gfrf.write(out, quick))
+    jobs: list[Callable[[], Path]] = [partial(model_page.write, m, out, quick) for m in paths]
+    jobs.append(partial(paper_gfrf.write, out, quick))
     if importlib.util.find_spec("gfrf.report.periodic") is not None:
         periodic = importlib.import_module("gfrf.report.periodic")
-        written.append(periodic.write(out, quick=quick))
+        jobs.append(partial(periodic.write, out, quick=quick))
+    written = [job() for job in tqdm(jobs, desc="report", disable=None)]
     written.append(write_index(out, paths, quick))
     return written
