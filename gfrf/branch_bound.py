@@ -58,6 +58,7 @@ import sympy as sp
 from numpy.polynomial import Polynomial
 from scipy.optimize import minimize
 
+from gfrf.combinatorics import compositions
 from gfrf.compiled import _Printer, kernel_source
 from gfrf.errors import ArgumentError
 from gfrf.kernels import GFRFGenerator, generator
@@ -390,16 +391,6 @@ def _abs_squared(c: np.ndarray) -> Polynomial:
     return Polynomial((Polynomial(low) * Polynomial(np.conj(low))).coef.real)
 
 
-@lru_cache(maxsize=256)
-def _compositions(total: int, parts: int) -> list[tuple[int, ...]]:
-    if parts == 0:
-        return [()] if total == 0 else []
-    if parts == 1:
-        return [(total,)] if total >= 1 else []
-    return [(first, *tail) for first in range(1, total - parts + 2)
-            for tail in _compositions(total - first, parts - 1)]
-
-
 def tail_bound(model: Model, n: int, width: float, maj: Majorant | None = None) -> float:
     """Certified bound of |H_n| where some |w_i| > ``width`` (rad/s).
 
@@ -433,7 +424,7 @@ def tail_bound(model: Model, n: int, width: float, maj: Majorant | None = None) 
         total = 0.0
         for t in maj.terms:
             p = len(t.y_orders)
-            for sizes in _compositions(order - t.q, p) if p or order == t.q else []:
+            for sizes in compositions(order - t.q, p) if p or order == t.q else []:
                 factors = [m(s, ell) for s, ell in zip(sizes, t.y_orders, strict=True)]
                 if part is None:
                     best = math.prod(factors)

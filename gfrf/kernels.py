@@ -53,6 +53,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
+from gfrf.combinatorics import compositions, ordered_set_partitions
 from gfrf.errors import ArgumentError
 from gfrf.model import Model, Term
 
@@ -62,36 +63,6 @@ __all__ = ["Kernel", "GFRFGenerator", "generator", "kernel", "MAX_KERNEL_ORDER"]
 MAX_KERNEL_ORDER = 12
 #: Terms per lambdified chunk of a recursion numerator (Python's compiler nests sums).
 _CHUNK = 500
-
-
-def _ordered_set_partitions(items: tuple[int, ...], parts: int) -> Iterator[list[tuple[int, ...]]]:
-    """All ordered partitions of ``items`` into ``parts`` non-empty blocks."""
-    if parts == 0:
-        if not items:
-            yield []
-        return
-    if len(items) < parts:
-        return
-    if parts == 1:
-        yield [items]
-        return
-    rest_min = parts - 1
-    for size in range(1, len(items) - rest_min + 1):
-        for first in itertools.combinations(items, size):
-            remaining = tuple(i for i in items if i not in first)
-            for tail in _ordered_set_partitions(remaining, parts - 1):
-                yield [first, *tail]
-
-
-def _compositions(total: int, parts: int) -> Iterator[tuple[int, ...]]:
-    """All ordered ways of writing ``total`` as a sum of ``parts`` positive integers."""
-    if parts == 1:
-        if total >= 1:
-            yield (total,)
-        return
-    for first in range(1, total - parts + 2):
-        for tail in _compositions(total - first, parts - 1):
-            yield (first, *tail)
 
 
 @dataclass(frozen=True)
@@ -220,7 +191,7 @@ class GFRFGenerator:
             return
         if not symmetric:
             u_slots = tuple(range(n - q, n))
-            for sizes in _compositions(n - q, p) if p else [()]:
+            for sizes in compositions(n - q, p):
                 if not all(self.structurally_nonzero(m) for m in sizes):
                     continue
                 starts = np.cumsum((0, *sizes))
@@ -239,7 +210,7 @@ class GFRFGenerator:
             if not _canonical(term.u_orders, [(slot,) for slot in u_slots]):
                 continue
             rest = tuple(i for i in everything if i not in u_slots)
-            for blocks in _ordered_set_partitions(rest, p):
+            for blocks in ordered_set_partitions(rest, p):
                 if not _canonical(term.y_orders, blocks):
                     continue
                 if not all(self.structurally_nonzero(len(b)) for b in blocks):

@@ -134,7 +134,8 @@ def test_budget_exhausted_gives_honest_bracket() -> None:
     m = load_model("models/hanging_pendulum.toml").plant
     r = branch_and_bound(m, 5, max_boxes=3000)
     assert not r.converged and r.lower < r.upper
-    assert r.upper < majorant(m).coefficients(5)[5, 0]
+    # the upper end is capped by the majorant: never looser, equal when the budget is tiny
+    assert r.upper <= majorant(m).coefficients(5)[5, 0]
     assert abs(complex(kernel(m, 5)(*r.argmax))) == pytest.approx(r.lower, rel=1e-12)
     assert math.isfinite(r.tail) and r.tail < r.lower
 

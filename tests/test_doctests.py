@@ -6,7 +6,7 @@ import importlib
 import pytest
 
 
-@pytest.mark.parametrize("name", ["gfrf", "gfrf.model", "gfrf.kernels"])
+@pytest.mark.parametrize("name", ["gfrf", "gfrf.model", "gfrf.kernels", "gfrf.combinatorics"])
 def test_module_examples(name):
     result = doctest.testmod(importlib.import_module(name), optionflags=doctest.ELLIPSIS)
     assert result.attempted > 0
