@@ -1,7 +1,9 @@
 """``gfrf transition`` and ``gfrf periodic``: the parametrically excited pendulum (issue 5).
 
 ``gfrf transition --eps E --amplitude A --branch 0|1/4 --method M [--order K] [--json]``
-prints ``delta`` on the transition curve for the orbit with ``x(0) = A``;
+prints ``delta`` on the transition curve for the orbit with ``x(0) = A``
+(``--side upper``: the upper boundary of the ``1/4`` tongue, orbit with ``x(0) = 0`` and
+turning point ``x(pi) = A``; energy (49), averaging case 3, exact);
 ``gfrf periodic --eps E [--delta D] --amplitude A --branch ... --method M [--json]``
 prints the maximum error of the method's periodic orbit against the shooting orbit
 (time dimensionless, excitation angular frequency 1).
@@ -28,6 +30,10 @@ def _common(p: argparse.ArgumentParser) -> None:
     p.add_argument("--branch", default="1/4", choices=["0", "1/4"],
                    help="transition curve through delta = 0 (period 2 pi) or 1/4 (period "
                         "4 pi); default 1/4")
+    p.add_argument("--side", default="lower", choices=["lower", "upper"],
+                   help="branch 1/4 only: lower curve 1/4 - eps/2 + ... (default; orbit even, "
+                        "x'(0) = 0) or upper curve 1/4 + eps/2 + ... (energy (49), averaging "
+                        "case 3, exact; orbit odd, x(0) = 0, amplitude = x(pi))")
     p.add_argument("--method", required=True, choices=METHODS, help="solution method")
     p.add_argument("--order", type=int, default=None,
                    help="order for perturbation (powers of eps) or homotopy (deformation "
@@ -44,7 +50,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "x(0) = amplitude, by one of the paper's methods or exactly (shooting).")
     _common(tr)
     tr.add_argument("--equation", default="4", choices=["4", "3"],
-                    help="exact method only: truncated eq (4) or sin(x) eq (3); default 4")
+                    help="exact and averaging only: truncated eq (4) or sin(x) eq (3); "
+                         "default 4")
     tr.set_defaults(func=_transition)
     pe = subparsers.add_parser(
         "periodic", help="error of a method's periodic orbit against the exact orbit",
@@ -59,30 +66,37 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def _transition(args: argparse.Namespace) -> int:
     from gfrf.errors import ArgumentError
+    from gfrf.periodic.averaging import averaging_transition
     from gfrf.periodic.compare import method_transition
-    from gfrf.periodic.equation import check_paper_range
+    from gfrf.periodic.equation import check_paper_range, parse_side
     from gfrf.periodic.shooting import transition_delta
 
     check_paper_range(args.eps)
-    if args.equation == "3" and args.method != "exact":
+    parse_side(args.side, args.branch)
+    if args.equation == "3" and args.method not in ("exact", "averaging"):
         raise ArgumentError("--equation 3 (untruncated sin x) is available only with "
-                            "--method exact; the paper's methods use eq (4)")
+                            "--method exact or averaging; the other methods use eq (4)")
     if args.equation == "3":
-        orbit = transition_delta(args.eps, args.amplitude, args.branch, None)
-        payload = {"method": "exact", "eps": args.eps, "amplitude": args.amplitude,
-                   "branch": args.branch, "order": None, "delta": orbit.delta,
-                   "equation": 3}
+        sign = 1.0 if args.side == "lower" else -1.0
+        delta = (float(averaging_transition(args.eps, args.amplitude, args.branch, args.side, 3))
+                 if args.method == "averaging" else
+                 transition_delta(sign * args.eps, args.amplitude, args.branch, None).delta)
+        payload = {"method": args.method, "eps": args.eps, "amplitude": args.amplitude,
+                   "branch": args.branch, "order": None, "delta": delta,
+                   "side": args.side, "equation": 3}
     else:
-        r = method_transition(args.method, args.eps, args.amplitude, args.branch, args.order)
+        r = method_transition(args.method, args.eps, args.amplitude, args.branch, args.order,
+                              args.side)
         if math.isnan(r.delta):
             raise ArgumentError(f"{args.method}: no transition value for eps={args.eps}, "
                                 f"amplitude={args.amplitude} (eq (48) has no real root)")
         payload = {**r.to_dict(), "equation": 4}
     order = f", order {payload['order']}" if payload["order"] is not None else ""
+    where = (f"x(0) = {args.amplitude:g}" if args.side == "lower"
+             else f"upper side, x(0) = 0, x(pi) = {args.amplitude:g}")
     emit(args, payload,
          f"delta = {payload['delta']:.12g}  ({payload['method']}{order}, branch "
-         f"{args.branch}, eps = {args.eps:g}, x(0) = {args.amplitude:g}, eq "
-         f"({payload['equation']}))")
+         f"{args.branch}, eps = {args.eps:g}, {where}, eq ({payload['equation']}))")
     return 0
 
 
@@ -93,13 +107,14 @@ def _periodic(args: argparse.Namespace) -> int:
 
     check_paper_range(args.eps, args.delta)
     r = compare_periodic(args.method, args.eps, args.amplitude, args.branch, args.order,
-                         args.delta)
+                         args.delta, args.side)
     if math.isnan(r.max_error):
         raise ArgumentError(f"{args.method}: no periodic orbit for eps={args.eps} "
                             f"(its transition equation has no real root)")
     emit(args, r.to_dict(),
          f"max_error = {r.max_error:.3e} over one period; delta {r.delta_method:.10g} "
-         f"(exact {r.delta_exact:.10g}, error {r.delta_error:.3e}); x(0) "
-         f"{r.amplitude_method:.6g} (exact {r.amplitude_exact:.6g}); {r.method}, branch "
-         f"{r.branch}, eps = {r.eps:g}")
+         f"(exact {r.delta_exact:.10g}, error {r.delta_error:.3e}); "
+         f"{'x(0)' if r.side == 'lower' else 'x(pi)'} {r.amplitude_method:.6g} "
+         f"(exact {r.amplitude_exact:.6g}); {r.method}, branch "
+         f"{r.branch}, {r.side} side, eps = {r.eps:g}")
     return 0

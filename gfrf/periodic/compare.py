@@ -3,7 +3,11 @@
 Conventions: ``amplitude`` is ``x(0)`` of the orbit with ``x'(0) = 0``; each method's
 own amplitude parameter is converted explicitly (perturbation branch ``1/4``:
 ``a = x(0)/eps``; homotopy: ``c = x(0)``; energy: ``a(0) = x(0)``; averaging:
-``B = x(0)``).  Errors are ``|delta_method - delta_exact|`` and the maximum of
+``B = x(0)``).  On the upper side of the ``1/4`` tongue (``side="upper"``: energy (49),
+averaging case 3, exact) ``amplitude`` is the turning point ``x(pi)`` of the orbit with
+``x(0) = 0``, and the exact curve and orbit are the lower ones for ``-eps`` shifted by
+``pi`` (:mod:`~gfrf.periodic.equation`); perturbation and homotopy give only the lower
+side (as in the paper).  Errors are ``|delta_method - delta_exact|`` and the maximum of
 ``|x_method(t) - x_exact(t)|`` over one period (401 samples), where the exact orbit
 is the Newton-shooting orbit of eq (4) with the same ``x(0)`` (or the same ``delta``).
 """
@@ -21,7 +25,7 @@ from scipy.optimize import brentq
 from gfrf.errors import ArgumentError, ConvergenceError
 from gfrf.periodic.averaging import averaging_solution, averaging_transition
 from gfrf.periodic.energy import energy_solution, energy_transition
-from gfrf.periodic.equation import branch_period, parse_branch
+from gfrf.periodic.equation import branch_period, parse_branch, parse_side, upper_side_times
 from gfrf.periodic.homotopy import ham_optimal
 from gfrf.periodic.perturbation import PerturbationSeries, perturbation_series
 from gfrf.periodic.shooting import PeriodicOrbit, orbit_at_delta, transition_delta
@@ -69,6 +73,14 @@ def _check_eps(method: str, eps: float, branch: str) -> None:
         raise ArgumentError("the 1/4-branch perturbation series scales x = eps*u: need eps > 0")
 
 
+def _check_side(method: str, branch: str, side: str) -> str:
+    if parse_side(side, branch) == "upper" and method in ("perturbation", "homotopy"):
+        raise ArgumentError(f"{method}: only the lower 1/4 curve is derived (the paper's "
+                            "(15)/(32)); side 'upper' is available for energy, averaging "
+                            "and exact")
+    return side
+
+
 @dataclass
 class TransitionResult:
     """``delta`` on a transition curve from one method.
@@ -82,6 +94,8 @@ class TransitionResult:
         NaN when the method has no curve there (energy beyond its root).
     seconds : float
         Wall time of this computation.
+    side : str
+        ``"lower"`` or ``"upper"`` side of the ``1/4`` tongue.
     """
 
     method: str
@@ -91,52 +105,61 @@ class TransitionResult:
     order: int | None
     delta: float
     seconds: float
+    side: str = "lower"
 
     def to_dict(self) -> dict[str, object]:
         """Plain-dict view for JSON and reports."""
         return asdict(self)
 
 
-def _delta(method: str, eps: float, amplitude: float, branch: str, order: int | None) -> float:
+def _sign(side: str) -> float:
+    """Sign of ``eps`` in the lower-side problem equivalent to ``side``."""
+    return 1.0 if side == "lower" else -1.0
+
+
+def _delta(method: str, eps: float, amplitude: float, branch: str, order: int | None,
+           side: str = "lower") -> float:
     if method == "perturbation":
         return _series(branch, order).delta(eps, amplitude)
     if method == "homotopy":
         return ham_optimal(eps, amplitude, branch, order).delta
     if method == "energy":
-        return float(energy_transition(eps, amplitude, branch))
+        return float(energy_transition(eps, amplitude, branch, side=side))
     if method == "averaging":
-        return float(averaging_transition(eps, amplitude, branch))
-    return transition_delta(eps, amplitude, branch).delta
+        return float(averaging_transition(eps, amplitude, branch, side))
+    return transition_delta(_sign(side) * eps, amplitude, branch).delta
 
 
 def method_transition(method: str, eps: float, amplitude: float, branch: str = "0",
-                      order: int | None = None) -> TransitionResult:
-    """``delta`` on ``branch`` for ``x(0) = amplitude`` by ``method`` (timed)."""
+                      order: int | None = None, side: str = "lower") -> TransitionResult:
+    """``delta`` on ``branch`` (and ``side``) for ``amplitude`` by ``method`` (timed)."""
     _check_method(method)
     b = parse_branch(branch)
+    _check_side(method, b, side)
     k = _order(method, order)
     _check_eps(method, eps, b)
     if amplitude <= 0:
         raise ArgumentError(f"amplitude must be positive, got {amplitude}")
     t0 = time.perf_counter()
-    d = _delta(method, eps, amplitude, b, k)
-    return TransitionResult(method, eps, amplitude, b, k, d, time.perf_counter() - t0)
+    d = _delta(method, eps, amplitude, b, k, side)
+    return TransitionResult(method, eps, amplitude, b, k, d, time.perf_counter() - t0, side)
 
 
 def transition_curve(method: str, eps: np.ndarray, amplitude: float, branch: str = "0",
-                     order: int | None = None) -> np.ndarray:
+                     order: int | None = None, side: str = "lower") -> np.ndarray:
     """``delta`` of ``method`` at every ``eps`` (NaN where the method has no value)."""
     _check_method(method)
     b = parse_branch(branch)
+    _check_side(method, b, side)
     k = _order(method, order)
     eps = np.asarray(eps, dtype=float)
     if method == "energy":
-        return np.asarray(energy_transition(eps, amplitude, b), dtype=float)
+        return np.asarray(energy_transition(eps, amplitude, b, side=side), dtype=float)
     if method == "averaging":
-        return np.asarray(averaging_transition(eps, amplitude, b), dtype=float)
+        return np.asarray(averaging_transition(eps, amplitude, b, side), dtype=float)
     if method == "exact":
         from gfrf.periodic.shooting import exact_transition_curve
-        return exact_transition_curve(eps, amplitude, b)
+        return exact_transition_curve(_sign(side) * eps, amplitude, b)
     out = np.empty(len(eps))
     for i, e in enumerate(eps):
         out[i] = np.nan if (e <= 0 and method == "perturbation" and b == "1/4") \
@@ -145,15 +168,17 @@ def transition_curve(method: str, eps: np.ndarray, amplitude: float, branch: str
 
 
 def method_orbit(method: str, eps: float, amplitude: float, branch: str, t: np.ndarray,
-                 order: int | None = None, delta: float | None = None
+                 order: int | None = None, delta: float | None = None, side: str = "lower"
                  ) -> tuple[float, np.ndarray]:
     """``(delta, x(t))`` of ``method``'s periodic orbit with ``x(0) = amplitude``.
 
     ``delta`` defaults to the method's own transition value; only the energy method
-    uses a different one (it integrates (50) at that ``delta``).
+    uses a different one (it integrates (50) at that ``delta``).  On the upper side
+    ``amplitude`` is ``x(pi)``.
     """
     _check_method(method)
     b = parse_branch(branch)
+    _check_side(method, b, side)
     k = _order(method, order)
     _check_eps(method, eps, b)
     if method == "perturbation":
@@ -163,13 +188,21 @@ def method_orbit(method: str, eps: float, amplitude: float, branch: str, t: np.n
         r = ham_optimal(eps, amplitude, b, k)
         return r.delta, r.solution(t)
     if method == "energy":
-        d = float(energy_transition(eps, amplitude, b)) if delta is None else delta
-        return d, energy_solution(eps, amplitude, t, d, b)
+        d = float(energy_transition(eps, amplitude, b, side=side)) if delta is None else delta
+        return d, energy_solution(eps, amplitude, t, d, b, side)
     if method == "averaging":
-        return float(averaging_transition(eps, amplitude, b)), averaging_solution(eps, amplitude,
-                                                                                 t, b)
-    orbit = transition_delta(eps, amplitude, b)
-    return orbit.delta, orbit.evaluate(t)
+        return (float(averaging_transition(eps, amplitude, b, side)),
+                averaging_solution(eps, amplitude, t, b, side))
+    orbit = transition_delta(_sign(side) * eps, amplitude, b)
+    return orbit.delta, _evaluate(orbit, t, side)
+
+
+def _evaluate(orbit: PeriodicOrbit, t: np.ndarray, side: str) -> np.ndarray:
+    """``x(t)`` of the shooting orbit, shifted by ``pi`` on the upper side."""
+    if side == "lower":
+        return orbit.evaluate(t)
+    s_times, index = upper_side_times(t)
+    return orbit.evaluate(s_times)[index]
 
 
 @dataclass
@@ -190,6 +223,8 @@ class PeriodicComparison:
         ``max_t |x_method - x_exact|`` over one period; NaN if the method has no orbit.
     seconds : float
         Wall time of the method alone.
+    side : str
+        ``"lower"`` or ``"upper"`` side of the ``1/4`` tongue.
     """
 
     method: str
@@ -203,6 +238,7 @@ class PeriodicComparison:
     delta_error: float
     max_error: float
     seconds: float
+    side: str = "lower"
 
     def to_dict(self) -> dict[str, object]:
         """Plain-dict view for JSON and reports."""
@@ -210,10 +246,10 @@ class PeriodicComparison:
 
 
 def _method_amplitude(method: str, eps: float, delta: float, branch: str, order: int | None,
-                      guess: float) -> float:
+                      guess: float, side: str = "lower") -> float:
     """Amplitude at which ``method``'s transition curve passes through ``delta``."""
     def f(a: float) -> float:
-        return _delta(method, eps, a, branch, order) - delta
+        return _delta(method, eps, a, branch, order, side) - delta
 
     grid = np.unique(np.clip(guess * np.array([0.25, 0.5, 0.8, 1.0, 1.25, 1.6, 2.0, 3.0]),
                              1e-6, 3.0))
@@ -229,19 +265,20 @@ def _method_amplitude(method: str, eps: float, delta: float, branch: str, order:
 
 
 @functools.lru_cache(maxsize=256)
-def _exact(eps: float, amplitude: float, branch: str, delta: float | None
-           ) -> tuple[PeriodicOrbit, np.ndarray]:
+def _exact(eps: float, amplitude: float, branch: str, delta: float | None,
+           side: str = "lower") -> tuple[PeriodicOrbit, np.ndarray]:
     """Shooting orbit and its samples (cached: tables reuse it for every method)."""
+    e = _sign(side) * eps
     if delta is None:
-        orbit = transition_delta(eps, amplitude, branch)
+        orbit = transition_delta(e, amplitude, branch)
     else:
-        orbit = orbit_at_delta(eps, delta, amplitude, branch)
-    return orbit, orbit.evaluate(np.linspace(0.0, branch_period(branch), _N_SAMPLES))
+        orbit = orbit_at_delta(e, delta, amplitude, branch)
+    return orbit, _evaluate(orbit, np.linspace(0.0, branch_period(branch), _N_SAMPLES), side)
 
 
 def compare_periodic(method: str, eps: float, amplitude: float, branch: str = "1/4",
-                     order: int | None = None, delta: float | None = None
-                     ) -> PeriodicComparison:
+                     order: int | None = None, delta: float | None = None,
+                     side: str = "lower") -> PeriodicComparison:
     """Compare ``method``'s orbit with the exact one.
 
     Parameters
@@ -257,6 +294,8 @@ def compare_periodic(method: str, eps: float, amplitude: float, branch: str = "1
     delta : float, optional
         Compare the orbits at this ``delta`` (each at its own amplitude) instead of at
         equal ``x(0)``.
+    side : {"lower", "upper"}
+        Side of the ``1/4`` tongue; on the upper side ``amplitude`` is ``x(pi)``.
 
     Raises
     ------
@@ -265,16 +304,17 @@ def compare_periodic(method: str, eps: float, amplitude: float, branch: str = "1
     """
     _check_method(method)
     b = parse_branch(branch)
+    _check_side(method, b, side)
     k = _order(method, order)
     _check_eps(method, eps, b)
-    exact, x_exact = _exact(eps, amplitude, b, delta)
+    exact, x_exact = _exact(eps, amplitude, b, delta, side)
     t = np.linspace(0.0, branch_period(b), _N_SAMPLES)
     t0 = time.perf_counter()
     a_m = amplitude if delta is None else exact.amplitude
     if delta is not None and method != "exact":
-        a_m = _method_amplitude(method, eps, delta, b, k, exact.amplitude)
+        a_m = _method_amplitude(method, eps, delta, b, k, exact.amplitude, side)
     try:
-        d_m, x_m = method_orbit(method, eps, a_m, b, t, k)
+        d_m, x_m = method_orbit(method, eps, a_m, b, t, k, side=side)
     except ArgumentError:
         if method != "energy":
             raise
@@ -282,16 +322,17 @@ def compare_periodic(method: str, eps: float, amplitude: float, branch: str = "1
     secs = time.perf_counter() - t0
     err = float(np.max(np.abs(x_m - x_exact))) if np.all(np.isfinite(x_m)) else math.nan
     return PeriodicComparison(method, b, eps, k, a_m, exact.amplitude, d_m, exact.delta,
-                              abs(d_m - exact.delta), err, secs)
+                              abs(d_m - exact.delta), err, secs, side)
 
 
 def error_table(methods: tuple[str, ...], eps_values: tuple[float, ...],
                 amplitudes: tuple[float, ...], branch: str = "1/4",
-                orders: dict[str, int] | None = None) -> list[PeriodicComparison]:
+                orders: dict[str, int] | None = None,
+                side: str = "lower") -> list[PeriodicComparison]:
     """Compare every method at every ``(eps, amplitude)`` (equal ``x(0)``)."""
     rows = []
     for e in eps_values:
         for a in amplitudes:
             for m in methods:
-                rows.append(compare_periodic(m, e, a, branch, (orders or {}).get(m)))
+                rows.append(compare_periodic(m, e, a, branch, (orders or {}).get(m), side=side))
     return rows

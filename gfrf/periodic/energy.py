@@ -15,6 +15,20 @@ The method needs ``x g(x) > 0``, i.e. ``delta > 0``: it cannot describe ``delta 
 (the inverted pendulum proper), because ``sqrt(delta)`` in (39) is imaginary there.
 The periodic orbit is ``x = a(t) cos(theta(t))`` from integrating (50) (eq (52));
 ``a(0) = x(0)`` is the API amplitude.
+
+The root ``phi = pi/2`` of (47) gives (49), the upper curve (``side="upper"``):
+``s**2 - k s - eps c/4 = 0``, i.e. (48) with ``eps -> -eps``; it has a real root for
+every ``eps > 0`` and reaches ``delta = 1/4 + eps/2 + O(eps**2)``.  Its system (51) is
+(50) with ``eps -> -eps`` started at ``theta = pi/2`` (``x(0) = 0``); because (51) is
+autonomous in ``(a, theta)`` and ``pi``-periodic in ``theta``, its orbit through the
+turning point ``theta = 0`` (mod ``pi``) at ``t = pi`` is the ``-eps`` lower orbit
+shifted by ``pi`` (see :mod:`~gfrf.periodic.equation`); ``a(pi) = x(pi)`` is the
+upper-side amplitude.
+
+The method is tied to eq (4) here: (39) expands ``sqrt(V(a) - V(a cos theta))`` for the
+quartic potential, and the exact averages of (46) are polynomials in ``a`` only for it;
+with ``V = delta (1 - cos x)`` the same steps give Bessel-function series whose first
+terms are exactly the eq (4) expressions, so nothing beyond eq (4) is derived.
 """
 
 from __future__ import annotations
@@ -26,7 +40,7 @@ import sympy as sp
 from scipy.integrate import solve_ivp
 
 from gfrf.errors import ArgumentError
-from gfrf.periodic.equation import parse_branch
+from gfrf.periodic.equation import parse_branch, parse_side, upper_side_times
 from gfrf.periodic.fourier import trig_harmonic
 
 __all__ = ["energy_formulas", "energy_solution", "energy_transition"]
@@ -39,8 +53,11 @@ def _require_quarter(branch: str) -> None:
 
 
 def energy_transition(eps: float | np.ndarray, amplitude: float, branch: str = "1/4",
-                      variant: str = "paper") -> float | np.ndarray:
+                      variant: str = "paper", side: str = "lower") -> float | np.ndarray:
     """``delta`` on the energy-method transition curve for ``a = amplitude``.
+
+    ``side="lower"`` is (48) (``phi = 0``), ``side="upper"`` is (49) (``phi = pi/2``,
+    the same with ``eps -> -eps``).
 
     Both variants solve ``A s**2 - B s + C eps = 0`` for ``s = sqrt(delta)`` (root
     through ``s = 1/2`` at ``eps = 0``).  ``"paper"`` is (48) multiplied by
@@ -61,24 +78,27 @@ def energy_transition(eps: float | np.ndarray, amplitude: float, branch: str = "
     else:
         raise ArgumentError(f"unknown energy variant {variant!r}")
     B = (1 - a2 / 6) / 2
-    disc = B * B - 4 * A * C * np.asarray(eps, dtype=float)
+    sign = 1.0 if parse_side(side, branch) == "lower" else -1.0
+    disc = B * B - 4 * A * C * sign * np.asarray(eps, dtype=float)
     with np.errstate(invalid="ignore"):
         s = (B + np.sqrt(disc)) / (2 * A)
     return np.where(disc >= 0, s * s, np.nan)
 
 
 def energy_solution(eps: float, amplitude: float, t: np.ndarray, delta: float | None = None,
-                    branch: str = "1/4") -> np.ndarray:
-    """Orbit ``x = a cos(theta)`` from integrating (50) (``phi = 0``) over ``t``.
+                    branch: str = "1/4", side: str = "lower") -> np.ndarray:
+    """Orbit ``x = a cos(theta)`` from integrating (50) (``phi = 0``) or (51) over ``t``.
 
     Parameters
     ----------
     eps, amplitude : float
-        Excitation and ``x(0) = a(0)``.
+        Excitation and ``x(0) = a(0)`` (lower side) or ``x(pi) = a(pi)`` (upper side).
     t : ndarray
         Sorted non-negative times.
     delta : float, optional
-        Default: the energy transition value (48).
+        Default: the energy transition value (48) or (49).
+    side : {"lower", "upper"}
+        ``phi = 0`` ((48), (50)) or ``phi = pi/2`` ((49), (51)).
 
     Raises
     ------
@@ -86,6 +106,9 @@ def energy_solution(eps: float, amplitude: float, t: np.ndarray, delta: float | 
         If ``delta <= 0`` or (48) has no real root.
     """
     _require_quarter(branch)
+    if parse_side(side, branch) == "upper":
+        s_times, index = upper_side_times(t)
+        return energy_solution(-eps, amplitude, s_times, delta, branch)[index]
     if delta is None:
         delta = float(energy_transition(eps, amplitude))
     if not delta > 0:
@@ -117,7 +140,9 @@ def energy_formulas() -> dict[str, sp.Expr]:
         ``O(a**4)`` (printed: ``1 - a**2/16 - a**2 cos(2 th)/48``); ``"44"``: ``da/dE``;
         ``"47_energy"``: exact ``theta``-average of the first right-hand side of (46);
         ``"47_theta"``: exact ``theta``-average of the second one, multiplied by
-        ``sqrt(delta) (1 - a**2/6)`` so that it is a polynomial.
+        ``sqrt(delta) (1 - a**2/6)`` so that it is a polynomial; ``"46_energy"`` and
+        ``"46_theta"``: the right-hand sides of (46) before averaging (same factors),
+        from which (50) and (51) follow with ``phi = 0`` and ``phi = pi/2``.
     """
     a, th, ph, d, e, x, c, y = sp.symbols("a theta phi delta epsilon x c y", positive=True)
     V = d * x**2 / 2 - d * x**4 / 24
@@ -132,6 +157,6 @@ def energy_formulas() -> dict[str, sp.Expr]:
     tht = s * (d * (1 - a**2 / 6) + (sp.cos(2 * ph) + 2 * sp.cos(2 * th - 2 * ph)
                                      + sp.cos(4 * th - 2 * ph)) * e / 4
                * (1 - a**2 * (sp.cos(2 * th) + 1) / 12))
-    return {"39_factor": factor, "44": dadE,
+    return {"39_factor": factor, "44": dadE, "46_energy": sp.sqrt(d) * en, "46_theta": tht,
             "47_energy": sp.sqrt(d) * sp.expand(trig_harmonic(sp.expand(en), th)),
             "47_theta": sp.expand(trig_harmonic(sp.expand(tht), th))}

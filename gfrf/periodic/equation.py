@@ -9,6 +9,14 @@ with ``g(x) = sin(x)`` (eq (3), ``truncation=None``) or its Taylor polynomial of
 degree ``truncation`` (``truncation=3`` gives eq (4), ``g(x) = x - x**3/6``).
 Physical parameters map as ``eps = A/L`` and ``delta = -g/(L*omega**2)``; the paper
 assumes ``0 < eps < 1`` and ``-1 < delta < 0`` (pendulum above its pivot).
+
+The ``1/4`` tongue has two sides: the lower curve ``1/4 - eps/2 + ...`` carries the
+orbits even in ``t`` (``~ cos(t/2)``, ``x'(0) = 0``), the upper curve ``1/4 + eps/2 + ...``
+the odd ones (``~ sin(t/2)``, ``x(0) = 0``).  If ``y`` is a lower-side orbit for
+``-eps``, then ``x(t) = y(t - pi)`` solves the equation for ``eps`` (``cos(t - pi) =
+-cos t``), with ``x(0) = y(-pi) = 0`` and turning point ``x(pi) = y(0)``: the upper
+curve for ``eps`` is the lower curve for ``-eps``.  On the upper side ``amplitude``
+means that turning point ``x(pi)`` (``x'(pi) = 0``, ``x(0) = 0``).
 """
 
 from __future__ import annotations
@@ -27,19 +35,25 @@ from gfrf.errors import ArgumentError, ModelError
 
 __all__ = [
     "BRANCHES",
+    "SIDES",
     "PendulumModel",
     "branch_period",
     "check_paper_range",
     "load_model",
     "nonlinearity",
     "parse_branch",
+    "parse_side",
     "physical_to_dimensionless",
     "sin_taylor_coefficients",
+    "upper_side_times",
 ]
 
 #: Transition curves treated by the paper: the 2*pi-periodic one through delta=0 and
 #: the 4*pi-periodic one through delta=1/4 (the lower one, ``1/4 - eps/2 + ...``).
 BRANCHES: tuple[str, ...] = ("0", "1/4")
+#: Sides of a transition tongue: ``"lower"`` (the paper's curves above) or ``"upper"``
+#: (the ``1/4`` tongue's upper boundary ``1/4 + eps/2 + ...``, orbits with ``x(0) = 0``).
+SIDES: tuple[str, ...] = ("lower", "upper")
 
 DEFAULT_MODEL = Path(__file__).resolve().parents[2] / "models" / "parametric_pendulum.toml"
 
@@ -58,6 +72,36 @@ def parse_branch(branch: str | float) -> str:
     if text in ("1/4", "0.25", ".25"):
         return "1/4"
     raise ArgumentError(f"unknown branch {branch!r}: expected '0' or '1/4'")
+
+
+def parse_side(side: str, branch: str) -> str:
+    """Check ``side`` (``"lower"`` or ``"upper"``) for ``branch``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``side`` is unknown, or ``"upper"`` is asked for branch ``"0"`` (the paper
+        has one curve there).
+    """
+    if side not in SIDES:
+        raise ArgumentError(f"unknown side {side!r}: expected 'lower' or 'upper'")
+    if side == "upper" and parse_branch(branch) != "1/4":
+        raise ArgumentError("side 'upper' exists only for branch '1/4' (the paper has a "
+                            "single curve through delta = 0)")
+    return side
+
+
+def upper_side_times(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Times at which to evaluate the ``-eps`` lower orbit ``y`` for ``x(t) = y(t - pi)``.
+
+    A lower-side orbit is even in time, so ``y(t - pi) = y(|t - pi|)``.
+
+    Returns
+    -------
+    (s, index)
+        Sorted unique ``s = |t - pi|`` and the index with ``x(t) = y(s)[index]``.
+    """
+    return np.unique(np.abs(np.asarray(t, dtype=float) - math.pi), return_inverse=True)
 
 
 def branch_period(branch: str) -> float:

@@ -13,7 +13,7 @@ from dataclasses import asdict, dataclass
 
 import sympy as sp
 
-from gfrf.periodic.averaging import averaged_equations
+from gfrf.periodic.averaging import averaged_equations, averaging_equilibria
 from gfrf.periodic.energy import energy_formulas
 from gfrf.periodic.homotopy import paper_ham_first_order
 from gfrf.periodic.perturbation import perturbation_series
@@ -210,6 +210,41 @@ def _energy_checks() -> list[FormulaCheck]:
                      f"of ε a^2 cos 2φ is {f['47_theta'].coeff(e).coeff(a, 2) / sp.cos(2 * ph)}"
                      f" exactly, {sp.expand(printed47).coeff(e).coeff(a, 2) / sp.cos(2 * ph)} "
                      "as printed; (48)-(49) inherit this (energy variant 'consistent' fixes it)"),
+    ] + _energy_upper_checks(f, printed47)
+
+
+def _energy_upper_checks(f: dict[str, sp.Expr], printed47: sp.Expr) -> list[FormulaCheck]:
+    """(48)-(49) from the printed (47) at ``phi = 0, pi/2``, and (51) from (46)."""
+    a, th, ph, d, e = sp.symbols("a theta phi delta epsilon", positive=True)
+    bracket = {sgn: sp.sqrt(d) * (1 - a**2 / 16) * (1 + sgn * e * (1 - a**2 / 12)
+                                                       / (4 * d * (1 - a**2 / 6)))
+               for sgn in (1, -1)}  # printed (48) (sgn = 1) and (49) (sgn = -1)
+    # (47) second times sqrt(delta)(1 - a^2/6): equal to the printed (48)/(49) times the same
+    regen = {sgn: printed47.subs(ph, 0 if sgn == 1 else sp.pi / 2) for sgn in (1, -1)}
+    ok = {sgn: _zero(regen[sgn] - sp.expand(bracket[sgn] * sp.sqrt(d) * (1 - a**2 / 6)))
+          for sgn in (1, -1)}
+    exact49 = f["47_theta"].subs(ph, sp.pi / 2)
+    s39 = 1 - a**2 / 16 - a**2 * sp.cos(2 * th) / 48
+    printed51_e = (a**2 / 4 * sp.sqrt(d) * e * (1 - a**2 * sp.cos(th) ** 2 / 6)
+                   * (-sp.sin(4 * th)) * s39)
+    printed51_t = s39 * (d * (1 - a**2 / 6) + (-1 - 2 * sp.cos(2 * th) - sp.cos(4 * th)) * e / 4
+                         * (1 - a**2 * (sp.cos(2 * th) + 1) / 12))
+    ok51 = (_zero(sp.expand_trig(f["46_energy"].subs(ph, sp.pi / 2) - printed51_e))
+            and _zero(sp.expand_trig(f["46_theta"].subs(ph, sp.pi / 2) - printed51_t)))
+    return [
+        FormulaCheck("(48)", "lower curve from (47), φ = 0",
+                     "√δ(1 - a^2/16)(1 + ε(1 - a^2/12)/(4δ(1 - a^2/6))) = 1/2",
+                     f"{sp.factor(regen[1])} = √δ(1 - a^2/6)/2", ok[1]),
+        FormulaCheck("(49)", "upper curve from (47), φ = π/2",
+                     "√δ(1 - a^2/16)(1 - ε(1 - a^2/12)/(4δ(1 - a^2/6))) = 1/2",
+                     f"{sp.factor(regen[-1])} = √δ(1 - a^2/6)/2", ok[-1], "",
+                     "(48) with ε -> -ε; from the exact average of (46) instead: "
+                     f"{exact49} = √δ(1 - a^2/6)/2 (energy variant 'consistent'), which "
+                     "differs at O(ε a^2) exactly as (48) does; (49) always has a real root"),
+        FormulaCheck("(51)", "system at φ = π/2",
+                     "(50) with sin 4θ -> -sin 4θ and 1 + 2cos 2θ + cos 4θ -> its negative",
+                     "(46) at φ = π/2 = (50) with ε -> -ε", ok51, "",
+                     "x(0) = a cos(π/2) = 0: the orbit is odd, its turning point a is at t ≈ π"),
     ]
 
 
@@ -223,6 +258,9 @@ def _averaging_checks() -> list[FormulaCheck]:
     constraint = sp.expand(dB * sp.cos(th) - B * (sp.Rational(1, 2) - dphi) * sp.sin(th)
                            + B / 2 * sp.sin(th))
     printed54 = dB * sp.cos(th) + B * dth * sp.sin(th)
+    cases = averaging_equilibria()
+    printed_case2 = d - sp.Rational(1, 4) - d * B**2 / 8 + e / 2 - e * B**2 / 12
+    printed_case3 = d - sp.Rational(1, 4) - d * B**2 / 8 - e / 2 + e * B**2 / 12
     return [
         FormulaCheck("(54)", "variation-of-constants condition", "B' cos θ + B θ' sin θ = 0",
                      f"{constraint} = 0", _zero(constraint - printed54),
@@ -232,6 +270,13 @@ def _averaging_checks() -> list[FormulaCheck]:
         FormulaCheck("(58)", "averaged phase equation", str(p58), str(e58), _zero(e58 - p58)),
         FormulaCheck("(59)", "averaged amplitude equation", str(p59), str(e59),
                      _zero(e59 - p59)),
+        FormulaCheck("section 6, case 2", "equilibrium 2φ = 0 (lower curve)",
+                     "δ - 1/4 - δB^2/8 + ε/2 - εB^2/12 = 0", f"{cases['case2']} = 0",
+                     _zero(cases["case2"] - printed_case2)),
+        FormulaCheck("section 6, case 3", "equilibrium 2φ = π (upper curve)",
+                     "δ - 1/4 - δB^2/8 - ε/2 + εB^2/12 = 0", f"{cases['case3']} = 0",
+                     _zero(cases["case3"] - printed_case3), "",
+                     "case 2 with ε -> -ε; orbit x = B cos(t/2 - π/2) = B sin(t/2), x(0) = 0"),
         FormulaCheck("Figure 10 caption", "parameters", "ε = 0.1, 0.2, x(0) = 0.5",
                      "section 6 text: ε = 0.1, 0.3", False, "ε = 0.1, 0.3 (or the text is "
                      "wrong)", "caption and text disagree", "text"),
