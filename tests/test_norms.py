@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+import gfrf.majorant as majorant_module
 from gfrf.errors import ArgumentError
 from gfrf.kernels import kernel
 from gfrf.majorant import majorant, radius
@@ -170,3 +171,57 @@ def test_narx_linear_stability_and_h1() -> None:
     assert stable.stable and stable.upper == pytest.approx(2.0, rel=1e-9)
     assert not stable.certified  # discrete sups are polished-grid estimates
     assert h1_norm(parse_model("y[k] = 1.5*y[k-1] + u[k-1]", sample_time=0.1)).stable is False
+
+
+FOLD_MODELS = {
+    "pendulum": "models/hanging_pendulum.toml",
+    "duffing": "models/duffing.toml",
+    "cartpole plant": "models/cartpole.toml",
+    "cartpole with input term": "models/cartpole_reduced.toml",
+    "quadratic": "D(y,2) + 0.3*D(y) + y + 0.4*y**2 = u",
+    "cross terms": "D(y,2) + 0.2*D(y) + y + 0.3*y*D(y) + 0.1*y**2*D(y,2) + 0.05*D(y)**3 = u",
+    "large radius": "D(y,2) + 0.2*D(y) + y + 1e-9*y**2 = u",
+}
+
+
+@pytest.mark.parametrize("name", list(FOLD_MODELS))
+def test_branch_point_radius_matches_bisection(name: str, monkeypatch: pytest.MonkeyPatch
+                                               ) -> None:
+    source = FOLD_MODELS[name]
+    model = load_model(source).plant if source.endswith(".toml") else parse_model(source)
+    maj = majorant(model)
+    calls: list[float] = []
+    fold = majorant_module._fold
+
+    def counted(*args: object) -> object:
+        result = fold(*args)  # type: ignore[arg-type]
+        calls.append(math.nan if result is None else result[0])
+        return result
+
+    monkeypatch.setattr(majorant_module, "_fold", counted)
+    fast = radius(lambda x, r: maj.rhs(x, r), len(maj.powers))
+    slow = radius(lambda x, r: maj.rhs(x, r), len(maj.powers), fold=False)
+    assert len(calls) == 1 and math.isfinite(calls[0])  # the fast path ran, bisection did not
+    assert fast.value == pytest.approx(slow.value, rel=1e-9)
+    assert fast.certified_below <= fast.value <= fast.certified_below * (1 + 1e-10)
+    assert fast.value == pytest.approx(calls[0], rel=2e-9)
+    assert fast.solution is not None
+    assert np.all(maj.rhs(fast.solution, fast.certified_below) <= fast.solution * (1 + 1e-12))
+
+
+def test_branch_point_of_quadratic_closed_form() -> None:
+    # B = beta1 r + g B^2: the branch point 1 = 2 g B gives B = 1/(2 g), r* = 1/(4 g beta1).
+    maj = majorant(parse_model("D(y,2) + 0.3*D(y) + y + 0.4*y**2 = u"))
+    beta1 = peak(0.3, 1.0)
+    point = majorant_module._fold(lambda x, r: maj.rhs(x, r), 1, 0.01, np.array([0.01 * beta1]))
+    assert point is not None
+    assert point[0] == pytest.approx(1 / (4 * 0.4 * beta1**2), rel=1e-12)
+    assert point[1][0] == pytest.approx(1 / (2 * 0.4 * beta1), rel=1e-6)
+
+
+def test_failed_branch_point_falls_back_to_bisection(monkeypatch: pytest.MonkeyPatch) -> None:
+    maj = majorant(parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"))
+    slow = radius(lambda x, r: maj.rhs(x, r), 1, fold=False)
+    monkeypatch.setattr(majorant_module, "_fold", lambda *args: None)
+    fallback = radius(lambda x, r: maj.rhs(x, r), 1)
+    assert (fallback.value, fallback.certified_below) == (slow.value, slow.certified_below)
