@@ -43,3 +43,11 @@ def test_write_quick_is_deterministic(tmp_path):
         f = p1.parent / f"paper-periodic-{png}.png"
         assert f.exists()
         assert f.read_bytes() == (p2.parent / f.name).read_bytes()
+
+
+def test_upper_side_grid():
+    g = error_grid("1/4", (0.1,), (0.5,), "upper")
+    assert g.labels() == ["energy (49)", "averaging case 3"]
+    text = _grid_table(g)
+    r = g.rows[("averaging case 3", 0.1, 0.5)]
+    assert "x(pi) = 0.5" in text and f"{num(r.delta_error, 2)} / {num(r.max_error, 2)}" in text

@@ -45,6 +45,11 @@ TABLE_METHODS: tuple[tuple[str, str, int | None], ...] = (
     ("energy (48)", "energy", None),
     ("averaging (58)", "averaging", None),
 )
+#: Methods with an upper ``1/4`` curve (orbits with ``x(0) = 0``, amplitude ``x(pi)``).
+UPPER_METHODS: tuple[tuple[str, str, int | None], ...] = (
+    ("energy (49)", "energy", None),
+    ("averaging case 3", "averaging", None),
+)
 
 
 @dataclass
@@ -57,35 +62,38 @@ class ErrorGrid:
     eps_values, amplitudes : tuple of float
     rows : dict
         ``(label, eps, amplitude) -> PeriodicComparison``.
+    side : str
+        ``"lower"`` or ``"upper"`` (``1/4`` tongue; amplitudes are then ``x(pi)``).
     """
 
     branch: str
     eps_values: tuple[float, ...]
     amplitudes: tuple[float, ...]
     rows: dict[tuple[str, float, float], PeriodicComparison]
+    side: str = "lower"
 
     def labels(self) -> list[str]:
         """Method labels present in the grid, in table order."""
-        return [lab for lab, _, _ in TABLE_METHODS
+        return [lab for lab, _, _ in TABLE_METHODS + UPPER_METHODS
                 if any(k[0] == lab for k in self.rows)]
 
     def to_dict(self) -> dict[str, object]:
         """Plain-dict view."""
-        return {"branch": self.branch, "rows": [{"label": k[0], **v.to_dict()}
-                                                for k, v in self.rows.items()]}
+        return {"branch": self.branch, "side": self.side,
+                "rows": [{"label": k[0], **v.to_dict()} for k, v in self.rows.items()]}
 
 
-def error_grid(branch: str, eps_values: tuple[float, ...], amplitudes: tuple[float, ...]
-               ) -> ErrorGrid:
-    """Compare each applicable method at every ``(eps, x(0))`` of ``branch``."""
+def error_grid(branch: str, eps_values: tuple[float, ...], amplitudes: tuple[float, ...],
+               side: str = "lower") -> ErrorGrid:
+    """Compare each applicable method at every ``(eps, amplitude)`` of ``branch``/``side``."""
     rows = {}
-    for lab, method, order in TABLE_METHODS:
+    for lab, method, order in (TABLE_METHODS if side == "lower" else UPPER_METHODS):
         if branch == "0" and method in ("energy", "averaging"):
             continue
         for e in eps_values:
             for a in amplitudes:
-                rows[(lab, e, a)] = compare_periodic(method, e, a, branch, order)
-    return ErrorGrid(branch, eps_values, amplitudes, rows)
+                rows[(lab, e, a)] = compare_periodic(method, e, a, branch, order, side=side)
+    return ErrorGrid(branch, eps_values, amplitudes, rows, side)
 
 
 @dataclass
@@ -152,7 +160,8 @@ def _paper_h_error(eps: float, amplitude: float) -> float:
 
 
 def _grid_table(grid: ErrorGrid) -> str:
-    head = ["method", "eps"] + [f"x(0) = {a}: |d delta| / max|dx|" for a in grid.amplitudes]
+    where = "x(0)" if grid.side == "lower" else "x(pi)"
+    head = ["method", "eps"] + [f"{where} = {a}: |d delta| / max|dx|" for a in grid.amplitudes]
     rows = []
     for lab in grid.labels():
         for e in grid.eps_values:
@@ -224,7 +233,7 @@ def _transition_figure(out: Path, name: str, branches: tuple[str, ...],
 
 def _stability_chart(out: Path, quick: bool) -> str:
     eps = np.linspace(0.0, 0.5, 201)
-    fig, ax = plt.subplots(figsize=(7, 5))
+    fig, ax = plt.subplots(figsize=(9.5, 5))
     d0, d1, du = (mathieu_transition(eps, "0"), mathieu_transition(eps, "1/4"),
                   upper_quarter_transition(eps))
     ax.fill_between(eps, d0, np.minimum(d1, 0.3), where=d1 > d0, color="0.9",
@@ -247,11 +256,16 @@ def _stability_chart(out: Path, quick: bool) -> str:
                 continue
             ax.plot(coarse, transition_curve(m, coarse, amp, b, order), "o", ms=3, color=col,
                     label=f"{lab}, x(0) = {amp}" if b == "1/4" else None)
+    ax.plot(coarse, transition_curve("exact", coarse, amp, "1/4", side="upper"), ":",
+            color="0.4", lw=1.2, label=f"exact nonlinear upper, x(0) = 0, x(pi) = {amp}")
+    for (lab, m, _), col in zip(UPPER_METHODS, ("C3", "C4"), strict=True):
+        ax.plot(coarse, transition_curve(m, coarse, amp, "1/4", side="upper"), "s", ms=3,
+                mfc="none", color=col, label=f"{lab}, x(pi) = {amp}")
     ax.axhline(0, color="0.6", lw=0.6)
     ax.set_xlabel("eps = A/L")
     ax.set_ylabel("delta = -g/(L omega^2)")
     ax.set_ylim(-0.15, 0.5)
-    ax.legend(fontsize=6, loc="upper left")
+    ax.legend(fontsize=6, loc="center left", bbox_to_anchor=(1.01, 0.5))
     fig.tight_layout()
     return save_figure(fig, out / "paper-periodic-stability.png")
 
@@ -370,6 +384,7 @@ def write(out_dir: Path, quick: bool = False) -> Path:
     amp_grid = (0.05, 0.5) if quick else (0.05, 0.5, 1.0)
     grid14 = error_grid("1/4", eps_grid, amp_grid)
     grid0 = error_grid("0", eps_grid, amp_grid)
+    grid_up = error_grid("1/4", eps_grid, amp_grid, "upper")
     conclusions = conclusion_checks(grid14)
     fig2, fig2_rows = _fig2(out, quick)
     eps_line = np.linspace(0.01, 0.5, 8 if quick else 25)
@@ -436,7 +451,10 @@ def write(out_dir: Path, quick: bool = False) -> Path:
         "",
         "Solid: exact linear curves; dashed: exact nonlinear curves at x(0) = 0.5; dots: "
         "each method at x(0) = 0.5. The energy curve stops where (48) loses its real root "
-        f"(first grid eps without a root: {num(energy_edge, 3)}).",
+        f"(first grid eps without a root: {num(energy_edge, 3)}). Upper boundary of the 1/4 "
+        "tongue (orbits ~ sin(t/2) with x(0) = 0, amplitude = turning point x(pi)): dotted "
+        "exact nonlinear curve, open squares energy (49) and averaging case 3 (the paper "
+        "derives both but plots neither); (49) has a real root for every eps.",
         "",
         "## Errors versus eps and amplitude",
         "",
@@ -447,6 +465,11 @@ def write(out_dir: Path, quick: bool = False) -> Path:
         "Branch 0 (period 2 pi; energy and averaging do not apply):",
         "",
         _grid_table(grid0),
+        "Branch 1/4, upper side (x(0) = 0, both orbits through the same turning point "
+        "x(pi); exact curve = lower curve for -eps, orbit shifted by pi; perturbation and "
+        "homotopy are derived for the lower side only):",
+        "",
+        _grid_table(grid_up),
         "## The paper's figures regenerated",
         "",
         "Solid = exact orbit (shooting), dots = analytical.",
