@@ -92,3 +92,15 @@ def test_cli_side(capsys):
     eq3 = _json(capsys, ["transition", "--eps", "0.1", "--amplitude", "0.5", "--method",
                          "averaging", "--side", "upper", "--equation", "3", "--json"])
     assert eq3["equation"] == 3 and eq3["delta"] != upper["delta"]
+
+
+def test_equation3_methods_beat_eq4_against_exact_eq3():
+    ex = method_transition("exact", 0.1, 1.0, "1/4", equation=3).delta
+    for m in ("perturbation", "averaging"):
+        e3 = abs(method_transition(m, 0.1, 1.0, "1/4", equation=3).delta - ex)
+        e4 = abs(method_transition(m, 0.1, 1.0, "1/4").delta - ex)
+        assert e3 < 0.5 * e4, m
+    r = compare_periodic("homotopy", 0.1, 1.0, "1/4", 2, equation=3)
+    assert r.equation == 3 and r.delta_error < 1e-5 and r.max_error < 1e-3
+    with pytest.raises(ArgumentError, match="eq \\(4\\) only"):
+        method_transition("energy", 0.1, 0.5, "1/4", equation=3)

@@ -38,6 +38,9 @@ def _common(p: argparse.ArgumentParser) -> None:
     p.add_argument("--order", type=int, default=None,
                    help="order for perturbation (powers of eps) or homotopy (deformation "
                         "order); default 4")
+    p.add_argument("--equation", default="4", choices=["4", "3"],
+                   help="truncated eq (4) or sin(x) eq (3) (all methods but energy; the "
+                        "exact orbit solves the same equation); default 4")
     add_json_flag(p)
 
 
@@ -49,9 +52,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "x'' + (delta + eps cos t)(x - x^3/6) = 0 for the periodic orbit with "
                     "x(0) = amplitude, by one of the paper's methods or exactly (shooting).")
     _common(tr)
-    tr.add_argument("--equation", default="4", choices=["4", "3"],
-                    help="exact and averaging only: truncated eq (4) or sin(x) eq (3); "
-                         "default 4")
     tr.set_defaults(func=_transition)
     pe = subparsers.add_parser(
         "periodic", help="error of a method's periodic orbit against the exact orbit",
@@ -66,31 +66,16 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def _transition(args: argparse.Namespace) -> int:
     from gfrf.errors import ArgumentError
-    from gfrf.periodic.averaging import averaging_transition
     from gfrf.periodic.compare import method_transition
-    from gfrf.periodic.equation import check_paper_range, parse_side
-    from gfrf.periodic.shooting import transition_delta
+    from gfrf.periodic.equation import check_paper_range
 
     check_paper_range(args.eps)
-    parse_side(args.side, args.branch)
-    if args.equation == "3" and args.method not in ("exact", "averaging"):
-        raise ArgumentError("--equation 3 (untruncated sin x) is available only with "
-                            "--method exact or averaging; the other methods use eq (4)")
-    if args.equation == "3":
-        sign = 1.0 if args.side == "lower" else -1.0
-        delta = (float(averaging_transition(args.eps, args.amplitude, args.branch, args.side, 3))
-                 if args.method == "averaging" else
-                 transition_delta(sign * args.eps, args.amplitude, args.branch, None).delta)
-        payload = {"method": args.method, "eps": args.eps, "amplitude": args.amplitude,
-                   "branch": args.branch, "order": None, "delta": delta,
-                   "side": args.side, "equation": 3}
-    else:
-        r = method_transition(args.method, args.eps, args.amplitude, args.branch, args.order,
-                              args.side)
-        if math.isnan(r.delta):
-            raise ArgumentError(f"{args.method}: no transition value for eps={args.eps}, "
-                                f"amplitude={args.amplitude} (eq (48) has no real root)")
-        payload = {**r.to_dict(), "equation": 4}
+    r = method_transition(args.method, args.eps, args.amplitude, args.branch, args.order,
+                          args.side, int(args.equation))
+    if math.isnan(r.delta):
+        raise ArgumentError(f"{args.method}: no transition value for eps={args.eps}, "
+                            f"amplitude={args.amplitude} (eq (48) has no real root)")
+    payload = r.to_dict()
     order = f", order {payload['order']}" if payload["order"] is not None else ""
     where = (f"x(0) = {args.amplitude:g}" if args.side == "lower"
              else f"upper side, x(0) = 0, x(pi) = {args.amplitude:g}")
@@ -107,7 +92,7 @@ def _periodic(args: argparse.Namespace) -> int:
 
     check_paper_range(args.eps, args.delta)
     r = compare_periodic(args.method, args.eps, args.amplitude, args.branch, args.order,
-                         args.delta, args.side)
+                         args.delta, args.side, int(args.equation))
     if math.isnan(r.max_error):
         raise ArgumentError(f"{args.method}: no periodic orbit for eps={args.eps} "
                             f"(its transition equation has no real root)")
@@ -116,5 +101,5 @@ def _periodic(args: argparse.Namespace) -> int:
          f"(exact {r.delta_exact:.10g}, error {r.delta_error:.3e}); "
          f"{'x(0)' if r.side == 'lower' else 'x(pi)'} {r.amplitude_method:.6g} "
          f"(exact {r.amplitude_exact:.6g}); {r.method}, branch "
-         f"{r.branch}, {r.side} side, eps = {r.eps:g}")
+         f"{r.branch}, {r.side} side, eps = {r.eps:g}, eq ({r.equation})")
     return 0

@@ -7,9 +7,16 @@ own amplitude parameter is converted explicitly (perturbation branch ``1/4``:
 averaging case 3, exact) ``amplitude`` is the turning point ``x(pi)`` of the orbit with
 ``x(0) = 0``, and the exact curve and orbit are the lower ones for ``-eps`` shifted by
 ``pi`` (:mod:`~gfrf.periodic.equation`); perturbation and homotopy give only the lower
-side (as in the paper).  Errors are ``|delta_method - delta_exact|`` and the maximum of
+side (as in the paper).  ``equation=3`` (untruncated ``sin x``) is supported where the
+derivation allows it: averaging with Bessel-function averages, perturbation on the
+``1/4`` branch with the Taylor series of ``sin`` to degree ``order + 1`` (``x = eps u``, so
+``x**k`` enters at ``eps**(k-1)``: exact to the order computed), perturbation on branch
+``0`` and homotopy with degree :data:`SIN_DEGREE` (remainder below ``4e-10`` for
+``|x| <= 1.5``), exact with ``sin`` itself; the energy method is tied to eq (4)
+(:mod:`~gfrf.periodic.energy`).  Errors are ``|delta_method - delta_exact|`` and the maximum of
 ``|x_method(t) - x_exact(t)|`` over one period (401 samples), where the exact orbit
-is the Newton-shooting orbit of eq (4) with the same ``x(0)`` (or the same ``delta``).
+is the Newton-shooting orbit of eq (4) (of eq (3) with ``equation=3``) with the same
+``x(0)`` (or the same ``delta``).
 """
 
 from __future__ import annotations
@@ -46,6 +53,8 @@ METHODS: tuple[str, ...] = ("perturbation", "homotopy", "energy", "averaging", "
 #: Orders used when none is given (the paper stops at 2; the issue asks for >= 4).
 DEFAULT_ORDER: dict[str, int] = {"perturbation": 4, "homotopy": 4}
 _N_SAMPLES = 401
+#: Taylor degree of ``sin`` standing for eq (3) in perturbation (branch 0) and homotopy.
+SIN_DEGREE = 13
 
 
 def _check_method(method: str) -> str:
@@ -55,8 +64,22 @@ def _check_method(method: str) -> str:
 
 
 @functools.lru_cache(maxsize=32)
-def _series(branch: str, order: int) -> PerturbationSeries:
-    return perturbation_series(branch, order)
+def _series(branch: str, order: int, truncation: int = 3) -> PerturbationSeries:
+    return perturbation_series(branch, order, truncation=truncation)
+
+
+def _truncation(method: str, branch: str, order: int | None, equation: int) -> int | None:
+    """Taylor degree of ``sin`` used by ``method`` for ``equation`` (None: ``sin`` itself)."""
+    if equation == 4:
+        return 3
+    if equation != 3:
+        raise ArgumentError(f"unknown equation {equation!r}: expected 4 or 3")
+    if method == "energy":
+        raise ArgumentError("energy: the method is derived for eq (4) only (quartic "
+                            "potential in (39)); use --equation 4")
+    if method == "perturbation" and branch == "1/4":
+        return max(3, (order or 1) + 1) | 1  # smallest odd degree >= order + 1
+    return None if method in ("exact", "averaging") else SIN_DEGREE
 
 
 def _order(method: str, order: int | None) -> int | None:
@@ -96,6 +119,8 @@ class TransitionResult:
         Wall time of this computation.
     side : str
         ``"lower"`` or ``"upper"`` side of the ``1/4`` tongue.
+    equation : int
+        4 (truncated) or 3 (``sin x``).
     """
 
     method: str
@@ -106,6 +131,7 @@ class TransitionResult:
     delta: float
     seconds: float
     side: str = "lower"
+    equation: int = 4
 
     def to_dict(self) -> dict[str, object]:
         """Plain-dict view for JSON and reports."""
@@ -118,21 +144,26 @@ def _sign(side: str) -> float:
 
 
 def _delta(method: str, eps: float, amplitude: float, branch: str, order: int | None,
-           side: str = "lower") -> float:
+           side: str = "lower", equation: int = 4) -> float:
+    tr = _truncation(method, branch, order, equation)
     if method == "perturbation":
-        return _series(branch, order).delta(eps, amplitude)
+        return _series(branch, order, tr).delta(eps, amplitude)
     if method == "homotopy":
-        return ham_optimal(eps, amplitude, branch, order).delta
+        return ham_optimal(eps, amplitude, branch, order, tr).delta
     if method == "energy":
         return float(energy_transition(eps, amplitude, branch, side=side))
     if method == "averaging":
-        return float(averaging_transition(eps, amplitude, branch, side))
-    return transition_delta(_sign(side) * eps, amplitude, branch).delta
+        return float(averaging_transition(eps, amplitude, branch, side, equation))
+    return transition_delta(_sign(side) * eps, amplitude, branch, tr).delta
 
 
 def method_transition(method: str, eps: float, amplitude: float, branch: str = "0",
-                      order: int | None = None, side: str = "lower") -> TransitionResult:
-    """``delta`` on ``branch`` (and ``side``) for ``amplitude`` by ``method`` (timed)."""
+                      order: int | None = None, side: str = "lower",
+                      equation: int = 4) -> TransitionResult:
+    """``delta`` on ``branch`` (and ``side``) for ``amplitude`` by ``method`` (timed).
+
+    ``equation`` is 4 (truncated) or 3 (``sin x``; not for the energy method).
+    """
     _check_method(method)
     b = parse_branch(branch)
     _check_side(method, b, side)
@@ -141,8 +172,9 @@ def method_transition(method: str, eps: float, amplitude: float, branch: str = "
     if amplitude <= 0:
         raise ArgumentError(f"amplitude must be positive, got {amplitude}")
     t0 = time.perf_counter()
-    d = _delta(method, eps, amplitude, b, k, side)
-    return TransitionResult(method, eps, amplitude, b, k, d, time.perf_counter() - t0, side)
+    d = _delta(method, eps, amplitude, b, k, side, equation)
+    return TransitionResult(method, eps, amplitude, b, k, d, time.perf_counter() - t0, side,
+                            equation)
 
 
 def transition_curve(method: str, eps: np.ndarray, amplitude: float, branch: str = "0",
@@ -168,8 +200,8 @@ def transition_curve(method: str, eps: np.ndarray, amplitude: float, branch: str
 
 
 def method_orbit(method: str, eps: float, amplitude: float, branch: str, t: np.ndarray,
-                 order: int | None = None, delta: float | None = None, side: str = "lower"
-                 ) -> tuple[float, np.ndarray]:
+                 order: int | None = None, delta: float | None = None, side: str = "lower",
+                 equation: int = 4) -> tuple[float, np.ndarray]:
     """``(delta, x(t))`` of ``method``'s periodic orbit with ``x(0) = amplitude``.
 
     ``delta`` defaults to the method's own transition value; only the energy method
@@ -181,19 +213,20 @@ def method_orbit(method: str, eps: float, amplitude: float, branch: str, t: np.n
     _check_side(method, b, side)
     k = _order(method, order)
     _check_eps(method, eps, b)
+    tr = _truncation(method, b, k, equation)
     if method == "perturbation":
-        s = _series(b, k)
+        s = _series(b, k, tr)
         return s.delta(eps, amplitude), s.solution(eps, amplitude, t)
     if method == "homotopy":
-        r = ham_optimal(eps, amplitude, b, k)
+        r = ham_optimal(eps, amplitude, b, k, tr)
         return r.delta, r.solution(t)
     if method == "energy":
         d = float(energy_transition(eps, amplitude, b, side=side)) if delta is None else delta
         return d, energy_solution(eps, amplitude, t, d, b, side)
     if method == "averaging":
-        return (float(averaging_transition(eps, amplitude, b, side)),
+        return (float(averaging_transition(eps, amplitude, b, side, equation)),
                 averaging_solution(eps, amplitude, t, b, side))
-    orbit = transition_delta(_sign(side) * eps, amplitude, b)
+    orbit = transition_delta(_sign(side) * eps, amplitude, b, tr)
     return orbit.delta, _evaluate(orbit, t, side)
 
 
@@ -225,6 +258,8 @@ class PeriodicComparison:
         Wall time of the method alone.
     side : str
         ``"lower"`` or ``"upper"`` side of the ``1/4`` tongue.
+    equation : int
+        4 (truncated) or 3 (``sin x``): both orbits solve/approximate this equation.
     """
 
     method: str
@@ -239,6 +274,7 @@ class PeriodicComparison:
     max_error: float
     seconds: float
     side: str = "lower"
+    equation: int = 4
 
     def to_dict(self) -> dict[str, object]:
         """Plain-dict view for JSON and reports."""
@@ -246,10 +282,10 @@ class PeriodicComparison:
 
 
 def _method_amplitude(method: str, eps: float, delta: float, branch: str, order: int | None,
-                      guess: float, side: str = "lower") -> float:
+                      guess: float, side: str = "lower", equation: int = 4) -> float:
     """Amplitude at which ``method``'s transition curve passes through ``delta``."""
     def f(a: float) -> float:
-        return _delta(method, eps, a, branch, order, side) - delta
+        return _delta(method, eps, a, branch, order, side, equation) - delta
 
     grid = np.unique(np.clip(guess * np.array([0.25, 0.5, 0.8, 1.0, 1.25, 1.6, 2.0, 3.0]),
                              1e-6, 3.0))
@@ -266,19 +302,20 @@ def _method_amplitude(method: str, eps: float, delta: float, branch: str, order:
 
 @functools.lru_cache(maxsize=256)
 def _exact(eps: float, amplitude: float, branch: str, delta: float | None,
-           side: str = "lower") -> tuple[PeriodicOrbit, np.ndarray]:
+           side: str = "lower", equation: int = 4) -> tuple[PeriodicOrbit, np.ndarray]:
     """Shooting orbit and its samples (cached: tables reuse it for every method)."""
     e = _sign(side) * eps
+    tr = 3 if equation == 4 else None
     if delta is None:
-        orbit = transition_delta(e, amplitude, branch)
+        orbit = transition_delta(e, amplitude, branch, tr)
     else:
-        orbit = orbit_at_delta(e, delta, amplitude, branch)
+        orbit = orbit_at_delta(e, delta, amplitude, branch, tr)
     return orbit, _evaluate(orbit, np.linspace(0.0, branch_period(branch), _N_SAMPLES), side)
 
 
 def compare_periodic(method: str, eps: float, amplitude: float, branch: str = "1/4",
                      order: int | None = None, delta: float | None = None,
-                     side: str = "lower") -> PeriodicComparison:
+                     side: str = "lower", equation: int = 4) -> PeriodicComparison:
     """Compare ``method``'s orbit with the exact one.
 
     Parameters
@@ -296,6 +333,8 @@ def compare_periodic(method: str, eps: float, amplitude: float, branch: str = "1
         equal ``x(0)``.
     side : {"lower", "upper"}
         Side of the ``1/4`` tongue; on the upper side ``amplitude`` is ``x(pi)``.
+    equation : {4, 3}
+        Truncated eq (4) or ``sin x`` eq (3) (method and exact orbit alike).
 
     Raises
     ------
@@ -307,14 +346,15 @@ def compare_periodic(method: str, eps: float, amplitude: float, branch: str = "1
     _check_side(method, b, side)
     k = _order(method, order)
     _check_eps(method, eps, b)
-    exact, x_exact = _exact(eps, amplitude, b, delta, side)
+    _truncation(method, b, k, equation)
+    exact, x_exact = _exact(eps, amplitude, b, delta, side, equation)
     t = np.linspace(0.0, branch_period(b), _N_SAMPLES)
     t0 = time.perf_counter()
     a_m = amplitude if delta is None else exact.amplitude
     if delta is not None and method != "exact":
-        a_m = _method_amplitude(method, eps, delta, b, k, exact.amplitude, side)
+        a_m = _method_amplitude(method, eps, delta, b, k, exact.amplitude, side, equation)
     try:
-        d_m, x_m = method_orbit(method, eps, a_m, b, t, k, side=side)
+        d_m, x_m = method_orbit(method, eps, a_m, b, t, k, side=side, equation=equation)
     except ArgumentError:
         if method != "energy":
             raise
@@ -322,7 +362,7 @@ def compare_periodic(method: str, eps: float, amplitude: float, branch: str = "1
     secs = time.perf_counter() - t0
     err = float(np.max(np.abs(x_m - x_exact))) if np.all(np.isfinite(x_m)) else math.nan
     return PeriodicComparison(method, b, eps, k, a_m, exact.amplitude, d_m, exact.delta,
-                              abs(d_m - exact.delta), err, secs, side)
+                              abs(d_m - exact.delta), err, secs, side, equation)
 
 
 def error_table(methods: tuple[str, ...], eps_values: tuple[float, ...],

@@ -20,6 +20,8 @@ Here the same deformation equations are used with the frequency fixed by the bra
 approximation is ``x_0 + ... + x_M`` and ``delta_0 + ... + delta_M``.  The
 convergence-control parameter ``h`` minimises the mean squared residual of (4) over a
 period (computed exactly from the Fourier coefficients), unless given.
+Eq (3) is handled through ``truncation`` (a high Taylor degree of ``sin``): nothing in the
+deformation equations needs the cubic.
 """
 
 from __future__ import annotations

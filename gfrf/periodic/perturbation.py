@@ -18,6 +18,11 @@ Normalisation of the free kernel component of each correction (``n >= 1``):
   ``x(0) = eps*a`` (branch 1/4): the amplitude ``x(0)`` converts exactly to ``a``;
 * ``"kernel"``: no kernel harmonic in ``x_n`` -- the rule the paper states for (10) and
   uses in (16); there ``a`` is the mean (branch 0) or the ``cos(t/2)`` amplitude / eps.
+
+Eq (3) (``sin x``): ``truncation`` is the Taylor degree of ``sin``.  On branch ``1/4``
+``x**k`` enters at ``eps**(k-1)``, so degree ``order + 1`` gives the exact eq (3) series
+to ``eps**order``; on branch ``0`` every power enters at every order (``x_0 = a``) and a
+high degree (``SIN_DEGREE`` in :mod:`~gfrf.periodic.compare`) stands for ``sin``.
 """
 
 from __future__ import annotations
