@@ -27,10 +27,12 @@ with nonnegative coefficients.  The norm series sum_n ||H_n|| r^n is dominated b
 X_0(r), which converges exactly when (*) has a nonnegative solution (the monotone
 iteration from 0 is then bounded).  The radius r* is the branch point where the
 Jacobian of (*) reaches spectral radius 1 (for a pure cubic, X = beta1 r + g X^3
-gives r* = 2 / (3 beta1 sqrt(3 g))).  :func:`radius` finds it by bisection on r with
-Newton continuation and checks, at the reported lower end, the certificate
+gives r* = 2 / (3 beta1 sqrt(3 g))).  :func:`radius` brackets it with the certificate
 ``rhs(X', r) <= X'`` for the solution X' at a slightly larger r, which proves
-convergence there.
+convergence at r: certified at the reported lower end, not found at the upper end.
+The bracket is placed by Newton on the branch point itself (X = rhs(X, r) together
+with (I - d rhs/dX) v = 0, v >= 0), started from a certified solution at a smaller r;
+bisection on r with Newton continuation is the fallback.
 
 Examples
 --------
