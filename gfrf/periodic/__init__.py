@@ -2,8 +2,9 @@
 
 Independent of the GFRF core.  Equation (3)/(4) of Zhang, Zhen & Li (2019),
 ``x'' + (delta + eps cos t) g(x) = 0`` with dimensionless time (excitation angular
-frequency 1), ``g = sin`` or ``x - x**3/6``.  ``amplitude`` always means ``x(0)`` of the
-orbit with ``x'(0) = 0``.
+frequency 1), ``g = sin`` or ``x - x**3/6``.  ``amplitude`` means ``x(0)`` of the
+orbit with ``x'(0) = 0``, except on the upper side of the ``1/4`` tongue
+(``side="upper"``), where it is the turning point ``x(pi)`` of the orbit with ``x(0) = 0``.
 
 Modules, one idea each:
 
