@@ -446,12 +446,30 @@ def _loop_radius(maj: Majorant, lam: float, rho1: float,
     return radius(step, dim + cdim + 1)
 
 
-def verdict(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
+def verdict(model: ModelFile | Model, order: int = 5, amplitude: float = 1.0,
             with_norms: bool = True) -> Verdict:
-    """Theorem 2 when the model file has a controller, Theorem 1 otherwise."""
-    if model_file.controller is not None:
-        return theorem2(model_file, order, amplitude, with_norms)
-    return theorem1(model_file.plant, order, amplitude, with_norms)
+    """Theorem 2 when the model file has a controller, Theorem 1 otherwise.
+
+    Parameters
+    ----------
+    model : ModelFile or Model
+        A loaded model file (plant and optional controller) or a bare plant model.
+    order : int
+        Highest kernel order whose norms are computed and reported.
+    amplitude : float
+        Input amplitude r at which the series is tested (the paper's r = 1).
+    with_norms : bool
+        Compute the lower bounds of the norms (slower); False for sweeps and margins.
+
+    Returns
+    -------
+    Verdict
+    """
+    if isinstance(model, Model):
+        return theorem1(model, order, amplitude, with_norms)
+    if model.controller is not None:
+        return theorem2(model, order, amplitude, with_norms)
+    return theorem1(model.plant, order, amplitude, with_norms)
 
 
 @dataclass(frozen=True)

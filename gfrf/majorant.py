@@ -276,8 +276,10 @@ def certify(step: Callable[[np.ndarray, float], np.ndarray], dim: int, r: float,
         if not np.all(np.isfinite(f)):
             return None
         jac = np.empty((dim, dim))
+        # finite-difference step relative to the solution's own scale (it may be ~1e-5)
+        scale = max(float(np.max(np.abs(x))), float(np.max(np.abs(f))), 1e-300)
         for i in range(dim):
-            h = 1e-7 * (1.0 + abs(x[i]))
+            h = 1e-7 * max(abs(x[i]), scale)
             e = x.copy()
             e[i] += h
             jac[:, i] = (step(e, r_up) - e - f) / h

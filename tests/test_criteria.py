@@ -173,3 +173,16 @@ def test_phi_series_by_hand() -> None:
     # phi_3 = beta_1 alpha_3 + beta_2 (2 alpha_1 alpha_2) + beta_3 alpha_1^3
     phi = phi_series([2.0, 3.0, 5.0], [1.0, 0.5, 0.25], 3)
     assert phi == pytest.approx([2.0, 2 * 0.5 + 3.0, 2 * 0.25 + 3 * 2 * 0.5 + 5.0])
+
+
+def test_verdict_of_a_bare_model_and_a_stiff_cubic_radius():
+    # B = beta1 r + k sup|1/A| B^3 with sup|1/A| = beta1 (H1 = 1/A): the branch point of
+    # r = (B - g B^3)/beta1, g = k beta1, is at B^2 = 1/(3g): r* = 2/(3 sqrt(3 g) beta1).
+    from gfrf.model import parse_model
+
+    k, b = 1e6, 0.2
+    beta1 = 1 / (b * math.sqrt(1 - b**2 / 4))
+    expected = 2 / (3 * math.sqrt(3 * k * beta1) * beta1)
+    result = verdict(parse_model(f"D(y,2) + {b}*D(y) + y + {k}*y**3 = u"), with_norms=False)
+    assert result.theorem == 1
+    assert result.radius == pytest.approx(expected, rel=1e-8)
