@@ -10,7 +10,7 @@ import sympy as sp
 from gfrf.cli._models import add_model_argument, resolve_model
 from gfrf.cli._output import add_json_flag, emit
 from gfrf.errors import ArgumentError
-from gfrf.kernels import kernel
+from gfrf.kernels import MAX_KERNEL_ORDER, kernel
 
 __all__ = ["register"]
 
@@ -52,8 +52,9 @@ def _show(args: argparse.Namespace) -> int:
     mf = resolve_model(args)
     model = mf.plant
     symmetric = not args.asymmetric
-    if args.order < 1:
-        raise ArgumentError(f"--order must be >= 1, got {args.order}")
+    if not 1 <= args.order <= MAX_KERNEL_ORDER:
+        raise ArgumentError(f"--order must be between 1 and {MAX_KERNEL_ORDER}, "
+                            f"got {args.order}")
     rows = []
     for n in range(1, args.order + 1):
         k = kernel(model, n, symmetric)
