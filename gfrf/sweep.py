@@ -25,6 +25,11 @@ bounded    a simulation of the polynomial model (closed loop with a controller) 
            ``peak`` max|y|, ``blowup_time``
 =========  ================================================================================
 
+Continuous and discrete (NARX, ``sample_time``) models, with a transfer-function or a
+polynomial controller, all go through the template; a structure it does not cover (a
+``sample_time`` depending on a swept parameter) falls back to a full
+:func:`gfrf.template.rebuild` of the file per point, much slower.  Every row has
+``path``: ``template`` or ``rebuild``, the route its model file took.
 Every row also has ``error``: empty, or the message of a point where the model is
 invalid (a vanishing coefficient, ...), so one bad point does not stop a sweep.
 Angular frequencies are in rad/s, amplitudes in input units.
@@ -60,7 +65,7 @@ from gfrf.criteria import verdict
 from gfrf.errors import ArgumentError, GfrfError
 from gfrf.majorant import majorant
 from gfrf.norms import h1_norm
-from gfrf.template import ModelTemplate, model_template
+from gfrf.template import ModelTemplate, TemplateUnsupported, model_template, rebuild
 
 __all__ = ["Axis", "SweepResult", "parse_axis", "grid", "sweep", "executor", "WHAT",
            "evaluate_point", "check_output"]
@@ -123,13 +128,23 @@ def grid(axes: Sequence[Axis]) -> list[dict[str, float]]:
 
 @dataclass(frozen=True)
 class _Task:
-    """What every chunk needs: the template and the options (pickled once per chunk)."""
+    """What every chunk needs: the template and the options (pickled once per chunk).
 
-    template: ModelTemplate
+    ``template`` is None on the rebuild route: each point re-parses ``data``.
+    """
+
+    template: ModelTemplate | None
     what: str
     amplitude: float
     order: int
     t_end: float
+    data: Mapping[str, Any] = field(default_factory=dict)
+    file: str = ""
+
+    @property
+    def path(self) -> str:
+        """The route of the points: ``template`` or ``rebuild``."""
+        return "rebuild" if self.template is None else "template"
 
 
 def _linear_stable(v: Any) -> bool:
@@ -140,7 +155,8 @@ def evaluate_point(task: _Task, point: Mapping[str, float]) -> dict[str, Any]:
     """The row of one grid point (parameters first, then the results, then ``error``)."""
     row: dict[str, Any] = dict(point)
     try:
-        mf = task.template.instantiate(point)
+        mf = (rebuild(task.data, point, task.file) if task.template is None
+              else task.template.instantiate(point))
         if task.what in ("verdict", "radius"):
             v = verdict(mf, 1, task.amplitude, with_norms=False)
             if task.what == "verdict":
@@ -153,9 +169,9 @@ def evaluate_point(task: _Task, point: Mapping[str, float]) -> dict[str, Any]:
             row.update({f"M{n}": float(coefficients[n]) for n in range(2, task.order + 1)})
         else:
             row.update(_simulate(mf, task))
-        row["error"] = ""
+        row["path"], row["error"] = task.path, ""
     except GfrfError as exc:
-        row["error"] = str(exc)
+        row["path"], row["error"] = task.path, str(exc)
     return row
 
 
@@ -315,7 +331,7 @@ def _columns(axes: Sequence[Axis], what: str, order: int) -> list[str]:
              "radius": ["radius", "linear_stable"],
              "norm": ["h1", "linear_stable"] + [f"M{n}" for n in range(2, order + 1)],
              "bounded": ["bounded", "peak", "blowup_time"]}[what]
-    return names + extra + ["error"]
+    return names + extra + ["path", "error"]
 
 
 def sweep(data: Mapping[str, Any], axes: Sequence[Axis], *, what: str = "verdict",
@@ -369,8 +385,11 @@ def sweep(data: Mapping[str, Any], axes: Sequence[Axis], *, what: str = "verdict
         raise ArgumentError(f"t_end must be a positive number of seconds, got {t_end!r}")
     points = grid(axes)
     start = time.perf_counter()
-    task = _Task(model_template(data, [a.name for a in axes], path), what, float(amplitude),
-                 order, float(t_end))
+    try:
+        template: ModelTemplate | None = model_template(data, [a.name for a in axes], path)
+    except TemplateUnsupported:
+        template = None
+    task = _Task(template, what, float(amplitude), order, float(t_end), dict(data), path)
     template_seconds = time.perf_counter() - start
     context = (contextlib.nullcontext((scheduler, workers or 1))
                if isinstance(scheduler, Executor) else executor(scheduler, workers))
@@ -389,6 +408,9 @@ def sweep(data: Mapping[str, Any], axes: Sequence[Axis], *, what: str = "verdict
     rows = [row for chunk in results for row in chunk]
     notes = [f"{sum(1 for r in rows if r['error'])} point(s) with an invalid model"] \
         if any(r["error"] for r in rows) else []
+    if template is None:
+        notes.append("no template for this model (sample_time depends on a swept "
+                      "parameter): every point re-parsed the file (path 'rebuild')")
     name = scheduler if isinstance(scheduler, str) else type(scheduler).__name__
     return SweepResult(tuple(axes), what, float(amplitude), rows,
                        _columns(axes, what, order), seconds, template_seconds, name, notes)

@@ -1,18 +1,21 @@
 """Model templates: the symbolic work of a parameter sweep, done once per model structure.
 
 A sweep changes only the values of some ``[parameters]`` (or ``controller.parameters``)
-of a model file; the terms that exist, their derivative orders and the truncation
-are the same at every point.  :func:`model_template` parses the equation once with
-the swept parameters left as symbols, Taylor-truncates it, and keeps each term's
-coefficient (and each controller ``num``/``den`` entry) as a formula in the swept
+of a model file; the terms that exist, their derivative orders (or lags of a NARX
+model) and the truncation are the same at every point.  :func:`model_template` parses
+the equation once with the swept parameters left as symbols, Taylor-truncates it, and
+keeps each term's coefficient (and each controller ``num``/``den`` entry, or each
+coefficient of a polynomial controller's equation) as a formula in the swept
 parameters, printed to Python source.  :meth:`ModelTemplate.instantiate` evaluates
 those formulas (plain float arithmetic, ~10 us) and assembles the
 :class:`~gfrf.modelfile.ModelFile` of one grid point without touching sympy, so only
 numeric work is shipped to sweep workers.  The template pickles as text and
 recompiles its formulas on first use in each process.
 
-The instantiated plant has ``physical = None``: it serves the GFRF criteria, not
-simulation (simulation sweeps rebuild the file with :func:`gfrf.modelfile.model_from_dict`).
+The instantiated plant (and polynomial controller) has ``physical = None``: it serves
+the GFRF criteria and simulations of the polynomial model.  The one structure a
+template cannot cover, a ``sample_time`` that depends on a swept parameter, raises
+:class:`TemplateUnsupported`; :func:`rebuild` (a full parse per point) covers it.
 
 Examples
 --------
@@ -33,16 +36,27 @@ import sympy as sp
 
 from gfrf.errors import ArgumentError, ModelError
 from gfrf.model import (
+    _LAG,
+    Model,
     Term,
     _atom,
     _parse_side,
     _replace_operators,
+    _rewrite_lags,
     _split_equation,
     _truncate,
 )
 from gfrf.modelfile import ModelFile, model_from_dict
 
-__all__ = ["ModelTemplate", "model_template", "rebuild", "parameter_names"]
+__all__ = ["ModelTemplate", "TemplateUnsupported", "model_template", "rebuild",
+           "parameter_names"]
+
+#: Coefficient structure of one equation: (y_orders, u_orders) per coefficient formula.
+Structure = tuple[tuple[tuple[int, ...], tuple[int, ...]], ...]
+
+
+class TemplateUnsupported(ArgumentError):
+    """The model file is valid but its swept structure is outside the template path."""
 
 
 def parameter_names(data: Mapping[str, Any]) -> dict[str, str]:
@@ -98,14 +112,22 @@ class ModelTemplate:
     structure : tuple of (y_orders, u_orders)
         One entry per plant coefficient formula.
     source : str
-        Python source of ``lambda <names>: (plant coefficients, num, den)``.
+        Python source of ``lambda <names>: (plant coefficients, controller numbers)``,
+        the controller numbers being ``num`` then ``den`` of a transfer function, or
+        the coefficients of a polynomial controller in ``controller_structure`` order.
+    n_num : int
+        Length of a transfer-function controller's ``num`` (0 otherwise).
+    controller_structure : tuple of (y_orders, u_orders)
+        One entry per coefficient of a polynomial controller (its output is the plant
+        input); empty otherwise.
     """
 
     names: tuple[str, ...]
     base: ModelFile
-    structure: tuple[tuple[tuple[int, ...], tuple[int, ...]], ...]
+    structure: Structure
     source: str
     n_num: int
+    controller_structure: Structure = ()
     _function: Callable[..., tuple[float, ...]] | None = field(default=None, repr=False)
 
     def __getstate__(self) -> dict[str, Any]:
@@ -131,20 +153,18 @@ class ModelTemplate:
         except (ZeroDivisionError, ValueError, OverflowError) as exc:
             raise ModelError(f"{self._where(values)}: {exc}") from None
         plant = self.base.plant
-        terms = []
-        for (y_orders, u_orders), c in zip(self.structure, numbers, strict=False):
-            if not math.isfinite(c):
-                raise ModelError(f"{self._where(values)}: coefficient of "
-                                 f"{Term(y_orders, u_orders, 1.0, plant.output, plant.input)} "
-                                 f"is not finite")
-            if c != 0.0:
-                terms.append(Term(y_orders, u_orders, float(c), plant.output, plant.input,
-                                  plant.is_discrete))
-        self._check(terms, values)
-        model = replace(plant, terms=tuple(sorted(terms)), physical=None)
+        terms = self._terms(plant, self.structure, numbers, values)
+        self._check(plant, terms, values, "the equation")
+        model = replace(plant, terms=terms, physical=None)
         controller = self.base.controller
-        if controller is not None and controller.is_linear:
-            rest = numbers[len(self.structure):]
+        rest = numbers[len(self.structure):]
+        if controller is not None and controller.model is not None:
+            law = controller.model
+            law_terms = self._terms(law, self.controller_structure, rest, values)
+            self._check(law, law_terms, values, "the controller equation")
+            controller = replace(controller, model=replace(law, terms=law_terms,
+                                                           physical=None))
+        elif controller is not None:
             num, den = rest[:self.n_num], rest[self.n_num:]
             if not any(den):
                 raise ModelError(f"{self._where(values)}: controller.den is zero")
@@ -153,17 +173,30 @@ class ModelTemplate:
                        parameters={**self.base.parameters, **dict(zip(self.names, args,
                                                                        strict=True))})
 
+    def _terms(self, model: Model, structure: Structure, numbers: Sequence[float],
+               values: Mapping[str, float]) -> tuple[Term, ...]:
+        """The non-zero terms of ``model`` with the coefficients ``numbers``."""
+        terms = []
+        for (y_orders, u_orders), c in zip(structure, numbers, strict=False):
+            if not math.isfinite(c):
+                raise ModelError(f"{self._where(values)}: coefficient of "
+                                 f"{Term(y_orders, u_orders, 1.0, model.output, model.input)} "
+                                 f"is not finite")
+            if c != 0.0:
+                terms.append(Term(y_orders, u_orders, float(c), model.output, model.input,
+                                  model.is_discrete))
+        return tuple(sorted(terms))
+
     def _where(self, values: Mapping[str, float]) -> str:
         return "at " + ", ".join(f"{n} = {values[n]:g}" for n in self.names)
 
-    def _check(self, terms: list[Term], values: Mapping[str, float]) -> None:
-        plant = self.base.plant
+    def _check(self, model: Model, terms: Sequence[Term], values: Mapping[str, float],
+               what: str) -> None:
         if not any(t.is_linear_output for t in terms):
             raise ModelError(f"{self._where(values)}: no linear term in the output "
-                             f"{plant.output!r}: H1 is undefined")
+                             f"{model.output!r}: H1 is undefined")
         if not any(t.u_orders for t in terms):
-            raise ModelError(f"{self._where(values)}: the equation has no input "
-                             f"{plant.input!r}")
+            raise ModelError(f"{self._where(values)}: {what} has no input {model.input!r}")
 
 
 def _symbolic_table(table: Mapping[str, Any] | None, swept: Mapping[str, sp.Symbol],
@@ -179,21 +212,25 @@ def _symbolic_table(table: Mapping[str, Any] | None, swept: Mapping[str, sp.Symb
     return values
 
 
-def _plant_coefficients(base: ModelFile, data: Mapping[str, Any],
-                        values: dict[str, sp.Expr]) -> dict[tuple, sp.Expr]:
-    """Coefficient formulas {(y_orders, u_orders): expr} of the plant equation."""
-    plant = base.plant
-    y, u = sp.Symbol(plant.output, real=True), sp.Symbol(plant.input, real=True)
-    local: dict[str, Any] = {plant.output: y, plant.input: u, "D": sp.Function("D"), **values}
-    text = data["equation"]
-    lhs, rhs = _split_equation(text)
+def _coefficients(text: str, model: Model, values: dict[str, sp.Expr]) -> dict[tuple, sp.Expr]:
+    """Coefficient formulas {(y_orders, u_orders): expr} of the equation ``text`` of
+    ``model`` (its signals, truncation and time base), parameters as in ``values``."""
+    y, u = sp.Symbol(model.output, real=True), sp.Symbol(model.input, real=True)
+    local: dict[str, Any] = {model.output: y, model.input: u, **values}
+    if model.is_discrete:
+        local["_lag"] = _LAG
+        body = _rewrite_lags(text, (model.output, model.input))
+    else:
+        local["D"] = sp.Function("D")
+        body = text
+    lhs, rhs = _split_equation(body)
     expr = _parse_side(lhs, local, text) - _parse_side(rhs, local, text)
-    expr = _replace_operators(expr, y, u, False)
-    expr = expr.xreplace({y: _atom(plant.output, 0), u: _atom(plant.input, 0)})
+    expr = _replace_operators(expr, y, u, model.is_discrete)
+    expr = expr.xreplace({y: _atom(model.output, 0), u: _atom(model.input, 0)})
     atoms = sorted((s for s in expr.free_symbols
-                    if s.name.startswith((f"{plant.output}__", f"{plant.input}__"))),
+                    if s.name.startswith((f"{model.output}__", f"{model.input}__"))),
                    key=lambda s: s.name)
-    polynomial = (_truncate(expr, atoms, plant.truncation) if plant.truncation
+    polynomial = (_truncate(expr, atoms, model.truncation) if model.truncation
                   else sp.expand(expr))
     formulas: dict[tuple, sp.Expr] = {}
     for monom, coeff in sp.Poly(polynomial, *atoms).terms():
@@ -201,7 +238,7 @@ def _plant_coefficients(base: ModelFile, data: Mapping[str, Any],
         u_orders: list[int] = []
         for atom, power in zip(atoms, monom, strict=True):
             name, order = atom.name.rsplit("__", 1)
-            (y_orders if name == plant.output else u_orders).extend([int(order)] * power)
+            (y_orders if name == model.output else u_orders).extend([int(order)] * power)
         if y_orders or u_orders:
             formulas[(tuple(sorted(y_orders)), tuple(sorted(u_orders)))] = coeff
     return formulas
@@ -231,8 +268,10 @@ def model_template(data: Mapping[str, Any], names: Sequence[str], path: str = ""
     Raises
     ------
     ArgumentError
-        An unknown parameter name, or a model this fast path does not cover (discrete,
-        a polynomial controller): use :func:`rebuild` per point instead.
+        An unknown parameter name.
+    TemplateUnsupported
+        A structure this fast path does not cover (a ``sample_time`` depending on a
+        swept parameter): use :func:`rebuild` per point instead.
     ModelError
         The model file itself is invalid.
     """
@@ -241,22 +280,27 @@ def model_template(data: Mapping[str, Any], names: Sequence[str], path: str = ""
         if name not in where:
             raise ArgumentError(_unknown(name, where))
     base = model_from_dict(dict(data), path=path)
-    if base.plant.is_discrete:
-        raise ArgumentError("sweep templates cover continuous models only")
-    if base.controller is not None and not base.controller.is_linear:
-        raise ArgumentError("sweep templates cover linear (num/den) controllers only")
     swept = {n: sp.Symbol(n, real=True) for n in names}
     values = _symbolic_table(data.get("parameters"), swept, {})
-    formulas = _plant_coefficients(base, data, values)
+    step = data.get("sample_time")
+    if isinstance(step, str) and sp.sympify(step, locals=values).free_symbols:
+        raise TemplateUnsupported("sweep templates need a sample_time independent of the "
+                                  "swept parameters")
+    formulas = _coefficients(data["equation"], base.plant, values)
     exprs = list(formulas.values())
     n_num = 0
+    law: dict[tuple, sp.Expr] = {}
     if base.controller is not None:
         controller = data["controller"]
         own = _symbolic_table(controller.get("parameters"), swept, values)
-        num = [sp.sympify(v, locals=own) for v in controller.get("num", [1])]
-        den = [sp.sympify(v, locals=own) for v in controller.get("den", [1])]
-        exprs += num + den
-        n_num = len(num)
+        if base.controller.model is not None:
+            law = _coefficients(controller["equation"], base.controller.model, own)
+            exprs += list(law.values())
+        else:
+            num = [sp.sympify(v, locals=own) for v in controller.get("num", [1])]
+            den = [sp.sympify(v, locals=own) for v in controller.get("den", [1])]
+            exprs += num + den
+            n_num = len(num)
     body = ", ".join(sp.pycode(_exact(e)) for e in exprs)
     source = f"lambda {', '.join(names) or '*_'}: ({body},)"
-    return ModelTemplate(tuple(names), base, tuple(formulas), source, n_num)
+    return ModelTemplate(tuple(names), base, tuple(formulas), source, n_num, tuple(law))

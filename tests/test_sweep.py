@@ -194,3 +194,40 @@ def test_scheduler_address(capsys: pytest.CaptureFixture) -> None:
     assert code == 0
     assert payload["scheduler"] == cluster.scheduler_address
     assert [r["verdict"] for r in payload["rows"]] == ["inconclusive", "inconclusive", "stable"]
+
+
+NARX = {"equation": "y[k] = a*y[k-1] + b*y[k-1]**2*u[k-2] + u[k-1]", "sample_time": 0.1,
+        "parameters": {"a": 0.5, "b": -0.2}}
+POLYNOMIAL_LOOP = {"equation": "D(y,2) + 0.5*D(y) - y + 0.3*y**3 = u",
+                   "controller": {"equation": "u = kp*y + q*D(y) + g*y**3",
+                                  "parameters": {"kp": 3.0, "q": 1.0, "g": 0.1}}}
+
+
+@pytest.mark.parametrize(("data", "axes", "route"), [
+    (NARX, ["a=0.2:0.9:3", "b=-0.2:-0.01:2"], "template"),
+    (POLYNOMIAL_LOOP, ["kp=0.5:20:3", "g=0:0.5:2"], "template"),
+    ({**NARX, "sample_time": "T", "parameters": {"T": 0.1, **NARX["parameters"]}},
+     ["T=0.1:0.2:2", "a=0.3:0.6:2"], "rebuild"),
+])
+def test_narx_and_polynomial_controller_sweeps_match_direct_verdicts(
+        data: dict, axes: list[str], route: str) -> None:
+    result = sweep(data, [parse_axis(a) for a in axes], progress=False)
+    assert result.columns[-2:] == ["path", "error"]
+    for row in result.rows:
+        assert row["error"] == "" and row["path"] == route, row
+        point = {a.name: row[a.name] for a in result.axes}
+        direct = verdict(rebuild(data, point), 1, 1.0, with_norms=False)
+        assert (row["verdict"], row["theorem"]) == (direct.verdict, direct.theorem)
+        assert row["radius"] == pytest.approx(direct.radius, rel=1e-12, abs=1e-300)
+    assert (route == "rebuild") == any("re-parsed" in n for n in result.notes)
+
+
+def test_polynomial_controller_template_matches_a_full_parse() -> None:
+    values = {"kp": 7.5, "q": 0.25, "g": -0.4}
+    fast = model_template(POLYNOMIAL_LOOP, list(values)).instantiate(values)
+    slow = rebuild(POLYNOMIAL_LOOP, values)
+    assert fast.controller.model.terms == slow.controller.model.terms
+    assert [t.coefficient for t in fast.controller.model.terms] == pytest.approx(
+        [t.coefficient for t in slow.controller.model.terms], rel=1e-15)
+    rows = sweep(POLYNOMIAL_LOOP, [parse_axis("kp=0.5:20:3")], progress=False).rows
+    assert {r["verdict"] for r in rows} >= {"unstable"}
