@@ -19,6 +19,16 @@ It is solved algebraically for theta'' (plant and controller are both linear in 
 which is exact as long as the coefficient of theta'' stays non-zero; where it vanishes
 the state becomes non-finite and the run stops there like a blow-up, with its time.
 
+A polynomial controller (``[controller] equation``) is a model whose output w = C[y]
+(named like the plant input) gives ``u = r + feedback*w``: its output derivatives
+w, ..., w^(m-1) join the state, and the plant and controller equations are solved for
+y^(n) and w^(m) (one after the other, or as the linear system they form when each
+holds the other's unknown, e.g. a controller using y^(n) with a static output m = 0).
+Plant input derivatives D(u,j), j <= m, are then allowed; the reference r, r', ...
+must be given.  A NARX plant is closed with a polynomial controller or a transfer
+function read as ``control.tf(num, den, sample_time)`` (powers of z, highest first;
+equal lengths: coefficients of 1, z^-1, ...) by direct recursion of (y[k], w[k]).
+
 Before integrating, the linearisation at z = 0 is checked: an unstable linear part
 (open-loop cart-pole, an unstable closed loop) is reported in ``notes`` and as a
 ``UserWarning``, and every run stops at ``blowup`` (default 1e6) on |y| with status
@@ -189,9 +199,6 @@ def _solve_for(expr: sp.Expr, top: sp.Symbol, what: str) -> sp.Expr:
 def _controller_law(ctrl: Controller, y_atom: Callable[[int], sp.Symbol], order: int,
                     r: sp.Symbol) -> tuple[sp.Expr, list[sp.Symbol], list[sp.Expr]]:
     """u = r + feedback*C[y] with C = num/den: (u expression, controller states, their rates)."""
-    if ctrl.model is not None:
-        raise ModelError("closed-loop simulation needs a transfer-function controller "
-                         "(num/den); a nonlinear controller equation is not supported")
     s = sp.Symbol("s")
     num = sp.Poly([sp.Float(c) for c in ctrl.num], s)
     den = sp.Poly([sp.Float(c) for c in ctrl.den], s)
@@ -214,6 +221,102 @@ def _controller_law(ctrl: Controller, y_atom: Callable[[int], sp.Symbol], order:
         rates.append(-sum(d[i] * states[i] for i in range(m)) + y_atom(0))
         v += sum(rc[i] * states[i] for i in range(m))
     return r + ctrl.feedback * v, states, rates
+
+
+def _orders(expr: sp.Expr, name: str) -> list[int]:
+    """Sorted derivative orders (lags for NARX) of the atoms ``name__k`` in ``expr``."""
+    return sorted(int(a.name.rsplit("__", 1)[1]) for a in expr.free_symbols
+                  if a.name.startswith(f"{name}__"))
+
+
+def _w(k: int) -> sp.Symbol:
+    """Controller output w (C[y]; the plant input is u = r + feedback*w), order or lag k."""
+    return sp.Symbol(f"_w__{k}", real=True)
+
+
+def _controller_equation(ctrl: Controller, plant: Model, equation: str) -> sp.Expr:
+    """The controller as ``expression = 0`` in its output atoms :func:`_w` and plant output.
+
+    A polynomial controller's output atoms (named like the plant input) are renamed to
+    w; a transfer function (discrete plants only here) is read as ``control.tf(num, den,
+    sample_time)``: powers of z, highest first, so that after left-padding num to the
+    length of den the entries are the coefficients of 1, z^-1, z^-2, ... and
+    ``sum den_i w[k-i] = sum num_i y[k-i]``.
+    """
+    if ctrl.model is not None:
+        c = ctrl.model
+        expr = c.physical if equation == "physical" and c.physical is not None \
+            else c.polynomial()
+        return expr.xreplace({plant.atom(c.output, k): _w(k) for k in _orders(expr, c.output)})
+    num = np.trim_zeros(np.asarray(ctrl.num, dtype=float), "f")
+    den = np.trim_zeros(np.asarray(ctrl.den, dtype=float), "f")
+    if num.size > den.size:
+        raise ModelError("the discrete controller num/den (powers of z, highest first, as "
+                         "control.tf) has more zeros than poles: it is not causal")
+    num = np.concatenate([np.zeros(den.size - num.size), num])
+    return sum((sp.Float(a) * _w(i) - sp.Float(b) * plant.atom(plant.output, i)
+                for i, (a, b) in enumerate(zip(den, num, strict=True))), sp.Integer(0))
+
+
+def _solve_pair(loop: sp.Expr, ctrl: sp.Expr, top_y: sp.Symbol,
+                top_w: sp.Symbol) -> tuple[sp.Expr, sp.Expr]:
+    """Solve the plant (``loop``) and controller equations for top_y and top_w.
+
+    Sequentially when one equation lacks the other's unknown; otherwise as the linear
+    system both form (each must be linear in both unknowns jointly).
+    """
+    if not loop.has(top_w):
+        y_top = _solve_for(loop, top_y, "closed-loop plant equation")
+        return y_top, _solve_for(ctrl.xreplace({top_y: y_top}), top_w, "controller equation")
+    if not ctrl.has(top_y):
+        w_top = _solve_for(ctrl, top_w, "controller equation")
+        return _solve_for(loop.xreplace({top_w: w_top}), top_y,
+                          "closed-loop plant equation"), w_top
+    eqs = sp.Matrix([loop, ctrl])
+    jac = eqs.jacobian([top_y, top_w])
+    if any(entry.has(top_y) or entry.has(top_w) for entry in jac):
+        raise ModelError(f"plant and controller are coupled through {top_y} and {top_w} "
+                         f"but not jointly linear in them: cannot put the loop in state form")
+    if sp.simplify(jac.det()) == 0:
+        raise ModelError(f"plant and controller equations are singular in {top_y}, {top_w}")
+    sol = jac.LUsolve(-eqs.xreplace({top_y: 0, top_w: 0}))
+    return sol[0], sol[1]
+
+
+def _polynomial_loop(expr: sp.Expr, model: Model, ctrl: Controller, equation: str
+                     ) -> tuple[list[sp.Symbol], list[sp.Expr], list[sp.Symbol], sp.Expr,
+                                list[str]]:
+    """Continuous loop with a polynomial controller: (states, rates, inputs, u, notes).
+
+    States are y, ..., y^(n-1) then w, ..., w^(m-1) (m: the controller's output order);
+    the inputs are r, r', ... up to the plant's highest input derivative.
+    """
+    y_atom = lambda k: model.atom(model.output, k)  # noqa: E731
+    cexpr = _controller_equation(ctrl, model, equation)
+    n = _orders(expr, model.output)[-1]
+    u_orders = _orders(expr, model.input)
+    w_orders, p_orders = _orders(cexpr, "_w"), _orders(cexpr, model.output)
+    if not w_orders:
+        raise ModelError("the controller equation does not contain its output "
+                         f"{model.input}")
+    m, p, q = w_orders[-1], max(p_orders, default=0), max(u_orders, default=0)
+    if p > n:
+        raise ModelError(f"the controller uses D({model.output},{p}), above the plant order "
+                         f"{n}: the loop has no state form")
+    if q > m:
+        raise ModelError(f"the plant uses D({model.input},{q}), above the controller's output "
+                         f"order {m}: the loop has no state form")
+    r = [sp.Symbol(f"r__{j}", real=True) for j in range(q + 1)]
+    loop = expr.xreplace({model.atom(model.input, j): r[j] + ctrl.feedback * _w(j)
+                          for j in u_orders})
+    y_top, w_top = _solve_pair(loop, cexpr, y_atom(n), _w(m))
+    notes = [f"the controller uses D({model.output},{n}): the loop is implicit; solved "
+             f"algebraically for D({model.output},{n})"] if p == n else []
+    z = [y_atom(k) for k in range(n)] + [_w(k) for k in range(m)]
+    rates = [y_atom(k + 1) for k in range(n - 1)] + [y_top]
+    rates += [_w(k + 1) for k in range(m - 1)] + ([w_top] if m else [])
+    plant_u = r[0] + ctrl.feedback * (_w(0) if m else w_top)
+    return z, rates, r, plant_u, notes
 
 
 def _source(z: list[sp.Symbol], v: list[sp.Symbol], rates: list[sp.Expr],
@@ -253,8 +356,10 @@ def build_system(source: ModelFile | Model, *, closed_loop: bool = False,
     ------
     ModelError
         No controller for a closed loop, an equation not linear in its highest output
-        derivative, a controller too improper for the plant, input derivatives in a
-        closed loop.
+        derivative, a controller too improper for the plant (or, for a polynomial
+        controller, a plant input derivative above the controller's output order), input
+        derivatives in a loop with a transfer-function controller, a non-causal discrete
+        controller.
     """
     mf = source if isinstance(source, ModelFile) else None
     model = source.plant if isinstance(source, ModelFile) else source
@@ -265,41 +370,40 @@ def build_system(source: ModelFile | Model, *, closed_loop: bool = False,
     label = f"{model.output}: {equation}{', closed loop' if closed_loop else ''}"
     y_atom = lambda k: model.atom(model.output, k)  # noqa: E731
     u_atom = lambda k: model.atom(model.input, k)  # noqa: E731
-    atoms = expr.free_symbols
-    y_orders = sorted(int(a.name.rsplit("__", 1)[1]) for a in atoms
-                      if a.name.startswith(f"{model.output}__"))
-    u_orders = sorted(int(a.name.rsplit("__", 1)[1]) for a in atoms
-                      if a.name.startswith(f"{model.input}__"))
-    if model.is_discrete:
-        if closed_loop:
-            raise ModelError("closed-loop simulation of a discrete (NARX) model is not supported")
-        return _narx_system(model, expr, y_orders, u_orders, label)
-    n = y_orders[-1]
-    notes: list[str] = []
-    r = sp.Symbol("r__0", real=True)
-    ctrl_states: list[sp.Symbol] = []
-    ctrl_rates: list[sp.Expr] = []
+    y_orders, u_orders = _orders(expr, model.output), _orders(expr, model.input)
+    ctrl = None
     if closed_loop:
         if mf is None or mf.controller is None:
             raise ModelError("closed loop requested but the model file has no [controller]")
+        ctrl = mf.controller
+    if model.is_discrete:
+        if ctrl is not None:
+            return _narx_loop(model, expr, ctrl, equation, label)
+        return _narx_system(model, expr, y_orders, u_orders, label)
+    n = y_orders[-1]
+    notes: list[str] = []
+    if ctrl is not None and ctrl.model is not None:
+        z, rates, inputs, plant_u, notes = _polynomial_loop(expr, model, ctrl, equation)
+    elif ctrl is not None:
         if any(k > 0 for k in u_orders):
             raise ModelError("closed-loop simulation with input derivatives D(u,k) in the "
-                             "plant is not supported")
-        law, ctrl_states, ctrl_rates = _controller_law(mf.controller, y_atom, n, r)
+                             "plant is not supported with a transfer-function controller")
+        r = sp.Symbol("r__0", real=True)
+        law, ctrl_states, ctrl_rates = _controller_law(ctrl, y_atom, n, r)
         if law.has(y_atom(n)):
             notes.append(f"the controller is improper: its D({model.output},{n}) term makes "
                          f"the loop implicit; solved algebraically for D({model.output},{n})")
-        loop = expr.xreplace({u_atom(0): law})
-        top = _solve_for(loop, y_atom(n), "closed-loop equation")
-        plant_u = law
-        inputs = [r]
+        top = _solve_for(expr.xreplace({u_atom(0): law}), y_atom(n), "closed-loop equation")
+        z = [y_atom(k) for k in range(n)] + ctrl_states
+        rates = [y_atom(k + 1) for k in range(n - 1)] + [top]
+        rates += [rate.xreplace({y_atom(n): top}) for rate in ctrl_rates]
+        plant_u, inputs = law, [r]
     else:
         top = _solve_for(expr, y_atom(n), "model equation")
         inputs = [u_atom(k) for k in range(max(u_orders) + 1)]
         plant_u = u_atom(0)
-    z = [y_atom(k) for k in range(n)] + ctrl_states
-    rates = [y_atom(k + 1) for k in range(n - 1)] + [top]
-    rates += [rate.xreplace({y_atom(n): top}) for rate in ctrl_rates]
+        z = [y_atom(k) for k in range(n)]
+        rates = [y_atom(k + 1) for k in range(n - 1)] + [top]
     dz = [sp.Symbol(f"_dz{i}", real=True) for i in range(len(z))]
     plant_u = plant_u.xreplace({y_atom(n): dz[n - 1]})
     jac = sp.Matrix(rates).jacobian(z).subs({s: 0 for s in z + inputs})
@@ -322,6 +426,33 @@ def _narx_system(model: Model, expr: sp.Expr, y_orders: list[int], u_orders: lis
     src = _source(z, inputs, [now], inputs[0], [])
     return OdeSystem(n_states=len(z), order=lags, n_inputs=len(inputs), source=src,
                      linear_eigenvalues=eig, label=label, discrete=True,
+                     sample_time=model.sample_time)
+
+
+def _narx_loop(model: Model, expr: sp.Expr, ctrl: Controller, equation: str,
+               label: str) -> OdeSystem:
+    """NARX plant in a loop: ``rhs`` gives (y[k], w[k]) from past y, past w and r lags.
+
+    The state is (y[k-1], ..., y[k-a], w[k-1], ..., w[k-b]); the inputs r[k], ..., r[k-q]
+    (q: the plant's largest input lag); u[k] = r[k] + feedback*w[k].
+    """
+    y_atom = lambda k: model.atom(model.output, k)  # noqa: E731
+    cexpr = _controller_equation(ctrl, model, equation)
+    u_orders = _orders(expr, model.input)
+    q = max(u_orders, default=0)
+    r = [sp.Symbol(f"r__{j}", real=True) for j in range(q + 1)]
+    loop = expr.xreplace({model.atom(model.input, j): r[j] + ctrl.feedback * _w(j)
+                          for j in u_orders})
+    y_now, w_now = _solve_pair(loop, cexpr, y_atom(0), _w(0))
+    a = max(_orders(expr, model.output) + _orders(cexpr, model.output))
+    b = max(_orders(cexpr, "_w") + [q])
+    z = [y_atom(k) for k in range(1, a + 1)] + [_w(k) for k in range(1, b + 1)]
+    step = ([y_now] + z[:a - 1] if a else []) + ([w_now] + z[a:-1] if b else [])
+    jac = sp.Matrix(step).jacobian(z).subs({s: 0 for s in z + r})
+    eig = np.linalg.eigvals(np.array(jac.evalf(), dtype=float)) if z else np.zeros(0)
+    src = _source(z, r, [y_now, w_now], r[0] + ctrl.feedback * _w(0), [y_atom(0), _w(0)])
+    return OdeSystem(n_states=len(z), order=a, n_inputs=len(r), source=src,
+                     linear_eigenvalues=eig, label=label, closed_loop=True, discrete=True,
                      sample_time=model.sample_time)
 
 
@@ -421,7 +552,7 @@ def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | N
 
 def _signal(input_: str | InputSignal | None, system: OdeSystem) -> InputSignal:
     # A NARX model reads past samples of u, not derivatives: only u itself is needed.
-    need = 0 if system.closed_loop or system.discrete else system.n_inputs - 1
+    need = 0 if system.discrete else system.n_inputs - 1
     if input_ is None:
         return zero_input(need)
     if isinstance(input_, InputSignal):
@@ -493,27 +624,33 @@ def _scipy(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end: float,
 
 def _narx(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end: float,
           blowup: float) -> SimulationResult:
-    rhs = system.function("rhs")
+    rhs, pin = system.function("rhs"), system.function("plant_input")
     period = float(system.sample_time)  # type: ignore[arg-type]
     steps = int(math.floor(t_end / period)) + 1
     t = np.arange(steps) * period
-    u_seq = signal(t)
-    lags = system.n_inputs
-    y = np.zeros(steps)
+    v_seq = signal(t)
+    lags, a = system.n_inputs, system.order
+    y, u = np.zeros(steps), np.zeros(steps)
     z = z0.copy()
-    out = np.empty(1)
+    out = np.empty(2 if system.closed_loop else 1)
     status, blow_t, message = "ok", None, "recursion finished"
     for k in range(steps):
-        v = [u_seq[k - i] if k - i >= 0 else 0.0 for i in range(lags)]
+        v = [v_seq[k - i] if k - i >= 0 else 0.0 for i in range(lags)]
         rhs(z, v, out)
-        y[k] = out[0]
+        y[k], u[k] = out[0], pin(z, v, out)
         if not math.isfinite(y[k]) or abs(y[k]) >= blowup:
             status, blow_t = "blowup", float(t[k])
             message = f"|y| reached {blowup:g} at t = {blow_t:.6g} s (sample {k})"
-            y, t, u_seq = y[:k + 1], t[:k + 1], u_seq[:k + 1]
+            y, t, u = y[:k + 1], t[:k + 1], u[:k + 1]
             break
-        if z.size:
-            z = np.concatenate(([y[k]], z[:-1]))
-    return SimulationResult(t=t, y=y, u=u_seq, states=y[None, :], status=status,
+        z = _shift(z, a, out)
+    return SimulationResult(t=t, y=y, u=u, states=y[None, :], status=status,
                             method="recursion", blowup_time=blow_t, message=message,
                             nfev=int(t.size))
+
+
+def _shift(z: np.ndarray, a: int, out: np.ndarray) -> np.ndarray:
+    """Next NARX state: the a output lags, then (in a loop) the controller-output lags."""
+    y_part = np.concatenate((out[:1], z[:a][:-1])) if a else z[:0]
+    w_part = np.concatenate((out[1:], z[a:][:-1])) if z.size > a else z[:0]
+    return np.concatenate((y_part, w_part))

@@ -133,3 +133,119 @@ def test_bad_arguments(kwargs, word):
 def test_closed_loop_without_controller():
     with pytest.raises(ModelError, match="controller"):
         build_system(load_model(f"{MODELS}/duffing.toml"), closed_loop=True)
+
+
+def _loop_file(equation, controller, **top):
+    from gfrf.modelfile import model_from_dict
+    return model_from_dict({"equation": equation, "controller": controller, **top})
+
+
+PLANT = "D(y,2) + 0.5*D(y) + 2*y + y**3 = u"
+
+
+@pytest.mark.parametrize("method", ["rk45", "dop853", "fast"])
+@pytest.mark.parametrize("equation, num, den", [("u = 3*y", [3.0], [1.0]),
+                                                ("D(u) + 2*u = 3*y", [3.0], [1.0, 2.0])])
+def test_linear_polynomial_controller_matches_transfer_function(method, equation, num, den):
+    poly = _loop_file(PLANT, {"equation": equation})
+    tf = _loop_file(PLANT, {"num": num, "den": den})
+    kw = dict(t_end=8.0, closed_loop=True, method=method, rtol=1e-11, atol=1e-13, dt=1e-3)
+    a = simulate(poly, "0.3*sin(1.3*t)", initial=[0.2, 0.0], **kw)
+    b = simulate(tf, "0.3*sin(1.3*t)", initial=[0.2, 0.0], **kw)
+    assert a.status == b.status == "ok"
+    assert np.max(np.abs(a.y - b.y)) < 1e-8
+    assert np.max(np.abs(a.u - b.u)) < 1e-8
+
+
+def test_nonlinear_polynomial_controller_matches_substituted_plant():
+    # u = r - (3 y + 0.5 y^3) substituted into the plant by hand
+    loop = _loop_file(PLANT, {"equation": "u = 3*y + 0.5*y**3"})
+    equivalent = parse_model("D(y,2) + 0.5*D(y) + 5*y + 1.5*y**3 = u")
+    kw = dict(t_end=10.0, method="dop853", rtol=1e-12, atol=1e-14, initial=[0.4, -0.1])
+    a = simulate(loop, "0.5*sin(0.9*t)", closed_loop=True, **kw)
+    b = simulate(equivalent, "0.5*sin(0.9*t)", **kw)
+    assert np.max(np.abs(a.y - b.y)) < 1e-8
+    y = a.y
+    assert np.allclose(a.u, 0.5 * np.sin(0.9 * a.t) - 3 * y - 0.5 * y**3, atol=1e-12)
+
+
+def test_polynomial_controller_with_plant_input_derivative():
+    # (s^2+s+1) Y = (s+1) U, U = R - W, (s+2) W = 3 Y  =>
+    # y''' + 3y'' + 6y' + 5y = r'' + 3r' + 2r, with y''(0) = r'(0) - w'(0) = 1 for r = sin t
+    loop = _loop_file("D(y,2) + D(y) + y = D(u) + u", {"equation": "D(u) + 2*u = 3*y"})
+    equivalent = parse_model("D(y,3) + 3*D(y,2) + 6*D(y) + 5*y = D(u,2) + 3*D(u) + 2*u")
+    kw = dict(t_end=6.0, method="dop853", rtol=1e-12, atol=1e-14)
+    a = simulate(loop, "sin(t)", closed_loop=True, **kw)
+    b = simulate(equivalent, "sin(t)", initial=[0.0, 0.0, 1.0], **kw)
+    assert np.max(np.abs(a.y - b.y)) < 1e-8
+
+
+def test_implicit_polynomial_controller_matches_improper_transfer_function():
+    # the controller uses D(y,2): plant and controller are solved jointly
+    poly = _loop_file("D(y,2) - y + 0.3*y**3 = u", {"equation": "u = 0.1*D(y,2) + 4*D(y) + 6*y"})
+    tf = _loop_file("D(y,2) - y + 0.3*y**3 = u", {"num": [0.1, 4.0, 6.0], "den": [1.0]})
+    kw = dict(t_end=5.0, closed_loop=True, method="dop853", rtol=1e-12, atol=1e-14,
+              initial=[0.3, 0.0])
+    a, b = simulate(poly, None, **kw), simulate(tf, None, **kw)
+    assert a.status == "ok" and np.max(np.abs(a.y - b.y)) < 1e-8
+
+
+def test_polynomial_controller_refusals():
+    too_improper = _loop_file("D(y) + y = u", {"equation": "u = D(y,2)"})
+    with pytest.raises(ModelError, match="above the plant order"):
+        build_system(too_improper, closed_loop=True)
+    too_slow = _loop_file("D(y,2) + y = D(u,2)", {"equation": "D(u) + u = y"})
+    with pytest.raises(ModelError, match="controller's output order"):
+        build_system(too_slow, closed_loop=True)
+
+
+NARX = "y[k] = 0.5*y[k-1] - 0.2*y[k-1]**2*u[k-2] + u[k-1]"
+
+
+def _narx_reference(r, controller, feedback=-1):
+    """Hand recursion of NARX under u = r + feedback*w, w[k] = controller(y, w, k)."""
+    n = r.size
+    y, w, u = np.zeros(n), np.zeros(n), np.zeros(n)
+    for k in range(n):
+        y1 = y[k - 1] if k >= 1 else 0.0
+        u1 = u[k - 1] if k >= 1 else 0.0
+        u2 = u[k - 2] if k >= 2 else 0.0
+        y[k] = 0.5 * y1 - 0.2 * y1**2 * u2 + u1
+        w[k] = controller(y, w, k)
+        u[k] = r[k] + feedback * w[k]
+    return y, u
+
+
+def test_narx_closed_loop_discrete_transfer_function():
+    # C(z) = 0.3/(z - 0.2) (control.tf order, dt = plant sample time):
+    # w[k] = 0.2 w[k-1] + 0.3 y[k-1]
+    mf = _loop_file(NARX, {"num": [0.3], "den": [1.0, -0.2]}, sample_time=0.1)
+    res = simulate(mf, "0.5*sin(2*t)", t_end=5.0, closed_loop=True)
+    r = 0.5 * np.sin(2 * res.t)
+    y, u = _narx_reference(r, lambda y, w, k: (0.2 * w[k - 1] + 0.3 * y[k - 1]) if k else 0.0)
+    assert res.t.size == 51 and np.max(np.abs(res.y - y)) < 1e-12
+    assert np.max(np.abs(res.u - u)) < 1e-12
+
+
+def test_narx_closed_loop_polynomial_controller():
+    mf = _loop_file(NARX, {"equation": "u[k] = 0.4*y[k] + 0.1*y[k]**3 - 0.3*u[k-1]",
+                           "feedback": 1}, sample_time=0.1)
+    res = simulate(mf, "0.5*sin(2*t)", t_end=5.0, closed_loop=True)
+    r = 0.5 * np.sin(2 * res.t)
+    y, u = _narx_reference(r, lambda y, w, k: 0.4 * y[k] + 0.1 * y[k]**3
+                           - 0.3 * (w[k - 1] if k else 0.0), feedback=1)
+    assert np.max(np.abs(res.y - y)) < 1e-12 and np.max(np.abs(res.u - u)) < 1e-12
+
+
+def test_narx_closed_loop_with_feedthrough_both_ways():
+    # y[k] = 0.5 y[k-1] + 0.5 u[k], u = r - w, w[k] = 0.8 y[k]: y[k] = (0.5 y[k-1] + 0.5 r[k]) / 1.4
+    mf = _loop_file("y[k] = 0.5*y[k-1] + 0.5*u[k]", {"num": [0.8], "den": [1.0]},
+                    sample_time=0.5)
+    res = simulate(mf, "step(t)", t_end=3.0, closed_loop=True)
+    y = np.zeros(7)
+    for k in range(7):
+        y[k] = (0.5 * (y[k - 1] if k else 0.0) + 0.5) / 1.4
+    assert np.max(np.abs(res.y - y)) < 1e-14
+    with pytest.raises(ModelError, match="not causal"):
+        build_system(_loop_file(NARX, {"num": [1.0, 0.0], "den": [1.0]}, sample_time=0.1),
+                     closed_loop=True)

@@ -99,3 +99,14 @@ def test_cli_validate_exit_code_and_json(capsys):
     assert main(["validate", "models/cartpole_reduced.toml", "--t-end", "5", "--json"]) == 0
     payload = json.loads(capsys.readouterr().out)
     assert payload["radius"] == 0 and len(payload["trials"]) == 6
+
+
+def test_polynomial_controller_loop_is_validated():
+    from gfrf.modelfile import model_from_dict
+    mf = model_from_dict({"equation": "D(y,2) + 0.5*D(y) + 2*y + y**3 = u",
+                          "controller": {"equation": "D(u) + 2*u = 3*y + 0.5*y**3"}})
+    result = validate(mf, t_end=10.0)
+    assert result.theorem == 2 and result.radius > 0
+    assert {t.kind for t in result.trials if t.closed_loop} >= {"cosine at resonance",
+                                                               "initial angle 5 deg"}
+    assert all(t.bounded for t in result.trials) and result.contradictions == []
