@@ -7,6 +7,7 @@ from pathlib import Path
 import pytest
 
 from gfrf.cli import main
+from gfrf.criteria import parameter_margin
 from gfrf.paper_checks import coefficient_rows, paper_checks
 from gfrf.report import MODELS_DIR, bundled_models, paper_gfrf, write_reports
 from gfrf.report._format import cell, table
@@ -65,6 +66,22 @@ def test_model_page_numbers_come_from_the_verdict(built: Path) -> None:
         assert f"| {b.order} | {cell(b.lower)} | {cell(b.upper)} |" in text
     for c in a.verdict.conditions:
         assert cell(c.detail) in text
+
+
+def test_model_page_margins_come_from_parameter_margin(built: Path) -> None:
+    a = analyse(str(MODELS_DIR / "hanging_pendulum.toml"), True)
+    text = (built / "models" / "hanging_pendulum.md").read_text(encoding="utf-8")
+    assert "## Margins" in text
+    scans = {s.parameter: s for s in a.margins}
+    assert list(scans) == ["m", "L", "rho", "g"]
+    rho = scans["rho"].margin
+    assert rho is not None and rho.direction == "above"
+    assert rho == parameter_margin(a.model_file, "rho", tolerance=rho.tolerance)
+    assert "`gfrf verdict models/hanging_pendulum.toml --margin rho`" in text
+    for s in scans.values():
+        if s.margin is None:
+            assert f"- {s.parameter} (file value {cell(s.current)}): {s.note}." in text
+    assert "## Margins" not in (built / "models" / "duffing.md").read_text(encoding="utf-8")
 
 
 def test_cartpole_coefficient_rows_match_closed_forms() -> None:

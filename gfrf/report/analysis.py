@@ -2,29 +2,39 @@
 
 :func:`analyse` loads a model file and runs the verdict (Theorem 1 or 2, with norm
 brackets), the simulations of :func:`gfrf.validation.validate` around the margin r*,
-and the time responses drawn in the figures.  The result is cached per (path, quick),
+the time responses drawn in the figures, and for each ``[parameters]`` entry a scan of
+the verdict at r = 1 over a bracket around its value with, where the verdict turns
+``stable`` above a boundary, the certified boundary of
+:func:`gfrf.criteria.parameter_margin`.  The result is cached per (path, quick),
 so the per-model page and the paper page quote the same objects.
 
 The simulations use the polynomial (truncated) equation, the object the verdict
 speaks about, with fixed seeds.  ``quick`` shortens horizons and lowers the highest
-norm order (for tests and CI).
+norm order (for tests and CI), and bisects parameter margins to a coarser tolerance.
 """
 
 from __future__ import annotations
 
 import math
+import tomllib
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
 
-from gfrf.criteria import Verdict, verdict
+from gfrf.criteria import Margin, Verdict, parameter_margin, verdict
+from gfrf.errors import GfrfError
 from gfrf.modelfile import ModelFile, load_model
 from gfrf.simulate import SimulationResult, build_system, simulate
+from gfrf.template import ModelTemplate, model_template
 from gfrf.validation import ValidationResult, resonance, validate
 
-__all__ = ["MODELS_DIR", "ModelAnalysis", "Response", "analyse", "settings"]
+__all__ = ["MODELS_DIR", "MARGIN_OCTAVES", "ModelAnalysis", "ParameterScan", "Response",
+           "analyse", "scan_parameter", "settings"]
+
+#: Half-width of a parameter's margin bracket in octaves: file value * 2^-6 .. 2^6.
+MARGIN_OCTAVES = 6
 
 #: The bundled model files (``models/`` beside the package).
 MODELS_DIR = Path(__file__).resolve().parent.parent.parent / "models"
@@ -39,6 +49,35 @@ class Response:
     amplitude: float
     initial_angle_deg: float
     result: SimulationResult
+
+
+@dataclass(frozen=True)
+class ParameterScan:
+    """The verdict at r = 1 along one ``[parameters]`` entry, and its certified margin.
+
+    Attributes
+    ----------
+    parameter : str
+    current : float
+        The model file's value.
+    values : tuple of float
+        The bracket grid, ``current * 2^k`` for ``|k| <= MARGIN_OCTAVES`` (empty for a
+        non-positive value).
+    stable : tuple of bool
+        Whether the verdict at each grid value is ``stable`` (an invalid point is not).
+    margin : Margin or None
+        The boundary of :func:`gfrf.criteria.parameter_margin`, when the verdict along
+        the grid is monotone with ``stable`` above one boundary.
+    note : str
+        Why there is no margin (empty when there is one).
+    """
+
+    parameter: str
+    current: float
+    values: tuple[float, ...]
+    stable: tuple[bool, ...]
+    margin: Margin | None
+    note: str
 
 
 @dataclass(frozen=True)
@@ -63,6 +102,8 @@ class ModelAnalysis:
     responses : tuple of Response
     t_end : float
         Horizon (s) of every simulation.
+    margins : tuple of ParameterScan
+        One per ``[parameters]`` entry, in file order.
     """
 
     path: str
@@ -75,6 +116,7 @@ class ModelAnalysis:
     validation: ValidationResult | None
     responses: tuple[Response, ...] = field(default=())
     t_end: float = 0.0
+    margins: tuple[ParameterScan, ...] = field(default=())
 
     @property
     def stem(self) -> str:
@@ -88,8 +130,9 @@ class ModelAnalysis:
 
 
 def settings(quick: bool) -> dict[str, float]:
-    """Norm order and simulation horizon of the full and the quick setting."""
-    return {"order": 3, "t_end": 20.0} if quick else {"order": 5, "t_end": 100.0}
+    """Norm order, simulation horizon and margin tolerance of the full and quick setting."""
+    return ({"order": 3, "t_end": 20.0, "margin_tolerance": 1e-2} if quick else
+            {"order": 5, "t_end": 100.0, "margin_tolerance": 1e-6})
 
 
 @lru_cache(maxsize=32)
@@ -124,8 +167,73 @@ def analyse(path: str, quick: bool = False) -> ModelAnalysis:
         factors = tuple(sorted({0.5, 2.0, 1.0 / scale}))
         validation = validate(mf, scale, factors=factors, t_end=t_end, seed=0)
     responses = _responses(mf, scale, w_r, t_end)
+    margins: tuple[ParameterScan, ...] = ()
+    if mf.parameters:
+        data = tomllib.loads(Path(mf.path).read_text(encoding="utf-8"))
+        free = [n for n, value in data["parameters"].items() if not isinstance(value, str)]
+        template = model_template(data, free, mf.path)
+        margins = tuple(scan_parameter(mf, template, name, cfg["margin_tolerance"])
+                        if name in free else
+                        ParameterScan(name, mf.parameters[name], (), (), None,
+                                      "defined by an expression of other parameters")
+                        for name in mf.parameters)
     return ModelAnalysis(path, mf, v, order, w_r, scale, certified, validation, responses,
-                         t_end)
+                         t_end, margins)
+
+
+def scan_parameter(mf: ModelFile, template: ModelTemplate, name: str,
+                   tolerance: float) -> ParameterScan:
+    """Scan the verdict at r = 1 along ``name`` and certify its boundary when monotone.
+
+    Parameters
+    ----------
+    mf : ModelFile
+        Loaded from a file (its ``path`` is re-read by the bisection).
+    template : ModelTemplate
+        The sweep template of the file over its numeric ``[parameters]`` (the scan's
+        points; parameters given as expressions follow them).
+    name : str
+        A key of the file's ``[parameters]``.
+    tolerance : float
+        Relative bracket width of the :func:`gfrf.criteria.parameter_margin` bisection.
+
+    Returns
+    -------
+    ParameterScan
+        With a margin only when the verdict along the bracket grid changes exactly once,
+        from not ``stable`` to ``stable`` (the boundary kind ``parameter_margin`` finds
+        from the file value by doubling, on the same grid).
+    """
+    current = mf.parameters[name]
+    if current <= 0:
+        return ParameterScan(name, current, (), (), None,
+                             f"file value {current:g} is not positive: no geometric bracket")
+    values = tuple(current * 2.0 ** k for k in range(-MARGIN_OCTAVES, MARGIN_OCTAVES + 1))
+    stable = tuple(_stable(template, {**mf.parameters, name: value}) for value in values)
+    changes = [i for i in range(len(stable) - 1) if stable[i] != stable[i + 1]]
+    where = f"[{values[0]:.4g}, {values[-1]:.4g}]"
+    if not changes:
+        kind = "stable" if stable[0] else "not stable"
+        note = f"no boundary in {where}: the verdict is {kind} throughout"
+    elif len(changes) > 1:
+        note = f"the verdict is not monotone in {name} over {where} ({len(changes)} changes)"
+    elif stable[0]:
+        i = changes[0]
+        note = (f"stable only below a boundary between {values[i]:.4g} and "
+                f"{values[i + 1]:.4g}; --margin certifies boundaries with stable above only")
+    else:
+        return ParameterScan(name, current, values, stable,
+                             parameter_margin(mf, name, 1.0, tolerance), "")
+    return ParameterScan(name, current, values, stable, None, note)
+
+
+def _stable(template: ModelTemplate, values: dict[str, float]) -> bool:
+    """Whether the verdict at r = 1 (majorant only) is ``stable``; an invalid point is not."""
+    try:
+        point = template.instantiate(values)
+    except GfrfError:
+        return False
+    return verdict(point, 1, 1.0, with_norms=False).verdict == "stable"
 
 
 def _responses(mf: ModelFile, scale: float, w_r: float, t_end: float) -> tuple[Response, ...]:

@@ -2,10 +2,10 @@
 
 For a control engineer who has not read the code: the equation and its coefficients,
 the kernels H1..H3 (symbolic, gain/phase of H1, a slice of |H3|), the norms with their
-brackets, the verdict with every condition of Theorem 1 or 2, the margin r*, and
-simulations below and above r*.  Every number comes from
-:func:`gfrf.report.analysis.analyse` in the same run; each is printed with the
-``gfrf`` command that reproduces it.
+brackets, the verdict with every condition of Theorem 1 or 2, the margin r*, the
+parameter margins (for a file with ``[parameters]``), and simulations below and above
+r*.  Every number comes from :func:`gfrf.report.analysis.analyse` in the same run;
+each is printed with the ``gfrf`` command that reproduces it.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ import sympy as sp
 from gfrf.kernels import kernel
 from gfrf.report._figures import frequency_scale, h1_figure, h3_slice_figure, response_figure
 from gfrf.report._format import cell, code, header, mark, num, table
-from gfrf.report.analysis import ModelAnalysis, analyse
+from gfrf.report.analysis import MARGIN_OCTAVES, ModelAnalysis, analyse
 from gfrf.validation import linear_vs_nonlinear
 
 __all__ = ["write", "summary_lines", "command_path"]
@@ -181,6 +181,28 @@ def _verdict_section(a: ModelAnalysis) -> list[str]:
     return out
 
 
+def _margin_section(a: ModelAnalysis) -> list[str]:
+    if not a.margins:
+        return []
+    p = command_path(a.path)
+    octaves = f"file value x 2^-{MARGIN_OCTAVES} .. 2^{MARGIN_OCTAVES}"
+    out = ["## Margins", "",
+           f"Verdict at r = 1 (Theorem {a.verdict.theorem}, majorant only) along each "
+           f"parameter over the bracket {octaves}, the others at their file values; where "
+           "it turns *stable* above one boundary, that boundary is bisected by "
+           "`gfrf.criteria.parameter_margin` (certified).", ""]
+    for s in a.margins:
+        m = s.margin
+        if m is None:
+            out.append(f"- {s.parameter} (file value {num(s.current)}): {s.note}.")
+            continue
+        digits = max(3, round(-math.log10(m.tolerance)) + 1)
+        out.append(f"- {s.parameter} (file value {num(s.current)}): certified stable for "
+                   f"{s.parameter} {m.direction} **{num(m.value, digits)}** (bisection tolerance "
+                   f"{num(m.tolerance)}); {code(f'gfrf verdict {p} --margin {s.parameter}')}.")
+    return out + [""]
+
+
 def _simulation_section(a: ModelAnalysis, out_dir: Path) -> list[str]:
     ylabel = f"{a.model_file.plant.output}(t)"
     kind = ("closed loop from initial angles, zero reference" if a.closed else
@@ -262,8 +284,10 @@ def write(path: str, out_dir: Path, quick: bool = False) -> Path:
     regen = f"gfrf report {command_path(a.path)} --out {Path(out_dir).as_posix()}/"
     parts = [header(a.model_file.name, summary_lines(a), regen)]
     for section in (_model_section(a), _kernel_section(a, folder), _norm_section(a),
-                    _verdict_section(a), _simulation_section(a, folder), _certification(a)):
-        parts.append("\n".join(section))
+                    _verdict_section(a), _margin_section(a), _simulation_section(a, folder),
+                    _certification(a)):
+        if section:
+            parts.append("\n".join(section))
     parts.append("Related: [paper reproduction](../paper-gfrf.md), "
                  "[speed vs error](../speed-vs-error.md).\n")
     page = folder / f"{a.stem}.md"
