@@ -39,7 +39,8 @@ from sympy.parsing.sympy_parser import parse_expr, standard_transformations
 
 from gfrf.errors import ModelError
 
-__all__ = ["Term", "Model", "parse_model", "MAX_DERIVATIVE_ORDER", "MAX_DEGREE"]
+__all__ = ["Term", "Model", "parse_model", "coefficient_formulas", "MAX_DERIVATIVE_ORDER",
+           "MAX_DEGREE"]
 
 #: Largest derivative order or lag accepted in a model text.
 MAX_DERIVATIVE_ORDER = 20
@@ -337,6 +338,65 @@ def _truncate(expr: sp.Expr, atoms: list[sp.Symbol], order: int) -> sp.Expr:
     return sp.expand(series.subs(scale, 1))
 
 
+def _signal_expression(text: str, local: dict[str, sp.Expr], output: str, input_: str,
+                       discrete: bool) -> tuple[sp.Expr, list[sp.Symbol]]:
+    """Left-hand side minus right-hand side in the atom symbols, and the atoms present."""
+    y, u = sp.Symbol(output, real=True), sp.Symbol(input_, real=True)
+    names: dict[str, Any] = {output: y, input_: u, **local}
+    if discrete:
+        names["_lag"] = _LAG
+        body = _rewrite_lags(text if isinstance(text, str) else "", (output, input_))
+    else:
+        names["D"] = _D
+        body = text
+    lhs_text, rhs_text = _split_equation(body)
+    whole = " ".join(text.split()) if isinstance(text, str) else text
+    expr = _parse_side(lhs_text, names, whole) - _parse_side(rhs_text, names, whole)
+    expr = _replace_operators(expr, y, u, discrete)
+    expr = expr.xreplace({y: _atom(output, 0), u: _atom(input_, 0)})
+    atoms = sorted((a for a in expr.free_symbols
+                    if a.name.startswith((f"{output}__", f"{input_}__"))),
+                   key=lambda a: a.name)
+    return expr, atoms
+
+
+def _monomial_orders(monom: tuple[int, ...], atoms: list[sp.Symbol], output: str
+                     ) -> tuple[tuple[int, ...], tuple[int, ...]]:
+    """Sorted output and input derivative orders (or lags) of one monomial's exponents."""
+    y_orders: list[int] = []
+    u_orders: list[int] = []
+    for atom, power in zip(atoms, monom, strict=True):
+        name, order = atom.name.rsplit("__", 1)
+        (y_orders if name == output else u_orders).extend([int(order)] * power)
+    return tuple(sorted(y_orders)), tuple(sorted(u_orders))
+
+
+def coefficient_formulas(text: str, *, output: str = "y", input: str = "u",  # noqa: A002
+                         discrete: bool = False, truncation: int | None = None,
+                         symbols: dict[str, sp.Expr] | None = None
+                         ) -> dict[tuple[tuple[int, ...], tuple[int, ...]], sp.Expr]:
+    """Coefficient of every monomial of an equation as a sympy expression.
+
+    The symbolic counterpart of :func:`parse_model` for parameter sweeps: named
+    constants may stay free symbols (``symbols`` maps names to values or symbols),
+    so the structure is parsed once and only the formulas are evaluated per point.
+    The text is assumed valid (parse it once with :func:`parse_model` first).
+
+    Returns
+    -------
+    dict
+        ``{(y_orders, u_orders): coefficient}`` with sorted derivative orders or lags.
+    """
+    expr, atoms = _signal_expression(text, dict(symbols or {}), output, input, discrete)
+    polynomial = _truncate(expr, atoms, truncation) if truncation else sp.expand(expr)
+    formulas = {}
+    for monom, coeff in sp.Poly(polynomial, *atoms).terms():
+        orders = _monomial_orders(monom, atoms, output)
+        if orders != ((), ()):
+            formulas[orders] = coeff
+    return formulas
+
+
 def parse_model(text: str, *, sample_time: float | None = None, truncation: int | None = None,
                 parameters: dict[str, float] | None = None, output: str = "y",
                 input: str = "u") -> Model:  # noqa: A002 - the name a user expects
@@ -387,8 +447,7 @@ def parse_model(text: str, *, sample_time: float | None = None, truncation: int 
     if output == input:
         raise ModelError(f"output and input have the same name {output!r}")
 
-    y, u = sp.Symbol(output, real=True), sp.Symbol(input, real=True)
-    local: dict[str, Any] = {output: y, input: u}
+    local: dict[str, sp.Expr] = {}
     for name, value in parameters.items():
         if name in (output, input, "D", "t", "k"):
             raise ModelError(f"parameter name {name!r} clashes with a signal or operator")
@@ -396,24 +455,10 @@ def parse_model(text: str, *, sample_time: float | None = None, truncation: int 
                 or not math.isfinite(value):
             raise ModelError(f"parameter {name!r} must be a finite number, got {value!r}")
         local[name] = sp.Float(value) if isinstance(value, float) else sp.Integer(value)
-    if discrete:
-        local["_lag"] = _LAG
-        body = _rewrite_lags(text if isinstance(text, str) else "", (output, input))
-    else:
-        local["D"] = _D
-        body = text
-    lhs_text, rhs_text = _split_equation(body)
-    whole = " ".join(text.split()) if isinstance(text, str) else text
-    lhs = _parse_side(lhs_text, local, whole)
-    rhs = _parse_side(rhs_text, local, whole)
-    expr = _replace_operators(lhs - rhs, y, u, discrete)
-    expr = expr.xreplace({y: _atom(output, 0), u: _atom(input, 0)})
+    expr, atoms = _signal_expression(text, local, output, input, discrete)
 
     if expr.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
         raise ModelError(f"the equation {text!r} has a NaN or infinite coefficient")
-    atoms = sorted((s for s in expr.free_symbols if s.name.startswith((f"{output}__",
-                                                                       f"{input}__"))),
-                   key=lambda s: s.name)
     others = sorted(str(s) for s in expr.free_symbols if s not in atoms)
     if others:
         if "t" in others:
@@ -465,16 +510,11 @@ def _collect_terms(polynomial: sp.Expr, atoms: list[sp.Symbol], output: str, inp
             raise ModelError(f"coefficient {coeff} in {text!r} is not finite")
         if value == 0.0:
             continue
-        y_orders: list[int] = []
-        u_orders: list[int] = []
-        for atom, power in zip(atoms, monom, strict=True):
-            name, order = atom.name.rsplit("__", 1)
-            (y_orders if name == output else u_orders).extend([int(order)] * power)
+        y_orders, u_orders = _monomial_orders(monom, atoms, output)
         if not y_orders and not u_orders:
             raise ModelError(f"constant term {value:g} in {text!r}: y = u = 0 must be an "
                              f"equilibrium")
-        terms.append(Term(tuple(sorted(y_orders)), tuple(sorted(u_orders)), value,
-                          output, input_, discrete))
+        terms.append(Term(y_orders, u_orders, value, output, input_, discrete))
     if not any(t.y_orders for t in terms):
         raise ModelError(f"the equation {text!r} has no output {output!r}")
     if not any(t.u_orders for t in terms):

@@ -35,17 +35,7 @@ from typing import Any
 import sympy as sp
 
 from gfrf.errors import ArgumentError, ModelError
-from gfrf.model import (
-    _LAG,
-    Model,
-    Term,
-    _atom,
-    _parse_side,
-    _replace_operators,
-    _rewrite_lags,
-    _split_equation,
-    _truncate,
-)
+from gfrf.model import Model, Term, coefficient_formulas
 from gfrf.modelfile import ModelFile, model_from_dict
 
 __all__ = ["ModelTemplate", "TemplateUnsupported", "model_template", "rebuild",
@@ -215,33 +205,9 @@ def _symbolic_table(table: Mapping[str, Any] | None, swept: Mapping[str, sp.Symb
 def _coefficients(text: str, model: Model, values: dict[str, sp.Expr]) -> dict[tuple, sp.Expr]:
     """Coefficient formulas {(y_orders, u_orders): expr} of the equation ``text`` of
     ``model`` (its signals, truncation and time base), parameters as in ``values``."""
-    y, u = sp.Symbol(model.output, real=True), sp.Symbol(model.input, real=True)
-    local: dict[str, Any] = {model.output: y, model.input: u, **values}
-    if model.is_discrete:
-        local["_lag"] = _LAG
-        body = _rewrite_lags(text, (model.output, model.input))
-    else:
-        local["D"] = sp.Function("D")
-        body = text
-    lhs, rhs = _split_equation(body)
-    expr = _parse_side(lhs, local, text) - _parse_side(rhs, local, text)
-    expr = _replace_operators(expr, y, u, model.is_discrete)
-    expr = expr.xreplace({y: _atom(model.output, 0), u: _atom(model.input, 0)})
-    atoms = sorted((s for s in expr.free_symbols
-                    if s.name.startswith((f"{model.output}__", f"{model.input}__"))),
-                   key=lambda s: s.name)
-    polynomial = (_truncate(expr, atoms, model.truncation) if model.truncation
-                  else sp.expand(expr))
-    formulas: dict[tuple, sp.Expr] = {}
-    for monom, coeff in sp.Poly(polynomial, *atoms).terms():
-        y_orders: list[int] = []
-        u_orders: list[int] = []
-        for atom, power in zip(atoms, monom, strict=True):
-            name, order = atom.name.rsplit("__", 1)
-            (y_orders if name == model.output else u_orders).extend([int(order)] * power)
-        if y_orders or u_orders:
-            formulas[(tuple(sorted(y_orders)), tuple(sorted(u_orders)))] = coeff
-    return formulas
+    return coefficient_formulas(text, output=model.output, input=model.input,
+                                discrete=model.is_discrete, truncation=model.truncation,
+                                symbols=values)
 
 
 def _exact(expr: sp.Expr) -> sp.Expr:

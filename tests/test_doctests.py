@@ -6,7 +6,8 @@ import importlib
 import pytest
 
 
-@pytest.mark.parametrize("name", ["gfrf", "gfrf.model", "gfrf.kernels", "gfrf.combinatorics"])
+@pytest.mark.parametrize("name", ["gfrf", "gfrf.model", "gfrf.kernels", "gfrf.combinatorics",
+                                  "gfrf.template"])
 def test_module_examples(name):
     result = doctest.testmod(importlib.import_module(name), optionflags=doctest.ELLIPSIS)
     assert result.attempted > 0
