@@ -87,8 +87,12 @@ def test_cli_side(capsys):
                            "averaging", "--json"])
     upper = _json(capsys, ["transition", "--eps", "0.1", "--amplitude", "0.5", "--method",
                            "averaging", "--side", "upper", "--json"])
-    assert lower["side"] == "lower" and lower["delta"] == pytest.approx(0.2086021505376344)
-    assert upper["side"] == "upper" and upper["delta"] == pytest.approx(0.3075268817204301)
+    # closed form by hand, eps = 0.1, B = 0.5: delta = (1/4 -/+ eps/2 +/- eps B^2/12) / (1 - B^2/8)
+    e, b2 = 0.1, 0.25
+    assert lower["side"] == "lower" and lower["delta"] == pytest.approx(
+        (0.25 - e / 2 + e * b2 / 12) / (1 - b2 / 8))  # = 97/465
+    assert upper["side"] == "upper" and upper["delta"] == pytest.approx(
+        (0.25 + e / 2 - e * b2 / 12) / (1 - b2 / 8))  # = 143/465
     eq3 = _json(capsys, ["transition", "--eps", "0.1", "--amplitude", "0.5", "--method",
                          "averaging", "--side", "upper", "--equation", "3", "--json"])
     assert eq3["equation"] == 3 and eq3["delta"] != upper["delta"]
