@@ -330,11 +330,6 @@ def _search(k: Any, model: Model, n: int, symmetric: bool, upper: float,
     values[~np.isfinite(values)] = 0.0
     order = np.argsort(values)[::-1]
     best, best_x = float(values[order[0]]), tuple(float(v) for v in starts[order[0]])
-
-    def objective(x: np.ndarray) -> float:
-        v = abs(complex(k(*x)))
-        return -math.log(v) if v > 0 and math.isfinite(v) else 1e300
-
     batch = 4 if n <= 4 else 1
     for count, i in enumerate(order[: 3 * batch if n <= 4 else 2]):
         if count >= batch and (upper - best) <= tol * upper:
