@@ -246,7 +246,7 @@ class Radius:
         r* (``inf`` when the system is linear in x, 0 when some entry is infinite).
     certified_below : float
         An amplitude at which convergence is certified (a supersolution exists);
-        within 1e-9 relative of ``value``.
+        within ``rel_tol`` of :func:`radius` (default 1e-10) relative of ``value``.
     solution : numpy.ndarray or None
         The fixed point at ``certified_below``.
     """
