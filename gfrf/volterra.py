@@ -174,6 +174,16 @@ def predict(model: Model, tones: Any, order: int) -> VolterraPrediction:
     return VolterraPrediction(tones, order, comps)
 
 
+def _truncate(p: VolterraPrediction, order: int) -> VolterraPrediction:
+    """The order-``order`` prediction from the per-order terms of a higher-order one."""
+    comps = []
+    for c in p.components:
+        row = {n: v for n, v in c.by_order.items() if n <= order}
+        if row:
+            comps.append(Component(c.omega, sum(row.values()), row))
+    return VolterraPrediction(p.tones, order, tuple(comps))
+
+
 def base_frequency(tones: Any, max_denominator: int = 1000) -> float:
     """Largest w0 (rad/s) of which every tone frequency is an integer multiple.
 
@@ -272,7 +282,7 @@ def compare(model: Model, tones: Any, orders: tuple[int, ...] = (1, 3, 5), *,
     best = predict(model, tones, max(orders))
     guess = np.array([best.waveform(0.0, d) for d in range(system.order)])
     ss = steady_state(system, tones, samples=samples, guess=guess)
-    errors = {n: float(np.max(np.abs(ss.y - predict(model, tones, n).waveform(ss.t))))
+    errors = {n: float(np.max(np.abs(ss.y - _truncate(best, n).waveform(ss.t))))
               for n in orders}
     return {"errors": errors, "steady_state": ss}
 
