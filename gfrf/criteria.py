@@ -374,11 +374,12 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
                        "lambda_1 = inf: the series diverges from its second term")
         rad = Radius(0.0, 0.0, None)
     c5 = _series_condition("sum theta_n rho_1^n r^n converges", rad, amplitude, exact, None)
+    literal = _literal_rho(loop)
     c5 = Condition(c5.name, c5.passed if ctrl_ok else False,
-                   {"rho_1": rho1, "rho_1_literal": _literal_rho(loop), "radius": rad.value},
+                   {"rho_1": rho1, "rho_1_literal": literal, "radius": rad.value},
                    f"rho_1 = sup|(1 + h1 s1)^-1| = {rho1:.6g} at w = "
                    f"{loop.sensitivity_peak_omega:.4g} rad/s (the literal sup|(1 + h1) s1| "
-                   f"= {_literal_rho(loop):.4g}); " + c5.detail)
+                   f"= {literal:.4g}); " + c5.detail)
     c6 = Condition("reference spectrum absolutely integrable", True, None,
                    "hypothesis on the input, assumed; its size is the amplitude r")
     if ctrl_ok:
