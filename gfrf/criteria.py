@@ -509,8 +509,10 @@ def parameter_margin(model_file: ModelFile, parameter: str, amplitude: float = 1
     """Boundary value of a model-file parameter for a certified ``stable`` verdict.
 
     The verdict is assumed monotone in the parameter near the boundary (true for the
-    damping of the pendulum: r* increases with rho).  Bisection on the parameter, with
+    damping of the pendulum: r* increases with rho).  The nearest change of verdict is
+    searched by scaling the file value up and down by powers of 2, then bisected, with
     the model rebuilt from the file each time; norms are not bracketed (majorant only).
+    ``direction`` says whether the certified side lies above or below the boundary.
 
     Parameters
     ----------
@@ -539,21 +541,23 @@ def parameter_margin(model_file: ModelFile, parameter: str, amplitude: float = 1
         mf = model_from_dict(changed, path=model_file.path)
         return verdict(mf, 1, amplitude, with_norms=False).verdict == "stable"
 
+    if current == 0:
+        raise ArgumentError(f"{parameter!r} is 0 in the file: the margin search scales it by "
+                            "powers of 2, give a nonzero value")
     ok_now = passes(current)
-    lo, hi = current, current
-    factor = 2.0 if current > 0 else -2.0
-    for _ in range(60):
-        probe = hi * factor if ok_now is False else lo / factor
-        if passes(probe) != ok_now:
-            lo, hi = (current, probe) if ok_now is False else (probe, current)
+    bracket = None
+    for k in range(1, 61):  # the nearest change of verdict, scaling up or down by 2^k
+        for probe, previous in ((current * 2.0**k, current * 2.0 ** (k - 1)),
+                                (current / 2.0**k, current / 2.0 ** (k - 1))):
+            if passes(probe) != ok_now:
+                bracket = sorted((previous, probe))
+                break
+        if bracket:
             break
-        if ok_now is False:
-            hi = probe
-        else:
-            lo = probe
     else:
         raise ArgumentError(f"no change of verdict found when scaling {parameter!r} by up "
-                            "to 2^60")
+                            "to 2^60 either way")
+    lo, hi = bracket
     good_high = passes(hi)
     while abs(hi - lo) > tolerance * max(abs(lo), abs(hi)):
         mid = 0.5 * (lo + hi)

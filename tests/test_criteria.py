@@ -186,3 +186,19 @@ def test_verdict_of_a_bare_model_and_a_stiff_cubic_radius():
     result = verdict(parse_model(f"D(y,2) + {b}*D(y) + y + {k}*y**3 = u"), with_norms=False)
     assert result.theorem == 1
     assert result.radius == pytest.approx(expected, rel=1e-8)
+
+
+def test_length_margin_is_a_stable_below_boundary() -> None:
+    # Pendulum with length L (m = 1, rho = 0.8, g = 9.8): b = rho/L^2, c = g/L, c3 = g/(6L);
+    # B = beta1 r + c3 beta1 B^3 (sup|1/A| = beta1) has r* = 2/(3 sqrt(3 c3) beta1^(3/2)).
+    from scipy.optimize import brentq
+
+    def radius_minus_one(length: float) -> float:
+        b, c = 0.8 / length**2, 9.8 / length
+        beta1 = 1 / (b * math.sqrt(c - b**2 / 4))
+        return 2 / (3 * math.sqrt(3 * c / 6) * beta1**1.5) - 1
+
+    expected = brentq(radius_minus_one, 0.5, 4.0, xtol=1e-12)
+    margin = parameter_margin(load_model("models/hanging_pendulum.toml"), "L")
+    assert margin.direction == "below"
+    assert margin.value == pytest.approx(expected, rel=1e-5)

@@ -200,9 +200,9 @@ def scan_parameter(mf: ModelFile, template: ModelTemplate, name: str,
     Returns
     -------
     ParameterScan
-        With a margin only when the verdict along the bracket grid changes exactly once,
-        from not ``stable`` to ``stable`` (the boundary kind ``parameter_margin`` finds
-        from the file value by doubling, on the same grid).
+        With a margin only when the verdict along the bracket grid changes exactly once
+        (``parameter_margin`` finds that boundary from the file value by doubling and
+        halving, on the same grid, and says on which side the verdict is stable).
     """
     current = mf.parameters[name]
     if current <= 0:
@@ -217,10 +217,6 @@ def scan_parameter(mf: ModelFile, template: ModelTemplate, name: str,
         note = f"no boundary in {where}: the verdict is {kind} throughout"
     elif len(changes) > 1:
         note = f"the verdict is not monotone in {name} over {where} ({len(changes)} changes)"
-    elif stable[0]:
-        i = changes[0]
-        note = (f"stable only below a boundary between {values[i]:.4g} and "
-                f"{values[i + 1]:.4g}; --margin certifies boundaries with stable above only")
     else:
         return ParameterScan(name, current, values, stable,
                              parameter_margin(mf, name, 1.0, tolerance), "")

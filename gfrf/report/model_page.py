@@ -189,7 +189,7 @@ def _margin_section(a: ModelAnalysis) -> list[str]:
     out = ["## Margins", "",
            f"Verdict at r = 1 (Theorem {a.verdict.theorem}, majorant only) along each "
            f"parameter over the bracket {octaves}, the others at their file values; where "
-           "it turns *stable* above one boundary, that boundary is bisected by "
+           "the verdict changes once, that boundary is bisected by "
            "`gfrf.criteria.parameter_margin` (certified).", ""]
     for s in a.margins:
         m = s.margin
