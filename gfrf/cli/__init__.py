@@ -26,6 +26,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "gfrf.cli.report",
     "gfrf.cli.periodic",
     "gfrf.cli.sweep",
+    "gfrf.cli.identify",
 )
 
 
