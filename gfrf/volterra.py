@@ -11,6 +11,16 @@ frequency Omega = w_1 + ... + w_n, the complex amplitude Y(Omega) with n <= N.
 :func:`predict` returns those components (amplitude and phase of
 ``|2Y| cos(Omega t + arg Y)``, per-order contributions kept).
 
+Where the prediction is meaningful.  The amplitude of a multi-tone input is the sum
+of the tone amplitudes ``sum_k |A_k|``, the sup over t of |u(t)| (:func:`input_amplitude`).
+The series converges for amplitudes below the radius r* of the certified majorant
+series (:func:`series_radius`, the r* of ``gfrf verdict``); at or beyond r* nothing is
+known and a truncated sum can be off by orders of magnitude, so :func:`predict`
+refuses (:class:`BeyondRadiusError`) unless ``force=True``, which labels the result
+with a ``warning``.  Limits are checked before any work: the order against
+:data:`gfrf.kernels.MAX_KERNEL_ORDER` and the number of intermodulation products
+against :data:`MAX_PRODUCTS`; a non-finite component is refused, never returned.
+
 The independent check is the simulated steady state: for commensurate tones
 (w_k = m_k w_0) the steady state is periodic with period 2 pi / w_0, found here by
 Newton shooting on the period map (DOP853 at rtol 1e-12), so no transient has to
@@ -36,8 +46,10 @@ Examples
 
 from __future__ import annotations
 
+import cmath
 import itertools
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
@@ -46,14 +58,23 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from gfrf.errors import ArgumentError, ConvergenceError
-from gfrf.kernels import kernel
+from gfrf.kernels import MAX_KERNEL_ORDER, generator, kernel
 from gfrf.model import Model
 from gfrf.signals import Tone, tones_input
 from gfrf.simulate import OdeSystem, build_system, input_values
 
-__all__ = ["Component", "VolterraPrediction", "predict", "SteadyState", "steady_state",
-           "compare", "error_vs_amplitude", "figure_error_vs_amplitude", "OrderChoice",
-           "select_order", "base_frequency"]
+__all__ = ["Component", "VolterraPrediction", "BeyondRadiusError", "predict",
+           "input_amplitude", "series_radius", "intermodulation_count", "MAX_PRODUCTS",
+           "SteadyState", "steady_state", "compare", "error_vs_amplitude",
+           "figure_error_vs_amplitude", "OrderChoice", "select_order", "base_frequency"]
+
+#: Largest number of intermodulation products (multisets of signed tones, summed over
+#: the orders with a structurally non-zero kernel) that :func:`predict` evaluates.
+#: Checked before any kernel is built; at the limit a prediction takes a few seconds
+#: and a few hundred MB.
+MAX_PRODUCTS = 500_000
+#: Multisets evaluated per vectorised chunk (bounds the temporaries of the kernels).
+_CHUNK = 20_000
 
 
 @dataclass(frozen=True)
@@ -88,11 +109,21 @@ class Component:
 
 @dataclass(frozen=True)
 class VolterraPrediction:
-    """The order-N Volterra steady state of a multi-tone input (see module docstring)."""
+    """The order-N Volterra steady state of a multi-tone input (see module docstring).
+
+    ``amplitude`` is the input amplitude the series is judged by: the sum of the tone
+    amplitudes, i.e. the sup over t of |u(t)|.  ``radius`` is r* of the series (certified
+    when ``radius_certified``); ``warning`` is set when the prediction was forced at an
+    amplitude at or beyond r*, where the series is not known to converge.
+    """
 
     tones: tuple[Tone, ...]
     order: int
     components: tuple[Component, ...]
+    amplitude: float = 0.0
+    radius: float = math.inf
+    radius_certified: bool = True
+    warning: str | None = None
 
     def component(self, omega: float) -> Component | None:
         """The component at angular frequency ``omega`` (rad/s), None if absent."""
@@ -114,7 +145,26 @@ class VolterraPrediction:
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready description."""
         return {"tones": [list(x) for x in self.tones], "order": self.order,
+                "amplitude": self.amplitude, "radius": self.radius,
+                "radius_certified": self.radius_certified, "warning": self.warning,
                 "components": [c.to_dict() for c in self.components]}
+
+
+class BeyondRadiusError(ArgumentError):
+    """The input amplitude is at or beyond the radius r* of the Volterra series.
+
+    Attributes
+    ----------
+    amplitude : float
+        Sum of the tone amplitudes (the sup of |u|).
+    radius : float
+        r* of the series.
+    """
+
+    def __init__(self, message: str, amplitude: float, radius: float) -> None:
+        super().__init__(message)
+        self.amplitude = amplitude
+        self.radius = radius
 
 
 def _check_tones(tones: Any) -> tuple[Tone, ...]:
@@ -130,26 +180,104 @@ def _check_tones(tones: Any) -> tuple[Tone, ...]:
     return out
 
 
-def predict(model: Model, tones: Any, order: int) -> VolterraPrediction:
+def input_amplitude(tones: Any) -> float:
+    """Amplitude of a sum of tones: ``sum_k |A_k|``, the sup over t of |u(t)|.
+
+    It is attained (or approached arbitrarily closely) when the phases line up, and it
+    is the amplitude r at which the series sum_n ||H_n|| r^n bounds the output.
+    """
+    return float(sum(abs(a) for a, _, _ in _check_tones(tones)))
+
+
+def series_radius(model: Model) -> tuple[float, float, bool]:
+    """(r*, certified_below, certified) of the Volterra series of ``model``.
+
+    r* is the radius of the certified majorant series (:func:`gfrf.majorant.radius`):
+    for every input amplitude below ``certified_below`` (within 1e-10 of r*) the series
+    sum_n ||H_n|| r^n converges.  ``certified`` is False for a discrete model, whose
+    majorant sups are grid estimates.
+    """
+    from gfrf.majorant import majorant, radius
+
+    maj = majorant(model)
+    rad = radius(lambda x, r: maj.rhs(x, r), len(maj.powers))
+    return rad.value, rad.certified_below, maj.exact
+
+
+def intermodulation_count(model: Model, n_tones: int, order: int) -> int:
+    """Number of intermodulation products :func:`predict` evaluates.
+
+    One product per multiset of n of the 2 ``n_tones`` signed tones, for every order
+    n <= ``order`` whose kernel is not structurally zero: ``sum_n C(2K + n - 1, n)``.
+    """
+    gen = generator(model)
+    return sum(math.comb(2 * n_tones + n - 1, n) for n in range(1, order + 1)
+               if gen.structurally_nonzero(n))
+
+
+def _multisets(size: int, n: int) -> Iterator[np.ndarray]:
+    """Sorted index n-tuples of range(size) (multisets), in chunks of :data:`_CHUNK` rows."""
+    source = itertools.combinations_with_replacement(range(size), n)
+    while chunk := list(itertools.islice(source, _CHUNK)):
+        yield np.array(chunk, dtype=np.int64).reshape(len(chunk), n)
+
+
+def predict(model: Model, tones: Any, order: int, *, force: bool = False
+            ) -> VolterraPrediction:
     """Volterra prediction of order ``order`` of the steady state for ``tones``.
+
+    The symmetric kernel takes the same value on every ordering of a tuple of tones, so
+    each multiset of tones is evaluated once with its multiplicity n! / prod m_i!, in
+    chunks (memory bounded by the number of output frequencies).
 
     Parameters
     ----------
     model : Model
         A polynomial model with a stable linear part.
     tones : sequence of (A, omega, phi)
-        Input ``sum A cos(omega t + phi)``, omega in rad/s, phi in rad.
+        Input ``sum A cos(omega t + phi)``, omega in rad/s, phi in rad.  Its amplitude
+        is ``sum |A|`` (:func:`input_amplitude`, the sup of |u|).
     order : int
-        Highest kernel order N.
+        Highest kernel order N, 1 <= N <= :data:`gfrf.kernels.MAX_KERNEL_ORDER`.
+    force : bool, optional
+        Predict even at an amplitude at or beyond the series radius r*; the result
+        then carries a ``warning``.
 
     Returns
     -------
     VolterraPrediction
         Components at every frequency ``Omega >= 0`` reached by n <= N tones.
+
+    Raises
+    ------
+    BeyondRadiusError
+        The amplitude is at or beyond r* (the series is not known to converge there;
+        the truncated sum can be off by orders of magnitude) and ``force`` is False.
+    ArgumentError
+        Bad tones or order, more than :data:`MAX_PRODUCTS` intermodulation products,
+        or a non-finite predicted component.
     """
     tones = _check_tones(tones)
     if isinstance(order, bool) or not isinstance(order, int) or order < 1:
         raise ArgumentError(f"order must be a positive integer, got {order!r}")
+    if order > MAX_KERNEL_ORDER:
+        raise ArgumentError(f"order {order} exceeds MAX_KERNEL_ORDER = {MAX_KERNEL_ORDER}")
+    count = intermodulation_count(model, len(tones), order)
+    if count > MAX_PRODUCTS:
+        raise ArgumentError(f"{len(tones)} tones to order {order} give {count} "
+                            f"intermodulation products, above MAX_PRODUCTS = {MAX_PRODUCTS} "
+                            f"(gfrf.volterra): use fewer tones or a lower order")
+    amplitude = input_amplitude(tones)
+    r_star, inside, certified = series_radius(model)
+    warning = None
+    if amplitude >= inside:
+        kind = "certified" if certified else "estimated"
+        warning = (f"input amplitude {amplitude:.6g} (sum of the tone amplitudes = sup |u|) "
+                   f"is at or beyond the {kind} radius r* = {r_star:.6g} of the Volterra "
+                   f"series: the series is not known to converge and the prediction may be "
+                   f"meaningless")
+        if not force:
+            raise BeyondRadiusError(warning, amplitude, r_star)
     omegas = np.array([s * w for _, w, _ in tones for s in (1, -1)])
     phasors = np.array([a / 2 * np.exp(s * 1j * p) for a, _, p in tones for s in (1, -1)])
     table: dict[float, dict[int, complex]] = {}
@@ -158,20 +286,35 @@ def predict(model: Model, tones: Any, order: int) -> VolterraPrediction:
         k = kernel(model, n)
         if k.is_zero:
             continue
-        idx = np.array(list(itertools.product(range(omegas.size), repeat=n)))
-        w = omegas[idx]
-        values = k(*w.T) * np.prod(phasors[idx], axis=1)
-        total = w.sum(axis=1)
-        for omega, value in zip(total, values, strict=True):
-            if omega < -1e-12:
+        for idx in _multisets(omegas.size, n):
+            run = np.ones(idx.shape)
+            for j in range(1, n):
+                run[:, j] = np.where(idx[:, j] == idx[:, j - 1], run[:, j - 1] + 1, 1)
+            weight = math.factorial(n) / np.prod(run, axis=1)
+            w = omegas[idx]
+            total = w.sum(axis=1)
+            keep = total >= -1e-12
+            if not keep.any():
                 continue
-            key = round(float(omega), 9)
-            keys.setdefault(key, max(float(omega), 0.0))
-            row = table.setdefault(key, {})
-            row[n] = row.get(n, 0j) + complex(value)
+            idx, w, total, weight = idx[keep], w[keep], total[keep], weight[keep]
+            with np.errstate(over="ignore", invalid="ignore"):  # checked below
+                values = weight * k(*w.T) * np.prod(phasors[idx], axis=1)
+            rounded, first, inverse = np.unique(np.round(total, 9), return_index=True,
+                                                return_inverse=True)
+            sums = (np.bincount(inverse, values.real, rounded.size)
+                    + 1j * np.bincount(inverse, values.imag, rounded.size))
+            for key, start, value in zip(rounded.tolist(), first.tolist(), sums.tolist(),
+                                         strict=True):
+                keys.setdefault(key, max(float(total[start]), 0.0))
+                row = table.setdefault(key, {})
+                row[n] = row.get(n, 0j) + value
     comps = tuple(Component(keys[key], sum(row.values()), row)
                   for key, row in sorted(table.items()))
-    return VolterraPrediction(tones, order, comps)
+    bad = [c.omega for c in comps if not cmath.isfinite(c.value)]
+    if bad:
+        raise ArgumentError(f"the prediction is not finite (overflow) at omega = {bad[0]:.6g} "
+                            f"rad/s for input amplitude {amplitude:.6g}")
+    return VolterraPrediction(tones, order, comps, amplitude, r_star, certified, warning)
 
 
 def _truncate(p: VolterraPrediction, order: int) -> VolterraPrediction:

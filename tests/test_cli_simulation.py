@@ -56,3 +56,43 @@ def test_predict_linear_json(capsys):
     assert code == 0
     (row,) = payload["components"]
     assert abs(row["amplitude"] - 1.5) < 1e-12 and abs(row["phase"] + math.pi / 2) < 1e-12
+
+
+def test_predict_refuses_beyond_radius_exit_1(capsys):
+    # the repro printed an amplitude of 1020.9 with exit 0
+    argv = ["predict", "models/hanging_pendulum.toml", "--input", "0.5*sin(1.565*t)",
+            "--order", "3"]
+    assert main(argv) == 1
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    (line,) = captured.err.strip().splitlines()
+    assert "r* = 0.0131852" in line and "amplitude 0.5 " in line and "--force" in line
+    assert main([*argv, "--force", "--json"]) == 0
+    payload = json.loads(capsys.readouterr().out)
+    assert "r* = 0.0131852" in payload["warning"] and payload["amplitude"] == 0.5
+    assert main([*argv, "--force"]) == 0
+    assert "WARNING" in capsys.readouterr().out
+
+
+def test_predict_never_prints_nan(capsys):
+    argv = ["predict", "models/duffing.toml", "--input", "1e300*sin(t)", "--order", "3"]
+    assert main(argv) == 1
+    assert main([*argv, "--force", "--json"]) == 2
+    captured = capsys.readouterr()
+    assert "nan" not in captured.out.lower() and "not finite" in captured.err
+
+
+def test_predict_multitone_amplitude_is_the_sum(capsys):
+    # 0.03 + 0.03 = 0.06 > r* = 0.0483 of the Duffing model although each tone is inside
+    argv = ["predict", "models/duffing.toml", "--input", "0.03*sin(t) + 0.03*cos(1.5*t)"]
+    assert main(argv) == 1
+    assert "amplitude 0.06 " in capsys.readouterr().err
+    assert main(["predict", "models/duffing.toml", "--input", "0.02*sin(t) + 0.02*cos(1.5*t)",
+                 "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["warning"] is None
+
+
+def test_predict_too_many_products_exit_2(capsys):
+    tones = " + ".join(f"0.0001*sin({1 + 0.1 * k:g}*t)" for k in range(40))
+    assert main(["predict", "models/duffing.toml", "--input", tones, "--order", "5"]) == 2
+    assert "MAX_PRODUCTS" in capsys.readouterr().err

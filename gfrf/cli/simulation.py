@@ -5,7 +5,9 @@ physical equation when the file has one, ``--polynomial`` for the truncated mode
 ``--closed-loop`` with the file's controller (the input is then the reference),
 ``--initial y0,dy0`` for initial conditions.  Exit code 0 when the run reaches
 t_end, 1 when it blows up, 2 for bad input.  ``gfrf predict MODEL --input TEXT
---order N`` lists the steady-state harmonics of a sum of tones (rad/s).
+--order N`` lists the steady-state harmonics of a sum of tones (rad/s); exit 1 (one
+line naming r* and the amplitude) when the input amplitude, the sum of the tone
+amplitudes, is at or beyond the series radius r*, unless ``--force``.
 ``gfrf validate MODEL`` computes the verdict and simulates inputs below and above its
 radius r* (and closed loops from initial angles); exit 0 when no simulation
 contradicts the verdict, 1 when one does.
@@ -14,6 +16,7 @@ contradicts the verdict, 1 when one does.
 from __future__ import annotations
 
 import argparse
+import sys
 import warnings
 from typing import Any
 
@@ -26,7 +29,7 @@ from gfrf.errors import ArgumentError
 from gfrf.signals import parse_input
 from gfrf.simulate import METHODS, SimulationResult, simulate
 from gfrf.validation import validate
-from gfrf.volterra import predict
+from gfrf.volterra import BeyondRadiusError, predict
 
 __all__ = ["register"]
 
@@ -65,11 +68,18 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     pred = subparsers.add_parser(
         "predict", help="Volterra prediction of the steady state for a sum of tones",
         description="Steady-state harmonics and intermodulation products (rad/s) of a "
-                    "sum of sinusoids predicted from the GFRFs up to --order.")
+                    "sum of sinusoids predicted from the GFRFs up to --order.  The input "
+                    "amplitude is the sum of the tone amplitudes (the sup of |u|); at or "
+                    "beyond the series radius r* the prediction is refused (exit 1) "
+                    "unless --force.")
     add_model_argument(pred)
     pred.add_argument("--input", required=True, metavar="TEXT",
                       help="a sum of tones, e.g. '0.01*sin(1.565*t) + 0.005*cos(3*t)'")
     pred.add_argument("--order", type=int, default=3, help="highest kernel order N")
+    pred.add_argument("--force", action="store_true",
+                      help="predict even when the input amplitude (sum of the tone "
+                           "amplitudes = sup |u|) is at or beyond the series radius r*; "
+                           "the output then carries a warning")
     add_json_flag(pred)
     pred.set_defaults(func=_predict)
 
@@ -153,9 +163,18 @@ def _predict(args: argparse.Namespace) -> int:
     if not signal.tones:
         raise ArgumentError(f"--input {args.input!r} is not a sum of sinusoids "
                             f"A*sin(w*t + p) / A*cos(w*t + p)")
-    p = predict(mf.plant, signal.tones, args.order)
+    try:
+        p = predict(mf.plant, signal.tones, args.order, force=args.force)
+    except BeyondRadiusError as exc:
+        print(f"gfrf: refused: {exc} (--force to predict anyway)", file=sys.stderr)
+        return 1
+    kind = "certified" if p.radius_certified else "estimate"
     lines = [f"{mf.name}: steady state to order {args.order} for {args.input}",
-             "  omega (rad/s)   f (Hz)      amplitude       phase (rad)"]
+             f"  input amplitude {p.amplitude:.6g} (sum of tone amplitudes = sup |u|), "
+             f"series radius r* = {p.radius:.6g} ({kind})"]
+    if p.warning:
+        lines.append(f"  WARNING: {p.warning}")
+    lines += ["  omega (rad/s)   f (Hz)      amplitude       phase (rad)"]
     lines += [f"  {c.omega:<15.6g} {c.omega / (2 * np.pi):<11.5g} {c.amplitude:<15.6g} "
               f"{c.phase:+.6f}" for c in p.components]
     emit(args, {"model": mf.name, **p.to_dict()}, "\n".join(lines))
