@@ -12,7 +12,7 @@ $(BIN)/python:
 
 $(STAMP): $(BIN)/python pyproject.toml
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e ".[test,fast,dask]"
+	$(BIN)/python -m pip install --quiet -e ".[test,fast,dask,identify]"
 	@touch $(STAMP)
 
 # Verdicts exit 1 when stability is not proven: the demo shows them and goes on.
