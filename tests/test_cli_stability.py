@@ -81,3 +81,23 @@ def test_bad_input_exit_2(capsys: pytest.CaptureFixture[str], argv: list[str]) -
     code, out, err = run(capsys, *argv)
     assert code == 2
     assert err.startswith("gfrf: error:") and "Traceback" not in err
+
+
+@pytest.mark.parametrize("command", ["verdict", "norm"])
+def test_order_above_kernel_limit_refused_before_work(
+        capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch,
+        command: str) -> None:
+    # verdict --order 13 used to compute ||H1||..||H12|| for a minute before refusing
+    from gfrf.cli import stability
+    from gfrf.kernels import MAX_KERNEL_ORDER
+
+    def no_work(*args: object, **kwargs: object) -> None:
+        pytest.fail("computed before checking the order")
+
+    monkeypatch.setattr(stability, "verdict", no_work)
+    monkeypatch.setattr(stability, "kernel_norm", no_work)
+    monkeypatch.setattr(stability, "resolve_model", no_work)
+    code, out, err = run(capsys, command, "models/duffing.toml", "--order",
+                         str(MAX_KERNEL_ORDER + 1))
+    assert code == 2 and out == ""
+    assert f"MAX_KERNEL_ORDER = {MAX_KERNEL_ORDER}" in err

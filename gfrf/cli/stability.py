@@ -21,6 +21,7 @@ from gfrf.cli._models import add_model_argument, resolve_model
 from gfrf.cli._output import add_json_flag, emit
 from gfrf.criteria import Verdict, parameter_margin, verdict
 from gfrf.errors import ArgumentError
+from gfrf.kernels import MAX_KERNEL_ORDER
 from gfrf.norms import Bound, kernel_norm
 
 __all__ = ["register"]
@@ -70,10 +71,16 @@ def _bound_line(b: Bound) -> str:
             f"{'certified' if b.certified else 'estimate'}")
 
 
+def _check_order(order: int) -> None:
+    """Refuse an order outside 1..MAX_KERNEL_ORDER before any work."""
+    if not 1 <= order <= MAX_KERNEL_ORDER:
+        raise ArgumentError(f"--order must be between 1 and MAX_KERNEL_ORDER = "
+                            f"{MAX_KERNEL_ORDER}, got {order}")
+
+
 def _norm(args: argparse.Namespace) -> int:
+    _check_order(args.order)
     mf = resolve_model(args)
-    if args.order < 1:
-        raise ArgumentError(f"--order must be >= 1, got {args.order}")
     b = kernel_norm(mf.plant, args.order, not args.asymmetric, args.tol)
     kind = "symmetric" if not args.asymmetric else "asymmetric"
     lines = [f"{mf.name}: {kind} kernel, angular frequencies in rad/s", _bound_line(b),
@@ -111,6 +118,7 @@ def _verdict_text(name: str, v: Verdict) -> list[str]:
 
 
 def _verdict(args: argparse.Namespace) -> int:
+    _check_order(args.order)
     mf = resolve_model(args)
     v = verdict(mf, args.order, args.amplitude)
     payload = {"model": mf.name, **v.to_dict()}
