@@ -277,7 +277,11 @@ def theta_series(phi: list[float], lambda1: float, rho1: float, order: int) -> l
 
     theta_1 = 1, theta_n = rho_1 sum_{m=2}^n phi_m lambda_1^m [x^n] Theta(x)^m, with
     Theta(x) = sum theta_k x^k (the sum over compositions k_1 + .. + k_m = n).
+    An infinite rho_1 (a closed-loop pole on the axis) or phi_m bounds nothing:
+    theta_n = inf for n >= 2.
     """
+    if not (math.isfinite(rho1) and all(math.isfinite(p) for p in phi[:order])):
+        return [1.0] + [math.inf] * (order - 1)
     theta = np.zeros(order + 1)
     theta[1] = 1.0
     for n in range(2, order + 1):
@@ -304,7 +308,8 @@ def phi_series(beta: list[float], alpha: list[float], order: int) -> list[float]
     for m in range(1, order + 1):
         power = np.convolve(power, a)[: order + 1]
         if beta[m - 1]:
-            phi += beta[m - 1] * power
+            with np.errstate(invalid="ignore"):  # 0 * inf: an absent term adds nothing
+                phi += np.where(power > 0, beta[m - 1] * power, 0.0)
     return phi[1:].tolist()
 
 

@@ -188,8 +188,10 @@ def closed_loop(model_file: ModelFile, feedback: int | None = None) -> ClosedLoo
     if lam.reason:
         notes.append(f"controller norm lambda_1 = inf: {lam.reason}")
     if not stable:
-        notes.append("linear closed loop unstable: poles "
-                     + ", ".join(f"{p:.6g}" for p in poles if p.real >= 0))
+        notes.append("linear closed loop not asymptotically stable: poles with Re s >= 0: "
+                     + ", ".join(f"{p:.6g}" for p in poles if p.real >= 0)
+                     + ("" if np.isfinite(peak.value) else
+                        "; a pole on the imaginary axis makes the sensitivity peak infinite"))
     p_tf = control.tf(*plant_poly)
     c_tf = control.tf(*ctrl_poly)
     return ClosedLoop(p_tf, c_tf, control.tf(np.polymul(plant_poly[0], ctrl_poly[1]), chi),

@@ -54,7 +54,9 @@ def test_norm_order_1(capsys: pytest.CaptureFixture[str]) -> None:
     data = json.loads(out)
     assert code == 0
     expected = 1 / (0.05 * math.sqrt(2.45 - 0.05**2 / 4))
-    assert data["lower"] == data["upper"] == pytest.approx(expected, rel=1e-9)
+    # a proven enclosure (outward-rounded), a few ulps wide
+    assert data["lower"] <= expected * (1 + 1e-12) and data["upper"] >= expected * (1 - 1e-12)
+    assert data["upper"] == pytest.approx(expected, rel=1e-9) and data["proof"] == "interval"
 
 
 def test_norm_improper_is_inf(capsys: pytest.CaptureFixture[str]) -> None:
@@ -101,3 +103,36 @@ def test_order_above_kernel_limit_refused_before_work(
                          str(MAX_KERNEL_ORDER + 1))
     assert code == 2 and out == ""
     assert f"MAX_KERNEL_ORDER = {MAX_KERNEL_ORDER}" in err
+
+
+POLE_AT_ZERO = """name = "loop with a closed-loop pole at s = 0"
+output = "y"
+equation = "D(y,2) + D(y) + y + 0.1*y**3 + 0.05*y**2*D(u) = u"
+
+[controller]
+num = [1]
+den = [1]
+feedback = 1
+"""
+
+
+def test_loop_pole_at_zero_never_prints_nan(capsys: pytest.CaptureFixture[str],
+                                            tmp_path: pytest.TempPathFactory) -> None:
+    # chi = s^2 + s + 1 - 1 = s^2 + s: python-control puts a closed-loop pole at 0, so the
+    # sensitivity peak rho_1 is infinite; theta_n rho_1^n r^n printed nan (0 * inf).  The
+    # D(u) factor also makes the plant majorant infinite (phi_n = 0 * inf before).
+    import control
+    import numpy as np
+
+    poles = control.poles(control.feedback(control.tf([1], [1, 1, 1]), 1, sign=1))
+    assert np.min(np.abs(poles)) < 1e-12
+    path = tmp_path / "pole0.toml"  # type: ignore[operator]
+    path.write_text(POLE_AT_ZERO)
+    code, out, _ = run(capsys, "verdict", str(path), "--order", "5")
+    assert code == 1 and "nan" not in out.lower()
+    code, out, _ = run(capsys, "verdict", str(path), "--order", "5", "--json")
+    data = json.loads(out)
+    assert data["verdict"] != "stable"
+    terms = [row["theta_term"] for row in data["series"]]
+    assert terms == ["inf"] * 5  # rho_1 = inf bounds nothing; never NaN (JSON null)
+    assert all(row["phi"] is not None for row in data["series"])
