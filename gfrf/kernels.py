@@ -56,6 +56,7 @@ import sympy as sp
 from gfrf.combinatorics import compositions, ordered_set_partitions
 from gfrf.errors import ArgumentError
 from gfrf.model import Model, Term
+from gfrf.scaling import normalized
 
 __all__ = ["Kernel", "GFRFGenerator", "generator", "kernel", "MAX_KERNEL_ORDER"]
 
@@ -330,8 +331,13 @@ def _sum_of_reachable(total: int, parts: int, reachable: dict[int, bool]) -> boo
 
 @lru_cache(maxsize=64)
 def generator(model: Model) -> GFRFGenerator:
-    """The memoised GFRF generator of ``model`` (equal models share one)."""
-    return GFRFGenerator(model)
+    """The memoised GFRF generator of ``model`` (equal models share one).
+
+    It works on :func:`gfrf.scaling.normalized` ``(model)`` (every coefficient divided
+    by a power of two near A's leading coefficient): the same kernels, exactly, with
+    no overflow or underflow when the whole equation is scaled by 1e-200 or 1e200.
+    """
+    return GFRFGenerator(normalized(model))
 
 
 @dataclass(frozen=True)
