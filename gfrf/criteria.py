@@ -70,7 +70,7 @@ from gfrf.loops import closed_loop
 from gfrf.majorant import Majorant, Radius, certify, majorant, radius
 from gfrf.model import Model
 from gfrf.modelfile import ModelFile, model_from_dict
-from gfrf.norms import Bound, kernel_norm, linear_stability
+from gfrf.norms import Bound, kernel_norm, linear_poles
 from gfrf.rational import rational_sup
 
 __all__ = ["Condition", "Verdict", "Margin", "theorem1", "theorem2", "verdict",
@@ -105,7 +105,7 @@ class Verdict:
     radius : float
         r*: the certified series converges for every amplitude r < r*.
     radius_certified : bool
-        True when r* comes from exact sups (continuous model).
+        True when r* comes from proven sups (continuous and NARX models).
     amplitude : float
         The input amplitude r tested (the paper's r = 1).
     conditions : tuple of Condition
@@ -166,20 +166,22 @@ def _proper_condition(model: Model, maj: Majorant, what: str) -> Condition:
 
 
 def _stability_condition(model: Model) -> tuple[Condition, str]:
-    stable, poles = linear_stability(model)
+    """Condition 2, decided exactly (Routh's test in rationals, exact boundary roots)."""
+    report = linear_poles(model)
     kind = "|z| < 1" if model.is_discrete else "Re s < 0"
-    values = [complex(p) for p in poles]
-    if stable:
-        return Condition("linear part A_1 stable", True, values, f"all poles have {kind}"), ""
-    if model.is_discrete:
-        strict = any(abs(p) > 1 + 1e-12 for p in poles)
+    values = [complex(p) for p in report.roots]
+    if report.stable:
+        return Condition("linear part A_1 stable", True, values,
+                         f"all poles have {kind} (exact test on the given coefficients)"), ""
+    if report.outside:
+        detail = ("pole outside the stability region (exact test): the equilibrium is "
+                  "unstable (Lyapunov's indirect method); Theorem 1 is inapplicable")
     else:
-        strict = any(p.real > 1e-12 * (1 + abs(p)) for p in poles)
-    detail = ("pole outside the stability region: the equilibrium is unstable "
-              "(Lyapunov's indirect method); Theorem 1 is inapplicable" if strict else
-              "pole on the stability boundary: Theorem 1 is inapplicable")
+        detail = ("pole on the stability boundary at "
+                  + ", ".join(f"{p:.6g}" for p in report.boundary)
+                  + " (exact test): Theorem 1 is inapplicable")
     return Condition("linear part A_1 stable", False, values, detail), \
-        "unstable" if strict else "inconclusive"
+        "unstable" if report.outside else "inconclusive"
 
 
 def _norms_and_series(model: Model, maj: Majorant, order: int, amplitude: float,
@@ -245,7 +247,7 @@ def theorem1(model: Model, order: int = 5, amplitude: float = 1.0,
 
 def _series_condition(name: str, rad: Radius, amplitude: float, exact: bool,
                       estimate: float | None) -> Condition:
-    label = "certified" if exact else "estimate (grid sups of a discrete model)"
+    label = "certified" if exact else "not certified"
     est = (f"; finite-term estimate of the true radius (from lower bounds): {estimate:.4g}"
            if estimate else "")
     if amplitude < rad.certified_below:

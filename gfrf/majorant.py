@@ -13,10 +13,13 @@ with K_l = sup|(j w)^ell / A(j w)|, U = prod_j sup|(j w)^{k_j}| over the term's 
 factors (1 when every k_j = 0, infinite otherwise) and the inner sum over ordered
 compositions.  The symmetric kernel's sum over ordered set partitions with weights
 prod|B_i|!/n! has total weight one per composition, so M_{n,0} bounds the symmetric
-and the asymmetric H_n alike.  Every sup is computed exactly by
-:func:`gfrf.rational.rational_sup`, so M_{n,0} is a certified upper bound on ||H_n||
-(rounding aside, ~1e-12 relative).  For a discrete (NARX) model |q| = 1, so U = 1
-and K_l = sup|1/A|; those sups come from a polished grid and are labelled estimates.
+and the asymmetric H_n alike.  Every sup is the upper end of a proven enclosure
+from :func:`gfrf.rational.rational_sup` (exact rational algebra and ball arithmetic),
+so M_{n,0} is a certified upper bound on ||H_n|| (the products and sums of the
+recursion are then done in floating point, ~1e-15 relative).  For a discrete (NARX)
+model |q| = 1, so U = 1 and K_l = sup|1/A| on the unit circle, proven the same way.
+The model is normalised first (:func:`gfrf.scaling.normalized`), so the majorant and
+r* do not change when the equation is multiplied by a constant.
 
 Generating function.  With X_l(r) = sum_n M_{n,ell} r^n the recursion is the polynomial
 fixed-point system
@@ -53,6 +56,7 @@ import numpy as np
 
 from gfrf.model import Model
 from gfrf.rational import SupResult, discrete_rational_sup, rational_sup
+from gfrf.scaling import normalized
 
 __all__ = ["Majorant", "MajorantTerm", "Radius", "majorant", "radius", "linear_polynomials"]
 
@@ -82,7 +86,7 @@ class Majorant:
     terms : tuple of MajorantTerm
         Nonlinear terms (weight = |c| U, possibly infinite).
     exact : bool
-        All sups exact (continuous model) rather than polished-grid estimates.
+        Every sup is a proven enclosure (:attr:`gfrf.rational.SupResult.exact`).
     reasons : tuple of str
         Why some entry is infinite.
     """
@@ -178,8 +182,11 @@ def _product_coefficient(series: list[np.ndarray], n: int) -> float:
 def linear_polynomials(model: Model) -> tuple[np.ndarray, np.ndarray]:
     """(num, den) of H1 = -B/A, highest power first for a continuous model.
 
-    For a discrete model the arrays are lowest power of q first.
+    For a discrete model the arrays are lowest power of q first.  Both are taken from
+    the normalised model (:func:`gfrf.scaling.normalized`): H1 is unchanged, A's
+    leading coefficient lies in [1, 2).
     """
+    model = normalized(model)
     a, b = model.linear_output, model.linear_input
     den = np.array([a.get(k, 0.0) for k in range(max(a) + 1)])
     num = np.array([-b.get(k, 0.0) for k in range(max(b, default=0) + 1)])
@@ -212,17 +219,19 @@ def majorant(model: Model) -> Majorant:
     -------
     Majorant
     """
+    model = normalized(model)
     num, den = linear_polynomials(model)
     discrete = model.is_discrete
     nonlinear = model.nonlinear_terms
     powers = tuple(sorted({0, *(ell for t in nonlinear for ell in t.y_orders)}))
     reasons: list[str] = []
     linear, gains = {}, {}
-    exact = not discrete
+    exact = True
     for ell in powers:
         h1 = _sup(model, _shift(num, ell, discrete), den)
         inv_a = _sup(model, _shift(np.ones(1), ell, discrete), den)
-        linear[ell], gains[ell] = h1.value, inv_a.value
+        linear[ell], gains[ell] = h1.upper, inv_a.upper
+        exact = exact and h1.exact and inv_a.exact
         for name, res in ((f"sup|s^{ell} H1|", h1), (f"sup|s^{ell}/A|", inv_a)):
             if res.reason:
                 reasons.append(f"{name} infinite: {res.reason}")
@@ -402,6 +411,22 @@ def _fold_bracket(step: Callable[[np.ndarray, float], np.ndarray], dim: int, lo:
     return lo, x_lo, hi
 
 
+def _entire(step: Callable[[np.ndarray, float], np.ndarray], dim: int) -> bool:
+    """Whether the least solution of x = step(x, r) is a polynomial in r (r* = inf).
+
+    Decided exactly from the structure of a polynomial with nonnegative coefficients:
+    either nothing forces x (step(0, 1) = 0, so x = 0 for every r), or step does not
+    depend on x at all (the same floats at x = 0 and at x = 1e100: an x-dependent
+    monomial with a positive coefficient would change them).
+    """
+    zero = step(np.zeros(dim), 1.0)
+    if not np.any(zero):
+        return True
+    with np.errstate(over="ignore", invalid="ignore"):
+        big = step(np.full(dim, 1e100), 1.0)
+    return bool(np.array_equal(zero, big))
+
+
 def radius(step: Callable[[np.ndarray, float], np.ndarray], dim: int,
            rel_tol: float = 1e-10, fold: bool = True) -> Radius:
     """Radius of convergence in r of the positive system ``x = step(x, r)``.
@@ -426,16 +451,18 @@ def radius(step: Callable[[np.ndarray, float], np.ndarray], dim: int,
     probe = step(np.ones(dim), 1.0)
     if not np.all(np.isfinite(probe)):
         return Radius(0.0, 0.0, None)
+    if _entire(step, dim):
+        return Radius(math.inf, math.inf, None)
     lo, x_lo = 0.0, np.zeros(dim)
     hi = 1.0
-    while True:
+    while True:  # no cap: a finite radius is found in any magnitude
         x = certify(step, dim, hi, x_lo)
         if x is None:
             break
         lo, x_lo = hi, x
         hi *= 4.0
-        if hi > 1e12:
-            return Radius(math.inf, math.inf, None)
+        if not math.isfinite(hi):  # certified beyond the float range
+            return Radius(math.inf, lo, x_lo)
     while lo == 0.0:
         x = certify(step, dim, hi / 4.0)
         if x is None:

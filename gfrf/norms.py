@@ -1,17 +1,21 @@
 """H-infinity norms of the GFRFs: ||H1|| exactly, ||Hn|| (n >= 2) as a certified bracket.
 
-``h1_norm(model)`` is the sup over omega (rad/s) of |H1(j omega)|, H1 = -B/A.  It is
+``h1_norm(model)`` is the sup over omega (rad/s) of |H1(j omega)|, H1 = -B/A, as a
+proven enclosure ``[lower, upper]`` (``proof = "interval"``): exact rational algebra
+on the float coefficients and ball arithmetic on the stationary points of |H1|^2
+(:func:`gfrf.rational.rational_sup`), for continuous and NARX models alike.  It is
 cross-checked against python-control's ``control.norm(sys, p='inf')`` (whose
-tolerance is 1e-6 without slycot) and computed exactly from the stationary points of
-|H1|^2 (:func:`gfrf.rational.rational_sup`, ~1e-12 relative).  An improper H1 or a
-pole on the imaginary axis gives ``upper = inf`` with the reason in ``notes``; an
-unstable linear part (a pole in the open right half plane) still has a finite sup
-on the axis (the L-infinity norm, used by Theorem 2 for an unstable plant), flagged
-``stable = False``.
+tolerance is 1e-6 without slycot).  A common factor of B and A is cancelled exactly
+and reported; an improper H1 or a pole on the imaginary axis (unit circle), decided
+exactly, gives ``upper = inf`` with the reason in ``notes``; an unstable linear part
+(a pole in the open right half plane) still has a finite sup on the axis (the
+L-infinity norm, used by Theorem 2 for an unstable plant), flagged ``stable = False``.
+Stability of A is decided exactly (Routh's test in rationals, :mod:`gfrf.exact`).
 
 ``kernel_norm(model, n)`` brackets ||H_n|| = sup over R^n of |H_n(j w_1..j w_n)|:
 
-* ``upper`` is certified: the recursive majorant of :mod:`gfrf.majorant`, valid for the
+* ``upper`` is certified (``proof = "float"``: proven sups combined in floating point):
+  the recursive majorant of :mod:`gfrf.majorant`, valid for the
   symmetric and the asymmetric kernel.  For a pure-output polynomial with constant
   input gain (Duffing, the hanging pendulum) it equals |c3| ||H1||^3 sup|1/A| for H3
   and is attained at (w_r, w_r, -w_r): the gap is rounding only.  Where the majorant
@@ -52,12 +56,13 @@ from scipy.optimize import minimize
 
 from gfrf.branch_bound import MAX_ORDER, branch_and_bound
 from gfrf.errors import ArgumentError
+from gfrf.exact import PoleReport, poles
 from gfrf.kernels import kernel
 from gfrf.majorant import linear_polynomials, majorant
 from gfrf.model import Model
 from gfrf.rational import discrete_rational_sup, rational_sup
 
-__all__ = ["Bound", "h1_norm", "kernel_norm", "linear_stability"]
+__all__ = ["Bound", "h1_norm", "kernel_norm", "linear_poles", "linear_stability"]
 
 #: Largest number of start points evaluated for the lower bound.
 MAX_STARTS = 4000
@@ -78,7 +83,7 @@ class Bound:
     argmax : tuple of float
         Angular frequencies (rad/s) where ``lower`` is attained.
     certified : bool
-        True when ``upper`` is proven (up to floating-point rounding, ~1e-12 relative).
+        True when ``upper`` is a certified bound (see ``proof`` for how rigorous).
     method : str
         How the bracket was obtained.
     order : int
@@ -91,6 +96,10 @@ class Bound:
         Reasons for infinite values, instability, an open gap.
     reference : float or None
         python-control's ``norm(sys, 'inf')`` for order 1 (cross-check), else None.
+    proof : str
+        ``"interval"``: lower and upper are proven (exact algebra, ball arithmetic,
+        outward rounding); ``"float"``: a sound method evaluated in floating point
+        (relative rounding ~1e-15 not accounted for).
     """
 
     lower: float
@@ -103,6 +112,7 @@ class Bound:
     stable: bool | None = None
     notes: tuple[str, ...] = field(default=())
     reference: float | None = None
+    proof: str = "float"
 
     @property
     def gap(self) -> float:
@@ -118,22 +128,30 @@ class Bound:
         return {"order": self.order, "lower": self.lower, "upper": self.upper,
                 "gap": self.gap, "argmax": list(self.argmax), "certified": self.certified,
                 "method": self.method, "symmetric": self.symmetric, "stable": self.stable,
-                "notes": list(self.notes), "reference": self.reference}
+                "notes": list(self.notes), "reference": self.reference, "proof": self.proof}
 
 
-def linear_stability(model: Model) -> tuple[bool, np.ndarray]:
-    """(stable, poles) of A: open left half plane, or |z| < 1 in z = 1/q for NARX."""
+def linear_poles(model: Model) -> PoleReport:
+    """Exact location of the poles of A: Re s < 0, or |z| < 1 in z = 1/q for NARX.
+
+    Decided on the exact rational values of the (normalised) coefficients by Routh's
+    test (after the Cayley map for NARX), with exact boundary roots; see
+    :func:`gfrf.exact.poles`.
+    """
     # For a NARX model den is A's coefficients, lowest power of q first; in z = 1/q the
     # polynomial z^L A(1/z) has those same coefficients, highest power of z first.
     _, den = linear_polynomials(model)
-    poles = np.roots(den) if den.size > 1 else np.zeros(0)
-    if model.is_discrete:
-        return bool(np.all(np.abs(poles) < 1.0)), poles
-    return bool(np.all(poles.real < 0.0)), poles
+    return poles(den, model.is_discrete)
+
+
+def linear_stability(model: Model) -> tuple[bool, np.ndarray]:
+    """(stable, poles) of A, stability decided exactly (see :func:`linear_poles`)."""
+    report = linear_poles(model)
+    return report.stable, report.roots
 
 
 def h1_norm(model: Model) -> Bound:
-    """||H1||_inf = sup over omega (rad/s) of |H1(j omega)|, exact to ~1e-12 relative.
+    """||H1||_inf = sup over omega (rad/s) of |H1(j omega)|, as a proven enclosure.
 
     Parameters
     ----------
@@ -142,32 +160,37 @@ def h1_norm(model: Model) -> Bound:
     Returns
     -------
     Bound
-        ``lower == upper``; ``inf`` for an improper H1 or imaginary-axis poles (reason
-        in ``notes``); ``stable = False`` flags an unstable linear part, whose finite
-        value is then the L-infinity norm on the axis, not an H-infinity norm.
+        ``[lower, upper]`` proven (``proof = "interval"``); ``inf`` for an improper H1
+        or poles on the imaginary axis / unit circle (reason in ``notes``);
+        ``stable = False`` flags an unstable linear part, whose finite value is then
+        the L-infinity norm on the axis, not an H-infinity norm.
     """
     num, den = linear_polynomials(model)
-    stable, poles = linear_stability(model)
+    report = linear_poles(model)
+    stable = report.stable
     notes = []
     if not stable:
-        unstable = ", ".join(f"{p:.6g}" for p in poles
-                             if (abs(p) >= 1 if model.is_discrete else p.real >= 0))
-        notes.append(f"linear part not asymptotically stable (poles {unstable}): the value is the "
-                     "L-infinity norm on the frequency axis, not an H-infinity norm")
+        where = ("some pole strictly outside the stability region" if report.outside else
+                 "poles on the stability boundary at "
+                 + ", ".join(f"{p:.6g}" for p in report.boundary))
+        notes.append(f"linear part not asymptotically stable ({where}, exact test): the value "
+                     "is the L-infinity norm on the frequency axis, not an H-infinity norm")
     if model.is_discrete:
         sup = discrete_rational_sup(num, den, model.sample_time)  # type: ignore[arg-type]
-        method = "polished 4097-point grid on [0, pi/T] (estimate)"
-        reference = _control_norm(control.tf(_pad(num, den), _pad(den, num),
-                                             model.sample_time)) if stable else None
+        method = ("exact rational algebra on the unit circle (Cayley map) + ball enclosure "
+                  "of the stationary points (proven), cross-checked with control.norm")
+        reference = (_control_norm(control.tf(_pad(num, den), _pad(den, num),
+                                              model.sample_time))
+                     if stable and math.isfinite(sup.upper) else None)
     else:
         sup = rational_sup(num, den)
-        method = "stationary points of |H1|^2 (exact), cross-checked with control.norm"
+        method = ("exact rational algebra + ball enclosure of the stationary points of "
+                  "|H1|^2 (proven), cross-checked with control.norm")
         reference = (_control_norm(control.tf(num, den))
-                     if stable and math.isfinite(sup.value) else None)
-    if sup.reason:
-        notes.append(f"||H1|| = inf: {sup.reason}")
-    return Bound(sup.value, sup.value, (sup.omega,), sup.exact, method, 1, True, stable,
-                 tuple(notes), reference)
+                     if stable and math.isfinite(sup.upper) else None)
+    notes += [f"||H1|| = inf: {note}" if note == sup.reason else note for note in sup.notes]
+    return Bound(sup.lower, sup.upper, (sup.omega,), sup.exact, method, 1, True, stable,
+                 tuple(notes), reference, "interval" if sup.exact else "float")
 
 
 def _pad(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -254,7 +277,7 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
     if n == 1:
         b = h1_norm(model)
         return Bound(b.lower, b.upper, b.argmax, b.certified, b.method, 1, symmetric,
-                     b.stable, b.notes, b.reference)
+                     b.stable, b.notes, b.reference, b.proof)
     stable, _ = linear_stability(model)
     notes = [] if stable else ["linear part not asymptotically stable: L-infinity norm on the "
                                "frequency axis"]
@@ -272,7 +295,7 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
                       "and P_n bounded away from 0 near the hyperplane w_1+..+w_n = w0"))
     lower, argmax = _search(k, model, n, symmetric, upper, tol)
     method = ("recursive majorant (certified upper) + resonance-start Nelder-Mead (lower)"
-              if maj.exact else "recursive majorant from grid sups (estimate) + local search")
+              if maj.exact else "recursive majorant (not proven) + local search")
     if (upper - lower > tol * upper and math.isfinite(upper) and not model.is_discrete
             and n <= MAX_ORDER):
         bb = branch_and_bound(model, n, symmetric, lower, argmax, tol, max_boxes=max_boxes)
@@ -303,8 +326,7 @@ def _axis_blowup(k: Any, model: Model, n: int) -> tuple[float, ...] | None:
     if model.is_discrete:
         return None
     _, den = linear_polynomials(model)
-    roots = np.roots(den) if den.size > 1 else np.zeros(0)
-    axis = [float(abs(r.imag)) for r in roots if abs(r.real) <= 1e-12 * (1 + abs(r))]
+    axis = sorted({abs(p.imag) for p in linear_poles(model).boundary})
     rng = np.random.default_rng(0)
     for w0 in axis:
         base = rng.uniform(-1.0, 1.0, n - 1) * (1 + w0) + 0.123

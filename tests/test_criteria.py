@@ -114,10 +114,14 @@ def test_bad_amplitude_and_order() -> None:
         verdict(mf, order=0)
 
 
-def test_discrete_radius_is_estimate() -> None:
+def test_discrete_radius_is_certified() -> None:
+    # y[k] = 0.5 y[k-1] - 0.2 y[k-1]^2 u[k-2] + u[k-1]: |q| = 1, sup|1/A| = sup|q/A| = 2
+    # at q = 1, so X = 2 r + 2 * 0.2 r X^2, whose branch point is 1 - 3.2 r^2 = 0
     v = verdict(load_model("models/narx_example.toml"), order=3, amplitude=0.1)
-    assert not v.radius_certified
-    assert v.verdict == "inconclusive"  # an estimate never proves stability
+    exact = 1 / math.sqrt(3.2)
+    assert v.radius_certified and v.verdict == "stable"
+    assert v.radius == pytest.approx(exact, rel=2e-9)
+    assert v.norms[0].lower <= 2.0 <= v.norms[0].upper and v.norms[0].proof == "interval"
 
 
 def test_paper_checks_rows() -> None:
