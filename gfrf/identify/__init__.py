@@ -410,7 +410,7 @@ def _check_settings(n: int, ylag: int, ulag: int, degree: int, criterion: str,
     if candidates > MAX_CANDIDATES:
         raise ArgumentError(f"ylag {ylag}, ulag {ulag}, degree {degree} give {candidates} "
                             f"candidate terms, above the limit {MAX_CANDIDATES}")
-    _check_int("max_terms", max_terms, 1, candidates)
+    _check_int("max_terms", max_terms, 1, MAX_CANDIDATES)
     if isinstance(holdout, bool) or not isinstance(holdout, (int, float)) \
             or not 0.05 <= holdout <= 0.5:
         raise ArgumentError(f"holdout must be a fraction from 0.05 to 0.5, got {holdout!r}")
@@ -489,7 +489,7 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int = 2, ulag: int = 2
     criterion : {"bic", "aic", "aicc", "fpe", "lilc"}
         Information criterion for the number of terms (sysidentpy's names).
     max_terms : int
-        Largest number of terms the criterion considers.
+        Largest number of terms the criterion considers (at most the candidates).
     holdout : float
         Fraction (0.05 to 0.5) of the samples, at the end, held out for validation.
     output, input : str
@@ -515,6 +515,7 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int = 2, ulag: int = 2
     _check_names(output, input)
     candidates, n_train = _check_settings(y.size, ylag, ulag, degree, criterion, max_terms,
                                           holdout)
+    max_terms = min(max_terms, candidates)
     frols = _frols(ylag, ulag, degree, criterion, max_terms)
     import sysidentpy
 
