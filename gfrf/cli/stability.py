@@ -67,8 +67,8 @@ def _num(x: float | None) -> str:
 
 def _bound_line(b: Bound) -> str:
     gap = "inf" if math.isinf(b.gap) else f"{b.gap:.2e}"
-    return (f"  ||H{b.order}|| in [{_num(b.lower)}, {_num(b.upper)}]  gap {gap}  "
-            f"{'certified' if b.certified else 'estimate'}")
+    label = ("proven" if b.proof == "interval" else "certified") if b.certified else "estimate"
+    return f"  ||H{b.order}|| in [{_num(b.lower)}, {_num(b.upper)}]  gap {gap}  {label}"
 
 
 def _check_order(order: int) -> None:
