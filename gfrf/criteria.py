@@ -66,6 +66,7 @@ from typing import Any
 import numpy as np
 
 from gfrf.errors import ArgumentError
+from gfrf.kernels import MAX_KERNEL_ORDER
 from gfrf.loops import closed_loop
 from gfrf.majorant import Majorant, Radius, certify, majorant, radius
 from gfrf.model import Model
@@ -144,6 +145,8 @@ def _check_amplitude(amplitude: float, order: int) -> None:
         raise ArgumentError(f"amplitude must be a positive finite number, got {amplitude!r}")
     if isinstance(order, bool) or not isinstance(order, int) or order < 1:
         raise ArgumentError(f"order must be a positive integer, got {order!r}")
+    if order > MAX_KERNEL_ORDER:  # before any norm is computed
+        raise ArgumentError(f"order {order} exceeds MAX_KERNEL_ORDER = {MAX_KERNEL_ORDER}")
 
 
 def _plant_radius(maj: Majorant) -> Radius:

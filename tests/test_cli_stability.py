@@ -136,3 +136,14 @@ def test_loop_pole_at_zero_never_prints_nan(capsys: pytest.CaptureFixture[str],
     terms = [row["theta_term"] for row in data["series"]]
     assert terms == ["inf"] * 5  # rho_1 = inf bounds nothing; never NaN (JSON null)
     assert all(row["phi"] is not None for row in data["series"])
+
+
+def test_library_verdict_checks_order_first(monkeypatch: pytest.MonkeyPatch) -> None:
+    from gfrf import criteria
+    from gfrf.errors import ArgumentError
+    from gfrf.kernels import MAX_KERNEL_ORDER
+    from gfrf.model import parse_model
+
+    monkeypatch.setattr(criteria, "majorant", lambda *a: pytest.fail("computed first"))
+    with pytest.raises(ArgumentError, match="MAX_KERNEL_ORDER"):
+        criteria.verdict(parse_model(STABLE), MAX_KERNEL_ORDER + 1)
