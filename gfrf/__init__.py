@@ -38,6 +38,7 @@ _LAZY = {
     "simulate": "gfrf.simulate",
     "predict": "gfrf.volterra",
     "probe_kernel": "gfrf.probing",
+    "from_sysidentpy": "gfrf.identify",
 }
 
 __all__ = [

@@ -413,3 +413,14 @@ def test_worked_example_files_are_consistent_and_close_to_the_truth():
         warnings.simplefilter("error")
         assert np.allclose(kernel(identified, 1)(W), _h1(_as_theta(identified), W),
                            rtol=1e-12, atol=1e-14)
+
+
+def test_module_examples_and_the_top_level_name():
+    import doctest
+
+    import gfrf
+    import gfrf.identify
+
+    result = doctest.testmod(gfrf.identify, optionflags=doctest.ELLIPSIS)
+    assert result.attempted > 0 and result.failed == 0
+    assert gfrf.from_sysidentpy is from_sysidentpy
