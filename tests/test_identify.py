@@ -424,3 +424,28 @@ def test_module_examples_and_the_top_level_name():
     result = doctest.testmod(gfrf.identify, optionflags=doctest.ELLIPSIS)
     assert result.attempted > 0 and result.failed == 0
     assert gfrf.from_sysidentpy is from_sysidentpy
+
+
+def test_one_run_information_criterion_equals_sysidentpys_loop():
+    """The criterion from one ERR run equals sysidentpy's run-per-size loop, bit for bit."""
+    from sysidentpy.model_structure_selection import FROLS
+
+    from gfrf.identify import _frols
+
+    rng = np.random.default_rng(21)
+    u = rng.uniform(-1, 1, 1200)
+    y = _simulate(CUBIC, u, 0.05 * rng.standard_normal(u.size))
+    fast = _frols(2, 2, 3, "aic", 12)
+
+    class Loop(type(fast)):
+        def information_criterion(self, x, target):
+            return FROLS.information_criterion(self, x, target)
+
+    slow = Loop(ylag=2, xlag=2, order_selection=True, info_criteria="aic", n_info_values=12,
+                estimator=fast.estimator, basis_function=fast.basis_function)
+    for m in (fast, slow):
+        m.fit(X=u[:, None], y=y[:, None])
+    assert np.array_equal(fast.info_values, slow.info_values)
+    assert np.array_equal(fast.final_model, slow.final_model)
+    assert np.array_equal(fast.theta, slow.theta)
+    assert not np.any(fast.final_model.sum(axis=1) == 0)  # no constant regressor

@@ -460,6 +460,25 @@ def _frols(ylag: int, ulag: int, degree: int, criterion: str, max_terms: int) ->
                                                              process_term_number)
             return err, np.asarray(piv) + 1, selected
 
+        def information_criterion(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+            """sysidentpy's criterion for 1..n_info_values terms from one greedy ERR run.
+
+            The ERR selection is sequential, so the first n regressors of a run for
+            n_info_values terms are those of a run for n terms: least squares on each
+            prefix gives sysidentpy's values without one selection run per size.
+            """
+            count = self.n_info_values
+            selected = self.run_mss_algorithm(x, y, count)[2]
+            target = self._default_estimation_target(y)
+            n_samples = y.shape[0] - self.max_lag
+            values = np.full(count, np.nan)
+            for i in range(count):
+                theta = self.estimator.optimize(selected[:, :i + 1], target)
+                residual = target - selected[:, :i + 1] @ theta
+                values[i] = self.info_criteria_function(i + 1, n_samples,
+                                                        float(np.var(residual, ddof=1)))
+            return values
+
     return _FrolsWithoutConstant(
         ylag=ylag, xlag=ulag, order_selection=True, info_criteria=criterion,
         n_info_values=max_terms, estimator=LeastSquares(),
