@@ -53,14 +53,16 @@ import re
 import time
 import warnings
 from collections.abc import Iterator, Mapping, Sequence
-from concurrent.futures import Executor, Future, as_completed
+from concurrent.futures import Executor, Future, ThreadPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
+from urllib.parse import urlsplit
 
 import numpy as np
 from tqdm import tqdm
 
+from gfrf._atomic import atomic_path
 from gfrf.criteria import verdict
 from gfrf.errors import ArgumentError, GfrfError
 from gfrf.majorant import majorant
@@ -68,7 +70,7 @@ from gfrf.norms import h1_norm
 from gfrf.template import ModelTemplate, TemplateUnsupported, model_template, rebuild
 
 __all__ = ["Axis", "SweepResult", "parse_axis", "grid", "sweep", "executor", "WHAT",
-           "evaluate_point", "check_output"]
+           "evaluate_point", "check_output", "check_scheduler", "SCHEDULER_TIMEOUT"]
 
 #: Quantities a sweep can evaluate.
 WHAT = ("verdict", "radius", "norm", "bounded")
@@ -172,6 +174,12 @@ def evaluate_point(task: _Task, point: Mapping[str, float]) -> dict[str, Any]:
         row["path"], row["error"] = task.path, ""
     except GfrfError as exc:
         row["path"], row["error"] = task.path, str(exc)
+    except (TypeError, ValueError, ArithmeticError) as exc:
+        # a coefficient formula that is complex or not a number at this point (a
+        # fractional power of a negative parameter, ...): this row's error, not the sweep's
+        where = ", ".join(f"{name} = {value:g}" for name, value in point.items())
+        row["path"], row["error"] = task.path, (f"at {where}: the model is not real-valued "
+                                                f"here ({type(exc).__name__}: {exc})")
     return row
 
 
@@ -204,6 +212,75 @@ class _InlineExecutor(Executor):
         return future
 
 
+#: Seconds a dask scheduler address has to answer (connect and handshake) before the
+#: sweep gives up with an error; a listener that is not a dask scheduler never answers.
+SCHEDULER_TIMEOUT = 10.0
+
+
+def check_scheduler(scheduler: str) -> str:
+    """Validate a ``--scheduler`` value; return it (``host:port`` becomes ``tcp://host:port``).
+
+    Accepted: ``local``, ``processes`` and ``tcp://HOST:PORT`` (or ``HOST:PORT``).
+
+    Raises
+    ------
+    ArgumentError
+        Another scheme (``inproc://`` is private to a process, ``tls://`` needs a
+        security context the command line cannot pass, ``ucx://`` needs ucx-py), no
+        host, or a port that is not an integer in 1..65535.
+    """
+    if scheduler in ("local", "processes"):
+        return scheduler
+    address = scheduler if "://" in scheduler else f"tcp://{scheduler}"
+    scheme = address.split("://", 1)[0]
+    why = {"inproc": "an in-process address belongs to another process",
+           "tls": "TLS needs a security context (certificates), which this option cannot "
+                  "pass; use a tcp:// address or the Python API with a Client",
+           "ucx": "UCX needs ucx-py and a UCX network; use a tcp:// address"}
+    if scheme != "tcp":
+        reason = why.get(scheme, f"unknown scheme {scheme + '://'!r}; use 'local', "
+                                 f"'processes' or tcp://host:port")
+        raise ArgumentError(f"scheduler {scheduler!r}: {reason}")
+    parts = urlsplit(address)
+    try:
+        port = parts.port
+    except ValueError:
+        port = None
+    if not parts.hostname or port is None or not 1 <= port <= 65535 \
+            or parts.path or parts.query or parts.fragment:
+        raise ArgumentError(f"scheduler {scheduler!r}: expected tcp://HOST:PORT with a port "
+                            f"in 1..65535, e.g. tcp://127.0.0.1:8786")
+    return address
+
+
+def _probe(address: str, timeout: float) -> None:
+    """Connect to ``address`` and complete dask's handshake within ``timeout`` seconds.
+
+    ``distributed.Client`` waits for the handshake without a time limit, so a listener
+    that accepts but never speaks dask would hang it; this runs the handshake in a
+    thread of its own (with its own event loop) and gives up after ``timeout``.
+    """
+    import asyncio
+
+    from distributed.comm import connect
+
+    async def handshake() -> None:
+        comm = await asyncio.wait_for(connect(address, timeout=timeout), timeout)
+        await comm.close()
+
+    pool = ThreadPoolExecutor(1)
+    try:
+        pool.submit(asyncio.run, handshake()).result(timeout=timeout + 1.0)
+    except TimeoutError:
+        raise ArgumentError(f"no dask scheduler answered at {address!r} within "
+                            f"{timeout:g} s (nothing listens there, or what listens "
+                            f"is not a dask scheduler)") from None
+    except OSError as exc:
+        raise ArgumentError(f"cannot reach the dask scheduler {address!r}: {exc}") from None
+    finally:
+        pool.shutdown(wait=False)
+
+
 @contextlib.contextmanager
 def executor(scheduler: str = "local", workers: int | None = None
              ) -> Iterator[tuple[Executor, int]]:
@@ -212,21 +289,22 @@ def executor(scheduler: str = "local", workers: int | None = None
     Parameters
     ----------
     scheduler : str
-        ``local``, ``processes`` or a dask scheduler address.
+        ``local``, ``processes`` or a dask scheduler address ``tcp://host:port`` (see
+        :func:`check_scheduler`).  An address must answer within
+        :data:`SCHEDULER_TIMEOUT` seconds.
     workers : int, optional
         Worker processes of ``processes`` (default: the machine's cores).
 
     Raises
     ------
     ArgumentError
-        dask.distributed is missing, or the scheduler string is not understood.
+        dask.distributed is missing, the scheduler string is not understood, or no
+        dask scheduler answers at the address in time.
     """
+    scheduler = check_scheduler(scheduler)
     if scheduler == "local":
         yield _InlineExecutor(), 1
         return
-    if scheduler != "processes" and "://" not in scheduler and ":" not in scheduler:
-        raise ArgumentError(f"scheduler {scheduler!r}: use 'local', 'processes' or a dask "
-                            f"scheduler address such as tcp://host:8786")
     try:
         from distributed import Client, LocalCluster
     except ImportError:
@@ -238,9 +316,10 @@ def executor(scheduler: str = "local", workers: int | None = None
                           dashboard_address=None) as cluster, Client(cluster) as client:
             yield client.get_executor(), n
         return
+    _probe(scheduler, SCHEDULER_TIMEOUT)
     try:
-        client = Client(scheduler, timeout=10)
-    except OSError as exc:
+        client = Client(scheduler, timeout=SCHEDULER_TIMEOUT)
+    except (OSError, TimeoutError) as exc:
         raise ArgumentError(f"cannot reach the dask scheduler {scheduler!r}: {exc}") from None
     with client:
         yield client.get_executor(), max(1, sum(client.nthreads().values()))
@@ -280,18 +359,24 @@ class SweepResult:
         return len(self.rows) / self.seconds if self.seconds > 0 else math.inf
 
     def write(self, path: str | Path) -> Path:
-        """Write the table as CSV (``.csv``) or Parquet (``.parquet``, needs pyarrow)."""
-        p = Path(path)
-        if check_output(p) == "csv":
-            with p.open("w", newline="", encoding="utf-8") as fh:
-                writer = csv.DictWriter(fh, fieldnames=self.columns)
-                writer.writeheader()
-                writer.writerows(self.rows)
-        else:
-            import pyarrow as pa
-            import pyarrow.parquet as pq
+        """Write the table as CSV (``.csv``) or Parquet (``.parquet``, needs pyarrow).
 
-            pq.write_table(pa.Table.from_pylist(self.rows), p)
+        The file is replaced atomically: a write that fails midway leaves the previous
+        file as it was.
+        """
+        p = Path(path)
+        kind = check_output(p)
+        with atomic_path(p) as tmp:  # a failed write leaves the previous table intact
+            if kind == "csv":
+                with tmp.open("w", newline="", encoding="utf-8") as fh:
+                    writer = csv.DictWriter(fh, fieldnames=self.columns)
+                    writer.writeheader()
+                    writer.writerows(self.rows)
+            else:
+                import pyarrow as pa
+                import pyarrow.parquet as pq
+
+                pq.write_table(pa.Table.from_pylist(self.rows), tmp)
         return p
 
     def to_dict(self) -> dict[str, Any]:

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from gfrf._atomic import atomic_path
 from gfrf.errors import ArgumentError
 from gfrf.sweep import SweepResult
 
@@ -72,8 +73,11 @@ def plot_stability_map(result: SweepResult, path: str | Path, title: str = "") -
     ax.set_title(title or f"gfrf sweep --what {result.what}")
     fig.tight_layout()
     out = Path(path)
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+    try:
+        with atomic_path(out) as tmp:
+            fig.savefig(tmp, dpi=120)
+    finally:
+        plt.close(fig)
     return out
 
 

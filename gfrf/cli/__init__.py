@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 from collections.abc import Sequence
 
@@ -51,8 +52,8 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def main(argv: Sequence[str] | None = None) -> int:
-    """Run the CLI; return the process exit code."""
+def _run(argv: Sequence[str] | None) -> int:
+    """Parse ``argv`` and run the command; errors of the user's making become exit 2."""
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
@@ -60,10 +61,35 @@ def main(argv: Sequence[str] | None = None) -> int:
     except GfrfError as exc:
         print(f"gfrf: error: {exc}", file=sys.stderr)
         return 2
+    except BrokenPipeError:
+        raise  # the reader went away: handled quietly by main
     except OSError as exc:
         print(f"gfrf: error: {exc.strerror or exc}: {exc.filename or ''}".rstrip(": "),
               file=sys.stderr)
         return 2
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the CLI; return the process exit code.
+
+    Ctrl-C exits with 130 and the one line ``gfrf: interrupted`` (files being written
+    are left as they were: outputs are replaced atomically).  A closed stdout
+    (``gfrf ... | head``) exits quietly with 141, as a process killed by SIGPIPE.
+    """
+    try:
+        try:
+            return _run(argv)
+        finally:
+            sys.stdout.flush()  # a reader that went away shows up here, not at exit
+    except KeyboardInterrupt:
+        print("gfrf: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        # Python flushes stdout again at exit: point it at /dev/null so that it is quiet.
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+        return 141
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -5,9 +5,33 @@ from __future__ import annotations
 import argparse
 import json
 import math
+from pathlib import Path
 from typing import Any
 
-__all__ = ["add_json_flag", "emit", "to_jsonable"]
+from gfrf.errors import ArgumentError
+
+__all__ = ["add_json_flag", "emit", "to_jsonable", "check_plot_path", "PLOT_SUFFIXES"]
+
+#: Figure formats of ``--plot`` (chosen by the file suffix; all written by matplotlib's
+#: Agg backend, checked before any computation so a typo costs nothing).
+PLOT_SUFFIXES: tuple[str, ...] = (".png", ".pdf", ".svg", ".svgz", ".eps", ".ps", ".jpg",
+                                  ".jpeg", ".tif", ".tiff", ".webp")
+
+
+def check_plot_path(path: str | None) -> None:
+    """Refuse a ``--plot`` file whose suffix matplotlib cannot write, naming the good ones.
+
+    Raises
+    ------
+    ArgumentError
+        The suffix is not one of :data:`PLOT_SUFFIXES`.
+    """
+    if path is None:
+        return
+    suffix = Path(path).suffix.lower()
+    if suffix not in PLOT_SUFFIXES:
+        raise ArgumentError(f"--plot {path!r}: unsupported figure format {suffix or '(none)'!r}; "
+                            f"use one of {', '.join(PLOT_SUFFIXES)}")
 
 
 def add_json_flag(parser: argparse.ArgumentParser) -> None:

@@ -23,8 +23,9 @@ from typing import Any
 import numpy as np
 from tqdm import tqdm
 
+from gfrf._atomic import atomic_path
 from gfrf.cli._models import add_model_argument, resolve_model
-from gfrf.cli._output import add_json_flag, emit
+from gfrf.cli._output import add_json_flag, check_plot_path, emit
 from gfrf.errors import ArgumentError
 from gfrf.signals import parse_input
 from gfrf.simulate import METHODS, SimulationResult, simulate
@@ -111,6 +112,7 @@ def _initial(text: str | None) -> list[float] | None:
 
 
 def _simulate(args: argparse.Namespace) -> int:
+    check_plot_path(args.plot)
     mf = resolve_model(args)
     if args.points < 2:
         raise ArgumentError(f"--points must be >= 2, got {args.points}")
@@ -123,8 +125,9 @@ def _simulate(args: argparse.Namespace) -> int:
                        atol=args.atol, dt=args.dt, n_out=args.points, blowup=args.blowup)
         bar.update(1)
     if args.csv:
-        np.savetxt(args.csv, np.c_[res.t, res.y, res.u], delimiter=",", header="t,y,u",
-                   comments="")
+        with atomic_path(args.csv) as tmp:
+            np.savetxt(tmp, np.c_[res.t, res.y, res.u], delimiter=",", header="t,y,u",
+                       comments="")
     if args.plot:
         _plot(res, args.plot, mf.name, mf.plant.output)
     payload: dict[str, Any] = {"model": mf.name, "input": args.input, "t_end": args.t_end,
@@ -153,8 +156,11 @@ def _plot(res: SimulationResult, path: str, title: str, output: str) -> None:
     ax2.set_ylabel("u")
     ax2.set_xlabel("t (s)")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    try:
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=110)
+    finally:
+        plt.close(fig)
 
 
 def _predict(args: argparse.Namespace) -> int:

@@ -24,6 +24,7 @@ from pathlib import Path
 
 from tqdm import tqdm
 
+from gfrf._atomic import atomic_write_text
 from gfrf.report import model_page, paper_gfrf
 from gfrf.report._format import header, table
 from gfrf.report.analysis import MODELS_DIR, analyse
@@ -60,8 +61,7 @@ def write_index(out_dir: Path, models: list[str], quick: bool) -> Path:
             "- [speed-vs-error.md](speed-vs-error.md): benchmarks (`make bench`).", "",
             table(["model", "theorem", "verdict at r = 1", "r*", "r* is"], rows)]
     path = out_dir / "README.md"
-    path.write_text("\n".join(text), encoding="utf-8")
-    return path
+    return atomic_write_text(path, "\n".join(text))
 
 
 def write_reports(out_dir: str | Path = "reports", models: list[str] | None = None,

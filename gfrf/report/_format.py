@@ -19,6 +19,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
+from gfrf._atomic import atomic_path  # noqa: E402
+
 __all__ = ["num", "cell", "table", "header", "save_figure", "mark", "code", "DPI"]
 
 #: Resolution of every report figure (small PNGs that still read well on a code host).
@@ -92,6 +94,9 @@ def header(title: str, summary: Sequence[str], regenerate: str) -> str:
 def save_figure(fig: Figure, path: Path) -> str:
     """Write ``fig`` as PNG (Agg, :data:`DPI`, no date metadata), close it, return the name."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=DPI, metadata={"Software": None})
-    plt.close(fig)
+    try:
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=DPI, metadata={"Software": None})
+    finally:
+        plt.close(fig)
     return path.name

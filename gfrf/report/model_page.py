@@ -15,6 +15,7 @@ from pathlib import Path
 
 import sympy as sp
 
+from gfrf._atomic import atomic_write_text
 from gfrf.kernels import kernel
 from gfrf.report._figures import frequency_scale, h1_figure, h3_slice_figure, response_figure
 from gfrf.report._format import cell, code, header, mark, num, table
@@ -291,5 +292,4 @@ def write(path: str, out_dir: Path, quick: bool = False) -> Path:
     parts.append("Related: [paper reproduction](../paper-gfrf.md), "
                  "[speed vs error](../speed-vs-error.md).\n")
     page = folder / f"{a.stem}.md"
-    page.write_text("\n".join(parts), encoding="utf-8")
-    return page
+    return atomic_write_text(page, "\n".join(parts))

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from gfrf._atomic import atomic_write_text
 from gfrf.criteria import parameter_margin
 from gfrf.loops import closed_loop
 from gfrf.paper_checks import CheckRow, paper_checks
@@ -211,5 +212,4 @@ def write(out_dir: Path, quick: bool = False) -> Path:
              "condition, not the true stability boundary; a blow-up above r* shows where the "
              "truncated model really loses stability.", ""]
     path = out_dir / "paper-gfrf.md"
-    path.write_text("\n".join(parts), encoding="utf-8")
-    return path
+    return atomic_write_text(path, "\n".join(parts))

@@ -20,6 +20,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from scipy.optimize import brentq
 
+from gfrf._atomic import atomic_write_text
 from gfrf.periodic.compare import PeriodicComparison, compare_periodic, transition_curve
 from gfrf.periodic.energy import energy_transition
 from gfrf.periodic.equation import load_model
@@ -564,5 +565,4 @@ def write(out_dir: Path, quick: bool = False) -> Path:
         "",
     ]
     path = out / "paper-periodic.md"
-    path.write_text("\n".join(text), encoding="utf-8")
-    return path
+    return atomic_write_text(path, "\n".join(text))
