@@ -25,7 +25,7 @@ from gfrf.identify import (
     identify,
     model_file_text,
     read_csv,
-    write_model_file,
+    write_atomic,
 )
 from gfrf.identify import example as ex
 from gfrf.kernels import kernel
@@ -362,18 +362,21 @@ def test_read_csv_names_the_bad_value(tmp_path, content, message):
         read_csv(path, "y", "u")
 
 
-def test_write_model_file_is_atomic_and_model_file_text_reproduces_the_model(tmp_path):
+def test_write_atomic_is_atomic_and_model_file_text_reproduces_the_model(tmp_path):
     rng = np.random.default_rng(13)
     u = rng.uniform(-1, 1, 600)
     y = _simulate(CUBIC, u, 0.01 * rng.standard_normal(u.size))
     result = identify(y, u, T, output="v", input="w")
     text = model_file_text(result, "data.csv", name='quote " and \\ backslash')
-    path = write_model_file(tmp_path / "m.toml", text)
+    path = write_atomic(tmp_path / "m.toml", text)
     mf = load_model(path)
     assert mf.plant.terms == result.model.terms
     assert mf.name == 'quote " and \\ backslash'
     assert (mf.plant.output, mf.plant.input) == ("v", "w")
     assert [p.name for p in tmp_path.iterdir()] == ["m.toml"]
+    reference = tmp_path / "plain.txt"
+    reference.write_text("x", encoding="utf-8")
+    assert path.stat().st_mode & 0o777 == reference.stat().st_mode & 0o777
 
 
 # ----------------------------------------------------------- worked example

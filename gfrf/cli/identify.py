@@ -72,7 +72,7 @@ def _check_out(out: str) -> Path:
 def _identify(args: argparse.Namespace) -> int:
     from gfrf.cli.stability import _verdict_text
     from gfrf.criteria import verdict
-    from gfrf.identify import identify, load_text, model_file_text, read_csv, write_model_file
+    from gfrf.identify import identify, load_text, model_file_text, read_csv, write_atomic
 
     out = _check_out(args.out) if args.out else None
     y, u = read_csv(args.data, args.output, args.input)
@@ -82,7 +82,7 @@ def _identify(args: argparse.Namespace) -> int:
     text = model_file_text(result, args.data, name=args.name)
     model_file = load_text(text, str(out) if out else "")
     if out is not None:
-        write_model_file(out, text)
+        write_atomic(out, text)
     v = verdict(model_file, args.order, args.amplitude)
     lines = [f"identified from {args.data} ({result.n_samples} samples, T = "
              f"{result.model.sample_time:g} s): {result.model.text}",

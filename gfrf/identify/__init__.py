@@ -13,7 +13,7 @@ coefficient 1 and every regressor with coefficient ``-theta_i``.
 (the number of terms chosen by an information criterion, the constant regressor left
 out so that ``y = u = 0`` stays an equilibrium), converts it, and measures its
 free-run error on a held-out final part of the data.  :func:`read_csv`,
-:func:`model_file_text` and :func:`write_model_file` take the data from a CSV file to
+:func:`model_file_text` and :func:`write_atomic` take the data from a CSV file to
 a model file that ``gfrf verdict`` and ``gfrf report`` read like any other.
 
 sysidentpy is the optional extra ``gfrf[identify]``; it is imported only inside
@@ -54,7 +54,7 @@ from gfrf.model import MAX_DEGREE, MAX_DERIVATIVE_ORDER, Model, Term
 from gfrf.modelfile import ModelFile, model_from_dict
 
 __all__ = ["Identification", "from_sysidentpy", "identify", "read_csv", "free_run",
-           "model_file_text", "load_text", "write_model_file", "candidate_count", "INSTALL_HINT",
+           "model_file_text", "load_text", "write_atomic", "candidate_count", "INSTALL_HINT",
            "MAX_CANDIDATES", "MAX_SAMPLES", "MIN_SAMPLES"]
 
 #: What to tell a user who lacks the optional dependency.
@@ -176,8 +176,8 @@ def _convert(final_model: Any, theta: Any, sample_time: Any, output: str, input_
         if value != 0.0:
             terms.append(Term(y_lags, u_lags, -float(value), output, input_, True))
     if not any(t.u_orders for t in terms):
-        raise ModelError(f"the model has no input term (a NAR model): its GFRFs are zero; "
-                         f"fit it with the input {input_!r}")
+        raise ModelError(f"the model has no input term with a nonzero coefficient (a NAR "
+                         f"model): its GFRFs are zero; fit it with the input {input_!r}")
     ordered = tuple(sorted(terms))
     return Model(terms=ordered, sample_time=sample_time, output=output, input=input_,
                  text=_equation_text(ordered, output))
@@ -556,7 +556,7 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int = 2, ulag: int = 2
     return Identification(model=model, settings=settings, n_samples=int(y.size),
                           n_train=n_train, candidates=candidates, regressors=regressors,
                           free_run_error=free, one_step_error=one_step,
-                          blowup=None if blowup is None else blowup - lag,
+                          blowup=blowup,
                           sysidentpy_version=str(sysidentpy.__version__))
 
 
@@ -672,12 +672,19 @@ def load_text(text: str, path: str) -> ModelFile:
     return model_from_dict(tomllib.loads(text), path=path)
 
 
-def write_model_file(path: str | Path, text: str) -> Path:
-    """Write ``text`` to ``path`` atomically (temporary file in the same folder, then rename)."""
+def write_atomic(path: str | Path, text: str) -> Path:
+    """Write ``text`` to ``path`` atomically (temporary file in the same folder, then rename).
+
+    A reader sees the old file or the new one, never a partial file; the temporary
+    file is removed when writing fails.
+    """
     target = Path(path)
     folder = target.parent if str(target.parent) else Path(".")
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=folder)
+    mask = os.umask(0)
+    os.umask(mask)
     try:
+        os.chmod(tmp, 0o666 & ~mask)  # mkstemp's 0600 would make a private file
         with os.fdopen(fd, "w", encoding="utf-8") as fh:
             fh.write(text)
             fh.flush()

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from gfrf.identify import free_run, identify, model_file_text, read_csv, write_model_file
+from gfrf.identify import free_run, identify, model_file_text, read_csv, write_atomic
 from gfrf.model import Model, parse_model
 
 __all__ = ["TRUE_EQUATION", "SAMPLE_TIME", "SEED", "NOISE", "N_SAMPLES", "STEM",
@@ -70,7 +70,7 @@ def write_example(models_dir: str | Path = MODELS_DIR) -> list[Path]:
     u, y, _ = generate()
     t = np.arange(u.size) * SAMPLE_TIME
     rows = ["t,u,y"] + [f"{a:.10g},{b:.6g},{c:.6g}" for a, b, c in zip(t, u, y, strict=True)]
-    csv_path = write_model_file(folder / f"{STEM}.csv", "\n".join(rows) + "\n")
+    csv_path = write_atomic(folder / f"{STEM}.csv", "\n".join(rows) + "\n")
     true_text = "\n".join([
         "# The NARX model that generated identified_example.csv "
         "(python -m gfrf.identify.example).",
@@ -81,14 +81,14 @@ def write_example(models_dir: str | Path = MODELS_DIR) -> list[Path]:
         f'samples, output measurement noise N(0, {NOISE}^2), seed {SEED}"',
         'description = "Compare with identified_example.toml, the model gfrf identify '
         'finds in the noisy data."', ""])
-    true_path = write_model_file(folder / f"{STEM}_true.toml", true_text)
+    true_path = write_atomic(folder / f"{STEM}_true.toml", true_text)
     data = f"models/{STEM}.csv" if folder.resolve() == MODELS_DIR else str(csv_path)
     y_read, u_read = read_csv(csv_path, "y", "u")
     result = identify(y_read, u_read, SAMPLE_TIME)
     text = model_file_text(result, data, name="Identified example: NARX identified from "
                            "noisy data", description="The true model is "
                            "identified_example_true.toml.")
-    return [csv_path, true_path, write_model_file(folder / f"{STEM}.toml", text)]
+    return [csv_path, true_path, write_atomic(folder / f"{STEM}.toml", text)]
 
 
 def main() -> None:  # pragma: no cover - the command-line wrapper

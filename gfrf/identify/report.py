@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from gfrf.criteria import Verdict, verdict
-from gfrf.identify import Identification, identify, read_csv
+from gfrf.identify import Identification, identify, read_csv, write_atomic
 from gfrf.identify import example as ex
 from gfrf.kernels import kernel
 from gfrf.model import Model
@@ -183,6 +183,4 @@ def write(out_dir: str | Path, quick: bool = False) -> Path:
                     "radius estimate from lower bounds"], _verdict_rows(c)),
              f"True model: {c.verdict_true.summary}", "",
              f"Identified model: {c.verdict_identified.summary}", ""]
-    page = out / PAGE
-    page.write_text("\n".join(lines), encoding="utf-8")
-    return page
+    return write_atomic(out / PAGE, "\n".join(lines))
