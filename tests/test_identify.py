@@ -452,3 +452,22 @@ def test_one_run_information_criterion_equals_sysidentpys_loop():
     assert np.array_equal(fast.final_model, slow.final_model)
     assert np.array_equal(fast.theta, slow.theta)
     assert not np.any(fast.final_model.sum(axis=1) == 0)  # no constant regressor
+
+
+def test_narx_equation_and_free_run_refuse_models_not_explicit_in_y_k():
+    from gfrf.identify import narx_equation
+
+    model = parse_model("2*y[k] = y[k-1] + 3*u[k-1] - u[k-2]**2", sample_time=T)
+    assert narx_equation(model) == "y[k] = 0.5*y[k-1] + 1.5*u[k-1] - 0.5*u[k-2]**2"
+    assert parse_model(narx_equation(model), sample_time=T).terms == \
+        parse_model("y[k] = 0.5*y[k-1] + 1.5*u[k-1] - 0.5*u[k-2]**2", sample_time=T).terms
+    u = np.array([0.0, 1.0, 2.0, -1.0])
+    y, blowup = free_run(model, u, np.zeros(1))
+    assert blowup is None and list(y) == [0.0, 0.0, 1.5, 3.75 - 0.5]
+    for bad in (parse_model("y[k] + y[k]**2 = u[k-1]", sample_time=T),
+                parse_model("D(y) + y = u")):
+        with pytest.raises(ArgumentError, match="explicit"):
+            free_run(bad, u, np.zeros(1))
+    runaway = parse_model("y[k] = 3*y[k-1] + u[k-1]", sample_time=T)
+    y, blowup = free_run(runaway, np.ones(40), np.zeros(1))
+    assert blowup is not None and 10 < blowup < 40

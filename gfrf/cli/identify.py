@@ -72,7 +72,14 @@ def _check_out(out: str) -> Path:
 def _identify(args: argparse.Namespace) -> int:
     from gfrf.cli.stability import _verdict_text
     from gfrf.criteria import verdict
-    from gfrf.identify import identify, load_text, model_file_text, read_csv, write_atomic
+    from gfrf.identify import (
+        identify,
+        load_text,
+        model_file_text,
+        narx_equation,
+        read_csv,
+        write_atomic,
+    )
 
     out = _check_out(args.out) if args.out else None
     y, u = read_csv(args.data, args.output, args.input)
@@ -85,7 +92,8 @@ def _identify(args: argparse.Namespace) -> int:
         write_atomic(out, text)
     v = verdict(model_file, args.order, args.amplitude)
     lines = [f"identified from {args.data} ({result.n_samples} samples, T = "
-             f"{result.model.sample_time:g} s): {result.model.text}",
+             f"{result.model.sample_time:g} s; 6 digits shown, exact in the model file and "
+             f"--json):", f"  {narx_equation(result.model, 6)}",
              f"fit: {result.quality_text()}"]
     lines += [f"note: {n}" for n in result.notes]
     lines.append(f"model file: {out}" if out else "model file: not written (give --out FILE)")

@@ -28,7 +28,10 @@ Examples
 >>> from types import SimpleNamespace
 >>> fitted = SimpleNamespace(final_model=np.array([[1001, 0], [2001, 1001], [2002, 0]]),
 ...                          theta=np.array([[0.5], [-0.2], [1.0]]))
->>> from_sysidentpy(fitted, sample_time=0.1).equation()
+>>> model = from_sysidentpy(fitted, sample_time=0.1)
+>>> model.text
+'y[k] = 0.5*y[k-1] + 1.0*u[k-2] - 0.2*y[k-1]*u[k-1]'
+>>> model.equation()
 '0.2*y[k-1]*u[k-1] + y[k] - 0.5*y[k-1] - u[k-2] = 0'
 """
 
@@ -42,7 +45,7 @@ import tempfile
 import tomllib
 import warnings
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from math import comb
 from pathlib import Path
 from typing import Any
@@ -54,8 +57,8 @@ from gfrf.model import MAX_DEGREE, MAX_DERIVATIVE_ORDER, Model, Term
 from gfrf.modelfile import ModelFile, model_from_dict
 
 __all__ = ["Identification", "from_sysidentpy", "identify", "read_csv", "free_run",
-           "model_file_text", "load_text", "write_atomic", "candidate_count", "INSTALL_HINT",
-           "MAX_CANDIDATES", "MAX_SAMPLES", "MIN_SAMPLES"]
+           "model_file_text", "load_text", "narx_equation", "write_atomic", "candidate_count",
+           "INSTALL_HINT", "MAX_CANDIDATES", "MAX_SAMPLES", "MIN_SAMPLES"]
 
 #: What to tell a user who lacks the optional dependency.
 INSTALL_HINT = ("gfrf identify needs sysidentpy, the optional extra gfrf[identify]: "
@@ -139,16 +142,38 @@ def _check_sample_time(sample_time: Any) -> float:
     return float(sample_time)
 
 
-def _equation_text(terms: Sequence[Term], output: str) -> str:
-    """``y[k] = c1*m1 + c2*m2 ...`` with shortest round-trip coefficients (exact)."""
+def _lead(model: Model) -> Term:
+    """The term ``a0*y[k]`` of a NARX model explicit in y[k] (no other term has lag 0)."""
+    lead = [t for t in model.terms if 0 in t.y_orders]
+    if not model.is_discrete or len(lead) != 1 or lead[0].y_orders != (0,) \
+            or lead[0].u_orders:
+        raise ArgumentError(f"{model.equation()} is not a NARX model explicit in "
+                            f"{model.output}[k]")
+    return lead[0]
+
+
+def narx_equation(model: Model, digits: int | None = None) -> str:
+    """The model as ``y[k] = theta_1*m_1 + ...``, linear terms first, output before input.
+
+    Parameters
+    ----------
+    model : Model
+        A discrete-time model whose only term in ``y[k]`` is linear.
+    digits : int, optional
+        Significant digits of the coefficients; None (default) writes the shortest
+        text that reads back to the same float, so the equation is exact.
+    """
+    lead = _lead(model)
+    a0 = lead.coefficient
     parts = []
-    for t in terms:
-        if t.y_orders == (0,) and not t.u_orders:
-            continue
-        c = -t.coefficient
-        parts.append(("- " if c < 0 else "+ ") + f"{abs(c)!r}*{t.monomial()}")
+    others = [t for t in model.terms if t is not lead]
+    for t in sorted(others, key=lambda t: (t.degree, bool(t.u_orders), -len(t.y_orders),
+                                           t.y_orders, t.u_orders)):
+        c = -t.coefficient / a0
+        number = repr(abs(c)) if digits is None else f"{abs(c):.{digits}g}"
+        parts.append(("- " if c < 0 else "+ ") + f"{number}*{t.monomial()}")
     body = " ".join(parts)
-    return f"{output}[k] = " + (body[2:] if body.startswith("+ ") else "-" + body[2:])
+    return f"{model.output}[k] = " + (body[2:] if body.startswith("+ ") else "-" + body[2:])
 
 
 def _convert(final_model: Any, theta: Any, sample_time: Any, output: str, input_: str
@@ -178,9 +203,9 @@ def _convert(final_model: Any, theta: Any, sample_time: Any, output: str, input_
     if not any(t.u_orders for t in terms):
         raise ModelError(f"the model has no input term with a nonzero coefficient (a NAR "
                          f"model): its GFRFs are zero; fit it with the input {input_!r}")
-    ordered = tuple(sorted(terms))
-    return Model(terms=ordered, sample_time=sample_time, output=output, input=input_,
-                 text=_equation_text(ordered, output))
+    model = Model(terms=tuple(sorted(terms)), sample_time=sample_time, output=output,
+                  input=input_)
+    return replace(model, text=narx_equation(model))
 
 
 def _noise_notes(fitted: Any) -> list[str]:
@@ -274,12 +299,8 @@ def free_run(model: Model, u: np.ndarray, y_initial: np.ndarray) -> tuple[np.nda
         The sample at which ``|y|`` exceeded ``1e6`` times the largest initial or
         input magnitude (at least 1), or None.
     """
-    if not model.is_discrete:
-        raise ArgumentError("free_run simulates discrete-time (NARX) models only")
-    lead = [t for t in model.terms if 0 in t.y_orders]
-    if len(lead) != 1 or lead[0].y_orders != (0,) or lead[0].u_orders:
-        raise ArgumentError(f"{model.equation()} is not explicit in {model.output}[k]")
-    a0 = lead[0].coefficient
+    lead = _lead(model)
+    a0 = lead.coefficient
     n = len(u)
     start = len(y_initial)
     y = np.full(n, np.nan)
@@ -287,7 +308,7 @@ def free_run(model: Model, u: np.ndarray, y_initial: np.ndarray) -> tuple[np.nda
     forced = np.zeros(n)
     dynamic = []
     for t in model.terms:
-        if t is lead[0]:
+        if t is lead:
             continue
         factor = np.full(n, -t.coefficient / a0)
         for lag in t.u_orders:
@@ -564,11 +585,11 @@ def _one_step(model: Model, y: np.ndarray, u: np.ndarray, lag: int) -> float:
     """RRSE of one-step-ahead prediction (measured past outputs) on samples lag..end."""
     n = y.size
     prediction = np.zeros(n - lag)
-    a0 = next(t.coefficient for t in model.terms if t.y_orders == (0,) and not t.u_orders)
+    lead = _lead(model)
     for t in model.terms:
-        if t.y_orders == (0,) and not t.u_orders:
+        if t is lead:
             continue
-        value = np.full(n - lag, -t.coefficient / a0)
+        value = np.full(n - lag, -t.coefficient / lead.coefficient)
         for name, orders in ((y, t.y_orders), (u, t.u_orders)):
             for order in orders:
                 value *= name[lag - order:n - order]
