@@ -10,10 +10,17 @@ works without being compiled.  Outputs at arbitrary times are obtained by cubic
 Hermite interpolation between steps (fourth order, like the integrator).
 
 The step is ``dt`` (seconds) when given.  Otherwise it is chosen by step doubling:
-starting from t_end/256 the step is halved until two successive runs agree to
-``rtol*max|y| + atol`` on the output grid (the finer run is returned, its error is
-about 1/15 of that difference).  Blow-up (|y| >= ``blowup`` or a non-finite state)
-stops the loop and is reported with its time.
+starting from t_end/256, capped by the model's shortest time scale (``_CFL / |lambda|``
+for the largest eigenvalue modulus of the Jacobian at the origin and at the initial
+state, so the first run is inside RK4's stability region), the step is halved until
+two successive runs agree to ``rtol*max|y| + atol`` on the output grid (the finer run
+is returned, its error is about 1/15 of that difference).  Blow-up (|y| >= ``blowup``
+or a non-finite state) stops the loop and is reported with its time.  Two runs that
+both blow up are accepted only when their blow-up times agree to
+:data:`BLOWUP_AGREEMENT` (relative): two runs that both blew up in their first steps
+(an unstable step, not a blow-up) are never taken as agreeing.  If no step is
+accepted within :data:`MAX_STEPS` a blow-up is not reported: the status is
+``"failed"``.
 
 numba is the optional extra ``gfrf[fast]``; without it the fast path falls back to
 scipy's DOP853 at the same tolerances and says so in the result's notes.
@@ -35,10 +42,15 @@ from gfrf.errors import ArgumentError
 from gfrf.signals import InputSignal
 from gfrf.simulate import OdeSystem, SimulationResult, input_values, plant_input
 
-__all__ = ["simulate_fast", "compile_system", "numba_available", "MAX_STEPS"]
+__all__ = ["simulate_fast", "compile_system", "numba_available", "MAX_STEPS",
+           "BLOWUP_AGREEMENT"]
 
 #: Largest number of RK4 steps a run may take.
 MAX_STEPS = 20_000_000
+#: Relative agreement of the blow-up times of two step-doubling runs that both blow up.
+BLOWUP_AGREEMENT = 0.01
+#: h |lambda| of the first automatic step (RK4 is stable up to about 2.8).
+_CFL = 0.5
 
 _DECORATOR = '@njit(cache=True, error_model="numpy")\n'
 _RK4 = '''
@@ -144,6 +156,55 @@ def _run(module: ModuleType, system: OdeSystem, signal: InputSignal, z0: np.ndar
     return Y.T, done, t_stop
 
 
+def _fastest_rate(system: OdeSystem, signal: InputSignal, z0: np.ndarray) -> float:
+    """Largest eigenvalue modulus (1/s) of the Jacobian at the origin and at ``z0``.
+
+    The Jacobian at z0 (with the input at t = 0) is taken by forward differences of
+    the generated right-hand side; a non-finite one is ignored.
+    """
+    rates = [float(np.max(np.abs(system.linear_eigenvalues)))
+             if system.linear_eigenvalues.size else 0.0]
+    rhs = system.function("rhs")
+    v = input_values(signal, system.n_inputs, np.zeros(1))[:, 0]
+    f0 = np.empty(system.n_states)
+    jac = np.empty((system.n_states, system.n_states))
+    with np.errstate(all="ignore"):
+        try:
+            rhs(z0, v, f0)
+            for i in range(system.n_states):
+                dz = z0.copy()
+                step = 1e-7 * max(1.0, abs(z0[i]))
+                dz[i] += step
+                rhs(dz, v, jac[:, i])
+                jac[:, i] = (jac[:, i] - f0) / step
+        except (ZeroDivisionError, OverflowError, ValueError):
+            jac[:] = np.nan
+    if np.all(np.isfinite(jac)):
+        rates.append(float(np.max(np.abs(np.linalg.eigvals(jac)))))
+    return max(rates)
+
+
+def _agree(y1: np.ndarray, done1: int, t1: float, y2: np.ndarray, done2: int, t2: float,
+           nsteps2: int, rtol: float, atol: float) -> bool:
+    """Whether a run and the run with half its step agree (step doubling).
+
+    Both must reach t_end (``nsteps2`` steps for the finer run) or both blow up at
+    times equal to :data:`BLOWUP_AGREEMENT`; in either case the outputs they share
+    must agree to ``rtol * max|y| + atol``.  Runs that both blew up in their first
+    steps (an unstable step size) have blow-up times a factor 2 apart: never accepted.
+    """
+    finished1, finished2 = done1 == nsteps2 // 2, done2 == nsteps2
+    if finished1 != finished2:
+        return False
+    if not finished1 and abs(t2 - t1) > BLOWUP_AGREEMENT * t2:
+        return False
+    if y1.shape != y2.shape or not y2.size:
+        return False
+    with np.errstate(invalid="ignore"):
+        diff = float(np.max(np.abs(y2[0] - y1[0])))
+        return bool(diff <= rtol * float(np.max(np.abs(y2[0]))) + atol)
+
+
 def simulate_fast(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end: float,
                   t_eval: np.ndarray, *, blowup: float, dt: float | None, rtol: float,
                   atol: float) -> SimulationResult:
@@ -186,10 +247,21 @@ def simulate_fast(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end:
         if nsteps > MAX_STEPS:
             raise ArgumentError(f"dt = {dt:g} s needs {nsteps} steps, above {MAX_STEPS}")
         Y, done, t_stop = _run(module, system, signal, z0, t_end, nsteps, t_eval, blowup)
+        rate = _fastest_rate(system, signal, z0)
+        if t_end / nsteps * rate > 2.5:
+            notes.append(f"dt = {dt:g} s is beyond RK4's stability limit for the time scale "
+                         f"1/{rate:.4g} s of the model: a blow-up may be numerical")
+        accepted = True
     else:
-        nsteps = 256
+        rate = _fastest_rate(system, signal, z0)
+        nsteps = max(256, int(np.ceil(t_end * rate / _CFL)))
+        if 2 * nsteps > MAX_STEPS:
+            raise ArgumentError(f"t_end = {t_end:g} s spans {t_end * rate:.3g} time scales "
+                                f"of the model: the automatic step needs more than MAX_STEPS "
+                                f"= {MAX_STEPS} RK4 steps; use a scipy method")
         Y, done, t_stop = _run(module, system, signal, z0, t_end, nsteps, t_eval, blowup)
-        while True:
+        accepted = False
+        while not accepted:
             if 2 * nsteps > MAX_STEPS:
                 notes.append(f"step doubling stopped at {nsteps} steps before reaching "
                              f"rtol={rtol:g}")
@@ -197,15 +269,19 @@ def simulate_fast(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end:
             Y2, done2, t_stop2 = _run(module, system, signal, z0, t_end, 2 * nsteps, t_eval,
                                       blowup)
             nsteps *= 2
-            same = Y.shape == Y2.shape and Y2.size
-            diff = np.max(np.abs(Y2[0] - Y[0])) if same else np.inf
+            accepted = _agree(Y, done, t_stop, Y2, done2, t_stop2, nsteps, rtol, atol)
             Y, done, t_stop = Y2, done2, t_stop2
-            if diff <= rtol * np.max(np.abs(Y[0])) + atol:
-                break
         notes.append(f"step doubling chose dt = {t_end / nsteps:.4g} s ({nsteps} steps)")
     t = t_eval[:Y.shape[1]]
     status, blow_t, message = "ok", None, f"RK4, {nsteps} fixed steps of {t_end / nsteps:.4g} s"
-    if done < nsteps:
+    if done < nsteps and not accepted:
+        status = "failed"
+        message = (f"the state left |y| < {blowup:g} at t = {t_stop:.6g} s, but step doubling "
+                   f"did not confirm it within MAX_STEPS = {MAX_STEPS}: not reported as a "
+                   f"blow-up")
+        finite = np.all(np.isfinite(Y), axis=0)
+        Y, t = Y[:, finite], t[finite]
+    elif done < nsteps:
         status, blow_t = "blowup", float(t_stop)
         message = f"|y| reached {blowup:g} (or became non-finite) at t = {blow_t:.6g} s"
         finite = np.all(np.isfinite(Y), axis=0)

@@ -249,3 +249,42 @@ def test_narx_closed_loop_with_feedthrough_both_ways():
     with pytest.raises(ModelError, match="not causal"):
         build_system(_loop_file(NARX, {"num": [1.0, 0.0], "den": [1.0]}, sample_time=0.1),
                      closed_loop=True)
+
+
+def test_fast_auto_step_dissipative_duffing_stays_bounded():
+    # Issue 16 item 7: from t_end/256 = 7.8 s steps both step-doubling runs blew up in
+    # their first step and were taken as agreeing: a false blow-up at t = 7.8 s.
+    # Energy E = y'^2/2 + y^2/2 + y^4/8 decreases (damping 0.2), so |y| <= 1 for ever.
+    from scipy.integrate import solve_ivp
+
+    t_end = 2000.0
+    t_eval = np.linspace(0.0, t_end, 401)
+    res = simulate(load_model(f"{MODELS}/duffing.toml"), None, t_end=t_end,
+                   initial=[1.0, 0.0], method="fast", t_eval=t_eval, equation="polynomial")
+    assert res.status == "ok" and res.t[-1] == t_end
+    assert np.max(np.abs(res.y)) <= 1.0 + 1e-12
+    ref = solve_ivp(lambda t, z: [z[1], -0.2 * z[1] - z[0] - 0.5 * z[0] ** 3], (0, t_end),
+                    [1.0, 0.0], method="DOP853", rtol=1e-11, atol=1e-13, t_eval=t_eval)
+    assert np.max(np.abs(res.y - ref.y[0])) < 1e-7
+
+
+def test_fast_auto_step_confirms_a_true_blowup():
+    # the escape of test_blowup_reported with the automatic step: still a blow-up, at the
+    # time the conserved energy gives (the two runs' blow-up times agree to 1 %)
+    from scipy.integrate import quad
+
+    res = simulate(parse_model("D(y,2) + y - y**3 = u"), None, t_end=20.0,
+                   initial=[1.5, 0.5], method="fast", blowup=1e3)
+    energy = 0.5**2 / 2 + 1.5**2 / 2 - 1.5**4 / 4
+    t_exact = quad(lambda y: 1 / math.sqrt(2 * energy - y * y + y**4 / 2), 1.5, 1e3)[0]
+    assert res.status == "blowup"
+    assert res.blowup_time == pytest.approx(t_exact, rel=0.02)
+
+
+def test_fast_agreement_rejects_runs_that_both_blew_up_at_once():
+    from gfrf.fastsim import _agree
+
+    y = np.ones((2, 1))
+    # coarse run: 256 steps, blew up at step 1 (t = h); fine run at its step 1 (t = h/2)
+    assert not _agree(y, 1, 7.8125, y, 1, 3.90625, 512, 1e-8, 1e-10)
+    assert _agree(y, 100, 1.000, y, 200, 0.999, 512, 1e-8, 1e-10)
