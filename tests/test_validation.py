@@ -27,8 +27,10 @@ def results():
 
 
 def test_bundled_models_are_all_validated(results):
-    assert set(results) == {"cartpole", "cartpole_reduced", "duffing", "hanging_pendulum",
-                            "hanging_pendulum_damped", "narx_example"}
+    # models/ grows (e.g. identified_example*.toml): every non-parametric file is run
+    assert {"cartpole", "cartpole_reduced", "duffing", "hanging_pendulum",
+            "hanging_pendulum_damped", "narx_example"} <= set(results)
+    assert all(r.trials and r.contradictions == [] for r in results.values())
 
 
 @pytest.mark.parametrize("name", ["cartpole", "cartpole_reduced", "duffing",
