@@ -526,6 +526,8 @@ def select_order(model: Model, amplitude: float, tolerance: float,
 
     Raises
     ------
+    BeyondRadiusError
+        The amplitude is at or beyond the series radius r* (no truncation bound holds).
     ArgumentError
         Non-positive amplitude or tolerance, or no N <= max_order meets the tolerance.
     """
@@ -533,6 +535,11 @@ def select_order(model: Model, amplitude: float, tolerance: float,
 
     if not (amplitude > 0 and tolerance > 0):
         raise ArgumentError("amplitude and tolerance must be positive")
+    r_star, inside, _ = series_radius(model)
+    if amplitude >= inside:
+        raise BeyondRadiusError(f"amplitude {amplitude:.6g} is at or beyond the series radius "
+                                f"r* = {r_star:.6g}: no truncation order bounds the error",
+                                amplitude, r_star)
     terms = {n: 0.0 if kernel(model, n).is_zero else
              float(kernel_norm(model, n).upper) * amplitude**n for n in range(1, max_order + 1)}
     nonzero = [v for v in terms.values() if v > 0]

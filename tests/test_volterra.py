@@ -170,3 +170,8 @@ def test_product_limit_checked_before_any_kernel(monkeypatch):
         predict(DUFFING, tones, 5)
     with pytest.raises(ArgumentError, match="MAX_KERNEL_ORDER"):
         predict(DUFFING, tones[:1], 13)
+
+
+def test_select_order_refuses_beyond_radius():
+    with pytest.raises(BeyondRadiusError):
+        select_order(DUFFING, 1.01 * duffing_radius(), 1e-3)
