@@ -27,29 +27,31 @@ Examples
 
 from __future__ import annotations
 
+import keyword
 import math
 import re
 from dataclasses import dataclass, field
-from tokenize import TokenError
 from typing import Any
 
 import sympy as sp
-from sympy.core.function import AppliedUndef
-from sympy.parsing.sympy_parser import parse_expr, standard_transformations
 
 from gfrf.errors import ModelError
+from gfrf.expr import (
+    MAX_DEGREE,
+    MAX_MONOMIALS,
+    MAX_NAME_LENGTH,
+    MAX_TEXT_LENGTH,
+    MODEL_FUNCTIONS,
+    UnknownNames,
+    parse_expression,
+    quote,
+)
 
 __all__ = ["Term", "Model", "parse_model", "coefficient_formulas", "MAX_DERIVATIVE_ORDER",
            "MAX_DEGREE"]
 
 #: Largest derivative order or lag accepted in a model text.
 MAX_DERIVATIVE_ORDER = 20
-#: Largest total degree (truncation order) accepted.
-MAX_DEGREE = 15
-
-_D = sp.Function("D")
-_LAG = sp.Function("_lag")
-_LAG_PATTERN = re.compile(r"\b([A-Za-z_]\w*)\s*\[\s*k\s*(?:([+-])\s*(\d+)\s*)?\]")
 
 
 @dataclass(frozen=True, order=True)
@@ -227,105 +229,21 @@ def _atom(signal: str, order: int) -> sp.Symbol:
 def _split_equation(text: str) -> tuple[str, str]:
     if not isinstance(text, str) or not text.strip():
         raise ModelError("empty equation: expected text such as 'D(y,2) + 2*D(y) + y = u'")
+    if len(text) > MAX_TEXT_LENGTH:
+        raise ModelError(f"the equation has {len(text)} characters, more than the limit "
+                         f"MAX_TEXT_LENGTH = {MAX_TEXT_LENGTH}: {quote(text)}")
     text = " ".join(text.split())
     if "==" in text:
-        raise ModelError(f"use a single '=' in the equation, not '==': {text!r}")
+        raise ModelError(f"use a single '=' in the equation, not '==': {quote(text)}")
     sides = text.split("=")
     if len(sides) > 2:
-        raise ModelError(f"the equation has more than one '=': {text!r}")
+        raise ModelError(f"the equation has more than one '=': {quote(text)}")
     if len(sides) == 1:
         return sides[0], "0"
     lhs, rhs = sides
     if not lhs.strip() or not rhs.strip():
-        raise ModelError(f"one side of the equation is empty: {text!r}")
+        raise ModelError(f"one side of the equation is empty: {quote(text)}")
     return lhs, rhs
-
-
-def _rewrite_lags(text: str, signals: tuple[str, str]) -> str:
-    def repl(match: re.Match[str]) -> str:
-        name, sign, number = match.group(1), match.group(2), match.group(3)
-        if name not in signals:
-            raise ModelError(f"unknown signal {name!r} in {match.group(0)!r}: "
-                             f"the signals are {signals[0]!r} (output) and {signals[1]!r} (input)")
-        if sign == "+":
-            raise ModelError(f"{match.group(0)!r} looks into the future: write lags as "
-                             f"{name}[k-n] with n >= 0")
-        lag = int(number) if number else 0
-        return f"_lag({name}, {lag})"
-
-    rewritten = _LAG_PATTERN.sub(repl, text)
-    if "[" in rewritten or "]" in rewritten:
-        raise ModelError(f"cannot read the lag notation in {text!r}: write y[k], y[k-1], u[k-2]")
-    return rewritten
-
-
-def _parse_side(text: str, local: dict[str, Any], whole: str) -> sp.Expr:
-    try:
-        # Unevaluated first, so that powers like 9**9**9 or y**10**9 are refused before
-        # sympy tries to compute or expand them (it would hang or exhaust memory).
-        _check_powers(parse_expr(text, local_dict=local,
-                                 transformations=standard_transformations, evaluate=False),
-                      whole)
-        expr = parse_expr(text, local_dict=local, transformations=standard_transformations,
-                          evaluate=True)
-    except ModelError:
-        raise
-    except (SyntaxError, TypeError, ValueError, sp.SympifyError, AttributeError,
-            TokenError, IndexError, ArithmeticError) as exc:
-        raise ModelError(f"cannot parse the equation {whole!r}: {exc}") from None
-    if not isinstance(expr, sp.Expr) or any(isinstance(node, sp.Lambda)
-                                            for node in sp.preorder_traversal(expr)):
-        raise ModelError(f"cannot parse the equation {whole!r}: {text.strip()!r} is not an "
-                         f"expression")
-    return expr
-
-
-def _check_powers(expr: Any, whole: str) -> None:
-    """Refuse exponents that are not small numbers: degree > MAX_DEGREE, or |n| > 1000."""
-    if not isinstance(expr, sp.Basic):
-        return
-    for node in sp.postorder_traversal(expr):
-        if not isinstance(node, sp.Pow) or not node.exp.is_number:
-            continue
-        try:
-            size = abs(complex(node.exp))
-        except (TypeError, ValueError, OverflowError):
-            size = math.inf
-        if size > 1000 or (node.base.free_symbols and size > MAX_DEGREE):
-            raise ModelError(f"the power {node.exp} in {whole!r} exceeds the limit "
-                             f"{MAX_DEGREE if node.base.free_symbols else 1000}")
-
-
-def _replace_operators(expr: sp.Expr, output: sp.Symbol, input_: sp.Symbol,
-                       discrete: bool) -> sp.Expr:
-    signals = {output: output.name, input_: input_.name}
-    operator_name = "_lag" if discrete else "D"
-
-    def check(e: sp.Basic) -> bool:
-        return isinstance(e, AppliedUndef)
-
-    def convert(e: sp.Basic) -> sp.Basic:
-        name = e.func.__name__
-        if name != operator_name:
-            hint = " (discrete models use y[k-n], not D)" if name == "D" else ""
-            raise ModelError(f"unknown function {name!r} in {str(e)!r}{hint}")
-        args = e.args
-        if not args or args[0] not in signals:
-            raise ModelError(f"{str(e)!r}: the first argument must be the output "
-                             f"{output.name!r} or the input {input_.name!r}")
-        order_arg = args[1] if len(args) > 1 else sp.Integer(1)
-        if len(args) > 2 or not (order_arg.is_Integer or (order_arg.is_Float
-                                                           and order_arg == int(order_arg))):
-            raise ModelError(f"{str(e)!r}: the order must be a non-negative integer")
-        order = int(order_arg)
-        if order < 0:
-            raise ModelError(f"{str(e)!r}: negative derivative order {order}")
-        if order > MAX_DERIVATIVE_ORDER:
-            raise ModelError(f"{str(e)!r}: order {order} exceeds the limit "
-                             f"{MAX_DERIVATIVE_ORDER}")
-        return _atom(signals[args[0]], order)
-
-    return expr.replace(check, convert)
 
 
 def _truncate(expr: sp.Expr, atoms: list[sp.Symbol], order: int) -> sp.Expr:
@@ -339,25 +257,29 @@ def _truncate(expr: sp.Expr, atoms: list[sp.Symbol], order: int) -> sp.Expr:
 
 
 def _signal_expression(text: str, local: dict[str, sp.Expr], output: str, input_: str,
-                       discrete: bool) -> tuple[sp.Expr, list[sp.Symbol]]:
-    """Left-hand side minus right-hand side in the atom symbols, and the atoms present."""
-    y, u = sp.Symbol(output, real=True), sp.Symbol(input_, real=True)
-    names: dict[str, Any] = {output: y, input_: u, **local}
-    if discrete:
-        names["_lag"] = _LAG
-        body = _rewrite_lags(text if isinstance(text, str) else "", (output, input_))
-    else:
-        names["D"] = _D
-        body = text
-    lhs_text, rhs_text = _split_equation(body)
-    whole = " ".join(text.split()) if isinstance(text, str) else text
-    expr = _parse_side(lhs_text, names, whole) - _parse_side(rhs_text, names, whole)
-    expr = _replace_operators(expr, y, u, discrete)
-    expr = expr.xreplace({y: _atom(output, 0), u: _atom(input_, 0)})
+                       discrete: bool) -> tuple[sp.Expr, list[sp.Symbol], bool]:
+    """Left-hand side minus right-hand side in the atom symbols, the atoms present, and
+    whether a signal sits inside a function or a denominator (truncation needed)."""
+    lhs_text, rhs_text = _split_equation(text)
+    names: dict[str, sp.Expr] = {**local, output: _atom(output, 0), input_: _atom(input_, 0)}
+    grammar: dict[str, Any] = {
+        "names": names, "variables": (names[output], names[input_]),
+        "signals": (output, input_), "max_order": MAX_DERIVATIVE_ORDER,
+        "hints": {"t": "the equation depends explicitly on time t: only time-invariant "
+                       "models have GFRFs"},
+        ("lag" if discrete else "derivative"): _atom}
+    try:
+        sides = [parse_expression(side, **grammar) for side in (lhs_text, rhs_text)]
+    except UnknownNames as exc:
+        raise ModelError(f"{exc}: give their values as parameters") from None
+    except ModelError as exc:
+        raise ModelError(f"cannot parse the equation: {exc}") from None
+    expr = sides[0].expr - sides[1].expr
+    analytic = sides[0].analytic or sides[1].analytic
     atoms = sorted((a for a in expr.free_symbols
                     if a.name.startswith((f"{output}__", f"{input_}__"))),
                    key=lambda a: a.name)
-    return expr, atoms
+    return expr, atoms, analytic
 
 
 def _monomial_orders(monom: tuple[int, ...], atoms: list[sp.Symbol], output: str
@@ -387,7 +309,7 @@ def coefficient_formulas(text: str, *, output: str = "y", input: str = "u",  # n
     dict
         ``{(y_orders, u_orders): coefficient}`` with sorted derivative orders or lags.
     """
-    expr, atoms = _signal_expression(text, dict(symbols or {}), output, input, discrete)
+    expr, atoms, _ = _signal_expression(text, dict(symbols or {}), output, input, discrete)
     polynomial = _truncate(expr, atoms, truncation) if truncation else sp.expand(expr)
     formulas = {}
     for monom, coeff in sp.Poly(polynomial, *atoms).terms():
@@ -442,30 +364,36 @@ def parse_model(text: str, *, sample_time: float | None = None, truncation: int 
         if truncation > MAX_DEGREE:
             raise ModelError(f"truncation {truncation} exceeds the limit {MAX_DEGREE}")
     for name in (output, input):
-        if not isinstance(name, str) or not name.isidentifier():
-            raise ModelError(f"signal name {name!r} is not an identifier")
+        if not isinstance(name, str) or not name.isidentifier() or keyword.iskeyword(name) \
+                or name.startswith("_") or "__" in name or len(name) > MAX_NAME_LENGTH:
+            raise ModelError(f"signal name {quote(str(name))} is not a plain identifier (letters, "
+                             f"digits, single underscores, at most {MAX_NAME_LENGTH} "
+                             f"characters)")
     if output == input:
         raise ModelError(f"output and input have the same name {output!r}")
 
     local: dict[str, sp.Expr] = {}
     for name, value in parameters.items():
-        if name in (output, input, "D", "t", "k"):
-            raise ModelError(f"parameter name {name!r} clashes with a signal or operator")
+        if not isinstance(name, str) or not name.isidentifier() or keyword.iskeyword(name) \
+                or name.startswith("__") or len(name) > MAX_NAME_LENGTH:
+            raise ModelError(f"parameter name {quote(str(name))} is not an identifier of at "
+                             f"most MAX_NAME_LENGTH = {MAX_NAME_LENGTH} characters")
+        if name in (output, input, "D", "t", "k") or name in MODEL_FUNCTIONS:
+            raise ModelError(f"parameter name {name!r} clashes with a signal, operator or "
+                             f"function")
         if isinstance(value, bool) or not isinstance(value, (int, float)) \
                 or not math.isfinite(value):
             raise ModelError(f"parameter {name!r} must be a finite number, got {value!r}")
         local[name] = sp.Float(value) if isinstance(value, float) else sp.Integer(value)
-    expr, atoms = _signal_expression(text, local, output, input, discrete)
+    expr, atoms, analytic = _signal_expression(text, local, output, input, discrete)
 
     if expr.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
-        raise ModelError(f"the equation {text!r} has a NaN or infinite coefficient")
-    others = sorted(str(s) for s in expr.free_symbols if s not in atoms)
-    if others:
-        if "t" in others:
-            raise ModelError("the equation depends explicitly on time t: only time-invariant "
-                             "models have GFRFs")
-        raise ModelError(f"unknown symbol(s) {', '.join(others)} in {text!r}: give their "
-                         f"values as parameters")
+        raise ModelError(f"the equation {quote(text)} has a NaN or infinite coefficient")
+    if analytic and truncation is not None \
+            and math.comb(len(atoms) + truncation, truncation) > MAX_MONOMIALS:
+        raise ModelError(f"truncating to order {truncation} in {len(atoms)} signal atoms could "
+                         f"produce more than MAX_MONOMIALS = {MAX_MONOMIALS} monomials: "
+                         f"{quote(text)}")
     physical = expr
     polynomial = sp.expand(expr)
     if not polynomial.is_polynomial(*atoms):
@@ -476,7 +404,7 @@ def parse_model(text: str, *, sample_time: float | None = None, truncation: int 
                              f"polynomial in the signals: give a truncation order")
         polynomial = _truncate(expr, atoms, truncation)
         if not polynomial.is_polynomial(*atoms):
-            raise ModelError(f"the equation {text!r} is not analytic at y = u = 0")
+            raise ModelError(f"the equation {quote(text)} is not analytic at y = u = 0")
     elif truncation is not None:
         polynomial = _truncate(expr, atoms, truncation)
     terms = _collect_terms(polynomial, atoms, output, input, discrete, text)
@@ -496,30 +424,30 @@ def _pretty(s: str, output: str, input_: str, discrete: bool) -> str:
 def _collect_terms(polynomial: sp.Expr, atoms: list[sp.Symbol], output: str, input_: str,
                    discrete: bool, text: str) -> tuple[Term, ...]:
     if polynomial == 0:
-        raise ModelError(f"the equation {text!r} is identically zero")
+        raise ModelError(f"the equation {quote(text)} is identically zero")
     poly = sp.Poly(polynomial, *atoms) if atoms else None
     if poly is None:
-        raise ModelError(f"the equation {text!r} contains neither the output {output!r} "
+        raise ModelError(f"the equation {quote(text)} contains neither the output {output!r} "
                          f"nor the input {input_!r}")
     terms = []
     for monom, coeff in poly.terms():
         if not coeff.is_number or not coeff.is_real:
-            raise ModelError(f"coefficient {coeff} in {text!r} is not a real number")
+            raise ModelError(f"coefficient {coeff} in {quote(text)} is not a real number")
         value = float(coeff)
         if not math.isfinite(value):
-            raise ModelError(f"coefficient {coeff} in {text!r} is not finite")
+            raise ModelError(f"coefficient {coeff} in {quote(text)} is not finite")
         if value == 0.0:
             continue
         y_orders, u_orders = _monomial_orders(monom, atoms, output)
         if not y_orders and not u_orders:
-            raise ModelError(f"constant term {value:g} in {text!r}: y = u = 0 must be an "
+            raise ModelError(f"constant term {value:g} in {quote(text)}: y = u = 0 must be an "
                              f"equilibrium")
         terms.append(Term(y_orders, u_orders, value, output, input_, discrete))
     if not any(t.y_orders for t in terms):
-        raise ModelError(f"the equation {text!r} has no output {output!r}")
+        raise ModelError(f"the equation {quote(text)} has no output {output!r}")
     if not any(t.u_orders for t in terms):
-        raise ModelError(f"the equation {text!r} has no input {input_!r}")
+        raise ModelError(f"the equation {quote(text)} has no input {input_!r}")
     if not any(t.is_linear_output for t in terms):
-        raise ModelError(f"the equation {text!r} has no linear term in the output {output!r}: "
+        raise ModelError(f"the equation {quote(text)} has no linear term in the output {output!r}: "
                          f"H1 is undefined")
     return tuple(sorted(terms))

@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import math
 import tomllib
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -37,9 +38,18 @@ from typing import Any
 import sympy as sp
 
 from gfrf.errors import ModelError
+from gfrf.expr import UnknownNames, parse_expression, quote
 from gfrf.model import Model, parse_model
 
-__all__ = ["Controller", "ModelFile", "load_model", "model_from_dict"]
+__all__ = ["Controller", "ModelFile", "load_model", "model_from_dict", "MAX_FILE_BYTES",
+           "MAX_PARAMETERS", "MAX_CONTROLLER_COEFFICIENTS", "parse_number"]
+
+#: Largest model file accepted, in bytes (checked before reading it).
+MAX_FILE_BYTES = 256 * 1024
+#: Most entries of a ``[parameters]`` table.
+MAX_PARAMETERS = 500
+#: Most entries of a controller's ``num`` or ``den``.
+MAX_CONTROLLER_COEFFICIENTS = 64
 
 _TOP_KEYS = {"equation", "sample_time", "truncation", "physical_equation", "output", "input",
              "parameters", "name", "source", "description", "kind", "paper", "controller"}
@@ -125,6 +135,10 @@ def load_model(path: str | Path) -> ModelFile:
     p = Path(path)
     if not p.is_file():
         raise ModelError(f"model file {str(p)!r} does not exist")
+    size = p.stat().st_size
+    if size > MAX_FILE_BYTES:
+        raise ModelError(f"{p}: {size} bytes, more than the limit MAX_FILE_BYTES = "
+                         f"{MAX_FILE_BYTES}")
     try:
         data = tomllib.loads(p.read_text(encoding="utf-8"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
@@ -136,24 +150,37 @@ def load_model(path: str | Path) -> ModelFile:
         raise ModelError(message if message.startswith(str(p)) else f"{p}: {message}") from None
 
 
-def _number(value: Any, key: str, parameters: dict[str, float]) -> float:
+def parse_number(value: Any, key: str, parameters: Mapping[str, float]) -> float:
+    """A finite number from a TOML value: a number, or an expression text such as
+    ``"1/(m*L**2)"`` in the named ``parameters`` (parsed by :mod:`gfrf.expr`, never
+    evaluated as code).
+
+    Raises
+    ------
+    ModelError
+        Not a number, unknown names, a non-real or non-finite value; the message names
+        ``key``.
+    """
     if isinstance(value, bool):
         raise ModelError(f"{key}: expected a number, got {value!r}")
     if isinstance(value, (int, float)):
         result = float(value)
     elif isinstance(value, str):
+        names = {k: sp.Float(v) for k, v in parameters.items()}
         try:
-            expr = sp.sympify(value, locals={k: sp.Float(v) for k, v in parameters.items()})
-        except (sp.SympifyError, SyntaxError, TypeError) as exc:
-            raise ModelError(f"{key}: cannot parse {value!r}: {exc}") from None
-        if not expr.is_number:
-            raise ModelError(f"{key}: {value!r} uses unknown symbol(s) "
-                             f"{', '.join(sorted(map(str, expr.free_symbols)))}")
+            expr = parse_expression(value, names=names).expr
+        except UnknownNames as exc:
+            raise ModelError(f"{key}: {quote(value)} uses unknown symbol(s) "
+                             f"{', '.join(exc.names)}") from None
+        except ModelError as exc:
+            raise ModelError(f"{key}: {exc}") from None
+        if not expr.is_number or not expr.is_real:
+            raise ModelError(f"{key}: {quote(value)} is not a real number")
         result = float(expr)
     else:
         raise ModelError(f"{key}: expected a number or an expression, got {value!r}")
     if not math.isfinite(result):
-        raise ModelError(f"{key}: {value!r} is not finite")
+        raise ModelError(f"{key}: {quote(str(value))} is not finite")
     return result
 
 
@@ -162,9 +189,12 @@ def _parameters(table: Any, where: str) -> dict[str, float]:
         return {}
     if not isinstance(table, dict):
         raise ModelError(f"{where} must be a table of name = number")
+    if len(table) > MAX_PARAMETERS:
+        raise ModelError(f"{where} has {len(table)} entries, more than the limit "
+                         f"MAX_PARAMETERS = {MAX_PARAMETERS}")
     values: dict[str, float] = {}
     for name, value in table.items():
-        values[name] = _number(value, f"{where}.{name}", values)
+        values[name] = parse_number(value, f"{where}.{name}", values)
     return values
 
 
@@ -192,7 +222,7 @@ def model_from_dict(data: dict[str, Any], path: str = "") -> ModelFile:
     parameters = _parameters(data.get("parameters"), "parameters")
     sample_time = data.get("sample_time")
     if sample_time is not None:
-        sample_time = _number(sample_time, "sample_time", parameters)
+        sample_time = parse_number(sample_time, "sample_time", parameters)
     common = {"truncation": data.get("truncation"), "parameters": parameters,
               "output": data.get("output", "y"), "input": data.get("input", "u")}
     plant = parse_model(_text(data, "equation"), sample_time=sample_time, **common)
@@ -234,7 +264,12 @@ def _controller(table: Any, parameters: dict[str, float], plant: Model) -> Contr
             entries = table.get(key, [1])
             if not isinstance(entries, list) or not entries:
                 raise ModelError(f"controller.{key} must be a non-empty list of coefficients")
-            coefficients[key] = tuple(_number(v, f"controller.{key}", values) for v in entries)
+            if len(entries) > MAX_CONTROLLER_COEFFICIENTS:
+                raise ModelError(f"controller.{key} has {len(entries)} coefficients, more than "
+                                 f"the limit MAX_CONTROLLER_COEFFICIENTS = "
+                                 f"{MAX_CONTROLLER_COEFFICIENTS}")
+            coefficients[key] = tuple(parse_number(v, f"controller.{key}", values)
+                                      for v in entries)
         if not any(coefficients["den"]):
             raise ModelError("controller.den is zero")
         return Controller(num=coefficients["num"], den=coefficients["den"], feedback=feedback,

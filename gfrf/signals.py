@@ -27,28 +27,20 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from tokenize import TokenError
 from typing import Any
 
 import numpy as np
 import sympy as sp
 from scipy.interpolate import CubicSpline
-from sympy.core.function import AppliedUndef
-from sympy.parsing.sympy_parser import parse_expr, standard_transformations
 
-from gfrf.errors import ArgumentError
+from gfrf.errors import ArgumentError, ModelError
+from gfrf.expr import SIGNAL_FUNCTIONS, UnknownNames, parse_expression, quote
 
 __all__ = ["InputSignal", "parse_input", "zero_input", "tones_input", "T"]
 
 #: The time symbol of input expressions (seconds).
 T = sp.Symbol("t", real=True)
 
-_FUNCTIONS: dict[str, Any] = {
-    "sin": sp.sin, "cos": sp.cos, "tan": sp.tan, "exp": sp.exp, "log": sp.log,
-    "sqrt": sp.sqrt, "tanh": sp.tanh, "abs": sp.Abs, "Abs": sp.Abs, "sign": sp.sign,
-    "pi": sp.pi, "E": sp.E,
-    "step": lambda x: sp.Heaviside(x, 1), "Heaviside": lambda x: sp.Heaviside(x, 1),
-}
 _NUMPY_MODULES = [{"Heaviside": lambda x, _h0=1.0: np.heaviside(x, 1.0),
                    "DiracDelta": lambda x: np.zeros_like(np.asarray(x, dtype=float))}, "numpy"]
 
@@ -146,26 +138,21 @@ def parse_input(text: str, *, max_derivative: int = 0) -> InputSignal:
 
 def _parse_expression(text: str) -> sp.Expr:
     try:
-        expr = parse_expr(text, local_dict={"t": T, **_FUNCTIONS},
-                          transformations=standard_transformations, evaluate=True)
-    except (SyntaxError, TypeError, ValueError, sp.SympifyError, AttributeError,
-            TokenError) as exc:
-        raise ArgumentError(f"cannot parse the input {text!r}: {exc}") from None
-    if not isinstance(expr, sp.Expr):
-        raise ArgumentError(f"the input {text!r} is not an expression in t")
-    undefined = sorted({str(f.func) for f in expr.atoms(AppliedUndef)})
-    if undefined:
-        raise ArgumentError(f"unknown function(s) {', '.join(undefined)} in the input "
-                            f"{text!r}; allowed: {', '.join(sorted(_FUNCTIONS))}")
-    unknown = sorted(str(s) for s in expr.free_symbols if s != T)
-    if unknown:
-        raise ArgumentError(f"unknown symbol(s) {', '.join(unknown)} in the input {text!r}: "
-                            f"the only variable is the time t (seconds)")
+        expr = parse_expression(text, names={"t": T}, functions=SIGNAL_FUNCTIONS,
+                                variables=(T,)).expr
+    except UnknownNames as exc:
+        raise ArgumentError(f"unknown symbol(s) {', '.join(exc.names)} in the input "
+                            f"{quote(text)}: the only variable is the time t (seconds)") \
+            from None
+    except ModelError as exc:
+        raise ArgumentError(f"cannot parse the input: {exc}") from None
     if T not in expr.free_symbols:
-        raise ArgumentError(f"the input {text!r} is not a function of t; a constant input "
-                            f"is e.g. '0.1*step(t)', and no input means omit it")
+        raise ArgumentError(f"the input {quote(text)} is not a function of t; a constant "
+                            f"input is e.g. '0.1*step(t)', and no input means omit it")
     if expr.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
-        raise ArgumentError(f"the input {text!r} is not finite")
+        raise ArgumentError(f"the input {quote(text)} is not finite")
+    if expr.has(sp.I):
+        raise ArgumentError(f"the input {quote(text)} is complex: u(t) must be real")
     return expr
 
 

@@ -35,6 +35,7 @@ from typing import Any
 import sympy as sp
 
 from gfrf.errors import ArgumentError, ModelError
+from gfrf.expr import UnknownNames, parse_expression, quote
 from gfrf.model import Model, Term, coefficient_formulas
 from gfrf.modelfile import ModelFile, model_from_dict
 
@@ -189,16 +190,26 @@ class ModelTemplate:
             raise ModelError(f"{self._where(values)}: {what} has no input {model.input!r}")
 
 
+def _symbolic(value: Any, values: Mapping[str, sp.Expr], key: str) -> sp.Expr:
+    """A TOML number or expression text as a sympy expression in ``values`` (parsed by
+    :mod:`gfrf.expr`; the model file was validated first, so errors are rare)."""
+    if not isinstance(value, str):
+        return sp.Float(value)
+    try:
+        return parse_expression(value, names=values).expr
+    except UnknownNames as exc:
+        raise ModelError(f"{key}: {quote(value)} uses unknown symbol(s) "
+                         f"{', '.join(exc.names)}") from None
+    except ModelError as exc:
+        raise ModelError(f"{key}: {exc}") from None
+
+
 def _symbolic_table(table: Mapping[str, Any] | None, swept: Mapping[str, sp.Symbol],
-                    known: dict[str, sp.Expr]) -> dict[str, sp.Expr]:
+                    known: dict[str, sp.Expr], where: str) -> dict[str, sp.Expr]:
     values = dict(known)
     for name, value in (table or {}).items():
-        if name in swept:
-            values[name] = swept[name]
-        elif isinstance(value, str):
-            values[name] = sp.sympify(value, locals=values)
-        else:
-            values[name] = sp.Float(value)
+        values[name] = swept[name] if name in swept else \
+            _symbolic(value, values, f"{where}.{name}")
     return values
 
 
@@ -247,9 +258,9 @@ def model_template(data: Mapping[str, Any], names: Sequence[str], path: str = ""
             raise ArgumentError(_unknown(name, where))
     base = model_from_dict(dict(data), path=path)
     swept = {n: sp.Symbol(n, real=True) for n in names}
-    values = _symbolic_table(data.get("parameters"), swept, {})
+    values = _symbolic_table(data.get("parameters"), swept, {}, "parameters")
     step = data.get("sample_time")
-    if isinstance(step, str) and sp.sympify(step, locals=values).free_symbols:
+    if isinstance(step, str) and _symbolic(step, values, "sample_time").free_symbols:
         raise TemplateUnsupported("sweep templates need a sample_time independent of the "
                                   "swept parameters")
     formulas = _coefficients(data["equation"], base.plant, values)
@@ -258,13 +269,14 @@ def model_template(data: Mapping[str, Any], names: Sequence[str], path: str = ""
     law: dict[tuple, sp.Expr] = {}
     if base.controller is not None:
         controller = data["controller"]
-        own = _symbolic_table(controller.get("parameters"), swept, values)
+        own = _symbolic_table(controller.get("parameters"), swept, values,
+                              "controller.parameters")
         if base.controller.model is not None:
             law = _coefficients(controller["equation"], base.controller.model, own)
             exprs += list(law.values())
         else:
-            num = [sp.sympify(v, locals=own) for v in controller.get("num", [1])]
-            den = [sp.sympify(v, locals=own) for v in controller.get("den", [1])]
+            num = [_symbolic(v, own, "controller.num") for v in controller.get("num", [1])]
+            den = [_symbolic(v, own, "controller.den") for v in controller.get("den", [1])]
             exprs += num + den
             n_num = len(num)
     body = ", ".join(sp.pycode(_exact(e)) for e in exprs)

@@ -156,7 +156,7 @@ CLI_CASES = [
     ("inline equation without input", ["verdict", "D(y) + y"], "has no input 'u'"),
     ("negative end time", ["simulate", PENDULUM, "--t-end", "-1"], "t_end must be a positive"),
     ("unknown input function", ["simulate", PENDULUM, "--input", "foo(t)", "--t-end", "1"],
-     "unknown function(s) foo"),
+     "unknown function 'foo'"),
     ("sweep unknown parameter", ["sweep", PENDULUM, "--param", "zz=0:1:3"],
      "unknown parameter 'zz'"),
     ("sweep bad range", ["sweep", PENDULUM, "--param", "rho=0:1"], "'rho=0:1'"),

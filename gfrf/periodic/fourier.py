@@ -210,7 +210,8 @@ def trig_harmonic(expr: object, theta: object, k: int = 0, kind: str = "cos") ->
     import sympy as sp
 
     z = sp.Symbol("_z")
-    e = sp.expand(sp.expand(sp.sympify(expr).rewrite(sp.exp)).subs(sp.exp(sp.I * theta), z))
+    trig = sp.Float(expr) if isinstance(expr, float) else expr
+    e = sp.expand(sp.expand(trig.rewrite(sp.exp)).subs(sp.exp(sp.I * theta), z))
     if e.has(theta):
         raise ArithmeticError(f"{expr} is not a trigonometric polynomial in {theta}")
     terms = sp.collect(e, z, evaluate=False)

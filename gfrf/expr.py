@@ -1,0 +1,627 @@
+"""The one door for user text: a small whitelisted expression language and its parser.
+
+Every text field gfrf reads (model equations, ``[parameters]`` values, controller
+``num``/``den``/``equation``, ``physical_equation``, ``sample_time``, the ``--input``
+signal of ``simulate``/``predict``, sweep template values) goes through
+:func:`parse_expression`.  The text is *data*: it is tokenised and parsed here by a
+recursive-descent parser of our own and the sympy expression is built node by node;
+nothing is ever handed to Python's ``eval``, ``exec``, ``sympify`` or ``parse_expr``.
+
+Grammar (Python's operator precedence and associativity)::
+
+    expression := ["+"|"-"]* term (("+"|"-") term)*
+    term       := factor (("*"|"/") factor)*
+    factor     := ["+"|"-"]* power
+    power      := atom ["**" ["+"|"-"]* INTEGER]          exponent: a literal integer
+    atom       := NUMBER | NAME | NAME "(" expression ("," expression)* ")"
+                | SIGNAL "[" "k" ["-" INTEGER] "]"            (discrete models only)
+                | "(" expression ")"
+
+A ``NAME`` is a signal, a parameter or constant of the context (``pi`` and ``E`` are
+known unless a parameter of that name shadows them), and a call is one of a fixed
+table of functions (``D``, ``sin``, ``cos``, ``exp``, ``sqrt``, ``step``, ...).  There
+are no attributes, strings, keywords, subscripts other than lags, lambdas or
+comprehensions: anything else is a :class:`~gfrf.errors.ModelError` naming it.
+
+Every input is cheap to refuse: the limits below bound the text, the nesting, the
+number of terms, the size of number literals and of exact intermediate numbers, the
+exponents, the total polynomial degree and the number of monomials that expanding the
+expression can produce, so no text can make the parser (or the sympy expansion that
+follows it) run long or grow large.
+
+Examples
+--------
+>>> import sympy as sp
+>>> y = sp.Symbol("y")
+>>> parse_expression("2*y**3 - 0.5*y", names={"y": y}, variables=(y,)).expr
+2*y**3 - 0.5*y
+>>> parse_expression("__import__('os')", names={})
+Traceback (most recent call last):
+...
+gfrf.errors.ModelError: unexpected character "'" at column 12 of "__import__('os')"
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from gfrf.errors import ModelError
+
+__all__ = ["Parsed", "UnknownNames", "parse_expression", "quote", "MAX_TEXT_LENGTH",
+           "MAX_NESTING", "MAX_TERMS", "MAX_NUMBER_LENGTH", "MAX_NUMBER_BITS", "MAX_EXPONENT",
+           "MAX_DEGREE", "MAX_MONOMIALS", "MAX_NAME_LENGTH", "MODEL_FUNCTIONS",
+           "SIGNAL_FUNCTIONS", "CONSTANTS"]
+
+#: Longest text accepted in one field, in characters.
+MAX_TEXT_LENGTH = 100_000
+#: Deepest nesting of parentheses, calls and lags.
+MAX_NESTING = 32
+#: Most additive terms (operands of + and -) in one text, counted over all levels.
+MAX_TERMS = 5_000
+#: Longest number literal, in characters.
+MAX_NUMBER_LENGTH = 40
+#: Largest exact (integer or rational) intermediate number, in bits of its numerator
+#: or denominator; float-valued intermediates must stay finite.
+MAX_NUMBER_BITS = 2048
+#: Largest absolute value of an integer exponent.
+MAX_EXPONENT = 15
+#: Largest total polynomial degree of a term in the signals (products ``y*y*...`` count).
+MAX_DEGREE = 15
+#: Most monomials that expanding the expression may produce (an a-priori bound).
+MAX_MONOMIALS = 20_000
+#: Longest name (signal, parameter, function).
+MAX_NAME_LENGTH = 64
+
+#: Functions allowed in model equations and parameter values (``D`` is added for ODEs).
+MODEL_FUNCTIONS: dict[str, Callable[..., sp.Expr]] = {
+    "sin": sp.sin, "cos": sp.cos, "tan": sp.tan, "sinh": sp.sinh, "cosh": sp.cosh,
+    "tanh": sp.tanh, "atan": sp.atan, "exp": sp.exp, "log": sp.log, "sqrt": sp.sqrt,
+}
+#: Functions allowed in input signals u(t).
+SIGNAL_FUNCTIONS: dict[str, Callable[..., sp.Expr]] = {
+    **MODEL_FUNCTIONS, "abs": sp.Abs, "Abs": sp.Abs, "sign": sp.sign,
+    "step": lambda x: sp.Heaviside(x, 1), "Heaviside": lambda x: sp.Heaviside(x, 1),
+}
+#: Named constants (a parameter of the same name takes precedence).
+CONSTANTS: dict[str, sp.Expr] = {"pi": sp.pi, "E": sp.E}
+
+_NOT_FINITE = frozenset({"inf", "infinity", "oo", "nan", "zoo", "Infinity", "NaN"})
+_QUOTE_LENGTH = 80
+
+_TOKEN = re.compile(r"""
+    (?P<space>\s+)
+  | (?P<number>(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)
+  | (?P<name>[A-Za-z_][A-Za-z0-9_]*)
+  | (?P<op>\*\*|[-+*/(),\[\]^])
+""", re.VERBOSE)
+
+
+def quote(text: str) -> str:
+    """``repr`` of ``text`` shortened to about 80 characters, for error messages."""
+    if len(text) <= _QUOTE_LENGTH:
+        return repr(text)
+    return repr(text[:_QUOTE_LENGTH - 20] + " ... " + text[-15:])
+
+
+class UnknownNames(ModelError):
+    """The text uses names that are neither signals, parameters nor constants.
+
+    Attributes
+    ----------
+    names : tuple of str
+        The unknown names, sorted.
+    """
+
+    def __init__(self, message: str, names: Sequence[str]) -> None:
+        super().__init__(message)
+        self.names = tuple(names)
+
+
+@dataclass(frozen=True)
+class Parsed:
+    """A parsed expression and what the parser learnt about it.
+
+    Attributes
+    ----------
+    expr : sympy.Expr
+        The expression (sympy's automatic simplification applied, nothing expanded).
+    degree : int
+        Upper bound of the total polynomial degree in the ``variables``.
+    analytic : bool
+        True if a variable appears inside a function or a denominator, so the
+        expression is not a polynomial and needs a Taylor truncation.
+    """
+
+    expr: sp.Expr
+    degree: int
+    analytic: bool
+
+
+@dataclass(frozen=True)
+class _Node:
+    expr: sp.Expr
+    degree: int = 0          # polynomial degree bound in the variables
+    monomials: int = 1       # bound on the monomials of the expanded expression
+    analytic: bool = False   # a variable sits inside a function or a denominator
+    varying: bool = False    # depends on a variable at all
+
+
+@dataclass
+class _Context:
+    text: str
+    names: Mapping[str, sp.Expr]
+    functions: Mapping[str, Callable[..., sp.Expr]]
+    variables: frozenset[sp.Symbol]
+    derivative: Callable[[str, int], sp.Expr] | None
+    lag: Callable[[str, int], sp.Expr] | None
+    signals: tuple[str, ...]
+    max_order: int
+    hints: Mapping[str, str]
+    tokens: list[tuple[str, str, int]] = field(default_factory=list)
+    pos: int = 0
+    depth: int = 0
+    terms: int = 0
+
+    # -- errors ------------------------------------------------------------------
+    def fail(self, message: str, column: int | None = None) -> ModelError:
+        where = f" at column {column + 1}" if column is not None else ""
+        return ModelError(f"{message}{where} of {quote(self.text)}")
+
+    # -- tokens ------------------------------------------------------------------
+    def peek(self) -> tuple[str, str, int]:
+        return self.tokens[self.pos]
+
+    def take(self) -> tuple[str, str, int]:
+        token = self.tokens[self.pos]
+        self.pos += 1
+        return token
+
+    def expect(self, value: str) -> None:
+        kind, text, column = self.take()
+        if text != value:
+            found = "the end of the text" if kind == "end" else repr(text)
+            raise self.fail(f"expected {value!r} but found {found}", column)
+
+    def enter(self, column: int) -> None:
+        self.depth += 1
+        if self.depth > MAX_NESTING:
+            raise self.fail(f"nesting deeper than the limit MAX_NESTING = {MAX_NESTING}",
+                            column)
+
+    def leave(self) -> None:
+        self.depth -= 1
+
+
+def parse_expression(text: str, *, names: Mapping[str, sp.Expr] | None = None,
+                     functions: Mapping[str, Callable[..., sp.Expr]] | None = None,
+                     variables: Sequence[sp.Symbol] = (),
+                     signals: Sequence[str] = (),
+                     derivative: Callable[[str, int], sp.Expr] | None = None,
+                     lag: Callable[[str, int], sp.Expr] | None = None,
+                     max_order: int = 20,
+                     hints: Mapping[str, str] | None = None) -> Parsed:
+    """Parse ``text`` of the gfrf expression language into a sympy expression.
+
+    Parameters
+    ----------
+    text : str
+        The text (data, never evaluated as code).
+    names : mapping, optional
+        Allowed names and the sympy values they stand for (numbers or symbols).  The
+        constants ``pi`` and ``E`` are added unless ``names`` defines them.
+    functions : mapping, optional
+        Allowed function names and the sympy functions they build (default
+        :data:`MODEL_FUNCTIONS`).
+    variables : sequence of sympy.Symbol
+        Symbols that count for the polynomial degree (the signals, or time ``t``).
+    signals : sequence of str
+        Names that ``D(name, n)`` and the lag ``name[k-n]`` apply to.
+    derivative, lag : callable, optional
+        ``(signal, order) -> expr`` for ``D(signal, order)`` (continuous models) and for
+        ``signal[k-order]`` (discrete models); None forbids the notation.
+    max_order : int
+        Largest derivative order or lag.
+    hints : mapping, optional
+        A message for particular unknown names (e.g. ``{"t": "... time t ..."}``).
+
+    Returns
+    -------
+    Parsed
+
+    Raises
+    ------
+    ModelError
+        Anything outside the grammar or beyond a limit; the message names the limit or
+        the offending part and its column.  :class:`UnknownNames` for unknown names.
+    """
+    if not isinstance(text, str):
+        raise ModelError(f"expected text, got {type(text).__name__}")
+    if len(text) > MAX_TEXT_LENGTH:
+        raise ModelError(f"the text has {len(text)} characters, more than the limit "
+                         f"MAX_TEXT_LENGTH = {MAX_TEXT_LENGTH}: {quote(text)}")
+    ctx = _Context(text=text, names={**CONSTANTS, **(names or {})},
+                   functions=MODEL_FUNCTIONS if functions is None else functions,
+                   variables=frozenset(variables), derivative=derivative, lag=lag,
+                   signals=tuple(signals), max_order=max_order, hints=hints or {})
+    ctx.tokens = _tokenize(ctx)
+    _check_names(ctx)
+    node = _expression(ctx)
+    kind, token, column = ctx.peek()
+    if kind != "end":
+        raise ctx.fail(f"unexpected {token!r}", column)
+    return Parsed(node.expr, node.degree, node.analytic)
+
+
+def _tokenize(ctx: _Context) -> list[tuple[str, str, int]]:
+    text = ctx.text
+    tokens: list[tuple[str, str, int]] = []
+    pos = 0
+    while pos < len(text):
+        match = _TOKEN.match(text, pos)
+        if match is None:
+            char = text[pos]
+            if char == "=":
+                raise ctx.fail("unexpected '=' (a single '=' separates the two sides of an "
+                               "equation)", pos)
+            raise ctx.fail(f"unexpected character {char!r}", pos)
+        kind = match.lastgroup or ""
+        value = match.group()
+        if kind == "number":
+            following = text[match.end():match.end() + 1]
+            if following and (following.isalnum() or following in "_."):
+                raise ctx.fail(f"malformed number {text[pos:match.end() + 1]!r} (write 2*y "
+                               f"for a product; complex, hexadecimal and underscore numbers "
+                               f"are not accepted)", pos)
+            if len(value) > MAX_NUMBER_LENGTH:
+                raise ctx.fail(f"the number literal of {len(value)} characters exceeds the "
+                               f"limit MAX_NUMBER_LENGTH = {MAX_NUMBER_LENGTH}", pos)
+        elif kind == "name" and len(value) > MAX_NAME_LENGTH:
+            raise ctx.fail(f"a name longer than the limit MAX_NAME_LENGTH = "
+                           f"{MAX_NAME_LENGTH}", pos)
+        elif kind == "op" and value == "^":
+            raise ctx.fail("'^' is not a power here: write y**3 for y cubed", pos)
+        if kind != "space":
+            tokens.append((kind, value, pos))
+        pos = match.end()
+    tokens.append(("end", "", len(text)))
+    return tokens
+
+
+def _check_names(ctx: _Context) -> None:
+    """Refuse unknown names up front, all of them in one message."""
+    unknown: set[str] = set()
+    tokens = ctx.tokens
+    for i, (kind, value, column) in enumerate(tokens):
+        if kind != "name":
+            continue
+        after = tokens[i + 1][1]
+        if after == "(":
+            if value == "D" and ctx.derivative is not None:
+                continue
+            if value not in ctx.functions:
+                hint = ""
+                if value == "D":
+                    hint = " (discrete models use y[k-n], not D)" if ctx.lag else \
+                        " (D(...) is for model equations)"
+                known = ", ".join(sorted(ctx.functions)) or "none"
+                raise ctx.fail(f"unknown function {value!r}{hint}; allowed: {known}", column)
+            continue
+        if after == "[":
+            if ctx.lag is None:
+                raise ctx.fail(f"'{value}[...]': subscripts are only the lags y[k-n] of a "
+                               f"discrete model's signals (give a sample_time)", column)
+            if value not in ctx.signals:
+                raise ctx.fail(f"unknown signal {value!r} in a lag: the signals are "
+                               f"{ctx.signals[0]!r} (output) and {ctx.signals[1]!r} (input)",
+                               column)
+            continue
+        if i >= 2 and tokens[i - 1][1] == "(" and tokens[i - 2][1] == "D" \
+                and ctx.derivative is not None:
+            continue  # the signal of D(signal, n), checked by the derivative rule
+        if value == "k" and i > 0 and tokens[i - 1][1] == "[":
+            continue
+        if value in _NOT_FINITE and value not in ctx.names:
+            raise ctx.fail(f"{value!r} is not finite (NaN or infinite)", column)
+        if value not in ctx.names:
+            if value in ctx.hints:
+                raise ModelError(ctx.hints[value])
+            unknown.add(value)
+    if unknown:
+        listed = ", ".join(sorted(unknown))
+        raise UnknownNames(f"unknown symbol(s) {listed} in {quote(ctx.text)}", sorted(unknown))
+
+
+# -- the grammar ----------------------------------------------------------------------
+
+def _expression(ctx: _Context) -> _Node:
+    operands: list[_Node] = []
+    sign = _signs(ctx)
+    while True:
+        node = _term(ctx)
+        operands.append(_negate(node) if sign < 0 else node)
+        ctx.terms += 1
+        if ctx.terms > MAX_TERMS:
+            raise ctx.fail(f"more than MAX_TERMS = {MAX_TERMS} terms", ctx.peek()[2])
+        token = ctx.peek()[1]
+        if token not in ("+", "-"):
+            break
+        ctx.take()
+        sign = -1 if token == "-" else 1
+    return operands[0] if len(operands) == 1 else _sum(ctx, operands)
+
+
+def _signs(ctx: _Context) -> int:
+    sign = 1
+    while ctx.peek()[1] in ("+", "-"):
+        if ctx.take()[1] == "-":
+            sign = -sign
+    return sign
+
+
+def _term(ctx: _Context) -> _Node:
+    node = _factor(ctx)
+    while ctx.peek()[1] in ("*", "/"):
+        _, op, column = ctx.take()
+        right = _factor(ctx)
+        node = _product(ctx, node, right, column) if op == "*" else \
+            _quotient(ctx, node, right, column)
+    return node
+
+
+def _factor(ctx: _Context) -> _Node:
+    sign = _signs(ctx)
+    node = _power(ctx)
+    return _negate(node) if sign < 0 else node
+
+
+def _power(ctx: _Context) -> _Node:
+    base = _atom(ctx)
+    if ctx.peek()[1] != "**":
+        return base
+    column = ctx.take()[2]
+    sign = _signs(ctx)
+    parenthesised = ctx.peek()[1] == "("
+    if parenthesised:
+        ctx.take()
+        sign *= _signs(ctx)
+    kind, value, at = ctx.take()
+    if kind != "number" or not value.isdigit():
+        raise ctx.fail("the exponent after '**' must be an integer literal such as 2 or 3 "
+                       "(use sqrt(x) for a square root)", at)
+    if parenthesised:
+        ctx.expect(")")
+    if ctx.peek()[1] == "**":
+        raise ctx.fail("the exponent after '**' must be an integer literal: a tower "
+                       "a**b**c is not accepted", ctx.peek()[2])
+    exponent = sign * int(value)
+    if abs(exponent) > MAX_EXPONENT:
+        raise ctx.fail(f"the exponent {exponent} exceeds the limit MAX_EXPONENT = "
+                       f"{MAX_EXPONENT}", column)
+    return _raise(ctx, base, exponent, column)
+
+
+def _atom(ctx: _Context) -> _Node:
+    kind, value, column = ctx.take()
+    if kind == "number":
+        return _number(ctx, value, column)
+    if value == "(":
+        ctx.enter(column)
+        node = _expression(ctx)
+        ctx.expect(")")
+        ctx.leave()
+        return node
+    if kind == "name":
+        following = ctx.peek()[1]
+        if following == "(":
+            return _call(ctx, value, column)
+        if following == "[" and value in ctx.signals and ctx.lag is not None:
+            return _lagged(ctx, value, column)
+        return _name(ctx, value)
+    found = "the end of the text" if kind == "end" else repr(value)
+    raise ctx.fail(f"expected a number, a name or '(' but found {found}", column)
+
+
+def _number(ctx: _Context, value: str, column: int) -> _Node:
+    if value.isdigit():
+        return _Node(sp.Integer(int(value)))
+    number = float(value)
+    if not math.isfinite(number):
+        raise ctx.fail(f"the number {value} is not finite in double precision", column)
+    return _Node(sp.Float(number))
+
+
+def _name(ctx: _Context, value: str) -> _Node:
+    expr = ctx.names[value]
+    varying = bool(ctx.variables & expr.free_symbols) if isinstance(expr, sp.Basic) else False
+    return _Node(expr, degree=1 if varying else 0, varying=varying)
+
+
+def _signal_atom(ctx: _Context, expr: sp.Expr) -> _Node:
+    return _Node(expr, degree=1, varying=True)
+
+
+def _call(ctx: _Context, name: str, column: int) -> _Node:
+    ctx.take()  # "("
+    ctx.enter(column)
+    if name == "D" and ctx.derivative is not None:
+        node = _derivative(ctx, column)
+    else:
+        args = [_expression(ctx)]
+        while ctx.peek()[1] == ",":
+            ctx.take()
+            args.append(_expression(ctx))
+        ctx.expect(")")
+        if len(args) != 1:
+            raise ctx.fail(f"{name}() takes one argument, got {len(args)}", column)
+        node = _apply(ctx, name, args[0], column)
+    ctx.leave()
+    return node
+
+
+def _derivative(ctx: _Context, column: int) -> _Node:
+    kind, signal, at = ctx.take()
+    order = 1
+    order_text = ""
+    if ctx.peek()[1] == ",":
+        ctx.take()
+        negative = _signs(ctx) < 0
+        kind_o, order_text, at_o = ctx.take()
+        if kind_o != "number":
+            raise ctx.fail(f"D({signal}, ...): the order must be a non-negative integer",
+                           at_o)
+        value = float(order_text)
+        if negative and value:
+            raise ctx.fail(f"'D({signal},-{order_text})': negative derivative order "
+                           f"-{order_text}", at_o)
+        if not value.is_integer():
+            raise ctx.fail(f"'D({signal},{order_text})': the order must be a non-negative "
+                           f"integer", at_o)
+        order = int(value)
+    if kind != "name" or signal not in ctx.signals or ctx.peek()[1] != ")":
+        shown = signal if kind == "name" else "..."
+        raise ctx.fail(f"'D({shown})': the first argument must be the output "
+                       f"{ctx.signals[0]!r} or the input {ctx.signals[1]!r}, the second "
+                       f"the order", at)
+    ctx.take()
+    if order > ctx.max_order:
+        raise ctx.fail(f"'D({signal},{order})': order {order} exceeds the limit "
+                       f"{ctx.max_order}", column)
+    assert ctx.derivative is not None
+    return _signal_atom(ctx, ctx.derivative(signal, order))
+
+
+def _lagged(ctx: _Context, signal: str, column: int) -> _Node:
+    ctx.take()  # "["
+    kind, value, at = ctx.take()
+    if value != "k":
+        raise ctx.fail(f"cannot read the lag of {signal!r}: write {signal}[k], "
+                       f"{signal}[k-1], ...", at)
+    lag = 0
+    if ctx.peek()[1] in ("-", "+"):
+        _, op, at_op = ctx.take()
+        kind, number, at_n = ctx.take()
+        if kind != "number" or not number.isdigit():
+            raise ctx.fail(f"the lag of {signal!r} must be an integer", at_n)
+        if op == "+" and int(number):
+            raise ctx.fail(f"'{signal}[k+{number}]' looks into the future: write lags as "
+                           f"{signal}[k-n] with n >= 0", at_op)
+        lag = int(number)
+    ctx.expect("]")
+    if lag > ctx.max_order:
+        raise ctx.fail(f"'{signal}[k-{lag}]': lag {lag} exceeds the limit {ctx.max_order}",
+                       column)
+    assert ctx.lag is not None
+    return _signal_atom(ctx, ctx.lag(signal, lag))
+
+
+# -- building sympy expressions under the limits --------------------------------------
+
+def _checked_number(ctx: _Context, expr: sp.Expr, column: int | None) -> sp.Expr:
+    """Refuse exact numbers beyond MAX_NUMBER_BITS and float numbers beyond double range."""
+    if expr.is_Rational:
+        if max(int(expr.p).bit_length(), int(expr.q).bit_length()) > MAX_NUMBER_BITS:
+            raise ctx.fail(f"an intermediate number exceeds MAX_NUMBER_BITS = "
+                           f"{MAX_NUMBER_BITS} bits", column)
+    elif expr.is_Float and not math.isfinite(float(expr)):
+        raise ctx.fail("an intermediate number overflows double precision", column)
+    return expr
+
+
+def _sum(ctx: _Context, operands: list[_Node]) -> _Node:
+    expr = sp.Add(*(o.expr for o in operands))
+    varying = any(o.varying for o in operands)
+    monomials = sum(o.monomials for o in operands) if varying else 1
+    if monomials > MAX_MONOMIALS:
+        raise ctx.fail(f"the expression would expand to more than MAX_MONOMIALS = "
+                       f"{MAX_MONOMIALS} monomials")
+    if expr.is_number:
+        expr = _checked_number(ctx, expr, None)
+    return _Node(expr, max(o.degree for o in operands), monomials,
+                 any(o.analytic for o in operands), varying)
+
+
+def _negate(node: _Node) -> _Node:
+    return _Node(-node.expr, node.degree, node.monomials, node.analytic, node.varying)
+
+
+def _product(ctx: _Context, left: _Node, right: _Node, column: int) -> _Node:
+    degree = left.degree + right.degree
+    if degree > MAX_DEGREE:
+        raise ctx.fail(f"a product of total degree {degree} exceeds the limit MAX_DEGREE = "
+                       f"{MAX_DEGREE}", column)
+    monomials = left.monomials * right.monomials
+    if monomials > MAX_MONOMIALS:
+        raise ctx.fail(f"the product would expand to more than MAX_MONOMIALS = "
+                       f"{MAX_MONOMIALS} monomials", column)
+    if left.expr.is_Rational and right.expr.is_Rational:
+        bits = sum(max(int(e.p).bit_length(), int(e.q).bit_length())
+                   for e in (left.expr, right.expr))
+        if bits > 2 * MAX_NUMBER_BITS:
+            raise ctx.fail(f"an intermediate number exceeds MAX_NUMBER_BITS = "
+                           f"{MAX_NUMBER_BITS} bits", column)
+    expr = left.expr * right.expr
+    if expr.is_number:
+        expr = _checked_number(ctx, expr, column)
+    return _Node(expr, degree, monomials, left.analytic or right.analytic,
+                 left.varying or right.varying)
+
+
+def _quotient(ctx: _Context, left: _Node, right: _Node, column: int) -> _Node:
+    if right.varying:
+        inverse = _Node(1 / right.expr, 0, 1, True, True)
+        return _product(ctx, left, inverse, column)
+    if right.expr.is_Rational and left.expr.is_Rational:
+        bits = sum(max(int(e.p).bit_length(), int(e.q).bit_length())
+                   for e in (left.expr, right.expr))
+        if bits > 2 * MAX_NUMBER_BITS:
+            raise ctx.fail(f"an intermediate number exceeds MAX_NUMBER_BITS = "
+                           f"{MAX_NUMBER_BITS} bits", column)
+    expr = left.expr / right.expr
+    if expr.is_number and expr.is_finite:
+        expr = _checked_number(ctx, expr, column)
+    return _Node(expr, left.degree, left.monomials, left.analytic, left.varying)
+
+
+def _raise(ctx: _Context, base: _Node, exponent: int, column: int) -> _Node:
+    if base.varying and exponent < 0:
+        return _Node(base.expr ** exponent, 0, 1, True, True)
+    degree = base.degree * exponent
+    if degree > MAX_DEGREE:
+        raise ctx.fail(f"the power of total degree {degree} exceeds the limit MAX_DEGREE = "
+                       f"{MAX_DEGREE}", column)
+    monomials = min(base.monomials ** exponent,
+                    math.comb(base.monomials + exponent - 1, exponent)) if base.varying else 1
+    if monomials > MAX_MONOMIALS:
+        raise ctx.fail(f"the power would expand to more than MAX_MONOMIALS = "
+                       f"{MAX_MONOMIALS} monomials", column)
+    if base.expr.is_Rational:
+        bits = max(int(base.expr.p).bit_length(), int(base.expr.q).bit_length())
+        if bits * abs(exponent) > MAX_NUMBER_BITS:
+            raise ctx.fail(f"the power exceeds MAX_NUMBER_BITS = {MAX_NUMBER_BITS} bits",
+                           column)
+    if base.expr == 0 and exponent < 0:
+        expr: sp.Expr = sp.zoo
+    else:
+        expr = base.expr ** exponent
+    if expr.is_number and expr.is_finite:
+        expr = _checked_number(ctx, expr, column)
+    return _Node(expr, degree, monomials, base.analytic, base.varying)
+
+
+def _apply(ctx: _Context, name: str, arg: _Node, column: int) -> _Node:
+    expr = ctx.functions[name](arg.expr)
+    if expr.is_number:
+        try:
+            value = complex(expr)
+        except (TypeError, ValueError, OverflowError):
+            value = complex(math.nan)
+        if not (math.isfinite(value.real) and math.isfinite(value.imag)):
+            raise ctx.fail(f"{name}() of {arg.expr} is not finite", column)
+        if value.imag != 0:
+            raise ctx.fail(f"{name}() of {arg.expr} is not a real number", column)
+    return _Node(expr, 0, 1, arg.varying or arg.analytic, arg.varying)
