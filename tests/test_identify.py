@@ -471,3 +471,13 @@ def test_narx_equation_and_free_run_refuse_models_not_explicit_in_y_k():
     runaway = parse_model("y[k] = 3*y[k-1] + u[k-1]", sample_time=T)
     y, blowup = free_run(runaway, np.ones(40), np.zeros(1))
     assert blowup is not None and 10 < blowup < 40
+
+
+def test_a_criterion_at_its_limit_is_noted():
+    rng = np.random.default_rng(4)
+    u = rng.uniform(-1, 1, 600)
+    y = _simulate(CROSS, u, np.zeros(u.size))
+    result = identify(y, u, T, degree=2, max_terms=3)
+    assert len(result.regressors) == 3
+    assert any("larger max_terms" in n for n in result.notes)
+    assert "larger max_terms" in model_file_text(result, "d.csv")

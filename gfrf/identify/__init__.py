@@ -572,12 +572,19 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int = 2, ulag: int = 2
     simulated, blowup = free_run(model, u_test, y_test[:lag])
     free = math.inf if blowup is not None else _rrse(y_test[lag:], simulated[lag:])
     one_step = _one_step(model, y_test, u_test, lag)
+    notes = []
+    if len(regressors) == max_terms < candidates:
+        notes.append(f"the criterion chose the largest size considered ({max_terms} terms): "
+                     f"a larger max_terms may find a better model")
+    if blowup is not None:
+        notes.append(f"the identified model's free run blew up at held-out sample {blowup}: "
+                     f"it does not reproduce the data")
     settings = {"ylag": ylag, "ulag": ulag, "degree": degree, "criterion": criterion,
                 "max_terms": max_terms, "holdout": float(holdout)}
     return Identification(model=model, settings=settings, n_samples=int(y.size),
                           n_train=n_train, candidates=candidates, regressors=regressors,
                           free_run_error=free, one_step_error=one_step,
-                          blowup=blowup,
+                          blowup=blowup, notes=tuple(notes),
                           sysidentpy_version=str(sysidentpy.__version__))
 
 
