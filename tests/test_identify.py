@@ -481,3 +481,34 @@ def test_a_criterion_at_its_limit_is_noted():
     assert len(result.regressors) == 3
     assert any("larger max_terms" in n for n in result.notes)
     assert "larger max_terms" in model_file_text(result, "d.csv")
+
+
+def test_report_kernel_errors_against_the_closed_form():
+    from gfrf.identify.report import kernel_errors
+
+    other = dict(CROSS)
+    other[((1,), ())] = 0.52
+    other[((), (1, 1))] = -0.12
+    true, moved = (parse_model(_text(th), sample_time=T) for th in (CROSS, other))
+    errors = kernel_errors(moved, true, points=100)
+    w = np.linspace(0.0, math.pi / T, 100)
+    expected_h1 = np.max(np.abs(_h1(other, w) - _h1(CROSS, w))) / np.max(np.abs(_h1(CROSS, w)))
+    g = np.linspace(-math.pi / T, math.pi / T, int(math.sqrt(100 * 40)))
+    g1, g2 = np.meshgrid(g, g)
+    h2 = _h2(CROSS, g1, g2)
+    expected_h2 = np.max(np.abs(_h2(other, g1, g2) - h2)) / np.max(np.abs(h2))
+    assert errors["H1"] == pytest.approx(expected_h1, rel=1e-9)
+    assert errors["H2"] == pytest.approx(expected_h2, rel=1e-9)
+
+
+@pytest.mark.slow
+def test_report_page_shows_both_models(tmp_path):
+    from gfrf.identify.report import PAGE, write
+
+    page = write(tmp_path, quick=True)
+    text = page.read_text(encoding="utf-8")
+    assert page.name == PAGE
+    assert "matches this fresh identification: yes" in text
+    assert "| true | " in text and "| identified | " in text
+    for name in ("identified-example-h1.png", "identified-example-h2.png"):
+        assert (tmp_path / name).stat().st_size > 1000 and f"]({name})" in text
