@@ -12,6 +12,7 @@ millions of points (no temporary arrays at all).
 from __future__ import annotations
 
 import cmath
+import importlib.util
 from typing import TYPE_CHECKING, Any
 
 import sympy as sp
@@ -22,13 +23,9 @@ if TYPE_CHECKING:
 
 __all__ = ["kernel_source", "numba_ufunc", "HAVE_NUMBA"]
 
-try:
-    import numba
-
-    HAVE_NUMBA = True
-except ImportError:  # pragma: no cover - numba is the optional `fast` extra
-    numba = None
-    HAVE_NUMBA = False
+#: Whether numba (the optional ``fast`` extra) is installed; it is imported only when a
+#: kernel is compiled (importing it costs about half a second).
+HAVE_NUMBA: bool = importlib.util.find_spec("numba") is not None
 
 
 class _Printer(PythonCodePrinter):
@@ -111,6 +108,8 @@ def numba_ufunc(gen: GFRFGenerator, n: int, symmetric: bool) -> Any:
     """
     if not HAVE_NUMBA:
         raise ImportError("the compiled kernel needs numba: pip install 'gfrf[fast]'")
+    import numba
+
     namespace: dict[str, Any] = {"cmath_exp": cmath.exp}
     source = kernel_source(gen, n, symmetric, name="scalar_kernel")
     exec(compile(source, f"<gfrf H{n}>", "exec"), namespace)  # noqa: S102 - generated code

@@ -48,9 +48,8 @@ import itertools
 import math
 import warnings
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import control
 import numpy as np
 from scipy.optimize import minimize
 
@@ -61,6 +60,9 @@ from gfrf.kernels import kernel
 from gfrf.majorant import linear_polynomials, majorant
 from gfrf.model import Model
 from gfrf.rational import discrete_rational_sup, rational_sup
+
+if TYPE_CHECKING:
+    import control
 
 __all__ = ["Bound", "h1_norm", "kernel_norm", "linear_poles", "linear_stability"]
 
@@ -179,6 +181,8 @@ def h1_norm(model: Model) -> Bound:
         sup = discrete_rational_sup(num, den, model.sample_time)  # type: ignore[arg-type]
         method = ("exact rational algebra on the unit circle (Cayley map) + ball enclosure "
                   "of the stationary points (proven), cross-checked with control.norm")
+        import control  # imported where used: the other norms do not need it
+
         reference = (_control_norm(control.tf(_pad(num, den), _pad(den, num),
                                               model.sample_time))
                      if stable and math.isfinite(sup.upper) else None)
@@ -186,6 +190,8 @@ def h1_norm(model: Model) -> Bound:
         sup = rational_sup(num, den)
         method = ("exact rational algebra + ball enclosure of the stationary points of "
                   "|H1|^2 (proven), cross-checked with control.norm")
+        import control
+
         reference = (_control_norm(control.tf(num, den))
                      if stable and math.isfinite(sup.upper) else None)
     notes += [f"||H1|| = inf: {note}" if note == sup.reason else note for note in sup.notes]
@@ -200,6 +206,8 @@ def _pad(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 def _control_norm(system: control.TransferFunction) -> float | None:
     """python-control's H-infinity norm, or None where it fails (e.g. a zero system)."""
+    import control
+
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         try:

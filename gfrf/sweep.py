@@ -56,18 +56,14 @@ from collections.abc import Iterator, Mapping, Sequence
 from concurrent.futures import Executor, Future, ThreadPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 from urllib.parse import urlsplit
 
-import numpy as np
-from tqdm import tqdm
-
 from gfrf._atomic import atomic_path
-from gfrf.criteria import verdict
 from gfrf.errors import ArgumentError, GfrfError
-from gfrf.majorant import majorant
-from gfrf.norms import h1_norm
-from gfrf.template import ModelTemplate, TemplateUnsupported, model_template, rebuild
+
+if TYPE_CHECKING:
+    from gfrf.template import ModelTemplate
 
 __all__ = ["Axis", "SweepResult", "parse_axis", "grid", "sweep", "executor", "WHAT",
            "evaluate_point", "check_output", "check_scheduler", "SCHEDULER_TIMEOUT"]
@@ -115,6 +111,8 @@ def parse_axis(spec: str) -> Axis:
             from None
     if n < 1:
         raise ArgumentError(f"--param {spec!r}: N = {n} must be at least 1")
+    import numpy as np
+
     return Axis(name, tuple(float(v) for v in np.linspace(bounds[0], bounds[1], n)))
 
 
@@ -155,6 +153,11 @@ def _linear_stable(v: Any) -> bool:
 
 def evaluate_point(task: _Task, point: Mapping[str, float]) -> dict[str, Any]:
     """The row of one grid point (parameters first, then the results, then ``error``)."""
+    from gfrf.criteria import verdict
+    from gfrf.majorant import majorant
+    from gfrf.norms import h1_norm
+    from gfrf.template import rebuild
+
     row: dict[str, Any] = dict(point)
     try:
         mf = (rebuild(task.data, point, task.file) if task.template is None
@@ -468,6 +471,10 @@ def sweep(data: Mapping[str, Any], axes: Sequence[Axis], *, what: str = "verdict
             raise ArgumentError(f"{name} must be a positive integer, got {value!r}")
     if not (math.isfinite(t_end) and t_end > 0):
         raise ArgumentError(f"t_end must be a positive number of seconds, got {t_end!r}")
+    from tqdm import tqdm
+
+    from gfrf.template import TemplateUnsupported, model_template
+
     points = grid(axes)
     start = time.perf_counter()
     try:

@@ -64,3 +64,87 @@ def test_bad_input_exit_code_2_and_one_line(capsys, argv, fragment):
     _, err = capsys.readouterr()
     assert code == 2
     assert fragment in err and err.count("\n") == 1 and "Traceback" not in err
+
+
+# --- issue 12: cheap start, --version, negative values, one-line warnings ---------------------
+
+HEAVY = ("control", "matplotlib", "sympy", "numba", "dask", "distributed", "scipy", "numpy")
+
+
+def _modules_after(argv: list[str]) -> set[str]:
+    """Top-level packages of HEAVY imported by ``gfrf ARGV`` in a fresh interpreter."""
+    import subprocess
+    import sys
+
+    script = ("import sys\nfrom gfrf.cli import main\ntry:\n    main(sys.argv[1:])\n"
+              "except SystemExit:\n    pass\n"
+              f"print(sorted({{m.split('.')[0] for m in sys.modules}} & set({HEAVY!r})))")
+    done = subprocess.run([sys.executable, "-c", script, *argv], capture_output=True,
+                          text=True, check=True, cwd=MODELS.parent)
+    return set(json.loads(done.stdout.strip().splitlines()[-1].replace("'", '"')))
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["--version"], ["kernel", "--help"],
+                                  ["kernel", "m.toml", "--order", "three", "--at", "1"],
+                                  ["no-such-command"]])
+def test_help_version_and_usage_errors_import_nothing_heavy(argv):
+    assert _modules_after(argv) == set()
+
+
+def test_norm_path_imports_no_python_control_numba_or_matplotlib():
+    loaded = _modules_after(["norm", str(MODELS / "duffing.toml"), "--order", "3"])
+    assert "sympy" in loaded  # the path did run
+    assert not loaded & {"control", "numba", "matplotlib", "dask", "distributed"}
+
+
+def test_version_is_the_installed_distribution_version(capsys):
+    from importlib.metadata import version
+
+    with pytest.raises(SystemExit) as exit_:
+        main(["--version"])
+    assert exit_.value.code == 0
+    assert capsys.readouterr().out == f"gfrf {version('gfrf')}\n"
+
+
+def test_negative_frequencies_as_option_value(capsys):
+    code, out, err = run(capsys, "kernel", str(MODELS / "duffing.toml"), "--order", "3",
+                         "--at", "-1.5,1.5,1.5", "--json")
+    assert code == 0, err
+    data = json.loads(out)
+    assert data["omega"] == [-1.5, 1.5, 1.5]
+
+    # Duffing y'' + 0.2 y' + y + 0.5 y^3 = u: H3(w) = -0.5 H1(w1+w2+w3) prod H1(wi)
+    def h1(w):
+        return 1 / (1 - w * w + 0.2j * w)
+
+    expected = -0.5 * h1(1.5) * h1(-1.5) * h1(1.5) * h1(1.5)
+    assert complex(data["re"], data["im"]) == pytest.approx(expected, rel=1e-12)
+
+
+def test_negative_initial_condition_as_option_value(capsys):
+    from scipy.integrate import solve_ivp
+
+    code, out, err = run(capsys, "simulate", str(MODELS / "duffing.toml"), "--t-end", "2",
+                         "--initial", "-0.26,0", "--json")
+    assert code == 0, err
+    data = json.loads(out)
+    exact = solve_ivp(lambda t, z: [z[1], -0.2 * z[1] - z[0] - 0.5 * z[0] ** 3], (0, 2),
+                      [-0.26, 0.0], rtol=1e-12, atol=1e-14)
+    assert data["peak_abs_y"] == pytest.approx(0.26, rel=1e-12)
+    assert data["y_final"] == pytest.approx(exact.y[0, -1], rel=1e-6)
+
+
+def test_warnings_are_one_clean_line(capsys):
+    code, _, err = run(capsys, "simulate", "D(y,2) - y + y**3 = u", "--t-end", "1")
+    assert code == 0
+    lines = err.splitlines()
+    assert len(lines) == 1
+    assert lines[0].startswith("gfrf: warning: the linearisation of the system is unstable")
+    assert "UserWarning" not in err and ".py" not in err
+
+
+def test_cli_method_list_matches_the_simulator():
+    from gfrf.cli.simulation import METHODS
+    from gfrf.simulate import METHODS as SIMULATOR_METHODS
+
+    assert METHODS == SIMULATOR_METHODS

@@ -223,14 +223,16 @@ def test_non_real_value_at_a_grid_point_is_that_rows_error(
         tmp_path: Path, capsys: pytest.CaptureFixture, monkeypatch: pytest.MonkeyPatch) -> None:
     import json
 
-    real_verdict = gfrf.sweep.verdict
+    import gfrf.criteria
+
+    real_verdict = gfrf.criteria.verdict
 
     def complex_below_zero(mf, *args, **kwargs):  # what a complex coefficient does downstream
         if mf.parameters["c"] < 0:
             raise TypeError("must be real number, not complex")
         return real_verdict(mf, *args, **kwargs)
 
-    monkeypatch.setattr(gfrf.sweep, "verdict", complex_below_zero)
+    monkeypatch.setattr(gfrf.criteria, "verdict", complex_below_zero)
     model = tmp_path / "m.toml"
     model.write_text(SWEEP_MODEL, encoding="utf-8")
     code, out, err = run(capsys, "sweep", str(model), "--param", "c=-0.2:0.2:3", "--what",

@@ -96,8 +96,8 @@ def test_order_above_kernel_limit_refused_before_work(
     def no_work(*args: object, **kwargs: object) -> None:
         pytest.fail("computed before checking the order")
 
-    monkeypatch.setattr(stability, "verdict", no_work)
-    monkeypatch.setattr(stability, "kernel_norm", no_work)
+    monkeypatch.setattr("gfrf.criteria.verdict", no_work)  # imported where used
+    monkeypatch.setattr("gfrf.norms.kernel_norm", no_work)
     monkeypatch.setattr(stability, "resolve_model", no_work)
     code, out, err = run(capsys, command, "models/duffing.toml", "--order",
                          str(MAX_KERNEL_ORDER + 1))

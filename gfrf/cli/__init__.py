@@ -11,9 +11,13 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
+import re
 import sys
+import warnings
 from collections.abc import Sequence
+from typing import Any, TextIO
 
+from gfrf import __version__
 from gfrf.errors import GfrfError
 
 __all__ = ["main", "build_parser", "COMMAND_MODULES"]
@@ -32,7 +36,16 @@ COMMAND_MODULES: tuple[str, ...] = (
 
 
 class _Parser(argparse.ArgumentParser):
-    """ArgumentParser whose usage errors exit with code 2 and a one-line message."""
+    """ArgumentParser whose usage errors exit with code 2 and a one-line message.
+
+    Values that start with a minus and a digit (``--at -1.5,1.5,1.5``,
+    ``--initial -0.26,0``, ``--amplitude -.5``) are values, not options: none of our
+    options looks like a negative number.  (Python 3.13's argparse does the same.)
+    """
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = re.compile(r"^-\.?\d")
 
     def error(self, message: str) -> None:  # noqa: D401 - argparse API
         self.exit(2, f"gfrf: error: {message}\n")
@@ -45,6 +58,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Stability of polynomial nonlinear systems from their generalized "
         "frequency response functions. Angular frequencies are in rad/s.",
     )
+    parser.add_argument("--version", action="version", version=f"gfrf {__version__}")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     subparsers.required = True
     for name in COMMAND_MODULES:
@@ -69,16 +83,25 @@ def _run(argv: Sequence[str] | None) -> int:
         return 2
 
 
+def _warning_line(message: Warning | str, category: type[Warning], filename: str,
+                  lineno: int, file: TextIO | None = None, line: str | None = None) -> None:
+    """Show a warning as one line ``gfrf: warning: ...`` (no source path, no code line)."""
+    print(f"gfrf: warning: {' '.join(str(message).split())}", file=file or sys.stderr)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the CLI; return the process exit code.
 
-    Ctrl-C exits with 130 and the one line ``gfrf: interrupted`` (files being written
-    are left as they were: outputs are replaced atomically).  A closed stdout
-    (``gfrf ... | head``) exits quietly with 141, as a process killed by SIGPIPE.
+    Warnings are printed as one line ``gfrf: warning: ...``.  Ctrl-C exits with 130
+    and the one line ``gfrf: interrupted`` (files being written are left as they
+    were: outputs are replaced atomically).  A closed stdout (``gfrf ... | head``)
+    exits quietly with 141, as a process killed by SIGPIPE.
     """
     try:
         try:
-            return _run(argv)
+            with warnings.catch_warnings():
+                warnings.showwarning = _warning_line
+                return _run(argv)
         finally:
             sys.stdout.flush()  # a reader that went away shows up here, not at exit
     except KeyboardInterrupt:

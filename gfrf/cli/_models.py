@@ -4,9 +4,12 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from gfrf.errors import ModelError
-from gfrf.modelfile import ModelFile, load_model, model_from_dict
+
+if TYPE_CHECKING:
+    from gfrf.modelfile import ModelFile
 
 __all__ = ["add_model_argument", "resolve_model"]
 
@@ -22,6 +25,8 @@ def add_model_argument(parser: argparse.ArgumentParser) -> None:
 
 def resolve_model(args: argparse.Namespace) -> ModelFile:
     """Load ``args.model`` as a file if it names one (or ends in .toml), else parse it."""
+    from gfrf.modelfile import load_model, model_from_dict
+
     text = args.model
     if text.endswith(".toml") or Path(text).is_file():
         if args.sample_time is not None:

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 
-from gfrf.bench import run_all, write_report
 from gfrf.cli._output import add_json_flag, emit
 
 __all__ = ["register"]
@@ -25,6 +24,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _bench(args: argparse.Namespace) -> int:
+    from gfrf.bench import run_all, write_report
+
     sections = run_all(quick=args.quick, only=args.only, out_dir=args.out)
     path = write_report(sections, args.out)
     payload = {"report": str(path),

@@ -3,14 +3,15 @@
 from __future__ import annotations
 
 import argparse
-
-import numpy as np
-import sympy as sp
+import math
+from typing import TYPE_CHECKING
 
 from gfrf.cli._models import add_model_argument, resolve_model
 from gfrf.cli._output import add_json_flag, emit
 from gfrf.errors import ArgumentError
-from gfrf.kernels import MAX_KERNEL_ORDER, kernel
+
+if TYPE_CHECKING:
+    import sympy as sp
 
 __all__ = ["register"]
 
@@ -44,11 +45,15 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def _format(expr: sp.Expr, latex: bool) -> str:
     """Exact rationals of the recursion shown as 10-digit decimals."""
+    import sympy as sp
+
     shown = sp.N(expr, 10)
     return sp.latex(shown) if latex else str(shown)
 
 
 def _show(args: argparse.Namespace) -> int:
+    from gfrf.kernels import MAX_KERNEL_ORDER, kernel
+
     mf = resolve_model(args)
     model = mf.plant
     symmetric = not args.asymmetric
@@ -88,12 +93,16 @@ def _parse_omegas(text: str, order: int) -> list[float]:
     if len(values) != order:
         raise ArgumentError(f"--at needs {order} angular frequencies for H{order}, "
                             f"got {len(values)}")
-    if not all(np.isfinite(values)):
+    if not all(math.isfinite(v) for v in values):
         raise ArgumentError(f"--at values must be finite, got {text!r}")
     return values
 
 
 def _kernel(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from gfrf.kernels import kernel
+
     mf = resolve_model(args)
     k = kernel(mf.plant, args.order, not args.asymmetric)
     omega = _parse_omegas(args.at, args.order)

@@ -18,21 +18,21 @@ from __future__ import annotations
 import argparse
 import sys
 import warnings
-from typing import Any
-
-import numpy as np
-from tqdm import tqdm
+from typing import TYPE_CHECKING, Any
 
 from gfrf._atomic import atomic_path
 from gfrf.cli._models import add_model_argument, resolve_model
 from gfrf.cli._output import add_json_flag, check_plot_path, emit
 from gfrf.errors import ArgumentError
-from gfrf.signals import parse_input
-from gfrf.simulate import METHODS, SimulationResult, simulate
-from gfrf.validation import validate
-from gfrf.volterra import BeyondRadiusError, predict
 
-__all__ = ["register"]
+if TYPE_CHECKING:  # the numerical modules are imported where used: the parser stays cheap
+    from gfrf.simulate import SimulationResult
+
+__all__ = ["register", "METHODS"]
+
+#: Same as :data:`gfrf.simulate.METHODS` (kept here so that building the parser does not
+#: import scipy/sympy; a test asserts equality).
+METHODS: tuple[str, ...] = ("rk45", "dop853", "radau", "lsoda", "fast")
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -112,6 +112,11 @@ def _initial(text: str | None) -> list[float] | None:
 
 
 def _simulate(args: argparse.Namespace) -> int:
+    import numpy as np
+    from tqdm import tqdm
+
+    from gfrf.simulate import simulate
+
     check_plot_path(args.plot)
     mf = resolve_model(args)
     if args.points < 2:
@@ -164,6 +169,11 @@ def _plot(res: SimulationResult, path: str, title: str, output: str) -> None:
 
 
 def _predict(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from gfrf.signals import parse_input
+    from gfrf.volterra import BeyondRadiusError, predict
+
     mf = resolve_model(args)
     signal = parse_input(args.input)
     if not signal.tones:
@@ -188,6 +198,8 @@ def _predict(args: argparse.Namespace) -> int:
 
 
 def _validate(args: argparse.Namespace) -> int:
+    from gfrf.validation import validate
+
     mf = resolve_model(args)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)  # unstable linearisations: in notes

@@ -16,13 +16,15 @@ from __future__ import annotations
 
 import argparse
 import math
+from typing import TYPE_CHECKING
 
 from gfrf.cli._models import add_model_argument, resolve_model
 from gfrf.cli._output import add_json_flag, emit
-from gfrf.criteria import Verdict, parameter_margin, verdict
 from gfrf.errors import ArgumentError
-from gfrf.kernels import MAX_KERNEL_ORDER
-from gfrf.norms import Bound, kernel_norm
+
+if TYPE_CHECKING:  # imported where used: building the parser stays cheap
+    from gfrf.criteria import Verdict
+    from gfrf.norms import Bound
 
 __all__ = ["register"]
 
@@ -73,6 +75,8 @@ def _bound_line(b: Bound) -> str:
 
 def _check_order(order: int) -> None:
     """Refuse an order outside 1..MAX_KERNEL_ORDER before any work."""
+    from gfrf.kernels import MAX_KERNEL_ORDER
+
     if not 1 <= order <= MAX_KERNEL_ORDER:
         raise ArgumentError(f"--order must be between 1 and MAX_KERNEL_ORDER = "
                             f"{MAX_KERNEL_ORDER}, got {order}")
@@ -81,6 +85,8 @@ def _check_order(order: int) -> None:
 def _norm(args: argparse.Namespace) -> int:
     _check_order(args.order)
     mf = resolve_model(args)
+    from gfrf.norms import kernel_norm
+
     b = kernel_norm(mf.plant, args.order, not args.asymmetric, args.tol)
     kind = "symmetric" if not args.asymmetric else "asymmetric"
     lines = [f"{mf.name}: {kind} kernel, angular frequencies in rad/s", _bound_line(b),
@@ -120,6 +126,8 @@ def _verdict_text(name: str, v: Verdict) -> list[str]:
 def _verdict(args: argparse.Namespace) -> int:
     _check_order(args.order)
     mf = resolve_model(args)
+    from gfrf.criteria import parameter_margin, verdict
+
     v = verdict(mf, args.order, args.amplitude)
     payload = {"model": mf.name, **v.to_dict()}
     lines = _verdict_text(mf.name, v)

@@ -16,7 +16,6 @@ from collections import Counter
 from pathlib import Path
 
 from gfrf.cli._output import add_json_flag, check_plot_path, emit
-from gfrf.modelfile import load_model
 from gfrf.sweep import WHAT, SweepResult, check_output, check_scheduler, parse_axis, sweep
 
 __all__ = ["register"]
@@ -80,6 +79,8 @@ def _sweep(args: argparse.Namespace) -> int:
         check_output(args.out)
     check_plot_path(args.plot)
     check_scheduler(args.scheduler)
+    from gfrf.modelfile import load_model
+
     mf = load_model(args.model)  # validates the file and gives its errors their names
     data = tomllib.loads(Path(args.model).read_text(encoding="utf-8"))
     result = sweep(data, axes, what=args.what, amplitude=args.amplitude, order=args.order,
