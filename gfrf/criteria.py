@@ -65,6 +65,7 @@ from typing import Any
 
 import numpy as np
 
+from gfrf._results import plain, short_repr
 from gfrf.errors import ArgumentError
 from gfrf.kernels import MAX_KERNEL_ORDER
 from gfrf.loops import closed_loop
@@ -89,7 +90,7 @@ class Condition:
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary."""
-        return {"name": self.name, "passed": self.passed, "value": self.value,
+        return {"name": self.name, "passed": self.passed, "value": plain(self.value),
                 "detail": self.detail}
 
 
@@ -130,6 +131,9 @@ class Verdict:
     series: tuple[dict[str, Any], ...] = field(default=())
     radius_estimate: float | None = None
     summary: str = ""
+
+    def __repr__(self) -> str:
+        return short_repr(self, "verdict", "theorem", "radius", "amplitude")
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary (the ``--json`` output of ``gfrf verdict``)."""
@@ -506,6 +510,9 @@ class Margin:
     amplitude: float
     current: float
     tolerance: float
+
+    def __repr__(self) -> str:
+        return short_repr(self, "parameter", "value", "direction", "amplitude")
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary."""

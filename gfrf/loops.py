@@ -34,6 +34,7 @@ from typing import Any
 import control
 import numpy as np
 
+from gfrf._results import plain, short_repr
 from gfrf.errors import ArgumentError
 from gfrf.majorant import linear_polynomials
 from gfrf.model import Model
@@ -136,12 +137,16 @@ class ClosedLoop:
     feedback: int
     notes: tuple[str, ...] = field(default=())
 
+    def __repr__(self) -> str:
+        return short_repr(self, "stable", "feedback", "sensitivity_peak",
+                          poles=[complex(p) for p in self.poles])
+
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary."""
         monic = self.characteristic / self.characteristic[0]
         return {"characteristic": self.characteristic.tolist(),
                 "characteristic_monic": monic.tolist(),
-                "poles": [complex(p) for p in self.poles], "stable": self.stable,
+                "poles": plain([complex(p) for p in self.poles]), "stable": self.stable,
                 "sensitivity_peak": self.sensitivity_peak,
                 "sensitivity_peak_omega": self.sensitivity_peak_omega,
                 "controller_norm": self.controller_norm,

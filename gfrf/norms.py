@@ -53,6 +53,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from scipy.optimize import minimize
 
+from gfrf._results import short_repr
 from gfrf.branch_bound import MAX_ORDER, branch_and_bound
 from gfrf.errors import ArgumentError
 from gfrf.exact import PoleReport, poles
@@ -124,6 +125,9 @@ class Bound:
         if math.isinf(self.upper):
             return math.inf
         return (self.upper - self.lower) / self.upper
+
+    def __repr__(self) -> str:
+        return short_repr(self, "order", "lower", "upper", "certified")
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary (infinities become "inf" through the CLI encoder)."""

@@ -57,6 +57,7 @@ from typing import Any
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from gfrf._results import short_repr
 from gfrf.errors import ArgumentError, ConvergenceError
 from gfrf.kernels import MAX_KERNEL_ORDER, generator, kernel
 from gfrf.model import Model
@@ -141,6 +142,10 @@ class VolterraPrediction:
             y += factor * np.real(c.value * (1j * c.omega) ** derivative
                                   * np.exp(1j * c.omega * t))
         return y
+
+    def __repr__(self) -> str:
+        return short_repr(self, "order", "amplitude", "radius",
+                          components=len(self.components))
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready description."""
