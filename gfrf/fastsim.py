@@ -17,10 +17,11 @@ two successive runs agree to ``rtol*max|y| + atol`` on the output grid (the fine
 is returned, its error is about 1/15 of that difference).  Blow-up (|y| >= ``blowup``
 or a non-finite state) stops the loop and is reported with its time.  Two runs that
 both blow up are accepted only when their blow-up times agree to
-:data:`BLOWUP_AGREEMENT` (relative): two runs that both blew up in their first steps
-(an unstable step, not a blow-up) are never taken as agreeing.  If no step is
-accepted within :data:`MAX_STEPS` a blow-up is not reported: the status is
-``"failed"``.
+:data:`BLOWUP_AGREEMENT` (relative) or :data:`BLOWUP_RESOLUTION` (times t_end): two
+runs that both blew up in their first step (an unstable step, not a blow-up) are not
+taken as agreeing; after a blow-up the finer run stops a few steps past it, so
+resolving an early blow-up costs little.  If no step is accepted within
+:data:`MAX_STEPS` a blow-up is not reported: the status is ``"failed"``.
 
 numba is the optional extra ``gfrf[fast]``; without it the fast path falls back to
 scipy's DOP853 at the same tolerances and says so in the result's notes.
@@ -33,6 +34,7 @@ import importlib.util
 import os
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
 from types import ModuleType
 
@@ -43,12 +45,17 @@ from gfrf.signals import InputSignal
 from gfrf.simulate import OdeSystem, SimulationResult, input_values, plant_input
 
 __all__ = ["simulate_fast", "compile_system", "numba_available", "MAX_STEPS",
-           "BLOWUP_AGREEMENT"]
+           "BLOWUP_AGREEMENT", "BLOWUP_RESOLUTION"]
 
 #: Largest number of RK4 steps a run may take.
 MAX_STEPS = 20_000_000
 #: Relative agreement of the blow-up times of two step-doubling runs that both blow up.
 BLOWUP_AGREEMENT = 0.01
+#: Blow-up times closer than this fraction of t_end are not resolved further (a blow-up
+#: at t <= 1e-12 t_end, e.g. under an input of 1e300, is reported at that resolution).
+BLOWUP_RESOLUTION = 1e-12
+#: Halvings of the automatic step at most (with MAX_STEPS, bounds the work of a run).
+_MAX_DOUBLINGS = 64
 #: h |lambda| of the first automatic step (RK4 is stable up to about 2.8).
 _CFL = 0.5
 
@@ -136,24 +143,46 @@ def compile_system(system: OdeSystem) -> tuple[ModuleType, float]:
     return module, time.perf_counter() - start
 
 
+@dataclass(frozen=True)
+class _Run:
+    """One fixed-step RK4 run: outputs on ``t_eval`` up to the last good step."""
+
+    y: np.ndarray  # states at the kept output times, shape (n_states, k)
+    steps: int  # steps taken
+    h: float
+    blown: bool  # |y| reached the threshold (or the state became non-finite)
+
+    @property
+    def t_stop(self) -> float:
+        """Time of the last step taken (the blow-up time when ``blown``)."""
+        return self.steps * self.h
+
+
 def _run(module: ModuleType, system: OdeSystem, signal: InputSignal, z0: np.ndarray,
-         t_end: float, nsteps: int, t_eval: np.ndarray,
-         blowup: float) -> tuple[np.ndarray, int, float]:
+         t_end: float, nsteps: int, t_eval: np.ndarray, blowup: float,
+         limit: int | None = None) -> _Run:
+    """``nsteps`` steps of t_end / nsteps, or only the first ``limit`` of them."""
     h = t_end / nsteps
-    grid = np.linspace(0.0, t_end, 2 * nsteps + 1)
+    steps = nsteps if limit is None else min(nsteps, limit)
+    grid = np.arange(2 * steps + 1) * (0.5 * h)
+    if steps == nsteps:
+        grid[-1] = t_end
     V = np.ascontiguousarray(input_values(signal, system.n_inputs, grid).T)
-    Z, F, done = module.rk4(np.array(z0, dtype=float), h, nsteps, V, blowup)
-    t_stop = done * h
-    last_good = t_stop if done == nsteps else (done - 1) * h
+    Z, F, done = module.rk4(np.array(z0, dtype=float), h, steps, V, blowup)
+    blown = not abs(Z[done, 0]) < blowup
+    last_good = (done - 1 if blown else done) * h
     keep = t_eval <= last_good + 1e-12 * t_end
     te = t_eval[keep]
     idx = np.minimum((te / h).astype(np.int64), max(done - 1, 0))
     s = (te - idx * h) / h
-    h00, h10 = 2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s
-    h01, h11 = -2 * s**3 + 3 * s**2, s**3 - s**2
-    Y = (h00[:, None] * Z[idx] + h10[:, None] * h * F[idx] + h01[:, None] * Z[idx + 1]
-         + h11[:, None] * h * F[idx + 1]) if done else Z[:1]
-    return Y.T, done, t_stop
+    with np.errstate(invalid="ignore", over="ignore"):
+        h00, h10 = 2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s
+        h01, h11 = -2 * s**3 + 3 * s**2, s**3 - s**2
+        Y = (h00[:, None] * Z[idx] + h10[:, None] * h * F[idx] + h01[:, None] * Z[idx + 1]
+             + h11[:, None] * h * F[idx + 1]) if done else Z[:1]
+    if done:  # at a step time exactly, the step's own state (no 0 * inf from the next)
+        Y = np.where((s == 0)[:, None], Z[idx], Y)
+    return _Run(Y.T, int(done), h, bool(blown))
 
 
 def _fastest_rate(system: OdeSystem, signal: InputSignal, z0: np.ndarray) -> float:
@@ -184,25 +213,27 @@ def _fastest_rate(system: OdeSystem, signal: InputSignal, z0: np.ndarray) -> flo
     return max(rates)
 
 
-def _agree(y1: np.ndarray, done1: int, t1: float, y2: np.ndarray, done2: int, t2: float,
-           nsteps2: int, rtol: float, atol: float) -> bool:
+def _agree(coarse: _Run, fine: _Run, finished: bool, rtol: float, atol: float,
+           t_end: float) -> bool:
     """Whether a run and the run with half its step agree (step doubling).
 
-    Both must reach t_end (``nsteps2`` steps for the finer run) or both blow up at
-    times equal to :data:`BLOWUP_AGREEMENT`; in either case the outputs they share
-    must agree to ``rtol * max|y| + atol``.  Runs that both blew up in their first
-    steps (an unstable step size) have blow-up times a factor 2 apart: never accepted.
+    Both reach t_end (``finished``), or both blow up at times that agree to
+    :data:`BLOWUP_AGREEMENT` relative or :data:`BLOWUP_RESOLUTION` times ``t_end``;
+    either way the outputs both reached agree to ``rtol * max|y| + atol``.  Runs that
+    both blew up in their first step (an unstable step size) have blow-up times a
+    factor 2 apart: not accepted until that step is below the resolution.
     """
-    finished1, finished2 = done1 == nsteps2 // 2, done2 == nsteps2
-    if finished1 != finished2:
+    if coarse.blown != fine.blown or not (finished or fine.blown):
         return False
-    if not finished1 and abs(t2 - t1) > BLOWUP_AGREEMENT * t2:
+    gap = abs(fine.t_stop - coarse.t_stop)
+    if fine.blown and gap > max(BLOWUP_AGREEMENT * fine.t_stop, BLOWUP_RESOLUTION * t_end):
         return False
-    if y1.shape != y2.shape or not y2.size:
-        return False
+    k = min(coarse.y.shape[1], fine.y.shape[1])  # outputs both runs reached
+    if not k:
+        return fine.blown
     with np.errstate(invalid="ignore"):
-        diff = float(np.max(np.abs(y2[0] - y1[0])))
-        return bool(diff <= rtol * float(np.max(np.abs(y2[0]))) + atol)
+        diff = float(np.max(np.abs(fine.y[0, :k] - coarse.y[0, :k])))
+        return bool(diff <= rtol * float(np.max(np.abs(fine.y[0, :k]))) + atol)
 
 
 def simulate_fast(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end: float,
@@ -240,54 +271,59 @@ def simulate_fast(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end:
         return result
     module, load_time = compile_system(system)
     notes = [f"numba compile/cache load took {load_time:.3g} s"] if load_time else []
+    rate = _fastest_rate(system, signal, z0)
     if dt is not None:
         if not (np.isfinite(dt) and dt > 0):
             raise ArgumentError(f"dt must be a positive number of seconds, got {dt!r}")
         nsteps = max(1, int(np.ceil(t_end / dt - 1e-9)))
         if nsteps > MAX_STEPS:
             raise ArgumentError(f"dt = {dt:g} s needs {nsteps} steps, above {MAX_STEPS}")
-        Y, done, t_stop = _run(module, system, signal, z0, t_end, nsteps, t_eval, blowup)
-        rate = _fastest_rate(system, signal, z0)
+        run = _run(module, system, signal, z0, t_end, nsteps, t_eval, blowup)
         if t_end / nsteps * rate > 2.5:
             notes.append(f"dt = {dt:g} s is beyond RK4's stability limit for the time scale "
                          f"1/{rate:.4g} s of the model: a blow-up may be numerical")
         accepted = True
     else:
-        rate = _fastest_rate(system, signal, z0)
         nsteps = max(256, int(np.ceil(t_end * rate / _CFL)))
         if 2 * nsteps > MAX_STEPS:
             raise ArgumentError(f"t_end = {t_end:g} s spans {t_end * rate:.3g} time scales "
                                 f"of the model: the automatic step needs more than MAX_STEPS "
                                 f"= {MAX_STEPS} RK4 steps; use a scipy method")
-        Y, done, t_stop = _run(module, system, signal, z0, t_end, nsteps, t_eval, blowup)
+        run = _run(module, system, signal, z0, t_end, nsteps, t_eval, blowup)
         accepted = False
-        while not accepted:
-            if 2 * nsteps > MAX_STEPS:
-                notes.append(f"step doubling stopped at {nsteps} steps before reaching "
-                             f"rtol={rtol:g}")
+        for _ in range(_MAX_DOUBLINGS):
+            # after a blow-up the finer run only needs to go a little past it
+            limit = 2 * run.steps + 16 if run.blown else 2 * nsteps
+            if min(limit, 2 * nsteps) > MAX_STEPS:
                 break
-            Y2, done2, t_stop2 = _run(module, system, signal, z0, t_end, 2 * nsteps, t_eval,
-                                      blowup)
+            fine = _run(module, system, signal, z0, t_end, 2 * nsteps, t_eval, blowup, limit)
+            if not fine.blown and fine.steps < 2 * nsteps:  # survived: run it to t_end
+                if 2 * nsteps > MAX_STEPS:
+                    break
+                fine = _run(module, system, signal, z0, t_end, 2 * nsteps, t_eval, blowup)
             nsteps *= 2
-            accepted = _agree(Y, done, t_stop, Y2, done2, t_stop2, nsteps, rtol, atol)
-            Y, done, t_stop = Y2, done2, t_stop2
+            accepted = _agree(run, fine, fine.steps == nsteps, rtol, atol, t_end)
+            run = fine
+            if accepted:
+                break
+        if not accepted:
+            notes.append(f"step doubling stopped at {nsteps} steps before reaching "
+                         f"rtol={rtol:g}")
         notes.append(f"step doubling chose dt = {t_end / nsteps:.4g} s ({nsteps} steps)")
+    Y = run.y
     t = t_eval[:Y.shape[1]]
     status, blow_t, message = "ok", None, f"RK4, {nsteps} fixed steps of {t_end / nsteps:.4g} s"
-    if done < nsteps and not accepted:
-        status = "failed"
-        message = (f"the state left |y| < {blowup:g} at t = {t_stop:.6g} s, but step doubling "
-                   f"did not confirm it within MAX_STEPS = {MAX_STEPS}: not reported as a "
-                   f"blow-up")
-        finite = np.all(np.isfinite(Y), axis=0)
-        Y, t = Y[:, finite], t[finite]
-    elif done < nsteps:
-        status, blow_t = "blowup", float(t_stop)
-        message = f"|y| reached {blowup:g} (or became non-finite) at t = {blow_t:.6g} s"
+    if run.blown:
+        status, blow_t = ("blowup", run.t_stop) if accepted else ("failed", None)
+        message = (f"|y| reached {blowup:g} (or became non-finite) at t = {run.t_stop:.6g} s"
+                   if accepted else
+                   f"|y| reached {blowup:g} at t = {run.t_stop:.6g} s with the smallest step, "
+                   f"but step doubling could not confirm the time within MAX_STEPS = "
+                   f"{MAX_STEPS}: not reported as a blow-up")
         finite = np.all(np.isfinite(Y), axis=0)
         Y, t = Y[:, finite], t[finite]
     v = input_values(signal, system.n_inputs, t)
     u = plant_input(system, Y, v) if t.size else np.zeros(0)
     return SimulationResult(t=t, y=Y[0], u=u, states=Y, status=status, method="fast",
-                            blowup_time=blow_t, message=message, nfev=4 * nsteps, notes=notes,
-                            compile_time=load_time)
+                            blowup_time=blow_t, message=message, nfev=4 * run.steps,
+                            notes=notes, compile_time=load_time)

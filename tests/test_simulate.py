@@ -282,9 +282,29 @@ def test_fast_auto_step_confirms_a_true_blowup():
 
 
 def test_fast_agreement_rejects_runs_that_both_blew_up_at_once():
-    from gfrf.fastsim import _agree
+    from gfrf.fastsim import _agree, _Run
 
     y = np.ones((2, 1))
-    # coarse run: 256 steps, blew up at step 1 (t = h); fine run at its step 1 (t = h/2)
-    assert not _agree(y, 1, 7.8125, y, 1, 3.90625, 512, 1e-8, 1e-10)
-    assert _agree(y, 100, 1.000, y, 200, 0.999, 512, 1e-8, 1e-10)
+    # coarse run: 256 steps of 7.8125 s, blew up at step 1; fine run at its step 1
+    coarse, fine = _Run(y, 1, 7.8125, True), _Run(y, 1, 3.90625, True)
+    assert not _agree(coarse, fine, False, 1e-8, 1e-10, 2000.0)
+    # blow-up times 1.000 s and 0.999 s agree to 1 %
+    assert _agree(_Run(y, 100, 0.01, True), _Run(y, 200, 0.004995, True), False, 1e-8, 1e-10,
+                  2000.0)
+    # one run finished, the other blew up: never
+    assert not _agree(_Run(y, 256, 1.0, False), _Run(y, 3, 0.5, True), False, 1e-8, 1e-10,
+                      256.0)
+
+
+def test_fast_immediate_blowup_is_resolved_cheaply():
+    # u = 1e300 sin(t): |y| passes 1e6 within ~1e-98 s; HEAD reported t = h (any h) and
+    # the first fix doubled to MAX_STEPS (9 s, 1 GB).  Now each finer run stops just past
+    # the blow-up and the time is resolved to BLOWUP_RESOLUTION * t_end.
+    from gfrf.fastsim import BLOWUP_RESOLUTION
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = simulate(load_model(f"{MODELS}/duffing.toml"), "1e300*sin(t)", t_end=10.0,
+                       method="fast")
+    assert res.status == "blowup" and res.blowup_time <= 2 * BLOWUP_RESOLUTION * 10.0
+    assert np.all(np.isfinite(res.y)) and res.t.size >= 1

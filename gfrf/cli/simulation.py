@@ -140,7 +140,8 @@ def _simulate(args: argparse.Namespace) -> int:
     lines = [f"{mf.name}: {res.status} ({res.method}, {res.nfev} evaluations, "
              f"{res.wall_time:.3g} s)",
              f"  t in [0, {res.t[-1]:.6g}] s, {res.t.size} samples, max |{mf.plant.output}| = "
-             f"{res.peak:.6g}, final {mf.plant.output} = {res.y[-1]:.6g}"]
+             f"{res.peak:.6g}, final {mf.plant.output} = {res.y[-1]:.6g}" if res.t.size else
+             "  no output sample before the run stopped"]
     if res.blowup_time is not None:
         lines.append(f"  BLOW-UP: {res.message}")
     lines += [f"  note: {n}" for n in res.notes]
