@@ -57,6 +57,7 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import tomllib
 from dataclasses import dataclass, field
@@ -119,6 +120,9 @@ class Verdict:
         Root-test estimate of the true radius from lower bounds (estimate only).
     summary : str
         One sentence.
+    radius_proof : str
+        ``"interval"``: convergence at the certified end of r* re-checked in ball
+        arithmetic on proven sups (Theorem 1); ``"float"`` otherwise.
     """
 
     verdict: str
@@ -131,6 +135,7 @@ class Verdict:
     series: tuple[dict[str, Any], ...] = field(default=())
     radius_estimate: float | None = None
     summary: str = ""
+    radius_proof: str = "float"
 
     def __repr__(self) -> str:
         return short_repr(self, "verdict", "theorem", "radius", "amplitude")
@@ -141,7 +146,8 @@ class Verdict:
                 "radius_certified": self.radius_certified, "amplitude": self.amplitude,
                 "conditions": [c.to_dict() for c in self.conditions],
                 "norms": [b.to_dict() for b in self.norms], "series": list(self.series),
-                "radius_estimate": self.radius_estimate, "summary": self.summary}
+                "radius_estimate": self.radius_estimate, "summary": self.summary,
+                "radius_proof": self.radius_proof}
 
 
 def _check_amplitude(amplitude: float, order: int) -> None:
@@ -154,7 +160,13 @@ def _check_amplitude(amplitude: float, order: int) -> None:
 
 
 def _plant_radius(maj: Majorant) -> Radius:
-    return radius(lambda x, r: maj.rhs(x, r), len(maj.powers))
+    """r* of the plant majorant; ``proof = "interval"`` when the supersolution at the
+    certified end passes the ball-arithmetic check rhs(x, r) <= x."""
+    rad = radius(lambda x, r: maj.rhs(x, r), len(maj.powers))
+    if (maj.exact and rad.solution is not None and rad.certified_below > 0
+            and maj.proves(rad.solution, rad.certified_below)):
+        return dataclasses.replace(rad, proof="interval")
+    return rad
 
 
 def _proper_condition(model: Model, maj: Majorant, what: str) -> Condition:
@@ -249,12 +261,12 @@ def theorem1(model: Model, order: int = 5, amplitude: float = 1.0,
     result = bad or ("stable" if all(c.passed for c in conditions) else "inconclusive")
     summary = _summary(result, 1, rad, amplitude, conditions, maj.exact)
     return Verdict(result, 1, rad.value, maj.exact, float(amplitude), conditions, norms, rows,
-                   estimate, summary)
+                   estimate, summary, rad.proof)
 
 
 def _series_condition(name: str, rad: Radius, amplitude: float, exact: bool,
                       estimate: float | None) -> Condition:
-    label = "certified" if exact else "not certified"
+    label = ("proven" if rad.proof == "interval" else "certified") if exact else "not certified"
     est = (f"; finite-term estimate of the true radius (from lower bounds): {estimate:.4g}"
            if estimate else "")
     if amplitude < rad.certified_below:
@@ -270,7 +282,8 @@ def _summary(result: str, theorem: int, rad: Radius, amplitude: float,
              conditions: tuple[Condition, ...], certified: bool) -> str:
     failed = [c.name for c in conditions if c.passed is False]
     open_ = [c.name for c in conditions if c.passed is None]
-    kind = "certified" if certified else "estimated (not certified)"
+    kind = (("proven" if rad.proof == "interval" else "certified") if certified else
+            "estimated (not certified)")
     text = (f"Theorem {theorem}: {result}. The {kind} norm series converges for every "
             f"input amplitude r < r* = {rad.value:.6g}; r = {amplitude:g} is "
             f"{'inside' if amplitude < rad.certified_below else 'outside'}.")

@@ -301,6 +301,11 @@ class ExactSup:
     cancelled: tuple[complex, ...] = field(default=())
 
 
+def arb_upper(x: Any) -> float:
+    """The smallest float >= every point of the Arb ball ``x`` (inf if unbounded)."""
+    return _up(x)
+
+
 def _down(x: Any) -> float:
     """Largest float <= the lower end of the arb ball x."""
     return _to_float(x.lower(), -1)

@@ -54,6 +54,7 @@ from typing import Any
 
 import numpy as np
 
+from gfrf.exact import arb_upper
 from gfrf.model import Model
 from gfrf.rational import SupResult, discrete_rational_sup, rational_sup
 from gfrf.scaling import normalized
@@ -136,6 +137,68 @@ class Majorant:
                 total += _mul(t.weight, _product_coefficient(series, rest))
             m[n] = [_mul(self.gains[ell], total) for ell in self.powers]
         return m
+
+    def proven_upper(self, n: int) -> float:
+        """Upper bound on M_{n,0} with every product and sum rounded outward (Arb balls).
+
+        The inputs (sups, |c|) are the proven upper ends of :func:`majorant`; the result
+        is then a proven upper bound on ||H_n|| (``inf`` when some input is infinite).
+
+        Parameters
+        ----------
+        n : int
+            Kernel order >= 1.
+
+        Returns
+        -------
+        float
+        """
+        if not self.finite:
+            return float(self.coefficients(n)[n, 0])
+        from flint import arb
+
+        idx = {ell: i for i, ell in enumerate(self.powers)}
+        zero = arb(0)
+        m = [[zero] * len(self.powers) for _ in range(n + 1)]
+        m[1] = [arb(self.linear[ell]) for ell in self.powers]
+        for order in range(2, n + 1):
+            total = zero
+            for t in self.terms:
+                rest = order - t.q
+                if t.weight == 0.0 or rest < len(t.y_orders) or (not t.y_orders and rest != 0):
+                    continue
+                acc = [arb(1)] + [zero] * rest  # product of the series, truncated
+                for ell in t.y_orders:
+                    col = [m[k][idx[ell]] for k in range(rest + 1)]
+                    acc = [sum((acc[i] * col[k - i] for i in range(k + 1)), zero)
+                           for k in range(rest + 1)]
+                total += arb(t.weight) * acc[rest]
+            m[order] = [arb(self.gains[ell]) * total for ell in self.powers]
+        return arb_upper(m[n][0])
+
+    def proves(self, x: np.ndarray, r: float) -> bool:
+        """Whether rhs(x, r) <= x holds in ball arithmetic (outward rounding).
+
+        For x >= 0 this proves that the monotone iteration from 0 stays below x, so
+        the majorant series (hence the norm series) converges at amplitude r.
+        """
+        if not (self.finite and np.all(np.isfinite(x)) and np.all(x >= 0)):
+            return False
+        from flint import arb
+
+        idx = {ell: i for i, ell in enumerate(self.powers)}
+        xs = [arb(float(v)) for v in x]
+        a = arb(r)
+        g = arb(0)
+        for t in self.terms:
+            if t.weight == 0.0:
+                continue
+            value = arb(t.weight) * a ** t.q
+            for ell in t.y_orders:
+                value *= xs[idx[ell]]
+            g += value
+        return all(a * arb(self.linear[ell]) + arb(self.gains[ell]) * g <= xs[i]
+                   for i, ell in enumerate(self.powers))
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready description."""
@@ -258,11 +321,15 @@ class Radius:
         within ``rel_tol`` of :func:`radius` (default 1e-10) relative of ``value``.
     solution : numpy.ndarray or None
         The fixed point at ``certified_below``.
+    proof : str
+        ``"interval"`` when convergence at ``certified_below`` was re-checked in ball
+        arithmetic (:meth:`Majorant.proves`), else ``"float"``.
     """
 
     value: float
     certified_below: float
     solution: np.ndarray | None = None
+    proof: str = "float"
 
 
 _MARGIN = 1e-9

@@ -14,8 +14,8 @@ Stability of A is decided exactly (Routh's test in rationals, :mod:`gfrf.exact`)
 
 ``kernel_norm(model, n)`` brackets ||H_n|| = sup over R^n of |H_n(j w_1..j w_n)|:
 
-* ``upper`` is certified (``proof = "float"``: proven sups combined in floating point):
-  the recursive majorant of :mod:`gfrf.majorant`, valid for the
+* ``upper`` is certified: the recursive majorant of :mod:`gfrf.majorant` (proven sups
+  combined in ball arithmetic, :meth:`gfrf.majorant.Majorant.proven_upper`), valid for the
   symmetric and the asymmetric kernel.  For a pure-output polynomial with constant
   input gain (Duffing, the hanging pendulum) it equals |c3| ||H1||^3 sup|1/A| for H3
   and is attained at (w_r, w_r, -w_r): the gap is rounding only.  Where the majorant
@@ -28,7 +28,9 @@ Stability of A is decided exactly (Routh's test in rationals, :mod:`gfrf.exact`)
   resonance frequencies of the linear part (each w_i in {0, +-damped natural
   frequencies, +-peak frequencies of |H1| and |1/A|}, plus points whose sum hits a
   resonance), taken up to permutation and global sign (the symmetric kernel is
-  invariant under both in modulus), then polished by Nelder-Mead on log|H_n|.
+  invariant under both in modulus), then polished by Nelder-Mead on log|H_n|.  It is
+  a floating-point evaluation (~1e-15 relative), so an order n >= 2 bracket has
+  ``proof = "float"``; an identically zero kernel (decided symbolically) is exact.
 
 Which kernel: the symmetric kernel by default (it is unique for the system); the
 asymmetric kernel of the recursion on request (it depends on how the model is written).
@@ -295,9 +297,9 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
                                "frequency axis"]
     if k.is_zero:
         return Bound(0.0, 0.0, tuple([0.0] * n), True, "kernel identically zero", n,
-                     symmetric, stable, tuple(notes))
+                     symmetric, stable, tuple(notes), proof="interval")
     maj = majorant(model)
-    upper = float(maj.coefficients(n)[n, 0])
+    upper = maj.proven_upper(n)
     notes += list(maj.reasons)
     blowup = _axis_blowup(k, model, n)
     if blowup is not None:

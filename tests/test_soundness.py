@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 from gfrf.cli import main
 from gfrf.criteria import verdict
 from gfrf.exact import hurwitz, schur
-from gfrf.majorant import majorant
+from gfrf.majorant import majorant, radius
 from gfrf.model import Model, parse_model
 from gfrf.norms import h1_norm, kernel_norm
 
@@ -41,10 +41,10 @@ def coefficients(model: Model) -> dict[str, mp.mpf]:
 def second_order_references(model: Model) -> tuple[mp.mpf, mp.mpf, mp.mpf]:
     """(||H1||, ||H3||, majorant radius) of a y^3 oscillator, closed forms at 50 digits.
 
-    K = sup|1/A| = 1/(a2 c sqrt... ) from the peak of |1/(s^2 + p s + q)|: 1/(p sqrt(q -
-    p^2/4)) when p^2 < 2q, else 1/q at w = 0; ||H1|| = |b| K; ||H3|| = |c3| ||H1||^3 K
-    (attained at (w_r, w_r, -w_r)); the majorant X = ||H1|| r + |c3| K X^3 has the
-    branch point r* = 2 / (3 ||H1|| sqrt(3 |c3| K)).
+    K = sup|1/A| = peak / |a2|, peak = sup|1/(s^2 + p s + q)| (p = a1/a2, q = a0/a2):
+    1/(p sqrt(q - p^2/4)) when p^2 < 2q, else 1/q at w = 0; ||H1|| = |b| K;
+    ||H3|| = |c3| ||H1||^3 K (attained at (w_r, w_r, -w_r)); the majorant
+    X = ||H1|| r + |c3| K X^3 has the branch point r* = 2 / (3 ||H1|| sqrt(3 |c3| K)).
     """
     with mp.workdps(DPS):
         c = coefficients(model)
@@ -150,6 +150,21 @@ def test_radius_beyond_1e12_is_finite() -> None:
     assert math.isfinite(v.radius) and v.verdict != "stable"
     assert v.radius == pytest.approx(float(exact), rel=2e-9)
     assert verdict(m, order=1, amplitude=1e13, with_norms=False).verdict == "stable"
+
+
+@pytest.mark.parametrize("k", [-150, 0, 150])
+def test_proven_radius_and_majorant_upper(k: int) -> None:
+    m = parse_model(scaled_text(1.0, 0.3, 2.0, -0.7, 1.5, k))
+    _, h3, r_star = second_order_references(m)
+    maj = majorant(m)
+    assert maj.proven_upper(3) >= h3  # ||H3|| is attained by the majorant: no rounding slack
+    assert kernel_norm(m, 3).upper >= h3
+    rad = radius(lambda x, r: maj.rhs(x, r), len(maj.powers))
+    assert rad.certified_below <= r_star
+    assert maj.proves(rad.solution, rad.certified_below)
+    # beyond the branch point no supersolution exists: the ball check must refuse
+    assert not maj.proves(rad.solution, float(r_star) * 1.001)
+    assert verdict(m, order=1, amplitude=0.1, with_norms=False).radius_proof == "interval"
 
 
 def test_radius_of_a_linear_model_is_infinite() -> None:

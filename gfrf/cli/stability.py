@@ -118,8 +118,9 @@ def _verdict_text(name: str, v: Verdict) -> list[str]:
                      f"term = {_num(row['majorant_term'])}{extra}")
     est = (f"; estimate of the true radius from lower bounds: {v.radius_estimate:.4g}"
            if v.radius_estimate else "")
-    lines += ["", f"r* = {_num(v.radius)} ({'certified' if v.radius_certified else 'estimate'})"
-                  f"{est}", f"verdict: {v.verdict}", v.summary]
+    kind = (("proven" if v.radius_proof == "interval" else "certified") if v.radius_certified
+            else "estimate")
+    lines += ["", f"r* = {_num(v.radius)} ({kind}){est}", f"verdict: {v.verdict}", v.summary]
     return lines
 
 
