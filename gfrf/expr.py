@@ -390,7 +390,7 @@ def _power(ctx: _Context) -> _Node:
         ctx.take()
         sign *= _signs(ctx)
     kind, value, at = ctx.take()
-    if kind != "number" or not value.isdigit():
+    if kind != "number" or not value.isdigit() or (parenthesised and ctx.peek()[1] != ")"):
         raise ctx.fail("the exponent after '**' must be an integer literal such as 2 or 3 "
                        "(use sqrt(x) for a square root)", at)
     if parenthesised:

@@ -53,15 +53,19 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from gfrf.combinatorics import compositions, ordered_set_partitions
+from gfrf.combinatorics import compositions, ordered_set_partitions, recursion_work
 from gfrf.errors import ArgumentError
 from gfrf.model import Model, Term
 from gfrf.scaling import normalized
 
-__all__ = ["Kernel", "GFRFGenerator", "generator", "kernel", "MAX_KERNEL_ORDER"]
+__all__ = ["Kernel", "GFRFGenerator", "generator", "kernel", "MAX_KERNEL_ORDER",
+           "MAX_RECURSION_WORK", "check_recursion_work"]
 
 #: Largest kernel order the generator accepts (the symbolic sums grow like p! S(n, p)).
 MAX_KERNEL_ORDER = 12
+#: Largest a-priori recursion size (:func:`gfrf.combinatorics.recursion_work`) accepted:
+#: order 11 of the cart-pole (1.0e6, about a minute) fits, its order 12 (3.1e6) does not.
+MAX_RECURSION_WORK = 2_000_000
 #: Terms per lambdified chunk of a recursion numerator (Python's compiler nests sums).
 _CHUNK = 500
 
@@ -417,6 +421,27 @@ class Kernel:
         return self._gen.ufunc(self.order, self.symmetric)
 
 
+def check_recursion_work(model: Model, n: int) -> None:
+    """Refuse an order whose recursion would exceed :data:`MAX_RECURSION_WORK`, before any
+    work, naming the estimate and the largest order that fits.
+
+    Raises
+    ------
+    ArgumentError
+        The a-priori work estimate of :func:`gfrf.combinatorics.recursion_work` is too big.
+    """
+    degrees = [t.degree for t in model.terms]
+    work = recursion_work(degrees, n)
+    if work <= MAX_RECURSION_WORK:
+        return
+    fits = max((m for m in range(1, n) if recursion_work(degrees, m) <= MAX_RECURSION_WORK),
+               default=1)
+    raise ArgumentError(f"kernel order {n} of this model needs about {work:.3g} block "
+                        f"assignments, more than MAX_RECURSION_WORK = "
+                        f"{MAX_RECURSION_WORK:.3g} (minutes of symbolic work); the largest "
+                        f"order that fits is {fits}")
+
+
 def kernel(model: Model, n: int, symmetric: bool = True) -> Kernel:
     """The n-th order GFRF of ``model``.
 
@@ -438,4 +463,5 @@ def kernel(model: Model, n: int, symmetric: bool = True) -> Kernel:
         raise ArgumentError(f"kernel order must be a positive integer, got {n!r}")
     if n > MAX_KERNEL_ORDER:
         raise ArgumentError(f"kernel order {n} exceeds the limit {MAX_KERNEL_ORDER}")
+    check_recursion_work(model, int(n))
     return Kernel(model, int(n), bool(symmetric), generator(model))

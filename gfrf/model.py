@@ -375,7 +375,7 @@ def parse_model(text: str, *, sample_time: float | None = None, truncation: int 
     local: dict[str, sp.Expr] = {}
     for name, value in parameters.items():
         if not isinstance(name, str) or not name.isidentifier() or keyword.iskeyword(name) \
-                or name.startswith("__") or len(name) > MAX_NAME_LENGTH:
+                or "__" in name or len(name) > MAX_NAME_LENGTH:
             raise ModelError(f"parameter name {quote(str(name))} is not an identifier of at "
                              f"most MAX_NAME_LENGTH = {MAX_NAME_LENGTH} characters")
         if name in (output, input, "D", "t", "k") or name in MODEL_FUNCTIONS:
