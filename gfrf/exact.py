@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import functools
 import math
+import sys
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -323,8 +324,11 @@ def _to_float(exact: Any, direction: int) -> float:
     value = Fraction(int(man)) * (Fraction(2) ** int(exp))
     try:
         f = float(value)
-    except OverflowError:
-        return math.inf if value > 0 else -math.inf
+    except OverflowError:  # beyond the float range: round outward, or to the largest float
+        big = sys.float_info.max
+        if value > 0:
+            return math.inf if direction > 0 else big
+        return -big if direction > 0 else -math.inf
     if direction > 0 and Fraction(f) < value:
         f = math.nextafter(f, math.inf)
     if direction < 0 and Fraction(f) > value:
