@@ -1,17 +1,37 @@
 """gfrf: stability of polynomial nonlinear systems from their generalized frequency responses.
 
-Angular frequency is in rad/s everywhere.  The public API is re-exported here and
-loaded on first use (so ``import gfrf`` stays cheap):
+Angular frequency is in rad/s everywhere: ``H(w)`` evaluates the kernel at s = j*w
+(see :class:`gfrf.kernels.Kernel` for values at complex s).  The public API
+(:data:`__all__`) is re-exported here and loaded on first use (so ``import gfrf``
+stays cheap); every function that takes a model takes a :class:`Model` or what
+:func:`load_model` returns (a :class:`ModelFile`, whose plant is used):
 
 >>> import gfrf
 >>> m = gfrf.parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u")
 >>> abs(complex(gfrf.kernel(m, 1)(0.0)))
 1.0
 
-Modules: :mod:`gfrf.model` (text → Model), :mod:`gfrf.modelfile` (TOML files),
-:mod:`gfrf.kernels` (the GFRF recursion), :mod:`gfrf.norms`, :mod:`gfrf.criteria`
-(Theorems 1 and 2, the radius r*), :mod:`gfrf.loops`, :mod:`gfrf.simulate`,
-:mod:`gfrf.volterra`, :mod:`gfrf.periodic` (the parametrically excited pendulum).
+Models
+    parse_model, load_model, Model, ModelFile
+Kernels and norms
+    kernel, Kernel, h1_norm, kernel_norm, Bound, probe_kernel, linear_part
+    (H1 as a ``control.TransferFunction``)
+Stability
+    verdict (Theorem 1, or 2 with the file's controller or ``controller=`` a
+    python-control system), Verdict, parameter_margin, Margin, closed_loop, ClosedLoop
+Time and frequency domain
+    simulate, SimulationResult, build_system, predict, VolterraPrediction
+Sweeps
+    :mod:`gfrf.sweep` (``gfrf.sweep.sweep``), SweepResult
+Errors
+    GfrfError and its subclasses ModelError, ArgumentError, ConvergenceError,
+    InstabilityError
+
+Result objects have a short ``repr`` and a ``to_dict()`` that :func:`json.dumps`
+accepts.  Modules: :mod:`gfrf.model`, :mod:`gfrf.modelfile`, :mod:`gfrf.kernels`,
+:mod:`gfrf.norms`, :mod:`gfrf.criteria`, :mod:`gfrf.loops`, :mod:`gfrf.simulate`,
+:mod:`gfrf.volterra`, :mod:`gfrf.sweep`, :mod:`gfrf.periodic` (the parametrically
+excited pendulum).
 """
 
 from __future__ import annotations
@@ -27,18 +47,26 @@ from gfrf.errors import (
     ModelError,
 )
 
+#: Public names re-exported as they are, and their modules.
 _LAZY = {
     "Model": "gfrf.model", "parse_model": "gfrf.model",
     "ModelFile": "gfrf.modelfile", "load_model": "gfrf.modelfile",
-    "Kernel": "gfrf.kernels", "kernel": "gfrf.kernels",
-    "Bound": "gfrf.norms", "h1_norm": "gfrf.norms", "kernel_norm": "gfrf.norms",
-    "Verdict": "gfrf.criteria", "verdict": "gfrf.criteria",
+    "Kernel": "gfrf.kernels",
+    "Bound": "gfrf.norms",
+    "Verdict": "gfrf.criteria", "Margin": "gfrf.criteria",
+    "parameter_margin": "gfrf.criteria",
     "ClosedLoop": "gfrf.loops", "closed_loop": "gfrf.loops",
     "SimulationResult": "gfrf.simulate", "build_system": "gfrf.simulate",
     "simulate": "gfrf.simulate",
-    "predict": "gfrf.volterra",
-    "probe_kernel": "gfrf.probing",
+    "VolterraPrediction": "gfrf.volterra",
+    "SweepResult": "gfrf.sweep",
     "from_sysidentpy": "gfrf.identify",
+    "linear_part": "gfrf._api", "verdict": "gfrf._api",
+}
+#: Functions of a plant model re-exported so that they also take a ModelFile.
+_PLANT = {
+    "kernel": "gfrf.kernels", "h1_norm": "gfrf.norms", "kernel_norm": "gfrf.norms",
+    "predict": "gfrf.volterra", "probe_kernel": "gfrf.probing",
 }
 
 __all__ = [
@@ -47,13 +75,24 @@ __all__ = [
     "GfrfError",
     "InstabilityError",
     "ModelError",
-    *sorted(_LAZY),
+    *sorted({*_LAZY, *_PLANT}),
 ]
 
 __version__ = "0.1.0"
 
 
 def __getattr__(name: str) -> Any:
-    if name in _LAZY:
-        return getattr(importlib.import_module(_LAZY[name]), name)
-    raise AttributeError(f"module 'gfrf' has no attribute {name!r}")
+    if name in _PLANT:
+        from gfrf._api import plant_function
+
+        value = plant_function(_PLANT[name], name)
+    elif name in _LAZY:
+        value = getattr(importlib.import_module(_LAZY[name]), name)
+    else:
+        raise AttributeError(f"module 'gfrf' has no attribute {name!r}")
+    globals()[name] = value  # loaded once; gfrf.kernel is gfrf.kernel
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})

@@ -60,6 +60,7 @@ from typing import TYPE_CHECKING, Any
 from urllib.parse import urlsplit
 
 from gfrf._atomic import atomic_path
+from gfrf._results import short_repr
 from gfrf.errors import ArgumentError, GfrfError
 
 if TYPE_CHECKING:
@@ -355,6 +356,11 @@ class SweepResult:
     template_seconds: float
     scheduler: str
     notes: list[str] = field(default_factory=list)
+
+    def __repr__(self) -> str:
+        return short_repr(self, "what", "scheduler", points=len(self.rows),
+                          errors=sum(1 for r in self.rows if r["error"]),
+                          axes=[a.name for a in self.axes])
 
     @property
     def points_per_second(self) -> float:

@@ -1,0 +1,147 @@
+"""The notebook-facing functions of :mod:`gfrf` that add to the modules' own functions.
+
+Every function of the package API that analyses a plant accepts either a
+:class:`gfrf.model.Model` or what :func:`gfrf.load_model` returns (a
+:class:`gfrf.modelfile.ModelFile`, whose plant is then used); python-control
+interoperates both ways: :func:`linear_part` gives H1 as a
+``control.TransferFunction`` and :func:`verdict` takes a python-control controller.
+"""
+
+from __future__ import annotations
+
+import functools
+import importlib
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
+
+from gfrf.errors import ArgumentError
+
+if TYPE_CHECKING:
+    import control
+
+    from gfrf.criteria import Verdict
+    from gfrf.model import Model
+    from gfrf.modelfile import ModelFile
+
+__all__ = ["as_plant", "plant_function", "linear_part", "verdict"]
+
+
+def as_plant(model: Model | ModelFile) -> Model:
+    """The plant :class:`~gfrf.model.Model` of ``model`` (a Model, or a ModelFile's plant).
+
+    Raises
+    ------
+    ArgumentError
+        ``model`` is neither (a path string, say: load it with :func:`gfrf.load_model`).
+    """
+    from gfrf.model import Model
+    from gfrf.modelfile import ModelFile
+
+    if isinstance(model, ModelFile):
+        return model.plant
+    if isinstance(model, Model):
+        return model
+    raise ArgumentError(f"expected a Model (gfrf.parse_model) or a ModelFile "
+                        f"(gfrf.load_model), got {type(model).__name__}")
+
+
+def plant_function(module: str, name: str) -> Callable[..., Any]:
+    """``module.name`` with its first argument passed through :func:`as_plant`."""
+    target = getattr(importlib.import_module(module), name)
+
+    @functools.wraps(target)
+    def call(model: Model | ModelFile, *args: Any, **kwargs: Any) -> Any:
+        return target(as_plant(model), *args, **kwargs)
+
+    call.__doc__ = (f"{target.__doc__ or ''}\n\n    The model may also be a ModelFile "
+                    f"(:func:`gfrf.load_model`): its plant is used.\n")
+    return call
+
+
+def linear_part(model: Model | ModelFile) -> control.TransferFunction:
+    """H1 of the plant as a python-control transfer function.
+
+    Continuous models give ``H1(s)``; discrete (NARX) models a discrete transfer
+    function in ``z`` with ``dt`` = the sample time (the GFRFs' ``q`` is ``1/z``).
+
+    Parameters
+    ----------
+    model : Model or ModelFile
+
+    Returns
+    -------
+    control.TransferFunction
+
+    Examples
+    --------
+    >>> import gfrf
+    >>> h1 = gfrf.linear_part(gfrf.parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"))
+    >>> [float(c) for c in h1.den[0][0]]
+    [1.0, 0.2, 1.0]
+    """
+    from gfrf.loops import linear_plant
+
+    return linear_plant(as_plant(model))
+
+
+def _controller(controller: Any, feedback: int) -> Any:
+    """A :class:`gfrf.modelfile.Controller` from a SISO python-control system."""
+    import control
+    import numpy as np
+
+    from gfrf.modelfile import Controller
+
+    if isinstance(controller, control.StateSpace):
+        controller = control.ss2tf(controller)
+    if not isinstance(controller, control.TransferFunction):
+        raise ArgumentError(f"controller must be a control.TransferFunction or StateSpace, "
+                            f"got {type(controller).__name__}")
+    if controller.ninputs != 1 or controller.noutputs != 1:
+        raise ArgumentError("controller must be single-input single-output")
+    if feedback not in (-1, 1):
+        raise ArgumentError(f"feedback must be -1 (negative) or +1, got {feedback!r}")
+    num, den = (np.atleast_1d(np.asarray(c[0][0], dtype=float)) for c in
+                (controller.num, controller.den))
+    if not (np.all(np.isfinite(num)) and np.all(np.isfinite(den))) or not np.any(den):
+        raise ArgumentError("controller coefficients must be finite with a non-zero "
+                            "denominator")
+    return Controller(num=tuple(float(c) for c in num), den=tuple(float(c) for c in den),
+                      feedback=feedback, name="python-control controller")
+
+
+def verdict(model: Model | ModelFile, order: int = 5, amplitude: float = 1.0,
+            with_norms: bool = True, *, controller: Any = None,
+            feedback: int = -1) -> Verdict:
+    """Theorem 2 with a controller (the file's or ``controller``), Theorem 1 otherwise.
+
+    Parameters
+    ----------
+    model : Model or ModelFile
+        The plant, or a loaded model file (plant and optional controller).
+    order : int
+        Highest kernel order whose norms are computed and reported.
+    amplitude : float
+        Input amplitude r at which the series is tested.
+    with_norms : bool
+        Compute the lower bounds of the norms (slower).
+    controller : control.TransferFunction or control.StateSpace, optional
+        A linear SISO controller C(s) in the loop ``u = r + feedback * C[y]``; it
+        replaces the model file's controller.
+    feedback : {-1, 1}
+        Sign of the feedback of ``controller`` (default negative).
+
+    Returns
+    -------
+    Verdict
+    """
+    from dataclasses import replace
+
+    from gfrf.criteria import verdict as criteria_verdict
+    from gfrf.modelfile import ModelFile
+
+    if controller is not None:
+        base = model if isinstance(model, ModelFile) else ModelFile(as_plant(model))
+        model = replace(base, controller=_controller(controller, feedback))
+    elif not isinstance(model, ModelFile):
+        model = as_plant(model)
+    return criteria_verdict(model, order, amplitude, with_norms)

@@ -1,0 +1,160 @@
+"""The Python API of the package (issue 12): ModelFile everywhere, python-control interop,
+short reprs, JSON-ready results, ``gfrf.simulate`` that stays a function."""
+
+from __future__ import annotations
+
+import cmath
+import json
+import math
+import pydoc
+import subprocess
+import sys
+from pathlib import Path
+
+import control
+import numpy as np
+import pytest
+
+import gfrf
+from gfrf.modelfile import model_from_dict
+
+MODELS = Path(__file__).resolve().parent.parent / "models"
+DUFFING = MODELS / "duffing.toml"
+NARX = MODELS / "narx_example.toml"
+
+
+def h1_duffing(w: float) -> complex:
+    """H1 of y'' + 0.2 y' + y + 0.5 y^3 = u at s = j w."""
+    return 1 / (1 - w * w + 0.2j * w)
+
+
+def test_simulate_stays_a_function_after_the_simulation_module_is_imported() -> None:
+    script = (
+        "import gfrf, gfrf.validation\n"  # imports the simulation module first
+        "r1 = gfrf.simulate(gfrf.parse_model('D(y) + y = u'), 'step(t)', t_end=1.0)\n"
+        "import gfrf.volterra, gfrf.report.analysis\n"
+        "r2 = gfrf.simulate(gfrf.parse_model('D(y) + y = u'), 'step(t)', t_end=1.0)\n"
+        "print(callable(gfrf.simulate), r1.y[-1] == r2.y[-1])\n")
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                          timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split() == ["True", "True"]
+
+
+def test_kernel_takes_a_model_file() -> None:
+    mf = gfrf.load_model(DUFFING)
+    h3 = complex(gfrf.kernel(mf, 3)(1.0, 1.0, -1.0))
+    # symmetric H3(w1, w2, w3) = -0.5 H1(w1) H1(w2) H1(w3) H1(w1 + w2 + w3)
+    expected = -0.5 * h1_duffing(1.0) ** 2 * h1_duffing(-1.0) * h1_duffing(1.0)
+    assert h3 == pytest.approx(expected, rel=1e-12)
+    assert gfrf.kernel is gfrf.kernel  # loaded once
+
+
+def test_every_plant_function_takes_a_model_file() -> None:
+    mf = gfrf.load_model(DUFFING)
+    zeta = 0.1  # ||H1|| of a damped oscillator: 1 / (2 zeta sqrt(1 - zeta^2))
+    assert gfrf.h1_norm(mf).upper == pytest.approx(1 / (2 * zeta * math.sqrt(1 - zeta ** 2)),
+                                                   rel=1e-9)
+    assert gfrf.kernel_norm(mf, 1).upper == pytest.approx(gfrf.h1_norm(mf.plant).upper)
+    assert gfrf.probe_kernel(mf, [1.0]) == pytest.approx(h1_duffing(1.0), rel=1e-9)
+    prediction = gfrf.predict(mf, [(0.001, 1.0, 0.0)], 1)
+    assert prediction.component(1.0).amplitude == pytest.approx(0.001 * abs(h1_duffing(1.0)),
+                                                                rel=1e-9)
+    assert gfrf.verdict(mf, 2).radius == gfrf.verdict(mf.plant, 2).radius
+
+
+def test_a_path_string_is_refused_with_a_hint() -> None:
+    with pytest.raises(gfrf.ArgumentError, match="load_model"):
+        gfrf.kernel(str(DUFFING), 1)
+
+
+def test_linear_part_continuous() -> None:
+    h1 = gfrf.linear_part(gfrf.load_model(DUFFING))
+    assert isinstance(h1, control.TransferFunction) and h1.dt in (0, None)
+    for w in (0.0, 0.7, 1.0, 3.0):
+        assert complex(h1(1j * w)) == pytest.approx(h1_duffing(w), rel=1e-12, abs=1e-15)
+
+
+def test_linear_part_narx_is_discrete_with_dt() -> None:
+    mf = gfrf.load_model(NARX)  # y[k] = 0.5 y[k-1] + u[k-1] + ...: H1(q) = q / (1 - 0.5 q)
+    h1 = gfrf.linear_part(mf)
+    assert h1.dt == pytest.approx(0.1)
+    for w in (0.3, 2.0, 10.0):
+        q = cmath.exp(-1j * w * 0.1)
+        assert complex(h1(1 / q)) == pytest.approx(q / (1 - 0.5 * q), rel=1e-12)
+        assert complex(h1(1 / q)) == pytest.approx(complex(gfrf.kernel(mf, 1)(w)), rel=1e-12)
+
+
+UNSTABLE_PLANT = "D(y,2) + D(y) - y + 0.1*y**3 = u"  # stabilised by u = -3 y
+
+
+def test_verdict_with_a_python_control_controller() -> None:
+    plant = gfrf.parse_model(UNSTABLE_PLANT)
+    from_file = gfrf.verdict(model_from_dict({"equation": UNSTABLE_PLANT,
+                                              "controller": {"num": [3], "den": [1]}}), 3)
+    with_tf = gfrf.verdict(plant, 3, controller=control.tf([3], [1]))
+    with_ss = gfrf.verdict(plant, 3, controller=control.ss([], [], [], [[3]]))
+    assert with_tf.theorem == with_ss.theorem == from_file.theorem == 2
+    assert with_tf.radius == from_file.radius == with_ss.radius
+    assert with_tf.verdict == from_file.verdict
+    # closed loop s^2 + s + 2: stable; with positive feedback s^2 + s - 4: unstable
+    linear = next(c for c in with_tf.conditions if c.name.startswith("linear"))
+    assert linear.passed is True
+    positive = gfrf.verdict(plant, 3, controller=control.tf([3], [1]), feedback=1)
+    assert positive.verdict == "unstable"
+    with pytest.raises(gfrf.ArgumentError, match="TransferFunction"):
+        gfrf.verdict(plant, controller=[3, 1])
+
+
+def test_all_lists_the_public_api_and_help_shows_it() -> None:
+    for name in gfrf.__all__:
+        assert getattr(gfrf, name) is not None
+    assert {"simulate", "kernel", "verdict", "linear_part", "load_model", "Verdict",
+            "SweepResult", "Margin"} <= set(gfrf.__all__)
+    assert set(gfrf.__all__) <= set(dir(gfrf))
+    text = pydoc.render_doc(gfrf)
+    assert "linear_part" in text and "load_model" in text
+
+
+def _results() -> dict[str, object]:
+    from gfrf.sweep import parse_axis, sweep
+
+    mf = gfrf.load_model(DUFFING)
+    data = {"equation": "D(y,2) + c*D(y) + y + 0.5*y**3 = u", "parameters": {"c": 0.2}}
+    cartpole = gfrf.load_model(MODELS / "cartpole.toml")
+    return {
+        "verdict": gfrf.verdict(mf, 2),
+        "bound": gfrf.h1_norm(mf),
+        "closed_loop": gfrf.closed_loop(cartpole),
+        "prediction": gfrf.predict(mf, [(0.001, 1.0, 0.0)], 3),
+        "simulation": gfrf.simulate(mf, "0.01*sin(t)", t_end=1.0),
+        "sweep": sweep(data, [parse_axis("c=0.1:0.4:2")], what="radius"),
+    }
+
+
+def test_results_have_short_reprs_and_json_dicts() -> None:
+    results = _results()
+    for name, result in results.items():
+        text = repr(result)
+        assert "\n" not in text and len(text) < 160, (name, text)
+        assert text.startswith(type(result).__name__ + "("), text
+        json.dumps(result.to_dict())  # complex values and numpy arrays included
+    loop = results["closed_loop"]
+    poles = json.loads(json.dumps(loop.to_dict()))["poles"]
+    expected = sorted(np.roots(loop.characteristic), key=lambda p: (p.real, p.imag))
+    got = sorted((complex(p["re"], p["im"]) for p in poles), key=lambda p: (p.real, p.imag))
+    assert got == pytest.approx(expected, rel=1e-12)
+    damping = json.loads(json.dumps(results["verdict"].to_dict()))
+    linear = next(c for c in damping["conditions"] if c["name"].startswith("linear"))
+    # the poles of s^2 + 0.2 s + 1: -0.1 +- j sqrt(0.99)
+    assert sorted(p["im"] for p in linear["value"]) == pytest.approx(
+        [-math.sqrt(0.99), math.sqrt(0.99)], rel=1e-12)
+
+
+@pytest.mark.parametrize("name", ["gfrf._api", "gfrf._results", "gfrf._atomic"])
+def test_module_examples(name: str) -> None:
+    import doctest
+    import importlib
+
+    result = doctest.testmod(importlib.import_module(name), optionflags=doctest.ELLIPSIS)
+    assert result.attempted > 0 and result.failed == 0
