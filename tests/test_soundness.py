@@ -14,6 +14,7 @@ import math
 from fractions import Fraction
 
 import mpmath as mp
+import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -136,6 +137,43 @@ def test_clustered_poles_stable_and_exact_norm() -> None:
     assert b1.lower <= peak <= b1.upper and b1.upper - b1.lower <= 1e-15 * b1.upper
     v = verdict(m, order=1, amplitude=1.0, with_norms=False)
     assert v.conditions[1].passed is True and v.verdict != "unstable"
+
+
+def cluster_coefficients(zeta: float, power: int) -> list[float]:
+    """Float coefficients of (s^2 + 2 zeta s + 1)^power, multiplied out in floats."""
+    out = np.array([1.0])
+    for _ in range(power):
+        out = np.polymul(out, [1.0, 2 * zeta, 1.0])
+    return [float(c) for c in out]
+
+
+def test_rounded_cluster_on_the_axis_is_decided_exactly() -> None:
+    # (s^2 + 2e-12 s + 1)^3 rounded to floats is (s^2 + 1)^2 (s^2 + 6e-12 s + 1): a double
+    # pole pair exactly on the axis (exact rational gcd with (s^2 + 1)^2), so ||H1|| = inf
+    # and the pole is on the boundary, not outside
+    import sympy as sp
+
+    coeffs = cluster_coefficients(1e-12, 3)
+    s = sp.Symbol("s")
+    poly = sum(sp.Rational(c) * s ** (6 - i) for i, c in enumerate(coeffs))
+    assert sp.rem(sp.expand(poly), sp.expand((s**2 + 1) ** 2), s) == 0
+    text = " + ".join(f"{c!r}*D(y,{6 - i})" for i, c in enumerate(coeffs)) + " = u"
+    b = h1_norm(parse_model(text.replace("*D(y,0)", "*y")))
+    assert math.isinf(b.upper) and b.stable is False
+    v = verdict(parse_model(text.replace("*D(y,0)", "*y")), order=1, with_norms=False)
+    assert v.verdict == "inconclusive" and "boundary" in v.conditions[1].detail
+
+
+def test_rounded_fivefold_cluster_is_unstable() -> None:
+    # (s^2 + 2e-9 s + 1)^5 in floats: rounding splits the cluster by ~1e-5 > 1e-9
+    coeffs = cluster_coefficients(1e-9, 5)
+    with mp.workdps(80):
+        roots = mp.polyroots([mp.mpf(c) for c in coeffs], maxsteps=800, extraprec=2000)
+        max_re = max(mp.re(r) for r in roots)
+    assert max_re > 1e-6  # the reference: a root in the right half plane
+    text = " + ".join(f"{c!r}*D(y,{10 - i})" for i, c in enumerate(coeffs)) + " = u"
+    v = verdict(parse_model(text.replace("*D(y,0)", "*y")), order=1, with_norms=False)
+    assert v.verdict == "unstable"
 
 
 # -- 3. radius without a cap -------------------------------------------------------------
