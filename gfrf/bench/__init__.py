@@ -27,6 +27,7 @@ SECTION_MODULES: tuple[str, ...] = (
     "gfrf.bench.norms",
     "gfrf.bench.periodic",
     "gfrf.bench.sweep",
+    "gfrf.identify.bench",
 )
 
 

@@ -8,6 +8,8 @@ dates), into one folder:
 * ``paper-periodic.md`` through ``gfrf.report.periodic.write`` when that module exists;
 * ``models/<stem>.md`` (:mod:`gfrf.report.model_page`): one verdict page per bundled
   GFRF model file;
+* ``identified-example.md`` (:mod:`gfrf.identify.report`, with the ``identify`` extra):
+  a NARX model identified from data against the true model;
 * ``README.md``: an index of the above.
 
 ``speed-vs-error.md`` is written by ``gfrf bench`` (minutes of timing) and only linked.
@@ -58,7 +60,9 @@ def write_index(out_dir: Path, models: list[str], quick: bool) -> Path:
     text = [header("gfrf reports", summary, f"gfrf report --out {out_dir.as_posix()}/"),
             "- [paper-gfrf.md](paper-gfrf.md): the GFRF stability paper, number by number.",
             "- [paper-periodic.md](paper-periodic.md): the parametrically excited pendulum.",
-            "- [speed-vs-error.md](speed-vs-error.md): benchmarks (`make bench`).", "",
+            "- [speed-vs-error.md](speed-vs-error.md): benchmarks (`make bench`).",
+            "- [identified-example.md](identified-example.md): a NARX model identified from "
+            "data (sysidentpy) against the true one.", "",
             table(["model", "theorem", "verdict at r = 1", "r*", "r* is"], rows)]
     path = out_dir / "README.md"
     return atomic_write_text(path, "\n".join(text))
@@ -94,6 +98,9 @@ def write_reports(out_dir: str | Path = "reports", models: list[str] | None = No
     if importlib.util.find_spec("gfrf.report.periodic") is not None:
         periodic = importlib.import_module("gfrf.report.periodic")
         jobs.append(partial(periodic.write, out, quick=quick))
+    if importlib.util.find_spec("sysidentpy") is not None:  # the `identify` extra
+        from gfrf.identify import report as identify_report
+        jobs.append(partial(identify_report.write, out, quick))
     written = [job() for job in tqdm(jobs, desc="report", disable=None)]
     written.append(write_index(out, paths, quick))
     return written
