@@ -12,7 +12,8 @@ frequency Omega = w_1 + ... + w_n, the complex amplitude Y(Omega) with n <= N.
 ``|2Y| cos(Omega t + arg Y)``, per-order contributions kept).
 
 Where the prediction is meaningful.  The amplitude of a multi-tone input is the sum
-of the tone amplitudes ``sum_k |A_k|``, the sup over t of |u(t)| (:func:`input_amplitude`).
+of the tone amplitudes ``sum_k |A_k|``, the sup of |u(t)| over t and over the tones'
+phases (:func:`input_amplitude`).
 The series converges for amplitudes below the radius r* of the certified majorant
 series (:func:`series_radius`, the r* of ``gfrf verdict``); at or beyond r* nothing is
 known and a truncated sum can be off by orders of magnitude, so :func:`predict`
@@ -113,9 +114,9 @@ class VolterraPrediction:
     """The order-N Volterra steady state of a multi-tone input (see module docstring).
 
     ``amplitude`` is the input amplitude the series is judged by: the sum of the tone
-    amplitudes, i.e. the sup over t of |u(t)|.  ``radius`` is r* of the series (certified
-    when ``radius_certified``); ``warning`` is set when the prediction was forced at an
-    amplitude at or beyond r*, where the series is not known to converge.
+    amplitudes, the sup of |u(t)| over t and the tones' phases.  ``radius`` is r* of the
+    series (certified when ``radius_certified``); ``warning`` is set when the prediction
+    was forced at an amplitude at or beyond r*, where the series is not known to converge.
     """
 
     tones: tuple[Tone, ...]
@@ -161,7 +162,7 @@ class BeyondRadiusError(ArgumentError):
     Attributes
     ----------
     amplitude : float
-        Sum of the tone amplitudes (the sup of |u|).
+        Sum of the tone amplitudes (the sup of |u| over t and the phases).
     radius : float
         r* of the series.
     """
@@ -186,10 +187,11 @@ def _check_tones(tones: Any) -> tuple[Tone, ...]:
 
 
 def input_amplitude(tones: Any) -> float:
-    """Amplitude of a sum of tones: ``sum_k |A_k|``, the sup over t of |u(t)|.
+    """Amplitude of a sum of tones: ``sum_k |A_k|``, the sup of |u(t)| over t and phases.
 
-    It is attained (or approached arbitrarily closely) when the phases line up, and it
-    is the amplitude r at which the series sum_n ||H_n|| r^n bounds the output.
+    It bounds sup_t |u(t)| for the given phases and equals it when the tones can line
+    up (e.g. incommensurate frequencies); it is the amplitude r at which the series
+    sum_n ||H_n|| r^n bounds the output (|sum of the phasors| <= sum_k |A_k|).
     """
     return float(sum(abs(a) for a, _, _ in _check_tones(tones)))
 
@@ -241,7 +243,7 @@ def predict(model: Model, tones: Any, order: int, *, force: bool = False
         A polynomial model with a stable linear part.
     tones : sequence of (A, omega, phi)
         Input ``sum A cos(omega t + phi)``, omega in rad/s, phi in rad.  Its amplitude
-        is ``sum |A|`` (:func:`input_amplitude`, the sup of |u|).
+        is ``sum |A|`` (:func:`input_amplitude`).
     order : int
         Highest kernel order N, 1 <= N <= :data:`gfrf.kernels.MAX_KERNEL_ORDER`.
     force : bool, optional
@@ -277,10 +279,10 @@ def predict(model: Model, tones: Any, order: int, *, force: bool = False
     warning = None
     if amplitude >= inside:
         kind = "certified" if certified else "estimated"
-        warning = (f"input amplitude {amplitude:.6g} (sum of the tone amplitudes = sup |u|) "
-                   f"is at or beyond the {kind} radius r* = {r_star:.6g} of the Volterra "
-                   f"series: the series is not known to converge and the prediction may be "
-                   f"meaningless")
+        warning = (f"input amplitude {amplitude:.6g} (sum of the tone amplitudes, the peak |u| "
+                   f"over all phases) is at or beyond the {kind} radius r* = {r_star:.6g} of "
+                   f"the Volterra series: the series is not known to converge and the "
+                   f"prediction may be meaningless")
         if not force:
             raise BeyondRadiusError(warning, amplitude, r_star)
     omegas = np.array([s * w for _, w, _ in tones for s in (1, -1)])

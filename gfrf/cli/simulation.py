@@ -70,7 +70,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "predict", help="Volterra prediction of the steady state for a sum of tones",
         description="Steady-state harmonics and intermodulation products (rad/s) of a "
                     "sum of sinusoids predicted from the GFRFs up to --order.  The input "
-                    "amplitude is the sum of the tone amplitudes (the sup of |u|); at or "
+                    "amplitude is the sum of the tone amplitudes (the peak |u| over all "
+                    "phases); at or "
                     "beyond the series radius r* the prediction is refused (exit 1) "
                     "unless --force.")
     add_model_argument(pred)
@@ -79,7 +80,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     pred.add_argument("--order", type=int, default=3, help="highest kernel order N")
     pred.add_argument("--force", action="store_true",
                       help="predict even when the input amplitude (sum of the tone "
-                           "amplitudes = sup |u|) is at or beyond the series radius r*; "
+                           "amplitudes) is at or beyond the series radius r*; "
                            "the output then carries a warning")
     add_json_flag(pred)
     pred.set_defaults(func=_predict)
@@ -187,7 +188,7 @@ def _predict(args: argparse.Namespace) -> int:
         return 1
     kind = "certified" if p.radius_certified else "estimate"
     lines = [f"{mf.name}: steady state to order {args.order} for {args.input}",
-             f"  input amplitude {p.amplitude:.6g} (sum of tone amplitudes = sup |u|), "
+             f"  input amplitude {p.amplitude:.6g} (sum of tone amplitudes), "
              f"series radius r* = {p.radius:.6g} ({kind})"]
     if p.warning:
         lines.append(f"  WARNING: {p.warning}")
