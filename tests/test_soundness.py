@@ -263,6 +263,10 @@ def test_property_scale_invariance_and_containment(a1: float, a0: float, c3: flo
     m3 = float(majorant(scaled).coefficients(3)[3, 0])
     assert m3 == pytest.approx(float(h3_ref), rel=1e-13)
     assert m3 == pytest.approx(float(majorant(base).coefficients(3)[3, 0]), rel=1e-13)
+    b3, b3_base = kernel_norm(scaled, 3), kernel_norm(base, 3)
+    assert b3.lower <= h3_ref * (1 + 1e-13) and b3.upper >= h3_ref  # float witness, proven upper
+    assert b3.upper == pytest.approx(b3_base.upper, rel=1e-13)
+    assert b3.lower == pytest.approx(b3_base.lower, rel=1e-9)
     v = verdict(scaled, order=1, amplitude=0.5, with_norms=False)
     assert v.radius == pytest.approx(float(r_ref), rel=2e-9)
     assert v.radius == pytest.approx(verdict(base, order=1, amplitude=0.5,
