@@ -7,12 +7,24 @@ recursion step after common-subexpression elimination, then the top-level kernel
 The source runs as is on numpy arrays, and compiled with numba (when installed) it
 becomes a scalar function wrapped in a numpy ufunc, which is the fast path for
 millions of points (no temporary arrays at all).
+
+Compiled kernels are cached on disk, so that a second process pays no compile: the
+generated module is written to :func:`cache_dir` (``$GFRF_CACHE_DIR/kernels``, by
+default the platform's user cache directory, e.g. ``~/.cache/gfrf/kernels``) under
+the hash of its source, and numba's ``cache=True`` keeps the machine code beside it.
+The code that runs is always the source generated in this process: a cached file is
+only the anchor of numba's cache, rewritten when it differs from that source.  When
+the directory cannot be written, the kernel is compiled in memory, uncached.
 """
 
 from __future__ import annotations
 
-import cmath
+import hashlib
 import importlib.util
+import os
+import sys
+import types
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import sympy as sp
@@ -21,7 +33,7 @@ from sympy.printing.pycode import PythonCodePrinter
 if TYPE_CHECKING:
     from gfrf.kernels import GFRFGenerator
 
-__all__ = ["kernel_source", "numba_ufunc", "HAVE_NUMBA"]
+__all__ = ["kernel_source", "numba_ufunc", "HAVE_NUMBA", "cache_dir"]
 
 #: Whether numba (the optional ``fast`` extra) is installed; it is imported only when a
 #: kernel is compiled (importing it costs about half a second).
@@ -98,8 +110,55 @@ def _horner(coefficients: list[float], variable: str) -> str:
     return text
 
 
+def cache_dir() -> Path:
+    """Directory of the compiled-kernel cache: ``$GFRF_CACHE_DIR/kernels``, else the
+    platform's user cache directory (``$XDG_CACHE_HOME`` or ``~/.cache`` on Linux,
+    ``~/Library/Caches`` on macOS, ``%LOCALAPPDATA%`` on Windows) ``/gfrf/kernels``."""
+    base = os.environ.get("GFRF_CACHE_DIR")
+    if base:
+        return Path(base) / "kernels"
+    if sys.platform == "win32":
+        root = Path(os.environ.get("LOCALAPPDATA") or Path.home() / "AppData" / "Local")
+    elif sys.platform == "darwin":
+        root = Path.home() / "Library" / "Caches"
+    else:
+        root = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+    return root / "gfrf" / "kernels"
+
+
+def _module_source(gen: GFRFGenerator, n: int, symmetric: bool, cache: bool) -> str:
+    """Source of a module defining the ufunc ``scalar_kernel`` of H_n."""
+    signature = f"complex128({', '.join(['float64'] * n)})"
+    return ("from cmath import exp as cmath_exp\n\nfrom numba import vectorize\n\n\n"
+            f"@vectorize([{signature!r}], cache={cache})\n"
+            + kernel_source(gen, n, symmetric, name="scalar_kernel"))
+
+
+def _anchor(name: str, source: str) -> Path | None:
+    """The cache file of ``source`` (written if absent or different); None if unwritable."""
+    from gfrf._atomic import atomic_write_text
+
+    folder = cache_dir()
+    path = folder / f"{name}.py"
+    try:
+        folder.mkdir(parents=True, exist_ok=True, mode=0o700)
+        try:
+            current = path.read_text(encoding="utf-8")
+        except FileNotFoundError:
+            current = None
+        if current != source:  # absent, stale or tampered with: ours replaces it
+            atomic_write_text(path, source)
+    except OSError:
+        return None
+    return path
+
+
 def numba_ufunc(gen: GFRFGenerator, n: int, symmetric: bool) -> Any:
-    """A numba-compiled numpy ufunc ``f(w1..wn) -> complex128`` of H_n.
+    """A numba-compiled numpy ufunc ``f(w1..wn) -> complex128`` of H_n, cached on disk.
+
+    A cold compile takes seconds at order 3 and minutes at order 5 (see
+    :meth:`gfrf.kernels.Kernel.compiled`); with the on-disk cache (:func:`cache_dir`) a
+    later process loads the machine code instead.
 
     Raises
     ------
@@ -108,11 +167,22 @@ def numba_ufunc(gen: GFRFGenerator, n: int, symmetric: bool) -> Any:
     """
     if not HAVE_NUMBA:
         raise ImportError("the compiled kernel needs numba: pip install 'gfrf[fast]'")
-    import numba
-
-    namespace: dict[str, Any] = {"cmath_exp": cmath.exp}
-    source = kernel_source(gen, n, symmetric, name="scalar_kernel")
-    exec(compile(source, f"<gfrf H{n}>", "exec"), namespace)  # noqa: S102 - generated code
-    scalar = numba.njit(namespace["scalar_kernel"], fastmath=False)
-    signature = f"complex128({', '.join(['float64'] * n)})"
-    return numba.vectorize([signature])(scalar)
+    source = _module_source(gen, n, symmetric, cache=True)
+    name = "gfrf_kernel_" + hashlib.sha256(source.encode()).hexdigest()[:24]
+    if name in sys.modules:
+        return sys.modules[name].scalar_kernel
+    path = _anchor(name, source)
+    if path is None:
+        source = _module_source(gen, n, symmetric, cache=False)
+    module = types.ModuleType(name)
+    module.__file__ = str(path) if path else f"<gfrf H{n}>"
+    # Our generated source (never the file's content) runs; the file name lets numba's
+    # cache find its index beside the file.
+    code = compile(source, module.__file__, "exec")
+    sys.modules[name] = module  # numba's cache refers to the module by name
+    try:
+        exec(code, module.__dict__)  # noqa: S102 - generated code, validated names only
+    except BaseException:
+        del sys.modules[name]
+        raise
+    return module.scalar_kernel
