@@ -68,6 +68,7 @@ import numpy as np
 
 from gfrf._results import plain, short_repr
 from gfrf.errors import ArgumentError
+from gfrf.exact import format_roots
 from gfrf.kernels import MAX_KERNEL_ORDER
 from gfrf.loops import closed_loop
 from gfrf.majorant import Majorant, Radius, certify, majorant, radius
@@ -197,7 +198,7 @@ def _stability_condition(model: Model) -> tuple[Condition, str]:
                   "unstable (Lyapunov's indirect method); Theorem 1 is inapplicable")
     else:
         detail = ("pole on the stability boundary at "
-                  + ", ".join(f"{p:.6g}" for p in report.boundary)
+                  + format_roots(report.boundary, "z" if model.is_discrete else "s")
                   + " (exact test): Theorem 1 is inapplicable")
     return Condition("linear part A_1 stable", False, values, detail), \
         "unstable" if report.outside else "inconclusive"

@@ -46,7 +46,7 @@ import numpy as np
 from gfrf.errors import ArgumentError
 
 __all__ = ["ExactSup", "PoleReport", "hurwitz", "schur", "poles", "sup_abs",
-           "discrete_sup_abs", "cayley"]
+           "discrete_sup_abs", "cayley", "format_roots", "arb_upper"]
 
 #: Working precision (bits) of the first ball evaluation; doubled up to _MAX_PREC.
 _PREC = 128
@@ -305,6 +305,19 @@ class ExactSup:
 def arb_upper(x: Any) -> float:
     """The smallest float >= every point of the Arb ball ``x`` (inf if unbounded)."""
     return _up(x)
+
+
+def format_roots(roots: Sequence[complex], name: str = "s") -> str:
+    """Roots as text, conjugate pairs merged: ``s = 0, s = -0.5 +- 2j``."""
+    parts = []
+    for r in roots:
+        if r.imag < 0 and any(abs(q - r.conjugate()) <= 1e-12 * (1 + abs(r)) for q in roots):
+            continue
+        text = f"{r.real:.6g}" if r.imag == 0 else (
+            f"{r.real:.6g} +- {abs(r.imag):.6g}j" if r.imag > 0 and r.real != 0 else
+            f"+-{abs(r.imag):.6g}j" if r.real == 0 else f"{r.real:.6g} - {abs(r.imag):.6g}j")
+        parts.append(f"{name} = {text}")
+    return ", ".join(parts)
 
 
 def _down(x: Any) -> float:

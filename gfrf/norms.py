@@ -58,7 +58,7 @@ from scipy.optimize import minimize
 from gfrf._results import short_repr
 from gfrf.branch_bound import MAX_ORDER, branch_and_bound
 from gfrf.errors import ArgumentError
-from gfrf.exact import PoleReport, poles
+from gfrf.exact import PoleReport, format_roots, poles
 from gfrf.kernels import kernel
 from gfrf.majorant import linear_polynomials, majorant
 from gfrf.model import Model
@@ -180,7 +180,7 @@ def h1_norm(model: Model) -> Bound:
     if not stable:
         where = ("some pole strictly outside the stability region" if report.outside else
                  "poles on the stability boundary at "
-                 + ", ".join(f"{p:.6g}" for p in report.boundary))
+                 + format_roots(report.boundary, "z" if model.is_discrete else "s"))
         notes.append(f"linear part not asymptotically stable ({where}, exact test): the value "
                      "is the L-infinity norm on the frequency axis, not an H-infinity norm")
     if model.is_discrete:

@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from gfrf.exact import ExactSup, discrete_sup_abs, sup_abs
+from gfrf.exact import ExactSup, discrete_sup_abs, format_roots, sup_abs
 
 __all__ = ["SupResult", "rational_sup", "discrete_rational_sup"]
 
@@ -59,6 +59,8 @@ class SupResult:
         algebra and ball arithmetic).
     cancelled : tuple of complex
         Common roots of N and D removed exactly before the sup (approximate values).
+    variable : str
+        The variable of those roots: ``s``, or ``q`` for a discrete function.
     """
 
     value: float
@@ -69,13 +71,14 @@ class SupResult:
     upper: float = math.nan
     proof: str = "interval"
     cancelled: tuple[complex, ...] = field(default=())
+    variable: str = "s"
 
     @property
     def notes(self) -> tuple[str, ...]:
         """Human-readable notes: cancellations and the reason of an infinite sup."""
         notes = []
         if self.cancelled:
-            roots = ", ".join(f"{r:.6g}" for r in self.cancelled)
+            roots = format_roots(self.cancelled, self.variable)
             notes.append(f"pole-zero cancellation (exact common factor of N and D) at "
                          f"{roots}: the sup is that of the reduced function")
         if self.reason:
@@ -83,9 +86,9 @@ class SupResult:
         return tuple(notes)
 
 
-def _result(res: ExactSup) -> SupResult:
+def _result(res: ExactSup, variable: str = "s") -> SupResult:
     return SupResult(res.value, res.omega, True, res.reason, res.lower, res.upper,
-                     "interval", res.cancelled)
+                     "interval", res.cancelled, variable)
 
 
 def rational_sup(num: np.ndarray | list[float], den: np.ndarray | list[float]) -> SupResult:
@@ -119,4 +122,4 @@ def discrete_rational_sup(num: np.ndarray | list[float], den: np.ndarray | list[
     -------
     SupResult
     """
-    return _result(discrete_sup_abs(num, den, sample_time))
+    return _result(discrete_sup_abs(num, den, sample_time), "q")
