@@ -66,9 +66,11 @@ from gfrf.errors import ArgumentError, GfrfError
 if TYPE_CHECKING:
     from gfrf.template import ModelTemplate
 
-__all__ = ["Axis", "SweepResult", "parse_axis", "grid", "sweep", "executor", "WHAT",
-           "evaluate_point", "check_output", "check_scheduler", "SCHEDULER_TIMEOUT"]
+__all__ = ["MAX_GRID_POINTS", "Axis", "SweepResult", "parse_axis", "grid", "sweep", "executor",
+           "WHAT", "evaluate_point", "check_output", "check_scheduler", "SCHEDULER_TIMEOUT"]
 
+#: Most points of one sweep grid (the product of the axes' N), checked before any work.
+MAX_GRID_POINTS = 1_000_000
 #: Quantities a sweep can evaluate.
 WHAT = ("verdict", "radius", "norm", "bounded")
 
@@ -110,8 +112,9 @@ def parse_axis(spec: str) -> Axis:
     except ValueError:
         raise ArgumentError(f"--param {spec!r}: N = {count.strip()!r} is not an integer") \
             from None
-    if n < 1:
-        raise ArgumentError(f"--param {spec!r}: N = {n} must be at least 1")
+    if not 1 <= n <= MAX_GRID_POINTS:
+        raise ArgumentError(f"--param {spec!r}: N = {n} must be between 1 and "
+                            f"MAX_GRID_POINTS = {MAX_GRID_POINTS}")
     import numpy as np
 
     return Axis(name, tuple(float(v) for v in np.linspace(bounds[0], bounds[1], n)))
@@ -120,6 +123,10 @@ def parse_axis(spec: str) -> Axis:
 def grid(axes: Sequence[Axis]) -> list[dict[str, float]]:
     """All points of the grid, the last axis varying fastest."""
     names = [a.name for a in axes]
+    size = math.prod(len(a.values) for a in axes)
+    if size > MAX_GRID_POINTS:
+        raise ArgumentError(f"the grid has {size} points, more than MAX_GRID_POINTS = "
+                            f"{MAX_GRID_POINTS}")
     if len(set(names)) != len(names):
         twice = next(n for n in names if names.count(n) > 1)
         raise ArgumentError(f"parameter {twice!r} is swept twice")
@@ -415,7 +422,8 @@ def check_output(path: str | Path) -> str:
     try:
         import pyarrow  # noqa: F401 - availability check
     except ImportError:
-        raise ArgumentError("Parquet output needs pyarrow; write a .csv instead") from None
+        raise ArgumentError(f"output {str(path)!r}: Parquet needs pyarrow (pip install "
+                            f"pyarrow); write a .csv instead") from None
     return "parquet"
 
 
@@ -454,7 +462,8 @@ def sweep(data: Mapping[str, Any], axes: Sequence[Axis], *, what: str = "verdict
     workers : int, optional
         Worker processes for ``processes``; for an executor, its parallelism.
     chunk_size : int, optional
-        Points per task; default: about four tasks per worker, at most 64 points.
+        Points per task; default: one in process (``local``: the progress bar moves per
+        point), else about four tasks per worker, at most 64 points.
     progress : bool or None
         tqdm progress bar; None shows it on a terminal only.
     path : str
@@ -492,13 +501,22 @@ def sweep(data: Mapping[str, Any], axes: Sequence[Axis], *, what: str = "verdict
     context = (contextlib.nullcontext((scheduler, workers or 1))
                if isinstance(scheduler, Executor) else executor(scheduler, workers))
     with context as (pool, n_workers):
-        size = chunk_size or max(1, min(64, math.ceil(len(points) / (4 * n_workers))))
+        inline = isinstance(pool, _InlineExecutor)  # one point per task: progress per point
+        size = chunk_size or (1 if inline else
+                              max(1, min(64, math.ceil(len(points) / (4 * n_workers)))))
         chunks = [points[i:i + size] for i in range(0, len(points), size)]
-        start = time.perf_counter()
-        futures = {pool.submit(_run_chunk, task, chunk): i for i, chunk in enumerate(chunks)}
         results: list[list[dict[str, Any]]] = [[] for _ in chunks]
         disable = None if progress is None else not progress
+        start = time.perf_counter()
         with tqdm(total=len(points), disable=disable, unit="pt", desc=f"sweep {what}") as bar:
+            futures: dict[Future, int] = {}
+            for i, chunk in enumerate(chunks):  # the in-process executor runs at submit
+                future = pool.submit(_run_chunk, task, chunk)
+                if inline:
+                    results[i] = future.result()
+                    bar.update(len(chunk))
+                else:
+                    futures[future] = i
             for future in as_completed(futures):
                 results[futures[future]] = future.result()
                 bar.update(len(results[futures[future]]))

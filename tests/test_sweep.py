@@ -231,3 +231,38 @@ def test_polynomial_controller_template_matches_a_full_parse() -> None:
         [t.coefficient for t in slow.controller.model.terms], rel=1e-15)
     rows = sweep(POLYNOMIAL_LOOP, [parse_axis("kp=0.5:20:3")], progress=False).rows
     assert {r["verdict"] for r in rows} >= {"unstable"}
+
+
+def test_progress_moves_per_point_from_the_first(monkeypatch: pytest.MonkeyPatch) -> None:
+    import tqdm as tqdm_module
+
+    import gfrf.criteria
+
+    reported: list[int] = []
+    seen_at_call: list[int] = []
+
+    class Bar:
+        def __init__(self, *args: object, **kwargs: object) -> None:
+            pass
+
+        def __enter__(self) -> Bar:
+            return self
+
+        def __exit__(self, *exc: object) -> None:
+            pass
+
+        def update(self, n: int) -> None:
+            reported.append(n)
+
+    real = gfrf.criteria.verdict
+
+    def counting(*args: object, **kwargs: object) -> object:
+        seen_at_call.append(sum(reported))
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(tqdm_module, "tqdm", Bar)
+    monkeypatch.setattr(gfrf.criteria, "verdict", counting)
+    data = {"equation": "D(y,2) + c*D(y) + y + 0.5*y**3 = u", "parameters": {"c": 0.2}}
+    sweep(data, [parse_axis("c=0.1:0.4:5")], what="radius", progress=True)
+    assert reported == [1] * 5
+    assert seen_at_call == [0, 1, 2, 3, 4]  # point k starts after k points were shown

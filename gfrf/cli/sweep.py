@@ -46,7 +46,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--workers", type=int, default=None,
                    help="worker processes of --scheduler processes (default: all cores)")
     p.add_argument("--chunk", type=int, default=None, help="points per task (default: auto)")
-    p.add_argument("--out", default=None, metavar="FILE", help="write the table (.csv/.parquet)")
+    p.add_argument("--out", default=None, metavar="FILE",
+                   help="write the table: .csv, or .parquet when pyarrow is installed")
     p.add_argument("--plot", default=None, metavar="FILE.png", help="write the stability map")
     add_json_flag(p)
     p.set_defaults(func=_sweep)
