@@ -17,6 +17,8 @@ from pathlib import Path
 
 from tqdm import tqdm
 
+from gfrf._atomic import atomic_write_text
+
 __all__ = ["BenchSection", "SECTION_MODULES", "figure_dir", "machine_description", "run_all",
            "write_report"]
 
@@ -115,5 +117,4 @@ def write_report(sections: list[BenchSection], out_dir: str | Path) -> Path:
             "Regenerate with `make bench` (or `gfrf bench --out reports/`).", ""]
     text += [s.to_markdown() for s in sections]
     path = out / "speed-vs-error.md"
-    path.write_text("\n".join(text), encoding="utf-8")
-    return path
+    return atomic_write_text(path, "\n".join(text))

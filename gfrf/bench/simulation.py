@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from gfrf._atomic import atomic_path
 from gfrf.bench import BenchSection, figure_dir
 from gfrf.modelfile import load_model
 from gfrf.signals import parse_input
@@ -87,8 +88,11 @@ def _figure(curves: dict[str, list[tuple[float, float, float]]], path: Path) -> 
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    try:
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=120)
+    finally:
+        plt.close(fig)
 
 
 def run(quick: bool) -> BenchSection:
