@@ -47,6 +47,7 @@ from __future__ import annotations
 import contextlib
 import csv
 import itertools
+import logging
 import math
 import os
 import re
@@ -323,8 +324,10 @@ def executor(scheduler: str = "local", workers: int | None = None
                             "pip install 'gfrf[dask]'") from None
     if scheduler == "processes":
         n = workers or os.cpu_count() or 1
+        # silence_logs: dask's shutdown warnings (Ctrl-C, workers killed) are not ours
         with LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                          dashboard_address=None) as cluster, Client(cluster) as client:
+                          dashboard_address=None, silence_logs=logging.ERROR) as cluster, \
+                Client(cluster) as client:
             yield client.get_executor(), n
         return
     _probe(scheduler, SCHEDULER_TIMEOUT)

@@ -242,3 +242,18 @@ def test_non_real_value_at_a_grid_point_is_that_rows_error(
     assert [bool(r["error"]) for r in rows] == [True, False, False]
     assert "c = -0.2" in rows[0]["error"] and "not real-valued" in rows[0]["error"]
     assert rows[2]["radius"] > 0
+
+
+@pytest.mark.slow
+def test_ctrl_c_of_a_dask_process_sweep_is_one_line() -> None:
+    pytest.importorskip("distributed")
+    proc = subprocess.Popen([*GFRF, "sweep", str(MODELS / "hanging_pendulum.toml"), "--param",
+                             "rho=0.5:8:400", "--what", "bounded", "--t-end", "500",
+                             "--scheduler", "processes", "--workers", "2"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=ROOT,
+                            start_new_session=True)
+    time.sleep(10.0)
+    os.killpg(proc.pid, signal.SIGINT)  # as a terminal does: the whole process group
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130
+    assert err.decode() == "gfrf: interrupted\n"
