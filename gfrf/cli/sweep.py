@@ -16,7 +16,15 @@ from collections import Counter
 from pathlib import Path
 
 from gfrf.cli._output import add_json_flag, check_plot_path, emit
-from gfrf.sweep import WHAT, SweepResult, check_output, check_scheduler, parse_axis, sweep
+from gfrf.sweep import (
+    SCHEDULER_TIMEOUT,
+    WHAT,
+    SweepResult,
+    check_output,
+    check_scheduler,
+    parse_axis,
+    sweep,
+)
 
 __all__ = ["register"]
 
@@ -42,7 +50,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help="simulated time in s of --what bounded (default 50)")
     p.add_argument("--scheduler", default="local",
                    help="'local' (in-process, default), 'processes' (dask LocalCluster, one "
-                        "worker per core) or a dask scheduler address tcp://host:port")
+                        "worker per core) or a dask scheduler address tcp://host:port, "
+                        f"which must answer within {SCHEDULER_TIMEOUT:g} s")
     p.add_argument("--workers", type=int, default=None,
                    help="worker processes of --scheduler processes (default: all cores)")
     p.add_argument("--chunk", type=int, default=None, help="points per task (default: auto)")
