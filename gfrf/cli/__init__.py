@@ -15,7 +15,7 @@ import re
 import sys
 import warnings
 from collections.abc import Sequence
-from typing import Any, TextIO
+from typing import Any
 
 from gfrf import __version__
 from gfrf.errors import GfrfError
@@ -84,9 +84,9 @@ def _run(argv: Sequence[str] | None) -> int:
 
 
 def _warning_line(message: Warning | str, category: type[Warning], filename: str,
-                  lineno: int, file: TextIO | None = None, line: str | None = None) -> None:
-    """Show a warning as one line ``gfrf: warning: ...`` (no source path, no code line)."""
-    print(f"gfrf: warning: {' '.join(str(message).split())}", file=file or sys.stderr)
+                  lineno: int, line: str | None = None) -> str:
+    """A warning as one line ``gfrf: warning: ...`` (no source path, no code line)."""
+    return f"gfrf: warning: {' '.join(str(message).split())}\n"
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -97,12 +97,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     were: outputs are replaced atomically).  A closed stdout (``gfrf ... | head``)
     exits quietly with 141, as a process killed by SIGPIPE.
     """
+    formatwarning = warnings.formatwarning  # formatting only: recorders still record
+    warnings.formatwarning = _warning_line
     try:
         try:
-            with warnings.catch_warnings():
-                warnings.showwarning = _warning_line
-                return _run(argv)
+            return _run(argv)
         finally:
+            warnings.formatwarning = formatwarning
             sys.stdout.flush()  # a reader that went away shows up here, not at exit
     except KeyboardInterrupt:
         print("gfrf: interrupted", file=sys.stderr)
