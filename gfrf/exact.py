@@ -46,7 +46,7 @@ import numpy as np
 from gfrf.errors import ArgumentError
 
 __all__ = ["ExactSup", "PoleReport", "hurwitz", "schur", "poles", "sup_abs",
-           "discrete_sup_abs", "cayley", "format_roots", "arb_upper"]
+           "discrete_sup_abs", "sup_abs_beyond", "cayley", "format_roots", "arb_upper"]
 
 #: Working precision (bits) of the first ball evaluation; doubled up to _MAX_PREC.
 _PREC = 128
@@ -362,36 +362,38 @@ def _arb_poly(p: Any) -> Any:
     return flint.arb_poly([flint.arb(c) for c in p.coeffs()])
 
 
-def _sup_squared(n: Any, d: Any) -> tuple[Any, Any, float]:
-    """Enclosure of sup over x = w^2 >= 0 of P(x)/Q(x), Q > 0 on [0, inf) (proven by caller).
+def _sup_squared(n: Any, d: Any, x_min: Fraction = Fraction(0)) -> tuple[Any, Any, float]:
+    """Enclosure of sup over x = w^2 >= x_min of P(x)/Q(x), Q > 0 there (proven by caller).
 
-    The candidates are x = 0, the limit x -> inf and the positive real roots of
+    The candidates are x = x_min, the limit x -> inf and the real roots x > x_min of
     P'Q - PQ', each evaluated in ball arithmetic on its rigorous enclosure.  Returns
     exact arb numbers (lower, upper) with lower <= sup <= upper, and the x of the best
     candidate (inf for the limit).  The precision doubles until the enclosure is
     narrower than 2^-60 relative.
     """
     flint = _flint()
+    x_min = flint.fmpq(x_min.numerator, x_min.denominator)
     p, q = _abs2_in_x(n), _abs2_in_x(d)
     s = p.derivative() * q - p * q.derivative()
     if s.degree() >= 0:
-        while s.coeffs()[0] == 0:  # x = 0 is a candidate anyway
-            s = s.right_shift(1)
+        at_min = flint.fmpq_poly([-x_min, 1])
+        while s(x_min) == 0:  # x = x_min is a candidate anyway
+            s = s // at_min
     prec = _PREC
     while True:
         with _precision(prec):
             stationary = [] if s.degree() < 0 else [x for x, _ in _real_roots(s)]
-            values = [(flint.arb(p.coeffs()[0] / q.coeffs()[0]), 0.0)]
+            values = [(flint.arb(p(x_min) / q(x_min)), float(x_min))]
             if p.degree() == q.degree():
                 values.append((flint.arb(p.coeffs()[-1] / q.coeffs()[-1]),
                                math.inf))
             pa, qa = _arb_poly(p), _arb_poly(q)
             ok = True
             for x in stationary:
-                if x < 0:
+                if x < x_min:
                     continue
                 qx = qa(x)
-                if not (x > 0 and qx > 0):  # enclosure too wide to decide: refine
+                if not (x > x_min and qx > 0):  # enclosure too wide to decide: refine
                     ok = False
                     break
                 values.append((pa(x) / qx, float(x.mid())))
@@ -414,11 +416,12 @@ def _strip_common(num: Any, den: Any) -> tuple[Any, Any, tuple[complex, ...]]:
     return num // g, den // g, cancelled
 
 
-def _finish(num: Any, den: Any, cancelled: tuple[complex, ...]) -> ExactSup:
+def _finish(num: Any, den: Any, cancelled: tuple[complex, ...],
+            x_min: Fraction = Fraction(0)) -> ExactSup:
     flint = _flint()
     if num.degree() < 0:
         return ExactSup(0.0, 0.0, 0.0, 0.0, cancelled=cancelled)
-    lo2, hi2, x = _sup_squared(num, den)
+    lo2, hi2, x = _sup_squared(num, den, x_min)
     with _precision(_PREC):
         lo, hi = flint.arb(lo2).sqrt(), flint.arb(hi2).sqrt()
         mid = flint.arb(lo2).union(flint.arb(hi2)).sqrt()
@@ -463,6 +466,23 @@ def _sup_continuous(num: tuple[Fraction, ...], den: tuple[Fraction, ...]) -> Exa
         return ExactSup(math.inf, math.inf, math.inf, w,
                         f"pole on the imaginary axis at s = {w:.6g}j (exact test)", cancelled)
     return _finish(n, d, cancelled)
+
+
+def sup_abs_beyond(num: Sequence[float] | np.ndarray, den: Sequence[float] | np.ndarray,
+                   omega_min: float) -> ExactSup:
+    """Proven enclosure of sup over |w| >= omega_min of |N(j w)/D(j w)| (highest first).
+
+    The tail bound a branch-and-bound needs outside its box; same method and
+    conventions as :func:`sup_abs` (omega_min >= 0 is used exactly).
+    """
+    if not (math.isfinite(omega_min) and omega_min >= 0):
+        raise ArgumentError(f"omega_min must be finite and >= 0, got {omega_min!r}")
+    res = _sup_continuous(tuple(fractions(num)), tuple(fractions(den)))
+    if not math.isfinite(res.upper) or res.upper == 0.0:
+        return res
+    n, d = _qpoly(fractions(num)), _qpoly(fractions(den))
+    n, d, cancelled = _strip_common(n, d)
+    return _finish(n, d, cancelled, Fraction(omega_min) ** 2)
 
 
 def discrete_sup_abs(num: Sequence[float] | np.ndarray, den: Sequence[float] | np.ndarray,

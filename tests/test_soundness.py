@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 
 from gfrf.cli import main
 from gfrf.criteria import verdict
-from gfrf.exact import hurwitz, schur
+from gfrf.exact import hurwitz, schur, sup_abs_beyond
 from gfrf.majorant import majorant, radius
 from gfrf.model import Model, parse_model
 from gfrf.norms import h1_norm, kernel_norm
@@ -137,6 +137,18 @@ def test_clustered_poles_stable_and_exact_norm() -> None:
     assert b1.lower <= peak <= b1.upper and b1.upper - b1.lower <= 1e-15 * b1.upper
     v = verdict(m, order=1, amplitude=1.0, with_norms=False)
     assert v.conditions[1].passed is True and v.verdict != "unstable"
+
+
+def test_tail_sup_beyond_a_frequency_on_the_cluster() -> None:
+    # the tail bound a branch-and-bound needs: sup over |w| >= v of |1/A(j w)|
+    a = parse_model(CLUSTER).linear_output
+    den = [a[k] for k in range(6, -1, -1)]
+    _, peak = cluster_references()
+    assert sup_abs_beyond([1.0], den, 0.5).lower <= peak <= sup_abs_beyond([1.0], den, 0.5).upper
+    with mp.workdps(DPS):  # beyond the resonance |A(j w)| increases: the sup is at w = 1.2
+        value = 1 / abs(mp.polyval([mp.mpf(c) for c in den], mp.mpc(0, mp.mpf(1.2))))
+    tail = sup_abs_beyond([1.0], den, 1.2)
+    assert tail.lower <= value <= tail.upper and tail.omega == 1.2
 
 
 def cluster_coefficients(zeta: float, power: int) -> list[float]:
