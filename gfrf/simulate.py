@@ -35,6 +35,13 @@ Before integrating, the linearisation at z = 0 is checked: an unstable linear pa
 ``"blowup"`` and the blow-up time, never with silent NaN arrays.  Discrete (NARX)
 models are simulated by direct recursion on t = k*T.
 
+Work is bounded by counts, never by time: a scipy run stops after ``max_evaluations``
+(default :data:`MAX_RHS_EVALUATIONS`) right-hand-side evaluations with status
+``"failed"`` and a message naming the limit and the time reached; a NARX recursion
+longer than that many samples, and an input with a tone ``sin(w*t + p)``/``cos(...)``
+that repeats more than ``max_evaluations/2`` times over t_end (no integrator resolves
+a period with fewer than two evaluations), are refused before any work.
+
 Examples
 --------
 >>> from gfrf.model import parse_model
@@ -59,13 +66,21 @@ from scipy.integrate import solve_ivp
 from gfrf.errors import ArgumentError, ModelError
 from gfrf.model import Model
 from gfrf.modelfile import Controller, ModelFile
-from gfrf.signals import InputSignal, parse_input, zero_input
+from gfrf.signals import InputSignal, T, parse_input, zero_input
 
-__all__ = ["OdeSystem", "SimulationResult", "build_system", "simulate", "METHODS"]
+__all__ = ["OdeSystem", "SimulationResult", "build_system", "simulate", "METHODS",
+           "MAX_RHS_EVALUATIONS"]
 
 #: Integration methods: scipy's RK45, DOP853, Radau, LSODA, and the numba fast path.
 METHODS = ("rk45", "dop853", "radau", "lsoda", "fast")
 _SCIPY = {"rk45": "RK45", "dop853": "DOP853", "radau": "Radau", "lsoda": "LSODA"}
+#: Default work budget of a simulation: right-hand-side evaluations of a scipy run
+#: (NARX: samples of the recursion).  The bundled uses need at most about 6e4 (100 s
+#: runs of every bundled model in ``gfrf validate`` and the reports: <= 1.1e4; the
+#: speed report's 200 s pendulum at rtol 1e-10: 6.0e4); 10^6 takes 25-40 s of
+#: pure-Python right-hand side.  Raise it with ``max_evaluations`` (CLI
+#: ``--max-evaluations``) for longer horizons.
+MAX_RHS_EVALUATIONS = 1_000_000
 
 
 @dataclass(frozen=True)
@@ -482,7 +497,8 @@ def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | N
              *, t_end: float, closed_loop: bool = False, equation: str = "physical",
              initial: Any = None, method: str = "rk45", rtol: float = 1e-8,
              atol: float = 1e-10, t_eval: np.ndarray | None = None, n_out: int = 2001,
-             blowup: float = 1e6, dt: float | None = None) -> SimulationResult:
+             blowup: float = 1e6, dt: float | None = None,
+             max_evaluations: int = MAX_RHS_EVALUATIONS) -> SimulationResult:
     """Simulate a model from an input and/or initial conditions.
 
     Parameters
@@ -509,18 +525,33 @@ def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | N
         Threshold on |y| at which the run is stopped and reported as a blow-up.
     dt : float, optional
         Fixed step in seconds of the fast path.
+    max_evaluations : int
+        Work budget: right-hand-side evaluations of a scipy run (at its exhaustion the
+        run stops with status ``"failed"``), samples of a NARX recursion; an input tone
+        with more than ``max_evaluations/2`` periods over ``t_end`` is refused.  The
+        fast path is bounded by :data:`gfrf.fastsim.MAX_STEPS` instead.
 
     Returns
     -------
     SimulationResult
+
+    Raises
+    ------
+    ArgumentError
+        Bad arguments, a NARX run longer than ``max_evaluations`` samples, an input
+        tone too fast for ``max_evaluations`` over ``t_end``.
     """
     _check(t_end, rtol, atol, blowup)
+    if not (isinstance(max_evaluations, int) and max_evaluations >= 1):
+        raise ArgumentError(f"max_evaluations must be a positive integer, got "
+                            f"{max_evaluations!r}")
     if method not in METHODS:
         raise ArgumentError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     system = source if isinstance(source, OdeSystem) else build_system(
         source, closed_loop=closed_loop, equation=equation)
     z0 = _initial(system, initial)
     signal = _signal(input, system)
+    _check_work(system, signal, t_end, max_evaluations)
     notes = list(system.notes)
     if system.linear_unstable:
         ev = ", ".join(f"{complex(e):.4g}" for e in system.linear_eigenvalues)
@@ -544,10 +575,48 @@ def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | N
         result = simulate_fast(system, signal, z0, t_end, t_eval, blowup=blowup, dt=dt,
                                rtol=rtol, atol=atol)
     else:
-        result = _scipy(system, signal, z0, t_end, t_eval, method, rtol, atol, blowup)
+        result = _scipy(system, signal, z0, t_end, t_eval, method, rtol, atol, blowup,
+                        max_evaluations)
     result.wall_time = time.perf_counter() - start - result.compile_time
     result.notes = notes + result.notes
     return result
+
+
+def _budget_name(max_evaluations: int) -> str:
+    return "MAX_RHS_EVALUATIONS" if max_evaluations == MAX_RHS_EVALUATIONS \
+        else "max_evaluations"
+
+
+def _check_work(system: OdeSystem, signal: InputSignal, t_end: float,
+                max_evaluations: int) -> None:
+    """Refuse, before any work, a run that cannot fit in ``max_evaluations``.
+
+    NARX: more samples than the budget.  Continuous: a term ``sin``/``cos``/``tan`` of
+    ``w*t + p`` in the input with more than ``max_evaluations/2`` periods over t_end.
+    """
+    name = f"{_budget_name(max_evaluations)} = {max_evaluations}"
+    if system.discrete:
+        samples = math.floor(t_end / float(system.sample_time)) + 1  # type: ignore[arg-type]
+        if samples > max_evaluations:
+            raise ArgumentError(f"t_end = {t_end:g} s is {samples} samples of "
+                                f"{system.sample_time:g} s, more than the work budget "
+                                f"{name} (samples)")
+        return
+    if signal.expr is None:
+        return
+    limit = max_evaluations // 2
+    for term in sorted(signal.expr.atoms(sp.sin, sp.cos, sp.tan), key=sp.default_sort_key):
+        poly = sp.Poly(term.args[0], T) if term.args[0].is_polynomial(T) else None
+        if poly is None or poly.degree() != 1:
+            continue
+        w = abs(poly.LC())
+        periods = w * sp.Float(t_end) / (2 * sp.pi)
+        if periods > limit:
+            raise ArgumentError(f"the input term {term} has angular frequency "
+                                f"{float(w):.4g} rad/s: {float(periods):.4g} periods over "
+                                f"t_end = {t_end:g} s, more than {limit} (half the work "
+                                f"budget {name}: an integrator needs at least two "
+                                f"right-hand-side evaluations per period)")
 
 
 def _signal(input_: str | InputSignal | None, system: OdeSystem) -> InputSignal:
@@ -581,11 +650,19 @@ def plant_input(system: OdeSystem, states: np.ndarray, v: np.ndarray) -> np.ndar
 
 def _scipy(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end: float,
            t_eval: np.ndarray, method: str, rtol: float, atol: float,
-           blowup: float) -> SimulationResult:
+           blowup: float, max_evaluations: int = MAX_RHS_EVALUATIONS) -> SimulationResult:
+    """``solve_ivp``, stopped by a terminal event at blow-up or when the budget is spent.
+
+    The budget is checked after each accepted step (the overrun is at most one step's
+    evaluations); the run then ends at that step's time with status ``"failed"``.
+    """
     rhs = system.function("rhs")
     funcs = [signal.derivative(k) for k in range(system.n_inputs)]
+    count = [0]
+    cut: list[float] = []  # time of the step after which the budget was spent
 
     def f(t: float, z: np.ndarray) -> np.ndarray:
+        count[0] += 1
         v = [float(g(t)) for g in funcs]
         out = np.empty(system.n_states)
         try:
@@ -597,16 +674,29 @@ def _scipy(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end: float,
     def escape(t: float, z: np.ndarray) -> float:
         return blowup - abs(z[0]) if np.all(np.isfinite(z)) else -1.0
 
+    def budget(t: float, z: np.ndarray) -> float:
+        # Called by solve_ivp after each accepted step at its time t (and, once cut,
+        # by the root search between the last two steps): zero at the cut time.
+        if not cut and count[0] >= max_evaluations:
+            cut.append(t)
+        return cut[0] - t if cut else 1.0
+
     escape.terminal = True  # type: ignore[attr-defined]
+    budget.terminal = True  # type: ignore[attr-defined]
     with np.errstate(all="ignore"):
         sol = solve_ivp(f, (0.0, t_end), z0, method=_SCIPY[method], t_eval=t_eval,
-                        rtol=rtol, atol=atol, events=escape)
+                        rtol=rtol, atol=atol, events=[escape, budget])
     states = sol.y
     finite = np.all(np.isfinite(states), axis=0)
     status, blow_t, message = "ok", None, sol.message
     if sol.t_events[0].size:
         status, blow_t = "blowup", float(sol.t_events[0][0])
         message = f"|y| reached {blowup:g} at t = {blow_t:.6g} s"
+    elif sol.t_events[1].size:
+        status = "failed"
+        message = (f"stopped at t = {cut[0]:.6g} s of {t_end:g} s: {count[0]} right-hand-"
+                   f"side evaluations reached the work budget "
+                   f"{_budget_name(max_evaluations)} = {max_evaluations}")
     elif not finite.all() or sol.status < 0:
         first = int(np.argmin(finite)) if not finite.all() else states.shape[1]
         states = states[:, :first]
@@ -619,7 +709,7 @@ def _scipy(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end: float,
     u = plant_input(system, states, v) if t.size else np.zeros(0)
     return SimulationResult(t=t, y=states[0] if states.size else np.zeros(0), u=u,
                             states=states, status=status, method=method,
-                            blowup_time=blow_t, message=message, nfev=int(sol.nfev))
+                            blowup_time=blow_t, message=message, nfev=count[0])
 
 
 def _narx(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end: float,

@@ -96,3 +96,31 @@ def test_predict_too_many_products_exit_2(capsys):
     tones = " + ".join(f"0.0001*sin({1 + 0.1 * k:g}*t)" for k in range(40))
     assert main(["predict", "models/duffing.toml", "--input", tones, "--order", "5"]) == 2
     assert "MAX_PRODUCTS" in capsys.readouterr().err
+
+
+def test_simulate_issue_repro_refused_at_once(capsys):
+    # sin(1e300*t) ran scipy's RK45 for many minutes
+    import time
+
+    start = time.perf_counter()
+    code = main(["simulate", "models/duffing.toml", "--input", "sin(1e300*t)", "--t-end", "1"])
+    assert time.perf_counter() - start < 5.0
+    captured = capsys.readouterr()
+    (line,) = captured.err.strip().splitlines()
+    assert code == 2 and captured.out == ""
+    assert "1e+300 rad/s" in line and "MAX_RHS_EVALUATIONS = 1000000" in line
+
+
+def test_simulate_work_budget_failed_exit_1(capsys):
+    import time
+
+    start = time.perf_counter()
+    code = main(["simulate", "models/duffing.toml", "--input", "exp(-t)*sin(t**2*1e6)",
+                 "--t-end", "1", "--max-evaluations", "3000"])
+    assert time.perf_counter() - start < 5.0
+    captured = capsys.readouterr()
+    assert code == 1 and "Traceback" not in captured.err
+    (line,) = [x for x in captured.out.splitlines() if "FAILED" in x]
+    assert "max_evaluations = 3000" in line and "stopped at t = " in line
+    assert main(["simulate", "models/duffing.toml", "--t-end", "1",
+                 "--max-evaluations", "0"]) == 2

@@ -1,6 +1,8 @@
 """Tests of gfrf.simulate and gfrf.fastsim against closed forms and each other."""
 
 import math
+import re
+import time
 import warnings
 
 import numpy as np
@@ -308,3 +310,60 @@ def test_fast_immediate_blowup_is_resolved_cheaply():
                        method="fast")
     assert res.status == "blowup" and res.blowup_time <= 2 * BLOWUP_RESOLUTION * 10.0
     assert np.all(np.isfinite(res.y)) and res.t.size >= 1
+
+
+@pytest.mark.parametrize("method", ["rk45", "dop853", "radau", "lsoda"])
+def test_work_budget_stops_scipy_run_with_its_time(method):
+    # y' + y = step(t): y = 1 - exp(-t).  50 evaluations cannot reach t = 10 at rtol 1e-10;
+    # the samples before the stop are still the solution, the message names the budget.
+    budget = 50
+    t_eval = np.linspace(0.0, 10.0, 1001)
+    start = time.perf_counter()
+    res = simulate(parse_model("D(y) + y = u"), "step(t)", t_end=10.0, method=method,
+                   rtol=1e-10, atol=1e-12, t_eval=t_eval, max_evaluations=budget)
+    assert time.perf_counter() - start < 5.0
+    assert res.status == "failed" and not res.bounded and res.blowup_time is None
+    match = re.search(r"stopped at t = (\S+) s of 10 s: (\d+) right-hand-side evaluations "
+                      r"reached the work budget max_evaluations = 50", res.message)
+    assert match, res.message
+    t_stop, used = float(match.group(1)), int(match.group(2))
+    assert budget <= used == res.nfev <= budget + 40  # overrun: at most one step's work
+    assert 0.0 < res.t[-1] <= t_stop < res.t[-1] + 0.01 + 1e-6 and t_stop < 10.0
+    assert np.allclose(res.y, 1.0 - np.exp(-res.t), atol=1e-6)
+
+
+def test_default_budget_fits_a_long_accurate_run():
+    # the largest bundled use (speed report): hanging pendulum, 200 s, RK45 at rtol 1e-10
+    from gfrf.simulate import MAX_RHS_EVALUATIONS
+
+    res = simulate(load_model(f"{MODELS}/hanging_pendulum.toml"), "0.05*sin(1.565*t)",
+                   t_end=200.0, rtol=1e-10, atol=1e-13)
+    assert res.status == "ok" and res.nfev < MAX_RHS_EVALUATIONS / 10
+
+
+@pytest.mark.parametrize("text", ["sin(1e300*t)", "0.1*exp(-t)*cos(4e6*t + 1)",
+                                  "step(t - 0.5)*tan(1e7*t)"])
+def test_input_tone_too_fast_for_the_budget_refused_up_front(text):
+    start = time.perf_counter()
+    with pytest.raises(ArgumentError, match=r"angular frequency .* periods over t_end = 1 s, "
+                                            r"more than 500000 .*MAX_RHS_EVALUATIONS"):
+        simulate(load_model(f"{MODELS}/duffing.toml"), text, t_end=1.0)
+    assert time.perf_counter() - start < 5.0
+
+
+def test_tone_refusal_follows_the_budget():
+    # 1e4 rad/s over 1 s: 1591.5 periods; refused with 3000 evaluations, not with 4000
+    model = parse_model("D(y) + y = u")
+    with pytest.raises(ArgumentError, match="1592 periods.*max_evaluations = 3000"):
+        simulate(model, "sin(1e4*t)", t_end=1.0, max_evaluations=3000)
+    res = simulate(model, "sin(1e4*t)", t_end=1.0, max_evaluations=4000)
+    assert res.status == "failed" and "max_evaluations = 4000" in res.message
+
+
+def test_narx_longer_than_budget_refused():
+    model = parse_model("y[k] = 0.5*y[k-1] + u[k]", sample_time=0.1)
+    with pytest.raises(ArgumentError, match="10001 samples .* max_evaluations = 10000"):
+        simulate(model, "sin(t)", t_end=1000.0, max_evaluations=10_000)
+    assert simulate(model, "sin(t)", t_end=999.95, max_evaluations=10_000).t.size == 10_000
+    with pytest.raises(ArgumentError, match="max_evaluations"):
+        simulate(model, "sin(t)", t_end=1.0, max_evaluations=0)

@@ -4,7 +4,10 @@
 physical equation when the file has one, ``--polynomial`` for the truncated model),
 ``--closed-loop`` with the file's controller (the input is then the reference),
 ``--initial y0,dy0`` for initial conditions.  Exit code 0 when the run reaches
-t_end, 1 when it blows up, 2 for bad input.  ``gfrf predict MODEL --input TEXT
+t_end, 1 when it blows up or fails (one line ``FAILED: ...``, e.g. the work budget
+``--max-evaluations``, default :data:`gfrf.simulate.MAX_RHS_EVALUATIONS`, was spent:
+it names the limit and the time reached), 2 for bad input (among them an input tone
+too fast for that budget over t_end).  ``gfrf predict MODEL --input TEXT
 --order N`` lists the steady-state harmonics of a sum of tones (rad/s); exit 1 (one
 line naming r* and the amplitude) when the input amplitude, the sum of the tone
 amplitudes, is at or beyond the series radius r*, unless ``--force``.
@@ -35,6 +38,9 @@ __all__ = ["register", "METHODS"]
 METHODS: tuple[str, ...] = ("rk45", "dop853", "radau", "lsoda", "fast")
 
 
+#: Most output samples a simulation may return (8 bytes each per state: 10^6 is ~50 MB).
+MAX_OUTPUT_POINTS = 1_000_000
+
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Register ``simulate``, ``predict`` and ``validate``."""
     sim = subparsers.add_parser(
@@ -61,6 +67,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     sim.add_argument("--points", type=int, default=2001, help="output samples (default 2001)")
     sim.add_argument("--blowup", type=float, default=1e6,
                      help="|y| at which the run is stopped as a blow-up")
+    sim.add_argument("--max-evaluations", type=int, default=None, metavar="N",
+                     help="work budget: right-hand-side evaluations of a scipy run (NARX: "
+                          "samples) before it stops as failed (default "
+                          "MAX_RHS_EVALUATIONS = 1000000)")
     sim.add_argument("--csv", default=None, metavar="FILE", help="write t,y,u to a CSV file")
     sim.add_argument("--plot", default=None, metavar="FILE.png", help="write a plot")
     add_json_flag(sim)
@@ -116,19 +126,22 @@ def _simulate(args: argparse.Namespace) -> int:
     import numpy as np
     from tqdm import tqdm
 
-    from gfrf.simulate import simulate
+    from gfrf.simulate import MAX_RHS_EVALUATIONS, simulate
 
     check_plot_path(args.plot)
     mf = resolve_model(args)
-    if args.points < 2:
-        raise ArgumentError(f"--points must be >= 2, got {args.points}")
+    if not 2 <= args.points <= MAX_OUTPUT_POINTS:
+        raise ArgumentError(f"--points must be between 2 and MAX_OUTPUT_POINTS = "
+                            f"{MAX_OUTPUT_POINTS}, got {args.points}")
     long_run = args.t_end > 1000 and args.method != "fast"
     with tqdm(total=1, desc="simulating", disable=None if long_run else True,
               leave=False) as bar:
         res = simulate(mf, args.input, t_end=args.t_end, closed_loop=args.closed_loop,
                        equation="polynomial" if args.polynomial else "physical",
                        initial=_initial(args.initial), method=args.method, rtol=args.rtol,
-                       atol=args.atol, dt=args.dt, n_out=args.points, blowup=args.blowup)
+                       atol=args.atol, dt=args.dt, n_out=args.points, blowup=args.blowup,
+                       max_evaluations=MAX_RHS_EVALUATIONS if args.max_evaluations is None
+                       else args.max_evaluations)
         bar.update(1)
     if args.csv:
         with atomic_path(args.csv) as tmp:
@@ -145,6 +158,8 @@ def _simulate(args: argparse.Namespace) -> int:
              "  no output sample before the run stopped"]
     if res.blowup_time is not None:
         lines.append(f"  BLOW-UP: {res.message}")
+    elif res.status == "failed":
+        lines.append(f"  FAILED: {res.message}")
     lines += [f"  note: {n}" for n in res.notes]
     emit(args, payload, "\n".join(lines))
     return 0 if res.bounded else 1
