@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 
 from gfrf.cli import main
 from gfrf.criteria import verdict
-from gfrf.exact import hurwitz, schur, sup_abs_beyond
+from gfrf.exact import hurwitz, poles, schur, sup_abs_beyond
 from gfrf.majorant import majorant, radius
 from gfrf.model import Model, parse_model
 from gfrf.norms import h1_norm, kernel_norm
@@ -295,3 +295,20 @@ def test_h3_bracket_scaled_contains_reference(k: int) -> None:
     # the lower end is a float witness (~1e-15), the upper the certified majorant
     assert b3.lower <= h3 * (1 + 1e-13) and b3.upper >= h3 * (1 - 1e-13)
     assert b3.gap <= 1e-9
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.floats(-10.0, 10.0).filter(lambda x: x == 0 or abs(x) > 1e-3),
+                min_size=2, max_size=9).filter(lambda c: c[0] != 0))
+def test_property_exact_stability_agrees_with_roots(c: list[float]) -> None:
+    # reference: numpy roots (well conditioned here: moderate coefficients), used only
+    # where every root is 1e-6 away from the boundary
+    roots = np.roots(c)
+    worst = float(np.max(roots.real))
+    if abs(worst) > 1e-6:
+        assert hurwitz(c) == (worst < 0)
+        report = poles(c)
+        assert report.stable == (worst < 0) and report.outside == (worst > 0)
+    radius_ = float(np.max(np.abs(roots)))
+    if abs(radius_ - 1) > 1e-6:
+        assert schur(c) == (radius_ < 1)
