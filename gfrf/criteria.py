@@ -216,9 +216,20 @@ def _norms_and_series(model: Model, maj: Majorant, order: int, amplitude: float,
         upper = bound.upper if bound is not None else float(coefficients[n])
         rows.append({"order": n, "lower": bound.lower if bound else None, "upper": upper,
                      "majorant": float(coefficients[n]),
-                     "majorant_term": float(coefficients[n]) * amplitude ** n
-                     if math.isfinite(coefficients[n]) else math.inf})
+                     "majorant_term": _majorant_term(float(coefficients[n]), amplitude, n)})
     return tuple(norms), tuple(rows), _root_estimate([r["lower"] for r in rows])
+
+
+def _majorant_term(coefficient: float, amplitude: float, n: int) -> float:
+    """coefficient * amplitude**n; inf when it overflows (not proven to converge), 0 for 0."""
+    if coefficient == 0.0:
+        return 0.0
+    if not math.isfinite(coefficient):
+        return math.inf
+    try:
+        return coefficient * amplitude ** n
+    except OverflowError:
+        return math.inf
 
 
 def _root_estimate(lower: list[float | None]) -> float | None:
