@@ -18,7 +18,11 @@ The series converges for amplitudes below the radius r* of the certified majoran
 series (:func:`series_radius`, the r* of ``gfrf verdict``); at or beyond r* nothing is
 known and a truncated sum can be off by orders of magnitude, so :func:`predict`
 refuses (:class:`BeyondRadiusError`) unless ``force=True``, which labels the result
-with a ``warning``.  Limits are checked before any work: the order against
+with a ``warning``.  A steady state needs a stable linear part: a plant with a pole
+of A on or beyond the stability boundary (decided exactly, :func:`gfrf.norms.linear_poles`;
+e.g. the open-loop cart-pole) has none that the input settles to, and :func:`predict`
+and :func:`select_order` refuse it first (:class:`NoSteadyStateError`; ``force=True``
+again predicts with a warning).  Limits are checked before any work: the order against
 :data:`gfrf.kernels.MAX_KERNEL_ORDER` and the number of intermodulation products
 against :data:`MAX_PRODUCTS`; a non-finite component is refused, never returned.
 
@@ -65,7 +69,8 @@ from gfrf.model import Model
 from gfrf.signals import Tone, tones_input
 from gfrf.simulate import OdeSystem, build_system, input_values
 
-__all__ = ["Component", "VolterraPrediction", "BeyondRadiusError", "predict",
+__all__ = ["Component", "VolterraPrediction", "BeyondRadiusError", "NoSteadyStateError",
+           "predict",
            "input_amplitude", "series_radius", "intermodulation_count", "MAX_PRODUCTS",
            "SteadyState", "steady_state", "compare", "error_vs_amplitude",
            "figure_error_vs_amplitude", "OrderChoice", "select_order", "base_frequency"]
@@ -116,7 +121,8 @@ class VolterraPrediction:
     ``amplitude`` is the input amplitude the series is judged by: the sum of the tone
     amplitudes, the sup of |u(t)| over t and the tones' phases.  ``radius`` is r* of the
     series (certified when ``radius_certified``); ``warning`` is set when the prediction
-    was forced at an amplitude at or beyond r*, where the series is not known to converge.
+    was forced without a steady state (unstable linear part) or at an amplitude at or
+    beyond r*, where the series is not known to converge.
     """
 
     tones: tuple[Tone, ...]
@@ -171,6 +177,30 @@ class BeyondRadiusError(ArgumentError):
         super().__init__(message)
         self.amplitude = amplitude
         self.radius = radius
+
+
+class NoSteadyStateError(ArgumentError):
+    """The linear part of the model is not asymptotically stable: no steady state exists."""
+
+
+def _steady_state_problem(model: Model) -> str | None:
+    """Why ``model`` has no steady state (a pole of A on or beyond the boundary), or None."""
+    from gfrf.exact import format_roots
+    from gfrf.norms import linear_poles
+
+    report = linear_poles(model)
+    if report.stable:
+        return None
+    name = "z" if model.is_discrete else "s"
+    if report.outside:
+        region = "|z| > 1" if model.is_discrete else "Re s > 0"
+        bad = [complex(r) for r in report.roots
+               if (abs(r) > 1 if model.is_discrete else r.real > 0)]
+        return (f"the linear part is unstable (pole {format_roots(bad, name)}, {region}): no "
+                f"steady state exists (the response to a tone grows)")
+    return (f"the linear part has a pole on the stability boundary at "
+            f"{format_roots(report.boundary, name)}: no steady state exists (free "
+            f"oscillations do not decay)")
 
 
 def _check_tones(tones: Any) -> tuple[Tone, ...]:
@@ -247,8 +277,8 @@ def predict(model: Model, tones: Any, order: int, *, force: bool = False
     order : int
         Highest kernel order N, 1 <= N <= :data:`gfrf.kernels.MAX_KERNEL_ORDER`.
     force : bool, optional
-        Predict even at an amplitude at or beyond the series radius r*; the result
-        then carries a ``warning``.
+        Predict even without a steady state (unstable linear part) or at an amplitude
+        at or beyond the series radius r*; the result then carries a ``warning``.
 
     Returns
     -------
@@ -257,6 +287,9 @@ def predict(model: Model, tones: Any, order: int, *, force: bool = False
 
     Raises
     ------
+    NoSteadyStateError
+        The linear part has a pole on or beyond the stability boundary (no steady state
+        exists) and ``force`` is False.
     BeyondRadiusError
         The amplitude is at or beyond r* (the series is not known to converge there;
         the truncated sum can be off by orders of magnitude) and ``force`` is False.
@@ -275,8 +308,13 @@ def predict(model: Model, tones: Any, order: int, *, force: bool = False
                             f"intermodulation products, above MAX_PRODUCTS = {MAX_PRODUCTS} "
                             f"(gfrf.volterra): use fewer tones or a lower order")
     amplitude = input_amplitude(tones)
+    cautions: list[str] = []
+    problem = _steady_state_problem(model)
+    if problem is not None:
+        if not force:
+            raise NoSteadyStateError(problem)
+        cautions.append(problem)
     r_star, inside, certified = series_radius(model)
-    warning = None
     if amplitude >= inside:
         kind = "certified" if certified else "estimated"
         warning = (f"input amplitude {amplitude:.6g} (sum of the tone amplitudes, the peak |u| "
@@ -285,6 +323,7 @@ def predict(model: Model, tones: Any, order: int, *, force: bool = False
                    f"prediction may be meaningless")
         if not force:
             raise BeyondRadiusError(warning, amplitude, r_star)
+        cautions.append(warning)
     omegas = np.array([s * w for _, w, _ in tones for s in (1, -1)])
     phasors = np.array([a / 2 * np.exp(s * 1j * p) for a, _, p in tones for s in (1, -1)])
     table: dict[float, dict[int, complex]] = {}
@@ -321,7 +360,8 @@ def predict(model: Model, tones: Any, order: int, *, force: bool = False
     if bad:
         raise ArgumentError(f"the prediction is not finite (overflow) at omega = {bad[0]:.6g} "
                             f"rad/s for input amplitude {amplitude:.6g}")
-    return VolterraPrediction(tones, order, comps, amplitude, r_star, certified, warning)
+    return VolterraPrediction(tones, order, comps, amplitude, r_star, certified,
+                              "; ".join(cautions) or None)
 
 
 def _truncate(p: VolterraPrediction, order: int) -> VolterraPrediction:
@@ -533,6 +573,8 @@ def select_order(model: Model, amplitude: float, tolerance: float,
 
     Raises
     ------
+    NoSteadyStateError
+        The linear part has a pole on or beyond the stability boundary.
     BeyondRadiusError
         The amplitude is at or beyond the series radius r* (no truncation bound holds).
     ArgumentError
@@ -542,6 +584,9 @@ def select_order(model: Model, amplitude: float, tolerance: float,
 
     if not (amplitude > 0 and tolerance > 0):
         raise ArgumentError("amplitude and tolerance must be positive")
+    problem = _steady_state_problem(model)
+    if problem is not None:
+        raise NoSteadyStateError(problem)
     r_star, inside, _ = series_radius(model)
     if amplitude >= inside:
         raise BeyondRadiusError(f"amplitude {amplitude:.6g} is at or beyond the series radius "

@@ -124,3 +124,13 @@ def test_simulate_work_budget_failed_exit_1(capsys):
     assert "max_evaluations = 3000" in line and "stopped at t = " in line
     assert main(["simulate", "models/duffing.toml", "--t-end", "1",
                  "--max-evaluations", "0"]) == 2
+
+
+def test_predict_unstable_plant_refused_unless_force(capsys):
+    argv = ["predict", "models/cartpole_reduced.toml", "--input", "0.001*sin(t)"]
+    assert main(argv) == 1
+    captured = capsys.readouterr()
+    (line,) = captured.err.strip().splitlines()
+    assert captured.out == "" and "no steady state exists" in line and "--force" in line
+    assert main([*argv, "--force", "--json"]) == 0
+    assert "no steady state exists" in json.loads(capsys.readouterr().out)["warning"]

@@ -2,6 +2,7 @@
 
 import itertools
 import math
+import re
 
 import numpy as np
 import pytest
@@ -14,6 +15,7 @@ from gfrf.modelfile import load_model
 from gfrf.volterra import (
     MAX_PRODUCTS,
     BeyondRadiusError,
+    NoSteadyStateError,
     base_frequency,
     compare,
     error_vs_amplitude,
@@ -175,3 +177,27 @@ def test_product_limit_checked_before_any_kernel(monkeypatch):
 def test_select_order_refuses_beyond_radius():
     with pytest.raises(BeyondRadiusError):
         select_order(DUFFING, 1.01 * duffing_radius(), 1e-3)
+
+
+def test_unstable_linear_part_has_no_steady_state():
+    # open-loop reduced cart-pole: theta'' - 67.578 theta = -39.3185 u, pole +sqrt(67.578)
+    cartpole = load_model("models/cartpole_reduced.toml").plant
+    pole = f"s = {math.sqrt(67.578):.6g}"
+    with pytest.raises(NoSteadyStateError, match=f"unstable \\(pole {pole}.*no steady state"):
+        predict(cartpole, [(1e-3, 1.0, 0.0)], 3)
+    with pytest.raises(NoSteadyStateError):
+        select_order(cartpole, 1e-3, 1e-6)
+    forced = predict(cartpole, [(1e-3, 1.0, 0.0)], 1, force=True)
+    assert "no steady state exists" in forced.warning
+    # H1(j) = -39.3185 / (-1 - 67.578): the forced value is still the formal kernel sum
+    assert forced.component(1.0).amplitude == pytest.approx(1e-3 * 39.3185 / 68.578, rel=1e-12)
+
+
+@pytest.mark.parametrize("text, sample_time, where", [
+    ("D(y,2) + y + y**3 = u", None, "boundary at s = +-1j"),
+    ("y[k] = 1.2*y[k-1] + u[k-1]", 0.1, "unstable (pole z = 1.2"),
+])
+def test_marginal_or_unstable_linear_part_refused(text, sample_time, where):
+    model = parse_model(text, sample_time=sample_time)
+    with pytest.raises(NoSteadyStateError, match=re.escape(where)):
+        predict(model, [(1e-3, 2.0, 0.0)], 3)

@@ -9,8 +9,9 @@ t_end, 1 when it blows up or fails (one line ``FAILED: ...``, e.g. the work budg
 it names the limit and the time reached), 2 for bad input (among them an input tone
 too fast for that budget over t_end).  ``gfrf predict MODEL --input TEXT
 --order N`` lists the steady-state harmonics of a sum of tones (rad/s); exit 1 (one
-line naming r* and the amplitude) when the input amplitude, the sum of the tone
-amplitudes, is at or beyond the series radius r*, unless ``--force``.
+line) when the plant's linear part is not stable (no steady state exists) or the input
+amplitude, the sum of the tone amplitudes, is at or beyond the series radius r*
+(naming r* and the amplitude), unless ``--force``.
 ``gfrf validate MODEL`` computes the verdict and simulates inputs below and above its
 radius r* (and closed loops from initial angles); exit 0 when no simulation
 contradicts the verdict, 1 when one does.
@@ -81,17 +82,18 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description="Steady-state harmonics and intermodulation products (rad/s) of a "
                     "sum of sinusoids predicted from the GFRFs up to --order.  The input "
                     "amplitude is the sum of the tone amplitudes (the peak |u| over all "
-                    "phases); at or "
-                    "beyond the series radius r* the prediction is refused (exit 1) "
-                    "unless --force.")
+                    "phases).  The prediction is refused (exit 1) unless --force when "
+                    "the plant's linear part is not stable (no steady state exists) or "
+                    "the amplitude is at or beyond the series radius r*.")
     add_model_argument(pred)
     pred.add_argument("--input", required=True, metavar="TEXT",
                       help="a sum of tones, e.g. '0.01*sin(1.565*t) + 0.005*cos(3*t)'")
     pred.add_argument("--order", type=int, default=3, help="highest kernel order N")
     pred.add_argument("--force", action="store_true",
-                      help="predict even when the input amplitude (sum of the tone "
-                           "amplitudes) is at or beyond the series radius r*; "
-                           "the output then carries a warning")
+                      help="predict even for a plant whose linear part is not stable, "
+                           "or when the input amplitude (sum of the tone amplitudes) is at "
+                           "or beyond the series radius r*; the output then carries a "
+                           "warning")
     add_json_flag(pred)
     pred.set_defaults(func=_predict)
 
@@ -189,7 +191,7 @@ def _predict(args: argparse.Namespace) -> int:
     import numpy as np
 
     from gfrf.signals import parse_input
-    from gfrf.volterra import BeyondRadiusError, predict
+    from gfrf.volterra import BeyondRadiusError, NoSteadyStateError, predict
 
     mf = resolve_model(args)
     signal = parse_input(args.input)
@@ -198,7 +200,7 @@ def _predict(args: argparse.Namespace) -> int:
                             f"A*sin(w*t + p) / A*cos(w*t + p)")
     try:
         p = predict(mf.plant, signal.tones, args.order, force=args.force)
-    except BeyondRadiusError as exc:
+    except (NoSteadyStateError, BeyondRadiusError) as exc:
         print(f"gfrf: refused: {exc} (--force to predict anyway)", file=sys.stderr)
         return 1
     kind = "certified" if p.radius_certified else "estimate"
