@@ -357,40 +357,21 @@ def _box_bounds(taylor: Callable[..., Any], inverse: _InverseA, lo: np.ndarray,
 
 # -- tail ------------------------------------------------------------------------------
 class _Beyond:
-    """sup over |w| >= v of |N(j w) / D(j w)| (coefficients highest first), exactly.
+    """sup over |w| >= v of |N(j w) / D(j w)| (coefficients highest first), proven.
 
-    The interior extrema are the real roots of P'Q - PQ' (P = |N|^2, Q = |D|^2 as
-    polynomials in w), found once; a query evaluates |N/D| at v, at the roots beyond v
-    and takes the limit at infinity.
+    A proven upper bound (:class:`gfrf.exact.SupBeyond`: exact stationary points
+    isolated once by Arb, ball evaluation per query, outward rounding), so a cluster
+    of lightly damped poles cannot make the tail bound too small.
     """
 
     def __init__(self, num: np.ndarray, den: np.ndarray) -> None:
-        self.num, self.den = np.trim_zeros(num, "f"), np.trim_zeros(den, "f")
-        self.roots = np.zeros(0)
-        self.limit = 0.0
-        if self.num.size > self.den.size:
-            self.limit = math.inf
-        elif self.num.size:
-            p, q = _abs_squared(self.num), _abs_squared(self.den)
-            roots = (p.deriv() * q - p * q.deriv()).trim().roots()
-            self.roots = roots.real  # all real parts: see _Modulus
-            if self.num.size == self.den.size:
-                self.limit = abs(self.num[0] / self.den[0])
+        from gfrf.exact import SupBeyond
+
+        self.bound = SupBeyond(num, den)
 
     def sup(self, v: float) -> float:
-        """The sup over |w| >= v."""
-        if not self.num.size:
-            return 0.0
-        points = 1j * np.array([v, *self.roots[self.roots > v]])
-        with np.errstate(divide="ignore"):
-            values = np.abs(np.polyval(self.num, points) / np.polyval(self.den, points))
-        return float(max(np.max(values), self.limit))
-
-
-def _abs_squared(c: np.ndarray) -> Polynomial:
-    """|F(j w)|^2 as a real polynomial in w, F given highest power first."""
-    low = c[::-1].astype(complex) * (1j ** np.arange(c.size))
-    return Polynomial((Polynomial(low) * Polynomial(np.conj(low))).coef.real)
+        """Upper bound of the sup over |w| >= v."""
+        return self.bound.upper(v)
 
 
 def tail_bound(model: Model, n: int, width: float, maj: Majorant | None = None) -> float:

@@ -145,3 +145,69 @@ def test_refusals() -> None:
         branch_and_bound(parse_model(QUADRATIC), 6)
     with pytest.raises(ArgumentError):
         branch_and_bound(load_model("models/narx_example.toml").plant, 3)
+
+
+# -- the tail bound on clustered poles (issue 16 item 2) -------------------------------
+CLUSTER_DEN = [1.0, 6e-06, 3.000000000012, 1.2000000000008e-05, 3.000000000012, 6e-06, 1.0]
+
+
+def mp_sup_beyond(num: list[float], den: list[float], v: float) -> float:
+    """sup over |w| >= v of |N(jw)/D(jw)| at 50 digits (mpmath polyroots of the exact
+    stationary polynomial in w; independent of FLINT)."""
+    import mpmath as mp
+
+    with mp.workdps(50):
+        def abs2(c: list[float]) -> list:  # |F(jw)|^2, lowest power of w first
+            low = [mp.mpf(x) * mp.j ** k for k, x in enumerate(reversed(c))]
+            out = [mp.mpf(0)] * (2 * len(low) - 1)
+            for i, a in enumerate(low):
+                for k, b in enumerate(low):
+                    out[i + k] += a * mp.conj(b)
+            return [mp.re(x) for x in out]
+
+        p, q = abs2(num), abs2(den)
+        dp = [k * p[k] for k in range(1, len(p))]
+        dq = [k * q[k] for k in range(1, len(q))]
+        s = [mp.mpf(0)] * (len(p) + len(q))
+        for i, a in enumerate(dp):
+            for k, b in enumerate(q):
+                s[i + k] += a * b
+        for i, a in enumerate(p):
+            for k, b in enumerate(dq):
+                s[i + k] -= a * b
+        while s and s[-1] == 0:
+            s.pop()
+        while s[0] == 0:  # w = 0 is a root of multiplicity > 1 here; w = v is a candidate
+            s.pop(0)
+        roots = mp.polyroots(list(reversed(s)), maxsteps=400, extraprec=400)
+
+        def f(w: object) -> object:
+            return mp.sqrt(mp.polyval(list(reversed(p)), w) / mp.polyval(list(reversed(q)), w))
+
+        cands = [f(mp.mpf(v))] + [f(mp.re(r)) for r in roots
+                                  if abs(mp.im(r)) < mp.mpf(10) ** -30 and mp.re(r) >= v]
+        return float(max(cands))
+
+
+@pytest.mark.parametrize("v", [0.0, 0.5, 0.999, 1.5, 40.0])
+def test_beyond_is_proven_on_a_pole_cluster(v: float) -> None:
+    """(s^2 + 2e-6 s + 1)^3 with float coefficients: the old numpy-root tail gave 2.9e10
+    where the sup is 1.25e17; the bound must be >= the 50-digit value and tight."""
+    from gfrf.branch_bound import _Beyond
+
+    ref = mp_sup_beyond([1.0], CLUSTER_DEN, v)
+    got = _Beyond(np.array([1.0]), np.array(CLUSTER_DEN)).sup(v)
+    assert ref <= got <= ref * (1 + 1e-12)
+    if v < 0.999:
+        assert ref > 1e17
+
+
+def test_beyond_with_numerator_power() -> None:
+    """sup|s^2 / D| beyond v (the ell = 2 factors of the tail recursion)."""
+    from gfrf.branch_bound import _Beyond
+
+    num = [1.0, 0.0, 0.0]
+    beyond = _Beyond(np.array(num), np.array(CLUSTER_DEN))
+    for v in (0.0, 1.2, 7.0):
+        ref = mp_sup_beyond(num, CLUSTER_DEN, v)
+        assert ref <= beyond.sup(v) <= ref * (1 + 1e-12)
