@@ -23,10 +23,10 @@ ROOT = Path(__file__).resolve().parent.parent
 
 
 @contextmanager
-def cpu_load() -> Iterator[None]:
-    """Busy-loop subprocesses, one per core, for the duration of the block."""
+def cpu_load(processes: int | None = None) -> Iterator[None]:
+    """Busy-loop subprocesses (default one per core) for the duration of the block."""
     burners = [subprocess.Popen([sys.executable, "-c", "while True: pass"])
-               for _ in range(os.cpu_count() or 2)]
+               for _ in range(processes or os.cpu_count() or 2)]
     try:
         yield
     finally:
@@ -66,3 +66,38 @@ def test_cartpole_h5_norm_same_bytes_under_load() -> None:
         loaded = _norm_json()
     assert b'"upper"' in quiet
     assert quiet == loaded
+
+
+def _report(out: Path, *models: str) -> dict[str, bytes]:
+    """``gfrf report --quick --out out MODEL...`` in a fresh process: {relative path: bytes}."""
+    cmd = [sys.executable, "-c", "import sys; from gfrf.cli import main; sys.exit(main())",
+           "report", "--quick", "--out", "out", *models]
+    subprocess.run(cmd, cwd=out.parent, capture_output=True, check=True, timeout=3600,
+                   env={**os.environ, "PYTHONPATH": str(ROOT)})
+    files = {p.relative_to(out).as_posix(): p.read_bytes() for p in sorted(out.rglob("*"))
+             if p.suffix in (".md", ".png")}
+    out.rename(out.with_name(f"out-{len(list(out.parent.iterdir()))}"))
+    return files
+
+
+def _same_report_under_load(tmp_path: Path, *models: str, burners: int | None = None) -> None:
+    # Both runs write to the same relative folder (its name is printed in the pages), in
+    # fresh processes (hash randomisation), the second beside CPU-burning processes.
+    quiet = _report(tmp_path / "out", *models)
+    with cpu_load(burners):
+        loaded = _report(tmp_path / "out", *models)
+    assert any(name.endswith(".md") for name in quiet)
+    assert sorted(quiet) == sorted(loaded)
+    for name, data in quiet.items():
+        assert data == loaded[name], name
+
+
+def test_model_report_same_bytes_under_load(tmp_path: Path) -> None:
+    # One model page (verdict, norms, margins, simulations): the affordable CI case.
+    _same_report_under_load(tmp_path, str(ROOT / "models/duffing.toml"), burners=1)
+
+
+@pytest.mark.slow
+def test_all_reports_same_bytes_under_load(tmp_path: Path) -> None:
+    # issue 11 section 1: every page of `gfrf report --quick`, once under load
+    _same_report_under_load(tmp_path)
