@@ -430,7 +430,7 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
             row["theta_term"] = th * (rho1 * amplitude) ** row["order"]
     conditions = (c1, c2, c3, c4, c5, c6)
     result = ("stable" if all(c.passed for c in conditions) else
-              "unstable" if any(p.real > 0 for p in loop.poles) else "inconclusive")
+              "unstable" if loop.outside else "inconclusive")
     summary = _summary(result, 2, rad, amplitude, conditions, exact)
     return Verdict(result, 2, rad.value, exact, float(amplitude), conditions, norms, rows,
                    estimate, summary)

@@ -11,10 +11,17 @@ C = N_C / D_C.  The sensitivity g1 = (1 - f P C)^{-1} = D_P D_C / chi is the
 paper's g1 = [1 + h1 s1]^{-1} of section 5, and its peak sup |g1(j w)| (rad/s) is the
 rho_1 of Theorem 2 as section 5 uses it.
 
+The characteristic polynomial and the sensitivity's numerator are formed *exactly*,
+in rationals, from the exact values of the float coefficients of plant and
+controller (:func:`characteristic_exact`); closed-loop stability is decided on that
+exact polynomial by Routh's test with exact boundary roots (:func:`gfrf.exact.poles`),
+and the sensitivity peak and lambda_1 are proven enclosures on exact polynomials
+(:func:`gfrf.rational.rational_sup`).  Floating-point roots (numpy.roots) of a
+rounded chi can put a cluster of lightly damped poles on the wrong side of the axis;
+here they are only displayed (midpoints of rigorous Arb enclosures).
 python-control refuses improper transfer functions in some operations (``norm``,
-conversion to state space): the characteristic polynomial and the sensitivity are
-therefore formed with ``numpy.polymul``/``polyadd``, and ``control.feedback`` is used
-only for the returned :class:`control.TransferFunction` objects.  An improper
+conversion to state space), so ``control`` objects are only built for the returned
+:class:`control.TransferFunction` objects (from the float-rounded polynomials).  An improper
 controller (the paper's ``a s^2 + b s + c`` without its lags) has an infinite
 H-infinity norm lambda_1; that is reported, not replaced by a big number.
 
@@ -28,7 +35,9 @@ Examples
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
+from fractions import Fraction
 from typing import Any
 
 import control
@@ -36,13 +45,14 @@ import numpy as np
 
 from gfrf._results import plain, short_repr
 from gfrf.errors import ArgumentError
+from gfrf.exact import format_roots, fractions, poles
 from gfrf.majorant import linear_polynomials
 from gfrf.model import Model
 from gfrf.modelfile import Controller, ModelFile
 from gfrf.rational import rational_sup
 
 __all__ = ["ClosedLoop", "linear_plant", "controller_tf", "controller_polynomials",
-           "closed_loop", "characteristic", "with_lags"]
+           "closed_loop", "characteristic", "characteristic_exact", "with_lags"]
 
 
 def _continuous(model: Model, what: str) -> None:
@@ -85,13 +95,45 @@ def _degree(coefficients: np.ndarray) -> int:
     return int(coefficients.size - 1 - nz[0]) if nz.size else 0
 
 
+def _polymul(a: list[Fraction], b: list[Fraction]) -> list[Fraction]:
+    """Exact product of two highest-first coefficient lists."""
+    out = [Fraction(0)] * (len(a) + len(b) - 1)
+    for i, x in enumerate(a):
+        if x:
+            for k, y in enumerate(b):
+                out[i + k] += x * y
+    return out
+
+
+def _trimmed(c: list[Fraction]) -> list[Fraction]:
+    while len(c) > 1 and c[0] == 0:
+        c = c[1:]
+    return c
+
+
+def characteristic_exact(plant: tuple[np.ndarray, np.ndarray],
+                         ctrl: tuple[np.ndarray, np.ndarray], feedback: int) -> list[Fraction]:
+    """chi = D_P D_C - feedback * N_P N_C in exact rationals, highest power first.
+
+    The float coefficients are taken at their exact values and multiplied without
+    rounding; leading zeros are dropped (``[0]`` for the zero polynomial).
+    """
+    den = _polymul(fractions(plant[1]), fractions(ctrl[1]))
+    num = _polymul(fractions(plant[0]), fractions(ctrl[0]))
+    size = max(len(den), len(num))
+    den = [Fraction(0)] * (size - len(den)) + den
+    num = [Fraction(0)] * (size - len(num)) + num
+    return _trimmed([d - feedback * n for d, n in zip(den, num, strict=True)])
+
+
 def characteristic(plant: tuple[np.ndarray, np.ndarray], ctrl: tuple[np.ndarray, np.ndarray],
                    feedback: int) -> np.ndarray:
-    """chi = D_P D_C - feedback * N_P N_C, highest power first, leading zeros trimmed."""
-    chi = np.polysub(np.polymul(plant[1], ctrl[1]),
-                     feedback * np.polymul(plant[0], ctrl[0]))
-    nz = np.flatnonzero(np.abs(chi) > 0)
-    return chi[nz[0]:] if nz.size else np.zeros(1)
+    """chi = D_P D_C - feedback * N_P N_C, highest power first, leading zeros trimmed.
+
+    The nearest floats to the exact coefficients of :func:`characteristic_exact`
+    (for display and ``control`` objects; decisions use the exact polynomial).
+    """
+    return np.array([float(c) for c in characteristic_exact(plant, ctrl, feedback)])
 
 
 @dataclass(frozen=True)
@@ -107,19 +149,26 @@ class ClosedLoop:
     characteristic : numpy.ndarray
         chi(s), highest power first.
     poles : numpy.ndarray
-        Roots of chi.
+        Roots of chi (midpoints of rigorous enclosures, for display).
     stable : bool
-        All poles in the open left half plane.
+        All poles in the open left half plane (exact test on the exact chi).
     sensitivity_peak : float
-        sup |g1(j w)| (Theorem 2's rho_1 in the section-5 reading); inf if chi has
-        imaginary-axis roots.
+        sup |g1(j w)| (Theorem 2's rho_1 in the section-5 reading; midpoint of a
+        proven enclosure); inf if chi has imaginary-axis roots.
     sensitivity_peak_omega : float
         Where it is attained (rad/s; inf for the limit w -> inf).
     controller_norm : float
         lambda_1 = sup |C(j w)|, inf for an improper controller.
     controller_proper, plant_stable : bool
+        Plant stability decided exactly, like the loop's.
     feedback : int
     notes : tuple of str
+    outside : bool
+        Some closed-loop pole strictly in Re s > 0 (exact test): the loop is unstable.
+    sensitivity_peak_upper, controller_norm_upper : float
+        Proven upper ends of the enclosures of rho_1 and lambda_1.
+    characteristic_exact : tuple of Fraction
+        chi in exact rationals (highest power first), what ``stable`` is decided on.
     """
 
     plant: control.TransferFunction
@@ -136,6 +185,10 @@ class ClosedLoop:
     plant_stable: bool
     feedback: int
     notes: tuple[str, ...] = field(default=())
+    outside: bool = False
+    sensitivity_peak_upper: float = math.nan
+    controller_norm_upper: float = math.nan
+    characteristic_exact: tuple[Fraction, ...] = field(default=())
 
     def __repr__(self) -> str:
         return short_repr(self, "stable", "feedback", "sensitivity_peak",
@@ -152,7 +205,10 @@ class ClosedLoop:
                 "controller_norm": self.controller_norm,
                 "controller_proper": self.controller_proper,
                 "plant_stable": self.plant_stable, "feedback": self.feedback,
-                "notes": list(self.notes)}
+                "notes": list(self.notes), "outside": self.outside,
+                "sensitivity_peak_upper": self.sensitivity_peak_upper,
+                "controller_norm_upper": self.controller_norm_upper,
+                "proof": "interval"}
 
 
 def closed_loop(model_file: ModelFile, feedback: int | None = None) -> ClosedLoop:
@@ -182,27 +238,35 @@ def closed_loop(model_file: ModelFile, feedback: int | None = None) -> ClosedLoo
         raise ArgumentError(f"feedback must be -1 or +1, got {sign!r}")
     plant_poly = linear_polynomials(model_file.plant)
     ctrl_poly = controller_polynomials(model_file.controller)
-    chi = characteristic(plant_poly, ctrl_poly, sign)
-    poles = np.roots(chi) if chi.size > 1 else np.zeros(0, dtype=complex)
-    stable = bool(np.all(poles.real < 0))
-    sens_num = np.polymul(plant_poly[1], ctrl_poly[1])
-    peak = rational_sup(sens_num, chi)
+    chi_exact = characteristic_exact(plant_poly, ctrl_poly, sign)
+    if chi_exact == [0]:
+        raise ArgumentError("the closed-loop characteristic polynomial D_P D_C - f N_P N_C is "
+                            "identically zero")
+    chi = np.array([float(c) for c in chi_exact])
+    report = poles(chi_exact)
+    sens_num = _polymul(fractions(plant_poly[1]), fractions(ctrl_poly[1]))
+    peak = rational_sup(sens_num, chi_exact)
     lam = rational_sup(*ctrl_poly)
-    plant_poles = np.roots(plant_poly[1]) if plant_poly[1].size > 1 else np.zeros(0)
     notes = []
     if lam.reason:
         notes.append(f"controller norm lambda_1 = inf: {lam.reason}")
-    if not stable:
-        notes.append("linear closed loop not asymptotically stable: poles with Re s >= 0: "
-                     + ", ".join(f"{p:.6g}" for p in poles if p.real >= 0)
-                     + ("" if np.isfinite(peak.value) else
-                        "; a pole on the imaginary axis makes the sensitivity peak infinite"))
+    if not report.stable:
+        where = ("poles with Re s > 0: " + format_roots([p for p in report.roots
+                                                          if p.real > 0])
+                 if report.outside else "poles on the imaginary axis at "
+                 + format_roots(report.boundary))
+        notes.append("linear closed loop not asymptotically stable (exact test on chi): "
+                     + where + ("" if np.isfinite(peak.value) else
+                                "; a pole on the imaginary axis makes the sensitivity peak "
+                                "infinite"))
     p_tf = control.tf(*plant_poly)
     c_tf = control.tf(*ctrl_poly)
     return ClosedLoop(p_tf, c_tf, control.tf(np.polymul(plant_poly[0], ctrl_poly[1]), chi),
-                      control.tf(sens_num, chi), chi, poles, stable, peak.value,
-                      peak.omega, lam.value, _degree(ctrl_poly[0]) <= _degree(ctrl_poly[1]),
-                      bool(np.all(plant_poles.real < 0)), sign, tuple(notes))
+                      control.tf(np.array([float(c) for c in sens_num]), chi), chi,
+                      report.roots, report.stable, peak.value, peak.omega, lam.value,
+                      _degree(ctrl_poly[0]) <= _degree(ctrl_poly[1]),
+                      poles(plant_poly[1]).stable, sign, tuple(notes), report.outside,
+                      peak.upper, lam.upper, tuple(chi_exact))
 
 
 def with_lags(model_file: ModelFile, time_constants: tuple[float, ...]) -> ModelFile:

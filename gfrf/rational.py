@@ -28,7 +28,9 @@ True
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -91,13 +93,14 @@ def _result(res: ExactSup, variable: str = "s") -> SupResult:
                      "interval", res.cancelled, variable)
 
 
-def rational_sup(num: np.ndarray | list[float], den: np.ndarray | list[float]) -> SupResult:
+def rational_sup(num: np.ndarray | Sequence[Any], den: np.ndarray | Sequence[Any]) -> SupResult:
     """Sup over real omega (rad/s) of |N(j*omega)/D(j*omega)|, as a proven enclosure.
 
     Parameters
     ----------
     num, den : array_like
-        Real polynomial coefficients in s, highest power first (``control.tf`` order).
+        Real polynomial coefficients in s, highest power first (``control.tf`` order):
+        floats (taken at their exact values) or Fractions.
 
     Returns
     -------

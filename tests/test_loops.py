@@ -117,3 +117,57 @@ def test_neglected_lags_destabilise_the_model_sign_loop() -> None:
         assert loop.controller_proper and not loop.stable
     with pytest.raises(ArgumentError):
         with_lags(mf, (-1.0,))
+
+
+# -- exact closed-loop polynomial and stability (float roots misclassify) ---------------
+CLUSTER_C = [1.0, 4e-06, 2.000000000004, 4e-06, 1.0]  # (s^2 + 2e-6 s + 1)^2 in floats
+
+
+def _cluster_loop(gain: float) -> dict:
+    """Plant 1/(s^2 + 2e-6 s + 1), controller gain/(s^2 + 2e-6 s + 1)^2, negative
+    feedback: chi = (s^2 + 2e-6 s + 1)^3 (floats) + gain, a triple cluster at +-j."""
+    return {"name": "cluster loop", "equation": "D(y,2) + 2e-6*D(y) + y = u",
+            "controller": {"num": [gain], "den": CLUSTER_C, "feedback": -1}}
+
+
+def _mp_max_real(chi: list) -> float:
+    """Largest real part of the roots of the exact chi at 60 digits (mpmath)."""
+    import mpmath as mp
+
+    with mp.workdps(60):
+        roots = mp.polyroots([mp.mpf(c.numerator) / c.denominator for c in chi],
+                             maxsteps=500, extraprec=800)
+        return float(max(mp.re(r) for r in roots))
+
+
+@pytest.mark.parametrize(("gain", "stable"), [(1e-20, True), (1e-14, False)])
+def test_cluster_loop_decided_exactly(gain: float, stable: bool) -> None:
+    """numpy.roots of the float chi puts the stable 1e-20 loop's cluster at Re = +2.3e-6;
+    the exact chi (sympy-free: Fractions of the floats) and 60-digit roots say stable."""
+    from fractions import Fraction
+
+    loop = closed_loop(model_from_dict(_cluster_loop(gain)))
+    # independent exact product of the float coefficients
+    plant, ctrl = [Fraction(c) for c in (1.0, 2e-6, 1.0)], [Fraction(c) for c in CLUSTER_C]
+    chi = [Fraction(0)] * 7
+    for i, a in enumerate(plant):
+        for k, b in enumerate(ctrl):
+            chi[i + k] += a * b
+    chi[-1] += Fraction(gain)
+    assert list(loop.characteristic_exact) == chi
+    ref = _mp_max_real(chi)
+    assert (ref < 0) is stable
+    assert loop.stable is stable and loop.outside is (not stable)
+    if stable:  # the float path this replaces gets it wrong
+        assert np.max(np.roots([float(c) for c in chi]).real) > 0
+        assert math.isfinite(loop.sensitivity_peak)
+    assert max(p.real for p in loop.poles) == pytest.approx(ref, rel=1e-6)
+
+
+def test_cluster_loop_verdict_is_not_unstable() -> None:
+    """Theorem 2 calls a loop unstable only on an exact right-half-plane pole."""
+    from gfrf.criteria import theorem2
+
+    v = theorem2(model_from_dict(_cluster_loop(1e-20)), order=1, amplitude=1e-3)
+    assert v.verdict != "unstable"
+    assert v.conditions[1].passed is True
