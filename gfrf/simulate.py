@@ -52,6 +52,7 @@ True
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 import warnings
@@ -602,21 +603,32 @@ def _check_work(system: OdeSystem, signal: InputSignal, t_end: float,
                                 f"{system.sample_time:g} s, more than the work budget "
                                 f"{name} (samples)")
         return
-    if signal.expr is None:
-        return
     limit = max_evaluations // 2
-    for term in sorted(signal.expr.atoms(sp.sin, sp.cos, sp.tan), key=sp.default_sort_key):
-        poly = sp.Poly(term.args[0], T) if term.args[0].is_polynomial(T) else None
-        if poly is None or poly.degree() != 1:
-            continue
-        w = abs(poly.LC())
-        periods = w * sp.Float(t_end) / (2 * sp.pi)
+    for term, w in _frequencies(signal.expr):
+        periods = w * t_end / (2 * math.pi)
         if periods > limit:
             raise ArgumentError(f"the input term {term} has angular frequency "
-                                f"{float(w):.4g} rad/s: {float(periods):.4g} periods over "
+                                f"{w:.4g} rad/s: {periods:.4g} periods over "
                                 f"t_end = {t_end:g} s, more than {limit} (half the work "
                                 f"budget {name}: an integrator needs at least two "
                                 f"right-hand-side evaluations per period)")
+
+
+@functools.lru_cache(maxsize=64)
+def _frequencies(expr: sp.Expr | None) -> tuple[tuple[str, float], ...]:
+    """(term, |w| in rad/s) of each ``sin``/``cos``/``tan`` of ``w*t + p`` in ``expr``."""
+    out = []
+    for term in sorted(expr.atoms(sp.sin, sp.cos, sp.tan) if expr is not None else (),
+                       key=sp.default_sort_key):
+        rate = sp.diff(term.args[0], T)
+        if rate.free_symbols or not rate.is_real:  # not linear in t (or not real)
+            continue
+        try:
+            w = abs(float(rate))
+        except OverflowError:
+            w = math.inf
+        out.append((str(term), w))
+    return tuple(out)
 
 
 def _signal(input_: str | InputSignal | None, system: OdeSystem) -> InputSignal:

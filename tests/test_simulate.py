@@ -367,3 +367,34 @@ def test_narx_longer_than_budget_refused():
     assert simulate(model, "sin(t)", t_end=999.95, max_evaluations=10_000).t.size == 10_000
     with pytest.raises(ArgumentError, match="max_evaluations"):
         simulate(model, "sin(t)", t_end=1.0, max_evaluations=0)
+
+
+def test_fast_plant_input_of_an_improper_loop_from_the_states():
+    # u = r - (2 y'' + 3 y' + 5 y) around y'' + 0.5 y' + 2 y + y^3 = u: the compiled
+    # plant-input loop (it solves for y'') against u rebuilt from the states by hand.
+    mf = _loop_file(PLANT, {"num": [2.0, 3.0, 5.0], "den": [1.0]})
+    res = simulate(mf, "0.3*sin(1.3*t)", t_end=4.0, closed_loop=True, method="fast",
+                   dt=1e-3, initial=[0.2, 0.0])
+    y, dy = res.states
+    r = 0.3 * np.sin(1.3 * res.t)
+    # y'' from the loop equation: 3 y'' = r - 3.5 y' - 7 y - y^3
+    ddy = (r - 3.5 * dy - 7.0 * y - y**3) / 3.0
+    assert res.status == "ok" and res.u.shape == res.t.shape
+    assert np.allclose(res.u, r - (2.0 * ddy + 3.0 * dy + 5.0 * y), rtol=0, atol=1e-12)
+
+
+def test_fast_cache_file_that_differs_is_rewritten_not_run(tmp_path, monkeypatch):
+    from gfrf import fastsim
+
+    monkeypatch.setenv("GFRF_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(fastsim, "_MODULES", {})
+    system = build_system(parse_model("D(y) + 2*y = u"))
+    fastsim.compile_system(system)
+    (path,) = tmp_path.glob("gfrf_rhs_*.py")
+    good = path.read_text(encoding="utf-8")
+    sentinel = tmp_path / "planted-ran"
+    path.write_text(f"open({str(sentinel)!r}, 'w').close()\n", encoding="utf-8")
+    monkeypatch.setattr(fastsim, "_MODULES", {})
+    res = simulate(system, "step(t)", t_end=1.0, method="fast", dt=1e-3)
+    assert not sentinel.exists() and path.read_text(encoding="utf-8") == good
+    assert abs(res.y[-1] - (1 - math.exp(-2.0)) / 2) < 1e-10
