@@ -75,7 +75,7 @@ from gfrf.majorant import Majorant, Radius, certify, majorant, radius
 from gfrf.model import Model
 from gfrf.modelfile import ModelFile, model_from_dict
 from gfrf.norms import Bound, kernel_norm, linear_poles
-from gfrf.rational import rational_sup
+from gfrf.rational import check_proof, rational_sup
 
 __all__ = ["Condition", "Verdict", "Margin", "theorem1", "theorem2", "verdict",
            "parameter_margin", "theta_series", "phi_series"]
@@ -109,7 +109,7 @@ class Verdict:
     radius : float
         r*: the certified series converges for every amplitude r < r*.
     radius_certified : bool
-        True when r* comes from proven sups (continuous and NARX models).
+        True when r* comes from certified sups (levels ``interval`` and ``float``).
     amplitude : float
         The input amplitude r tested (the paper's r = 1).
     conditions : tuple of Condition
@@ -123,7 +123,8 @@ class Verdict:
         One sentence.
     radius_proof : str
         ``"interval"``: convergence at the certified end of r* re-checked in ball
-        arithmetic on proven sups (Theorem 1); ``"float"`` otherwise.
+        arithmetic on proven sups (Theorems 1 and 2); ``"float"``: certified in double
+        precision; ``"none"``: an estimate.
     """
 
     verdict: str
@@ -161,11 +162,14 @@ def _check_amplitude(amplitude: float, order: int) -> None:
 
 
 def _plant_radius(maj: Majorant) -> Radius:
-    """r* of the plant majorant; ``proof = "interval"`` when the supersolution at the
-    certified end passes the ball-arithmetic check rhs(x, r) <= x."""
+    """r* of the plant majorant; ``proof = "interval"`` when the sups are proven and the
+    supersolution at the certified end passes the ball-arithmetic check rhs(x, r) <= x,
+    ``"none"`` for an estimated majorant."""
     rad = radius(lambda x, r: maj.rhs(x, r), len(maj.powers))
-    if (maj.exact and rad.solution is not None and rad.certified_below > 0
-            and maj.proves(rad.solution, rad.certified_below)):
+    if maj.proof == "none":
+        return dataclasses.replace(rad, proof="none")
+    if (maj.proof == "interval" and maj.exact and rad.solution is not None
+            and rad.certified_below > 0 and maj.proves(rad.solution, rad.certified_below)):
         return dataclasses.replace(rad, proof="interval")
     return rad
 
@@ -210,7 +214,7 @@ def _norms_and_series(model: Model, maj: Majorant, order: int, amplitude: float,
     coefficients = maj.coefficients(order)[:, 0]
     norms, rows = [], []
     for n in range(1, order + 1):
-        bound = kernel_norm(model, n) if with_lower else None
+        bound = kernel_norm(model, n, proof=maj.proof) if with_lower else None
         if bound is not None:
             norms.append(bound)
         upper = bound.upper if bound is not None else float(coefficients[n])
@@ -244,7 +248,7 @@ def _root_estimate(lower: list[float | None]) -> float | None:
 
 
 def theorem1(model: Model, order: int = 5, amplitude: float = 1.0,
-             with_norms: bool = True) -> Verdict:
+             with_norms: bool = True, proof: str = "interval") -> Verdict:
     """Theorem 1 (open loop) for ``model`` at input amplitude ``amplitude``.
 
     Parameters
@@ -256,29 +260,35 @@ def theorem1(model: Model, order: int = 5, amplitude: float = 1.0,
         Input amplitude r (the paper's test is r = 1).
     with_norms : bool
         Compute the lower bounds of ||H_n|| (slower); False for margins.
+    proof : {"interval", "float", "none"}
+        Level of proof (see :data:`gfrf.rational.PROOF_LEVELS`).  ``"interval"``
+        (default): proven sups, majorant bounds and r* in ball arithmetic;
+        ``"float"``: the same sound method in double precision; ``"none"``: estimates,
+        which never give ``stable``.  Stability of A is decided exactly at every level.
 
     Returns
     -------
     Verdict
     """
     _check_amplitude(amplitude, order)
-    maj = majorant(model)
+    check_proof(proof)
+    maj = majorant(model, proof)
     proper = _proper_condition(model, maj, "H_n")
     stable, bad = _stability_condition(model)
     rad = _plant_radius(maj)
     norms, rows, estimate = _norms_and_series(model, maj, order, amplitude, with_norms)
     series = _series_condition("norm series sum ||H_n|| r^n converges", rad, amplitude,
-                               maj.exact, estimate)
+                               maj.certified, estimate)
     conditions = (proper, stable, series)
     result = bad or ("stable" if all(c.passed for c in conditions) else "inconclusive")
-    summary = _summary(result, 1, rad, amplitude, conditions, maj.exact)
-    return Verdict(result, 1, rad.value, maj.exact, float(amplitude), conditions, norms, rows,
+    summary = _summary(result, 1, rad, amplitude, conditions, maj.certified)
+    return Verdict(result, 1, rad.value, maj.certified, float(amplitude), conditions, norms, rows,
                    estimate, summary, rad.proof)
 
 
 def _series_condition(name: str, rad: Radius, amplitude: float, exact: bool,
                       estimate: float | None) -> Condition:
-    label = ("proven" if rad.proof == "interval" else "certified") if exact else "not certified"
+    label = _label(rad.proof) if exact else "not certified"
     est = (f"; finite-term estimate of the true radius (from lower bounds): {estimate:.4g}"
            if estimate else "")
     if amplitude < rad.certified_below:
@@ -294,8 +304,7 @@ def _summary(result: str, theorem: int, rad: Radius, amplitude: float,
              conditions: tuple[Condition, ...], certified: bool) -> str:
     failed = [c.name for c in conditions if c.passed is False]
     open_ = [c.name for c in conditions if c.passed is None]
-    kind = (("proven" if rad.proof == "interval" else "certified") if certified else
-            "estimated (not certified)")
+    kind = _label(rad.proof) if certified else "estimated (not certified)"
     text = (f"Theorem {theorem}: {result}. The {kind} norm series converges for every "
             f"input amplitude r < r* = {rad.value:.6g}; r = {amplitude:g} is "
             f"{'inside' if amplitude < rad.certified_below else 'outside'}.")
@@ -304,6 +313,11 @@ def _summary(result: str, theorem: int, rad: Radius, amplitude: float,
     if open_:
         text += " Not established: " + "; ".join(open_) + "."
     return text
+
+
+def _label(proof: str) -> str:
+    """How a number at a level of proof is called in text."""
+    return {"interval": "proven", "float": "certified (float)"}.get(proof, "estimate")
 
 
 def theta_series(phi: list[float], lambda1: float, rho1: float, order: int) -> list[float]:
@@ -348,7 +362,7 @@ def phi_series(beta: list[float], alpha: list[float], order: int) -> list[float]
 
 
 def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
-             with_norms: bool = True) -> Verdict:
+             with_norms: bool = True, proof: str = "interval") -> Verdict:
     """Theorem 2 (closed loop) for a model file with a controller.
 
     A transfer-function controller has lambda_n = alpha_n = 0 (n >= 2).  A polynomial
@@ -361,21 +375,25 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
     ----------
     model_file : ModelFile
         Plant and controller.
-    order, amplitude, with_norms
-        As in :func:`theorem1`; the amplitude scales the reference r.
+    order, amplitude, with_norms, proof
+        As in :func:`theorem1`; the amplitude scales the reference r.  At the interval
+        level the loop radius is re-checked in ball arithmetic with the proven upper
+        ends of rho_1 and lambda_1.
 
     Returns
     -------
     Verdict
     """
     _check_amplitude(amplitude, order)
+    check_proof(proof)
     controller = model_file.controller
     if controller is None:
         raise ArgumentError("Theorem 2 needs a controller; use theorem1 for an open loop")
     plant = model_file.plant
-    loop = closed_loop(model_file)
-    maj = majorant(plant)
-    cmaj = None if controller.is_linear else majorant(controller.model)  # type: ignore[arg-type]
+    loop = closed_loop(model_file, proof=proof)
+    maj = majorant(plant, proof)
+    cmaj = (None if controller.is_linear else
+            majorant(controller.model, proof))  # type: ignore[arg-type]
     lam, rho1 = loop.controller_norm, loop.sensitivity_peak
     plant_proper = _proper_condition(plant, maj, "plant h_n")
     ctrl_ok = loop.controller_proper and math.isfinite(lam) and (cmaj is None or cmaj.finite)
@@ -398,20 +416,21 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
                    "certified majorant M^c_n >= lambda_n")
     plant_rad = _plant_radius(maj)
     norms, rows, estimate = _norms_and_series(plant, maj, order, amplitude, with_norms)
-    exact = maj.exact and (cmaj is None or cmaj.exact)
+    exact = maj.certified and (cmaj is None or cmaj.certified)
+    lam_up, rho1_up = loop.controller_norm_upper, loop.sensitivity_peak_upper
     if ctrl_ok:
-        c_at_1 = lam if cmaj is None else _controller_output(cmaj)
+        c_at_1 = lam_up if cmaj is None else _controller_output(cmaj)
         phi_ok = c_at_1 < plant_rad.certified_below
         c4 = Condition("sum phi_m lambda_1^m converges", phi_ok if exact else None,
                        {"controller_majorant_at_1": c_at_1, "plant_radius": plant_rad.value},
                        f"the series is the plant majorant at amplitude C(1) = {c_at_1:.6g} "
                        f"(C = controller majorant; lambda_1 for a linear controller), "
                        f"plant radius {plant_rad.value:.6g}")
-        rad = _loop_radius(maj, lam, rho1, cmaj)
+        rad = _loop_radius(maj, lam_up, rho1_up, cmaj)
     else:
         c4 = Condition("sum phi_m lambda_1^m converges", False, {"lambda_1": lam},
                        "lambda_1 = inf: the series diverges from its second term")
-        rad = Radius(0.0, 0.0, None)
+        rad = Radius(0.0, 0.0, None, proof="none" if proof == "none" else "float")
     c5 = _series_condition("sum theta_n rho_1^n r^n converges", rad, amplitude, exact, None)
     literal = _literal_rho(loop)
     c5 = Condition(c5.name, c5.passed if ctrl_ok else False,
@@ -433,13 +452,16 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
               "unstable" if loop.outside else "inconclusive")
     summary = _summary(result, 2, rad, amplitude, conditions, exact)
     return Verdict(result, 2, rad.value, exact, float(amplitude), conditions, norms, rows,
-                   estimate, summary)
+                   estimate, summary, rad.proof)
 
 
 def _controller_output(cmaj: Majorant) -> float:
-    """C(1) = sum_n M^c_n, the controller majorant at unit amplitude (inf if divergent)."""
+    """C(1) = sum_n M^c_n, the controller majorant at unit amplitude (inf if divergent,
+    or, at the interval level, if the supersolution fails the ball-arithmetic check)."""
     x = certify(lambda z, r: cmaj.rhs(z, r), len(cmaj.powers), 1.0)
-    return math.inf if x is None else float(x[0])
+    if x is None or (cmaj.proof == "interval" and not cmaj.proves(x, 1.0)):
+        return math.inf
+    return float(x[0])
 
 
 def _poly_text(coefficients: np.ndarray) -> str:
@@ -469,7 +491,9 @@ def _loop_radius(maj: Majorant, lam: float, rho1: float,
 
     B is the plant majorant, C(E) the controller majorant (lambda_1 E for a linear
     controller); unknowns: plant majorant vector at amplitude C(E), controller majorant
-    vector at amplitude E, and E.
+    vector at amplitude E, and E.  ``proof`` of the result: ``"interval"`` when the
+    majorants are proven and the supersolution at the certified end passes
+    :func:`_loop_proves`; ``"none"`` for estimated majorants; else ``"float"``.
     """
     dim = len(maj.powers)
     cdim = 0 if cmaj is None else len(cmaj.powers)
@@ -483,11 +507,52 @@ def _loop_radius(maj: Majorant, lam: float, rho1: float,
         e_new = rho1 * r + rho1 * (beta1 * (y - lam * e) + maj.gains[0] * maj.nonlinear(x, y))
         return np.concatenate([x_new, xc_new, [e_new]])
 
-    return radius(step, dim + cdim + 1)
+    rad = radius(step, dim + cdim + 1)
+    levels = {maj.proof} | ({cmaj.proof} if cmaj is not None else set())
+    if "none" in levels:
+        return dataclasses.replace(rad, proof="none")
+    if levels == {"interval"} and rad.solution is not None and rad.certified_below > 0:
+        # The majorant components x, xc of the solution are exact fixed points given E
+        # (their step does not involve r), so rhs <= z is an equality there that balls
+        # cannot confirm; E has the slack rho_1 (r' - r).  Inflating x, xc by a tiny
+        # factor moves slack into them; any z >= 0 with step(z, r) <= z is a proof.
+        for inflate in (0.0, 1e-13, 1e-12, 1e-11, 1e-10):
+            z = rad.solution.copy()
+            z[:-1] *= 1.0 + inflate
+            if _loop_proves(maj, lam, rho1, cmaj, z, rad.certified_below):
+                return dataclasses.replace(rad, proof="interval")
+    return rad
+
+
+def _loop_proves(maj: Majorant, lam: float, rho1: float, cmaj: Majorant | None,
+                 z: np.ndarray, r: float) -> bool:
+    """Whether step(z, r) <= z holds for the loop system in Arb ball arithmetic.
+
+    The same step as :func:`_loop_radius` with every operation rounded outward
+    (lam, rho1 the proven upper ends): it proves the monotone iteration from 0 stays
+    below z, so the theta series converges at amplitude r.
+    """
+    if not (np.all(np.isfinite(z)) and np.all(z >= 0) and math.isfinite(lam)
+            and math.isfinite(rho1) and maj.finite and (cmaj is None or cmaj.finite)):
+        return False
+    from flint import arb
+
+    dim = len(maj.powers)
+    cdim = 0 if cmaj is None else len(cmaj.powers)
+    zs = [arb(float(v)) for v in z]
+    x, xc, e = zs[:dim], zs[dim:dim + cdim], zs[-1]
+    lam_b, rho_b = arb(lam), arb(rho1)
+    y = lam_b * e if cmaj is None else xc[0]
+    new = maj.rhs_ball(x, y, y)
+    if cmaj is not None:
+        new += cmaj.rhs_ball(xc, e, e)
+    extra = arb(0) if cmaj is None else arb(maj.linear[0]) * (y - lam_b * e)
+    new.append(rho_b * arb(r) + rho_b * (extra + arb(maj.gains[0]) * maj.nonlinear_ball(x, y)))
+    return all(a <= b for a, b in zip(new, zs, strict=True))
 
 
 def verdict(model: ModelFile | Model, order: int = 5, amplitude: float = 1.0,
-            with_norms: bool = True) -> Verdict:
+            with_norms: bool = True, proof: str = "interval") -> Verdict:
     """Theorem 2 when the model file has a controller, Theorem 1 otherwise.
 
     Parameters
@@ -500,16 +565,18 @@ def verdict(model: ModelFile | Model, order: int = 5, amplitude: float = 1.0,
         Input amplitude r at which the series is tested (the paper's r = 1).
     with_norms : bool
         Compute the lower bounds of the norms (slower); False for sweeps and margins.
+    proof : {"interval", "float", "none"}
+        Level of proof, default ``"interval"`` (see :func:`theorem1`).
 
     Returns
     -------
     Verdict
     """
     if isinstance(model, Model):
-        return theorem1(model, order, amplitude, with_norms)
+        return theorem1(model, order, amplitude, with_norms, proof)
     if model.controller is not None:
-        return theorem2(model, order, amplitude, with_norms)
-    return theorem1(model.plant, order, amplitude, with_norms)
+        return theorem2(model, order, amplitude, with_norms, proof)
+    return theorem1(model.plant, order, amplitude, with_norms, proof)
 
 
 @dataclass(frozen=True)

@@ -46,7 +46,8 @@ import numpy as np
 from gfrf.errors import ArgumentError
 
 __all__ = ["ExactSup", "PoleReport", "SupBeyond", "hurwitz", "schur", "poles", "sup_abs",
-           "discrete_sup_abs", "sup_abs_beyond", "cayley", "format_roots", "arb_upper"]
+           "discrete_sup_abs", "sup_abs_beyond", "cayley", "format_roots", "arb_upper",
+           "clear_caches"]
 
 #: Working precision (bits) of the first ball evaluation; doubled up to _MAX_PREC.
 _PREC = 128
@@ -312,6 +313,12 @@ class ExactSup:
     cancelled: tuple[complex, ...] = field(default=())
 
 
+def clear_caches() -> None:
+    """Forget the memoised sups (for timing a cold computation)."""
+    _sup_continuous.cache_clear()
+    _sup_discrete.cache_clear()
+
+
 def arb_upper(x: Any) -> float:
     """The smallest float >= every point of the Arb ball ``x`` (inf if unbounded)."""
     return _up(x)
@@ -439,7 +446,8 @@ def _finish(num: Any, den: Any, cancelled: tuple[complex, ...],
     return ExactSup(_down(lo), _up(hi), float(mid.mid()), omega, cancelled=cancelled)
 
 
-def sup_abs(num: Sequence[float] | np.ndarray, den: Sequence[float] | np.ndarray) -> ExactSup:
+def sup_abs(num: Sequence[float] | np.ndarray, den: Sequence[float] | np.ndarray,
+            method: str = "interval") -> ExactSup:
     """Proven enclosure of sup over real w of |N(j w)/D(j w)| (highest power first).
 
     Common roots of N and D are cancelled exactly first (reported in ``cancelled``);
@@ -450,16 +458,53 @@ def sup_abs(num: Sequence[float] | np.ndarray, den: Sequence[float] | np.ndarray
     ----------
     num, den : array_like
         Float coefficients in s, highest power first; their exact values are used.
+    method : {"interval", "float"}
+        ``"interval"``: the stationary points are isolated by Arb and |N/D| enclosed
+        in balls (a proof).  ``"float"``: the same exact decisions (cancellation, poles
+        on the axis), then the stationary points by ``numpy.roots`` and |N/D| in
+        double precision: ``lower = upper = value``, no enclosure (a cluster of
+        lightly damped poles can make it wrong; it is cheaper).
 
     Returns
     -------
     ExactSup
     """
-    return _sup_continuous(tuple(fractions(num)), tuple(fractions(den)))
+    return _sup_continuous(tuple(fractions(num)), tuple(fractions(den)), _method(method))
 
 
-@lru_cache(maxsize=512)
-def _sup_continuous(num: tuple[Fraction, ...], den: tuple[Fraction, ...]) -> ExactSup:
+def _method(method: str) -> str:
+    if method not in ("interval", "float"):
+        raise ArgumentError(f"method must be 'interval' or 'float', got {method!r}")
+    return method
+
+
+def _float_finish(num: Any, den: Any, cancelled: tuple[complex, ...]) -> ExactSup:
+    """The float path of :func:`_finish`: numpy roots of P'Q - PQ', double evaluation."""
+    if num.degree() < 0:
+        return ExactSup(0.0, 0.0, 0.0, 0.0, cancelled=cancelled)
+    p, q = _abs2_in_x(num), _abs2_in_x(den)
+    s = p.derivative() * q - p * q.derivative()
+    pf = np.array([float(c) for c in reversed(p.coeffs())])
+    qf = np.array([float(c) for c in reversed(q.coeffs())])
+    candidates = [0.0]
+    if s.degree() >= 1:
+        roots = np.roots([float(c) for c in reversed(s.coeffs())])
+        candidates += [float(r.real) for r in roots
+                       if abs(r.imag) <= 1e-6 * (1 + abs(r)) and r.real > 0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        values = [float(np.polyval(pf, x) / np.polyval(qf, x)) for x in candidates]
+    best = max(range(len(values)), key=lambda i: values[i])
+    value, omega = math.sqrt(max(values[best], 0.0)), math.sqrt(candidates[best])
+    if p.degree() == q.degree():
+        limit = math.sqrt(float(p.coeffs()[-1] / q.coeffs()[-1]))
+        if limit > value:
+            value, omega = limit, math.inf
+    return ExactSup(value, value, value, omega, cancelled=cancelled)
+
+
+@lru_cache(maxsize=1024)
+def _sup_continuous(num: tuple[Fraction, ...], den: tuple[Fraction, ...],
+                    method: str = "interval") -> ExactSup:
     if den[0] == 0:
         raise ZeroDivisionError("denominator polynomial is zero")
     n, d = _qpoly(num), _qpoly(den)
@@ -475,6 +520,8 @@ def _sup_continuous(num: tuple[Fraction, ...], den: tuple[Fraction, ...]) -> Exa
         w = abs(float(axis[-1][0].mid()))
         return ExactSup(math.inf, math.inf, math.inf, w,
                         f"pole on the imaginary axis at s = {w:.6g}j (exact test)", cancelled)
+    if method == "float":
+        return _float_finish(n, d, cancelled)
     return _finish(n, d, cancelled)
 
 
@@ -564,7 +611,7 @@ class SupBeyond:
 
 
 def discrete_sup_abs(num: Sequence[float] | np.ndarray, den: Sequence[float] | np.ndarray,
-                     sample_time: float) -> ExactSup:
+                     sample_time: float, method: str = "interval") -> ExactSup:
     """Proven enclosure of sup over w in [0, pi/T] of |N(q)/D(q)|, q = exp(-j w T).
 
     Parameters
@@ -573,6 +620,8 @@ def discrete_sup_abs(num: Sequence[float] | np.ndarray, den: Sequence[float] | n
         Coefficients of powers of q, lowest power first (as lags appear).
     sample_time : float
         T in seconds (only converts the argmax to rad/s).
+    method : {"interval", "float"}
+        As in :func:`sup_abs`.
 
     Returns
     -------
@@ -581,7 +630,7 @@ def discrete_sup_abs(num: Sequence[float] | np.ndarray, den: Sequence[float] | n
     """
     n_high = fractions(list(reversed(np.atleast_1d(np.asarray(num, dtype=float)).tolist())))
     d_high = fractions(list(reversed(np.atleast_1d(np.asarray(den, dtype=float)).tolist())))
-    res = _sup_discrete(tuple(n_high), tuple(d_high))
+    res = _sup_discrete(tuple(n_high), tuple(d_high), _method(method))
     if math.isfinite(res.omega):
         return ExactSup(res.lower, res.upper, res.value, res.omega / sample_time, res.reason,
                         res.cancelled)
@@ -589,8 +638,9 @@ def discrete_sup_abs(num: Sequence[float] | np.ndarray, den: Sequence[float] | n
                     res.cancelled)
 
 
-@lru_cache(maxsize=512)
-def _sup_discrete(num: tuple[Fraction, ...], den: tuple[Fraction, ...]) -> ExactSup:
+@lru_cache(maxsize=1024)
+def _sup_discrete(num: tuple[Fraction, ...], den: tuple[Fraction, ...],
+                  method: str = "interval") -> ExactSup:
     """As :func:`discrete_sup_abs` with highest-power-of-q-first Fractions; omega in rad/sample
     (inf stands for w T = pi)."""
     if den[0] == 0:
@@ -614,6 +664,6 @@ def _sup_discrete(num: tuple[Fraction, ...], den: tuple[Fraction, ...]) -> Exact
         z = complex(math.cos(w), math.sin(w))
         return ExactSup(math.inf, math.inf, math.inf, w,
                         f"pole on the unit circle at z = {z:.6g} (exact test)", cancelled)
-    res = _finish(nt, dt, ())
+    res = _float_finish(nt, dt, ()) if method == "float" else _finish(nt, dt, ())
     w = math.inf if math.isinf(res.omega) else 2.0 * math.atan(res.omega)
     return ExactSup(res.lower, res.upper, res.value, w, cancelled=cancelled)

@@ -169,6 +169,9 @@ class ClosedLoop:
         Proven upper ends of the enclosures of rho_1 and lambda_1.
     characteristic_exact : tuple of Fraction
         chi in exact rationals (highest power first), what ``stable`` is decided on.
+    proof : str
+        Level of the sups rho_1 and lambda_1 (:func:`gfrf.rational.rational_sup`);
+        stability is decided exactly at every level.
     """
 
     plant: control.TransferFunction
@@ -189,6 +192,7 @@ class ClosedLoop:
     sensitivity_peak_upper: float = math.nan
     controller_norm_upper: float = math.nan
     characteristic_exact: tuple[Fraction, ...] = field(default=())
+    proof: str = "interval"
 
     def __repr__(self) -> str:
         return short_repr(self, "stable", "feedback", "sensitivity_peak",
@@ -208,10 +212,11 @@ class ClosedLoop:
                 "notes": list(self.notes), "outside": self.outside,
                 "sensitivity_peak_upper": self.sensitivity_peak_upper,
                 "controller_norm_upper": self.controller_norm_upper,
-                "proof": "interval"}
+                "proof": self.proof}
 
 
-def closed_loop(model_file: ModelFile, feedback: int | None = None) -> ClosedLoop:
+def closed_loop(model_file: ModelFile, feedback: int | None = None,
+                proof: str = "interval") -> ClosedLoop:
     """Build the linear closed loop of a model file's plant and controller.
 
     Parameters
@@ -220,6 +225,8 @@ def closed_loop(model_file: ModelFile, feedback: int | None = None) -> ClosedLoo
         Must have a controller.
     feedback : int, optional
         Override the file's feedback sign (-1 negative, +1 positive).
+    proof : {"interval", "float", "none"}
+        Level of the sups rho_1 and lambda_1 (default: proven enclosures).
 
     Returns
     -------
@@ -245,8 +252,8 @@ def closed_loop(model_file: ModelFile, feedback: int | None = None) -> ClosedLoo
     chi = np.array([float(c) for c in chi_exact])
     report = poles(chi_exact)
     sens_num = _polymul(fractions(plant_poly[1]), fractions(ctrl_poly[1]))
-    peak = rational_sup(sens_num, chi_exact)
-    lam = rational_sup(*ctrl_poly)
+    peak = rational_sup(sens_num, chi_exact, proof)
+    lam = rational_sup(*ctrl_poly, proof=proof)
     notes = []
     if lam.reason:
         notes.append(f"controller norm lambda_1 = inf: {lam.reason}")
@@ -266,7 +273,7 @@ def closed_loop(model_file: ModelFile, feedback: int | None = None) -> ClosedLoo
                       report.roots, report.stable, peak.value, peak.omega, lam.value,
                       _degree(ctrl_poly[0]) <= _degree(ctrl_poly[1]),
                       poles(plant_poly[1]).stable, sign, tuple(notes), report.outside,
-                      peak.upper, lam.upper, tuple(chi_exact))
+                      peak.upper, lam.upper, tuple(chi_exact), proof)
 
 
 def with_lags(model_file: ModelFile, time_constants: tuple[float, ...]) -> ModelFile:

@@ -56,7 +56,7 @@ import numpy as np
 
 from gfrf.exact import arb_upper
 from gfrf.model import Model
-from gfrf.rational import SupResult, discrete_rational_sup, rational_sup
+from gfrf.rational import SupResult, check_proof, discrete_rational_sup, rational_sup
 from gfrf.scaling import normalized
 
 __all__ = ["Majorant", "MajorantTerm", "Radius", "majorant", "radius", "linear_polynomials"]
@@ -90,6 +90,9 @@ class Majorant:
         Every sup is a proven enclosure (:attr:`gfrf.rational.SupResult.exact`).
     reasons : tuple of str
         Why some entry is infinite.
+    proof : str
+        Level of the sups: ``"interval"`` (proven upper ends), ``"float"`` (double
+        precision stationary points) or ``"none"`` (estimates).
     """
 
     powers: tuple[int, ...]
@@ -98,6 +101,12 @@ class Majorant:
     terms: tuple[MajorantTerm, ...]
     exact: bool = True
     reasons: tuple[str, ...] = field(default=())
+    proof: str = "interval"
+
+    @property
+    def certified(self) -> bool:
+        """Whether the sups come from a sound method (``proof`` interval or float)."""
+        return self.proof == "interval" and self.exact or self.proof == "float"
 
     @property
     def finite(self) -> bool:
@@ -186,19 +195,31 @@ class Majorant:
             return False
         from flint import arb
 
-        idx = {ell: i for i, ell in enumerate(self.powers)}
         xs = [arb(float(v)) for v in x]
-        a = arb(r)
+        new = self.rhs_ball(xs, arb(r), arb(r))
+        return all(v <= xs[i] for i, v in enumerate(new))
+
+    def nonlinear_ball(self, xs: list[Any], amplitude: Any) -> Any:
+        """G(x, a) of :meth:`nonlinear` in Arb ball arithmetic (x, a: arb balls)."""
+        from flint import arb
+
+        idx = {ell: i for i, ell in enumerate(self.powers)}
         g = arb(0)
         for t in self.terms:
             if t.weight == 0.0:
                 continue
-            value = arb(t.weight) * a ** t.q
+            value = arb(t.weight) * amplitude ** t.q
             for ell in t.y_orders:
                 value *= xs[idx[ell]]
             g += value
-        return all(a * arb(self.linear[ell]) + arb(self.gains[ell]) * g <= xs[i]
-                   for i, ell in enumerate(self.powers))
+        return g
+
+    def rhs_ball(self, xs: list[Any], r: Any, amplitude: Any) -> list[Any]:
+        """:meth:`rhs` in Arb ball arithmetic: r v_l + K_l G(x, amplitude) as arb balls."""
+        from flint import arb
+
+        g = self.nonlinear_ball(xs, amplitude)
+        return [r * arb(self.linear[ell]) + arb(self.gains[ell]) * g for ell in self.powers]
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready description."""
@@ -206,7 +227,7 @@ class Majorant:
                 "gains": {str(k): v for k, v in self.gains.items()},
                 "terms": [{"term": t.text, "weight": t.weight, "q": t.q,
                            "y_orders": list(t.y_orders)} for t in self.terms],
-                "exact": self.exact, "reasons": list(self.reasons)}
+                "exact": self.exact, "reasons": list(self.reasons), "proof": self.proof}
 
 
 def _mul(a: float, b: float) -> float:
@@ -258,10 +279,10 @@ def linear_polynomials(model: Model) -> tuple[np.ndarray, np.ndarray]:
     return num[::-1], den[::-1]
 
 
-def _sup(model: Model, num: np.ndarray, den: np.ndarray) -> SupResult:
+def _sup(model: Model, num: np.ndarray, den: np.ndarray, proof: str) -> SupResult:
     if model.is_discrete:
-        return discrete_rational_sup(num, den, model.sample_time)  # type: ignore[arg-type]
-    return rational_sup(num, den)
+        return discrete_rational_sup(num, den, model.sample_time, proof)  # type: ignore[arg-type]
+    return rational_sup(num, den, proof)
 
 
 def _shift(coefficients: np.ndarray, ell: int, discrete: bool) -> np.ndarray:
@@ -271,17 +292,21 @@ def _shift(coefficients: np.ndarray, ell: int, discrete: bool) -> np.ndarray:
     return np.concatenate([coefficients, np.zeros(ell)])
 
 
-def majorant(model: Model) -> Majorant:
+def majorant(model: Model, proof: str = "interval") -> Majorant:
     """Build the majorant data of ``model``.
 
     Parameters
     ----------
     model : Model
+    proof : {"interval", "float", "none"}
+        How the sups are computed (:func:`gfrf.rational.rational_sup`): proven upper
+        ends of ball enclosures (default), or double-precision values.
 
     Returns
     -------
     Majorant
     """
+    check_proof(proof)
     model = normalized(model)
     num, den = linear_polynomials(model)
     discrete = model.is_discrete
@@ -291,8 +316,8 @@ def majorant(model: Model) -> Majorant:
     linear, gains = {}, {}
     exact = True
     for ell in powers:
-        h1 = _sup(model, _shift(num, ell, discrete), den)
-        inv_a = _sup(model, _shift(np.ones(1), ell, discrete), den)
+        h1 = _sup(model, _shift(num, ell, discrete), den, proof)
+        inv_a = _sup(model, _shift(np.ones(1), ell, discrete), den, proof)
         linear[ell], gains[ell] = h1.upper, inv_a.upper
         exact = exact and h1.exact and inv_a.exact
         for name, res in ((f"sup|s^{ell} H1|", h1), (f"sup|s^{ell}/A|", inv_a)):
@@ -305,7 +330,7 @@ def majorant(model: Model) -> Majorant:
             reasons.append(f"term {t}: an input derivative factor has sup |j w|^k = inf")
         terms.append(MajorantTerm(math.inf if unbounded else abs(t.coefficient),
                                   len(t.u_orders), t.y_orders, str(t)))
-    return Majorant(powers, linear, gains, tuple(terms), exact, tuple(reasons))
+    return Majorant(powers, linear, gains, tuple(terms), exact, tuple(reasons), proof)
 
 
 @dataclass(frozen=True)

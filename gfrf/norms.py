@@ -62,7 +62,7 @@ from gfrf.exact import PoleReport, format_roots, poles
 from gfrf.kernels import kernel
 from gfrf.majorant import linear_polynomials, majorant
 from gfrf.model import Model
-from gfrf.rational import discrete_rational_sup, rational_sup
+from gfrf.rational import check_proof, discrete_rational_sup, rational_sup
 
 if TYPE_CHECKING:
     import control
@@ -102,9 +102,14 @@ class Bound:
     reference : float or None
         python-control's ``norm(sys, 'inf')`` for order 1 (cross-check), else None.
     proof : str
-        ``"interval"``: lower and upper are proven (exact algebra, ball arithmetic,
-        outward rounding); ``"float"``: a sound method evaluated in floating point
-        (relative rounding ~1e-15 not accounted for).
+        The weaker of the two ends: ``"interval"``: lower and upper are proven (exact
+        algebra, ball arithmetic, outward rounding); ``"float"``: a sound method
+        evaluated in floating point (relative rounding ~1e-15 not accounted for, or a
+        float witness point); ``"none"``: estimates only (not certified).
+    upper_proof, lower_proof : str
+        The level of each end ("" means ``proof``): for n >= 2 at the interval level
+        the upper end is proven (ball-arithmetic majorant) and the lower end is a
+        float witness (|H_n| evaluated in double precision at ``argmax``).
     """
 
     lower: float
@@ -118,6 +123,8 @@ class Bound:
     notes: tuple[str, ...] = field(default=())
     reference: float | None = None
     proof: str = "float"
+    upper_proof: str = ""
+    lower_proof: str = ""
 
     @property
     def gap(self) -> float:
@@ -136,7 +143,9 @@ class Bound:
         return {"order": self.order, "lower": self.lower, "upper": self.upper,
                 "gap": self.gap, "argmax": list(self.argmax), "certified": self.certified,
                 "method": self.method, "symmetric": self.symmetric, "stable": self.stable,
-                "notes": list(self.notes), "reference": self.reference, "proof": self.proof}
+                "notes": list(self.notes), "reference": self.reference, "proof": self.proof,
+                "upper_proof": self.upper_proof or self.proof,
+                "lower_proof": self.lower_proof or self.proof}
 
 
 def linear_poles(model: Model) -> PoleReport:
@@ -158,21 +167,24 @@ def linear_stability(model: Model) -> tuple[bool, np.ndarray]:
     return report.stable, report.roots
 
 
-def h1_norm(model: Model) -> Bound:
+def h1_norm(model: Model, proof: str = "interval") -> Bound:
     """||H1||_inf = sup over omega (rad/s) of |H1(j omega)|, as a proven enclosure.
 
     Parameters
     ----------
     model : Model
+    proof : {"interval", "float", "none"}
+        Level of proof (:func:`gfrf.rational.rational_sup`); the default proves.
 
     Returns
     -------
     Bound
-        ``[lower, upper]`` proven (``proof = "interval"``); ``inf`` for an improper H1
+        ``[lower, upper]`` proven at the default level; ``inf`` for an improper H1
         or poles on the imaginary axis / unit circle (reason in ``notes``);
         ``stable = False`` flags an unstable linear part, whose finite value is then
         the L-infinity norm on the axis, not an H-infinity norm.
     """
+    check_proof(proof)
     num, den = linear_polynomials(model)
     report = linear_poles(model)
     stable = report.stable
@@ -184,25 +196,32 @@ def h1_norm(model: Model) -> Bound:
         notes.append(f"linear part not asymptotically stable ({where}, exact test): the value "
                      "is the L-infinity norm on the frequency axis, not an H-infinity norm")
     if model.is_discrete:
-        sup = discrete_rational_sup(num, den, model.sample_time)  # type: ignore[arg-type]
-        method = ("exact rational algebra on the unit circle (Cayley map) + ball enclosure "
-                  "of the stationary points (proven), cross-checked with control.norm")
+        sup = discrete_rational_sup(num, den, model.sample_time, proof)  # type: ignore[arg-type]
+        method = ("exact rational algebra on the unit circle (Cayley map) + "
+                  + _stationary_text(proof) + ", cross-checked with control.norm")
         import control  # imported where used: the other norms do not need it
 
         reference = (_control_norm(control.tf(_pad(num, den), _pad(den, num),
                                               model.sample_time))
                      if stable and math.isfinite(sup.upper) else None)
     else:
-        sup = rational_sup(num, den)
-        method = ("exact rational algebra + ball enclosure of the stationary points of "
-                  "|H1|^2 (proven), cross-checked with control.norm")
+        sup = rational_sup(num, den, proof)
+        method = ("exact rational algebra + " + _stationary_text(proof)
+                  + ", cross-checked with control.norm")
         import control
 
         reference = (_control_norm(control.tf(num, den))
                      if stable and math.isfinite(sup.upper) else None)
     notes += [f"||H1|| = inf: {note}" if note == sup.reason else note for note in sup.notes]
-    return Bound(sup.lower, sup.upper, (sup.omega,), sup.exact, method, 1, True, stable,
-                 tuple(notes), reference, "interval" if sup.exact else "float")
+    return Bound(sup.lower, sup.upper, (sup.omega,), proof != "none", method, 1, True, stable,
+                 tuple(notes), reference, proof)
+
+
+def _stationary_text(proof: str) -> str:
+    if proof == "interval":
+        return "ball enclosure of the stationary points of |H1|^2 (proven)"
+    label = "float" if proof == "float" else "estimate"
+    return f"stationary points of |H1|^2 by numpy.roots ({label})"
 
 
 def _pad(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -222,17 +241,17 @@ def _control_norm(system: control.TransferFunction) -> float | None:
             return None
 
 
-def _frequencies(model: Model) -> tuple[list[float], float]:
+def _frequencies(model: Model, proof: str) -> tuple[list[float], float]:
     """Resonance frequencies (rad/s, >= 0) of the linear part and a local length scale."""
     num, den = linear_polynomials(model)
     if model.is_discrete:
-        peaks = [discrete_rational_sup(num, den, model.sample_time).omega,  # type: ignore[arg-type]
-                 discrete_rational_sup(np.ones(1), den, model.sample_time).omega]  # type: ignore[arg-type]
+        peaks = [discrete_rational_sup(num, den, model.sample_time, proof).omega,  # type: ignore[arg-type]
+                 discrete_rational_sup(np.ones(1), den, model.sample_time, proof).omega]  # type: ignore[arg-type]
         return sorted({0.0, *(abs(p) for p in peaks if math.isfinite(p))}), \
             0.01 * math.pi / model.sample_time  # type: ignore[operator]
     poles = np.roots(den) if den.size > 1 else np.zeros(0)
     freqs = {0.0, *(float(abs(p.imag)) for p in poles)}
-    for res in (rational_sup(num, den), rational_sup(np.ones(1), den)):
+    for res in (rational_sup(num, den, proof), rational_sup(np.ones(1), den, proof)):
         if math.isfinite(res.omega):
             freqs.add(float(res.omega))
     damping = [abs(p.real) for p in poles if abs(p.real) > 0]
@@ -265,7 +284,7 @@ def _start_points(freqs: list[float], n: int) -> np.ndarray:
 
 
 def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
-                max_boxes: int = BOX_BUDGET) -> Bound:
+                max_boxes: int = BOX_BUDGET, proof: str = "interval") -> Bound:
     """Bracket ||H_n||_inf over R^n (rad/s): certified upper, best-found lower bound.
 
     Parameters
@@ -280,6 +299,12 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
     max_boxes : int, optional
         Budget of the branch-and-bound (boxes evaluated), used when the majorant
         leaves a gap above ``tol`` (continuous model, n <= 5).
+    proof : {"interval", "float", "none"}
+        ``"interval"`` (default): the majorant's upper end in ball arithmetic on proven
+        sups (``upper_proof = "interval"``; the lower end is a float witness).
+        ``"float"``: the majorant in floating point on double-precision sups.
+        ``"none"``: the float majorant and the local search only (no
+        branch-and-bound), labelled estimates (``certified = False``).
 
     Returns
     -------
@@ -287,9 +312,10 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
     """
     if not (isinstance(tol, float | int) and 0 < tol < 1):
         raise ArgumentError(f"tol must be in (0, 1), got {tol!r}")
+    check_proof(proof)
     k = kernel(model, n, symmetric)
     if n == 1:
-        b = h1_norm(model)
+        b = h1_norm(model, proof)
         return Bound(b.lower, b.upper, b.argmax, b.certified, b.method, 1, symmetric,
                      b.stable, b.notes, b.reference, b.proof)
     stable, _ = linear_stability(model)
@@ -298,8 +324,9 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
     if k.is_zero:
         return Bound(0.0, 0.0, tuple([0.0] * n), True, "kernel identically zero", n,
                      symmetric, stable, tuple(notes), proof="interval")
-    maj = majorant(model)
-    upper = maj.proven_upper(n)
+    maj = majorant(model, proof)
+    upper = maj.proven_upper(n) if proof == "interval" else float(maj.coefficients(n)[n, 0])
+    upper_proof = proof
     notes += list(maj.reasons)
     blowup = _axis_blowup(k, model, n)
     if blowup is not None:
@@ -307,15 +334,18 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
                      "A(j w) = 0 on the axis and P_n != 0 there", n, symmetric, stable,
                      (*notes, "||H_n|| = inf: H_n = -P_n / A(j(w_1+..+w_n)) with A(j w0) = 0 "
                       "and P_n bounded away from 0 near the hyperplane w_1+..+w_n = w0"))
-    lower, argmax = _search(k, model, n, symmetric, upper, tol)
-    method = ("recursive majorant (certified upper) + resonance-start Nelder-Mead (lower)"
-              if maj.exact else "recursive majorant (not proven) + local search")
+    lower, argmax = _search(k, model, n, symmetric, upper, tol, proof)
+    method = ({"interval": "recursive majorant in ball arithmetic (proven upper)",
+               "float": "recursive majorant in floating point (certified upper)",
+               "none": "recursive majorant in floating point (estimate)"}[proof]
+              + " + resonance-start Nelder-Mead (lower, float witness)")
     if (upper - lower > tol * upper and math.isfinite(upper) and not model.is_discrete
-            and n <= MAX_ORDER):
+            and n <= MAX_ORDER and proof != "none"):
         bb = branch_and_bound(model, n, symmetric, lower, argmax, tol, max_boxes=max_boxes)
         if bb.lower > lower:
             lower, argmax = bb.lower, bb.argmax
-        upper = min(upper, bb.upper)
+        if bb.upper < upper:
+            upper, upper_proof = bb.upper, "float"
         notes.append(f"branch-and-bound: {bb.boxes} boxes; |H_{n}| <= "
                      f"{bb.tail:.6g} where some |w_i| > {bb.width:.6g} rad/s (tail bound)")
         method = (f"branch-and-bound, {bb.boxes} boxes in [-{bb.width:.4g}, {bb.width:.4g}]^{n} "
@@ -325,8 +355,11 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
         notes.append(f"relative gap {gap:.3g} > tol {tol:g}: the majorant is not attained "
                      "(terms of different sign or phase) and the branch-and-bound budget "
                      "did not close the gap; honest bracket")
-    return Bound(lower, max(upper, lower), argmax, maj.exact, method, n, symmetric, stable,
-                 tuple(notes))
+    if lower > upper:  # only rounding of the float levels can do this
+        upper = lower
+    weakest = "none" if proof == "none" else "float"
+    return Bound(lower, upper, argmax, maj.certified, method, n, symmetric, stable,
+                 tuple(notes), proof=weakest, upper_proof=upper_proof, lower_proof=weakest)
 
 
 def _axis_blowup(k: Any, model: Model, n: int) -> tuple[float, ...] | None:
@@ -355,9 +388,9 @@ def _axis_blowup(k: Any, model: Model, n: int) -> tuple[float, ...] | None:
 
 
 def _search(k: Any, model: Model, n: int, symmetric: bool, upper: float,
-            tol: float) -> tuple[float, tuple[float, ...]]:
+            tol: float, proof: str) -> tuple[float, tuple[float, ...]]:
     """Best |H_n| from resonance start points, locally maximised."""
-    freqs, scale = _frequencies(model)
+    freqs, scale = _frequencies(model, proof)
     starts = _start_points(freqs, n)
     if not symmetric and n <= 4:
         starts = np.unique(np.array([p for s in starts for p in itertools.permutations(s)]),

@@ -34,9 +34,11 @@ from typing import Any
 
 import numpy as np
 
+from gfrf.errors import ArgumentError
 from gfrf.exact import ExactSup, discrete_sup_abs, format_roots, sup_abs
 
-__all__ = ["SupResult", "rational_sup", "discrete_rational_sup"]
+__all__ = ["SupResult", "PROOF_LEVELS", "check_proof", "rational_sup",
+           "discrete_rational_sup"]
 
 
 @dataclass(frozen=True)
@@ -51,14 +53,15 @@ class SupResult:
         An angular frequency (rad/s) where it is attained (``math.inf`` for a limit at
         infinity, the pole's frequency for a pole on the axis or the circle).
     exact : bool
-        True when ``[lower, upper]`` is a proven enclosure.
+        True when ``[lower, upper]`` is a proven enclosure (``proof = "interval"``).
     reason : str
         Why the sup is infinite, or empty.
     lower, upper : float
         Proven bounds ``lower <= sup <= upper`` (outward-rounded floats).
     proof : str
         ``"interval"``: the enclosure is a computer-assisted proof (exact rational
-        algebra and ball arithmetic).
+        algebra and ball arithmetic); ``"float"``: double-precision stationary points
+        (``lower = upper``); ``"none"``: the same, labelled an estimate.
     cancelled : tuple of complex
         Common roots of N and D removed exactly before the sup (approximate values).
     variable : str
@@ -88,12 +91,29 @@ class SupResult:
         return tuple(notes)
 
 
-def _result(res: ExactSup, variable: str = "s") -> SupResult:
-    return SupResult(res.value, res.omega, True, res.reason, res.lower, res.upper,
-                     "interval", res.cancelled, variable)
+#: The levels of proof (see the README, "Levels of proof"): ``interval`` proves,
+#: ``float`` is a sound method in double precision, ``none`` labels estimates.
+PROOF_LEVELS = ("none", "float", "interval")
 
 
-def rational_sup(num: np.ndarray | Sequence[Any], den: np.ndarray | Sequence[Any]) -> SupResult:
+def check_proof(proof: str) -> str:
+    """``proof`` if it is one of :data:`PROOF_LEVELS`, else ArgumentError."""
+    if proof not in PROOF_LEVELS:
+        raise ArgumentError(f"proof must be one of {', '.join(PROOF_LEVELS)}; got {proof!r}")
+    return proof
+
+
+def _result(res: ExactSup, variable: str = "s", proof: str = "interval") -> SupResult:
+    return SupResult(res.value, res.omega, proof == "interval", res.reason, res.lower,
+                     res.upper, proof, res.cancelled, variable)
+
+
+def _method(proof: str) -> str:
+    return "interval" if check_proof(proof) == "interval" else "float"
+
+
+def rational_sup(num: np.ndarray | Sequence[Any], den: np.ndarray | Sequence[Any],
+                 proof: str = "interval") -> SupResult:
     """Sup over real omega (rad/s) of |N(j*omega)/D(j*omega)|, as a proven enclosure.
 
     Parameters
@@ -101,16 +121,20 @@ def rational_sup(num: np.ndarray | Sequence[Any], den: np.ndarray | Sequence[Any
     num, den : array_like
         Real polynomial coefficients in s, highest power first (``control.tf`` order):
         floats (taken at their exact values) or Fractions.
+    proof : {"interval", "float", "none"}
+        ``"interval"`` (default): proven enclosure.  ``"float"``: same exact decisions,
+        stationary points by ``numpy.roots`` (``lower = upper = value``, not proven);
+        ``"none"``: the float computation labelled an estimate.
 
     Returns
     -------
     SupResult
     """
-    return _result(sup_abs(num, den))
+    return _result(sup_abs(num, den, _method(proof)), "s", proof)
 
 
 def discrete_rational_sup(num: np.ndarray | list[float], den: np.ndarray | list[float],
-                          sample_time: float) -> SupResult:
+                          sample_time: float, proof: str = "interval") -> SupResult:
     """Sup over omega in [0, pi/T] of |N(q)/D(q)|, q = exp(-j*omega*T), as a proven enclosure.
 
     Parameters
@@ -120,9 +144,11 @@ def discrete_rational_sup(num: np.ndarray | list[float], den: np.ndarray | list[
         c0 + c1 q + ...), as lags appear in a NARX model.
     sample_time : float
         T in seconds.
+    proof : {"interval", "float", "none"}
+        As in :func:`rational_sup`.
 
     Returns
     -------
     SupResult
     """
-    return _result(discrete_sup_abs(num, den, sample_time), "q")
+    return _result(discrete_sup_abs(num, den, sample_time, _method(proof)), "q", proof)

@@ -27,6 +27,7 @@ SECTION_MODULES: tuple[str, ...] = (
     "gfrf.bench.kernels",
     "gfrf.bench.simulation",
     "gfrf.bench.norms",
+    "gfrf.bench.proof",
     "gfrf.bench.periodic",
     "gfrf.bench.sweep",
     "gfrf.identify.bench",

@@ -1,15 +1,21 @@
 """``gfrf verdict`` and ``gfrf norm``: Theorems 1/2 and GFRF norm brackets (rad/s).
 
-``gfrf verdict MODEL [--order N] [--amplitude R] [--margin PARAM] [--json]`` applies
+``gfrf verdict MODEL [--order N] [--amplitude R] [--margin PARAM] [--proof LEVEL] [--json]``
+applies
 Theorem 2 when the model file has a ``[controller]``, Theorem 1 otherwise; it prints
 every condition with pass/FAIL/open and its numbers, the bracket of ||H_n|| for
 n = 1..N, the series terms, the certified radius r* and the verdict.  Exit code 0:
 stability proven; 1: not proven or unstable; 2: bad input.
 
-``gfrf norm MODEL --order N [--tol T] [--asymmetric] [--json]`` prints the bracket
-[lower, upper] of ||H_N||_inf (symmetric kernel unless ``--asymmetric``), its
-relative gap and whether the upper bound is certified.  Infinite norms print as
-``inf`` (JSON ``"inf"``).
+``gfrf norm MODEL --order N [--tol T] [--asymmetric] [--proof LEVEL] [--json]`` prints
+the bracket [lower, upper] of ||H_N||_inf (symmetric kernel unless ``--asymmetric``),
+its relative gap and how each end is established.  Infinite norms print as ``inf``
+(JSON ``"inf"``).
+
+``--proof none|float|interval`` (default ``interval``: it costs about as much as the
+float path, see ``gfrf bench``, section "Proof levels") chooses the level of proof;
+the text says "proven" only for interval results, the JSON has ``"proof"`` beside
+every bound (and ``"upper_proof"``, ``"lower_proof"``) and ``"radius_proof"``.
 """
 
 from __future__ import annotations
@@ -28,6 +34,17 @@ if TYPE_CHECKING:  # imported where used: building the parser stays cheap
 
 __all__ = ["register"]
 
+_PROOF_HELP = ("level of proof: 'interval' (default; proven enclosures in exact rational and "
+               "Arb ball arithmetic, measured at about the cost of the float path), 'float' "
+               "(the same sound method in double precision, rounding not accounted for) or "
+               "'none' (estimates; never a 'stable' verdict); stability of the linear part "
+               "is decided exactly at every level")
+
+
+def _add_proof(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--proof", choices=("none", "float", "interval"), default="interval",
+                        help=_PROOF_HELP)
+
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Register ``verdict`` and ``norm``."""
@@ -45,6 +62,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     v.add_argument("--margin", metavar="PARAM", default=None,
                    help="also find the boundary value of this model-file parameter for a "
                         "certified 'stable' verdict at the amplitude")
+    _add_proof(v)
     add_json_flag(v)
     v.set_defaults(func=_verdict)
 
@@ -57,6 +75,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     n.add_argument("--tol", type=float, default=1e-6, help="target relative gap (default 1e-6)")
     n.add_argument("--asymmetric", action="store_true",
                    help="norm of the asymmetric kernel of the recursion (default symmetric)")
+    _add_proof(n)
     add_json_flag(n)
     n.set_defaults(func=_norm)
 
@@ -67,10 +86,20 @@ def _num(x: float | None) -> str:
     return "inf" if math.isinf(x) else f"{x:.10g}"
 
 
+def _bound_label(b: Bound) -> str:
+    """'proven' only for interval results; a proven upper end with a float witness says so."""
+    if not b.certified or b.proof == "none":
+        return "estimate"
+    if b.proof == "interval":
+        return "proven"
+    if (b.upper_proof or b.proof) == "interval":
+        return "upper proven, lower float witness"
+    return "certified (float)"
+
+
 def _bound_line(b: Bound) -> str:
     gap = "inf" if math.isinf(b.gap) else f"{b.gap:.2e}"
-    label = ("proven" if b.proof == "interval" else "certified") if b.certified else "estimate"
-    return f"  ||H{b.order}|| in [{_num(b.lower)}, {_num(b.upper)}]  gap {gap}  {label}"
+    return f"  ||H{b.order}|| in [{_num(b.lower)}, {_num(b.upper)}]  gap {gap}  {_bound_label(b)}"
 
 
 def _check_order(order: int) -> None:
@@ -87,15 +116,16 @@ def _norm(args: argparse.Namespace) -> int:
     mf = resolve_model(args)
     from gfrf.norms import kernel_norm
 
-    b = kernel_norm(mf.plant, args.order, not args.asymmetric, args.tol)
+    b = kernel_norm(mf.plant, args.order, not args.asymmetric, args.tol, proof=args.proof)
     kind = "symmetric" if not args.asymmetric else "asymmetric"
-    lines = [f"{mf.name}: {kind} kernel, angular frequencies in rad/s", _bound_line(b),
+    lines = [f"{mf.name}: {kind} kernel, angular frequencies in rad/s, proof level "
+             f"{args.proof}", _bound_line(b),
              f"  attained at w = ({', '.join(f'{w:.8g}' for w in b.argmax)}) rad/s",
              f"  method: {b.method}"]
     if b.reference is not None:
         lines.append(f"  python-control norm(sys, 'inf'): {b.reference:.10g}")
     lines += [f"  note: {note}" for note in b.notes]
-    emit(args, {"model": mf.name, **b.to_dict()}, "\n".join(lines))
+    emit(args, {"model": mf.name, "proof_level": args.proof, **b.to_dict()}, "\n".join(lines))
     return 0
 
 
@@ -103,14 +133,15 @@ def _mark(passed: bool | None) -> str:
     return {True: "pass", False: "FAIL", None: "open"}[passed]
 
 
-def _verdict_text(name: str, v: Verdict) -> list[str]:
+def _verdict_text(name: str, v: Verdict, proof: str = "") -> list[str]:
     kind = "open loop" if v.theorem == 1 else "closed loop"
-    lines = [f"{name}: Theorem {v.theorem} ({kind}), amplitude r = {v.amplitude:g}", "",
+    level = f", proof level {proof}" if proof else ""
+    lines = [f"{name}: Theorem {v.theorem} ({kind}), amplitude r = {v.amplitude:g}{level}", "",
              "Conditions:"]
     lines += [f"  [{_mark(c.passed)}] {c.name}: {c.detail}" for c in v.conditions]
     if v.norms:
         lines += ["", "Norms (symmetric kernels, rad/s):"] + [_bound_line(b) for b in v.norms]
-    lines += ["", "Series (certified majorant M_n >= ||H_n||, term M_n r^n):"]
+    lines += ["", "Series (majorant M_n >= ||H_n||, term M_n r^n):"]
     for row in v.series:
         extra = (f"  theta_n rho_1^n r^n = {_num(row['theta_term'])}"
                  if "theta_term" in row else "")
@@ -118,8 +149,8 @@ def _verdict_text(name: str, v: Verdict) -> list[str]:
                      f"term = {_num(row['majorant_term'])}{extra}")
     est = (f"; estimate of the true radius from lower bounds: {v.radius_estimate:.4g}"
            if v.radius_estimate else "")
-    kind = (("proven" if v.radius_proof == "interval" else "certified") if v.radius_certified
-            else "estimate")
+    kind = ({"interval": "proven", "float": "certified (float)"}.get(v.radius_proof, "estimate")
+            if v.radius_certified else "estimate")
     lines += ["", f"r* = {_num(v.radius)} ({kind}){est}", f"verdict: {v.verdict}", v.summary]
     return lines
 
@@ -129,9 +160,9 @@ def _verdict(args: argparse.Namespace) -> int:
     mf = resolve_model(args)
     from gfrf.criteria import parameter_margin, verdict
 
-    v = verdict(mf, args.order, args.amplitude)
-    payload = {"model": mf.name, **v.to_dict()}
-    lines = _verdict_text(mf.name, v)
+    v = verdict(mf, args.order, args.amplitude, proof=args.proof)
+    payload = {"model": mf.name, "proof_level": args.proof, **v.to_dict()}
+    lines = _verdict_text(mf.name, v, args.proof)
     if args.margin:
         margin = parameter_margin(mf, args.margin, args.amplitude)
         payload["margin"] = margin.to_dict()
