@@ -111,7 +111,7 @@ def _controller(controller: Any, feedback: int) -> Any:
 
 def verdict(model: Model | ModelFile, order: int = 5, amplitude: float = 1.0,
             with_norms: bool = True, *, controller: Any = None,
-            feedback: int = -1) -> Verdict:
+            feedback: int = -1, proof: str = "interval") -> Verdict:
     """Theorem 2 with a controller (the file's or ``controller``), Theorem 1 otherwise.
 
     Parameters
@@ -129,6 +129,8 @@ def verdict(model: Model | ModelFile, order: int = 5, amplitude: float = 1.0,
         replaces the model file's controller.
     feedback : {-1, 1}
         Sign of the feedback of ``controller`` (default negative).
+    proof : {"interval", "float", "none"}
+        Level of proof (default ``"interval"``), see :func:`gfrf.criteria.theorem1`.
 
     Returns
     -------
@@ -144,4 +146,4 @@ def verdict(model: Model | ModelFile, order: int = 5, amplitude: float = 1.0,
         model = replace(base, controller=_controller(controller, feedback))
     elif not isinstance(model, ModelFile):
         model = as_plant(model)
-    return criteria_verdict(model, order, amplitude, with_norms)
+    return criteria_verdict(model, order, amplitude, with_norms, proof)
