@@ -147,3 +147,65 @@ def test_library_verdict_checks_order_first(monkeypatch: pytest.MonkeyPatch) -> 
     monkeypatch.setattr(criteria, "majorant", lambda *a: pytest.fail("computed first"))
     with pytest.raises(ArgumentError, match="MAX_KERNEL_ORDER"):
         criteria.verdict(parse_model(STABLE), MAX_KERNEL_ORDER + 1)
+
+
+# -- levels of proof (issue 13 s4) ------------------------------------------------------
+BETA = 1.0 / math.sqrt(2.0 - 0.25)  # ||H1|| of D(y,2) + D(y) + 2*y: 1/(b sqrt(c - b^2/4))
+
+
+@pytest.mark.parametrize(("level", "label"), [("interval", "proven"),
+                                              ("float", "certified (float)"),
+                                              ("none", "estimate")])
+def test_norm_proof_levels_text_and_json(capsys: pytest.CaptureFixture[str], level: str,
+                                         label: str) -> None:
+    code, out, _ = run(capsys, "norm", STABLE, "--order", "1", "--proof", level)
+    assert code == 0 and out.splitlines()[1].endswith(label)
+    assert ("proven" in out) is (level == "interval")
+    code, out, _ = run(capsys, "norm", STABLE, "--order", "1", "--proof", level, "--json")
+    data = json.loads(out)
+    assert data["proof"] == data["upper_proof"] == data["lower_proof"] == level
+    assert data["proof_level"] == level
+    assert data["upper"] == pytest.approx(BETA, rel=1e-13)
+    if level == "interval":  # a proof: the enclosure contains the closed form
+        from fractions import Fraction
+
+        import mpmath as mp
+
+        with mp.workdps(50):
+            exact = 1 / (mp.mpf(1) * mp.sqrt(mp.mpf(2) - mp.mpf(1) / 4))
+        assert Fraction(data["lower"]) <= Fraction(mp.nstr(exact, 45)) <= Fraction(data["upper"])
+
+
+def test_norm_order3_proof_per_end(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = run(capsys, "norm", STABLE, "--order", "3", "--json")
+    data = json.loads(out)
+    assert (data["upper_proof"], data["lower_proof"], data["proof"]) == \
+        ("interval", "float", "float")
+
+
+def test_verdict_proof_levels(capsys: pytest.CaptureFixture[str]) -> None:
+    """Only certified levels may give 'stable'; the radius carries its level."""
+    outcomes = {}
+    for level in ("interval", "float", "none"):
+        code, out, _ = run(capsys, "verdict", STABLE, "--order", "1", "--amplitude", "0.1",
+                           "--proof", level, "--json")
+        data = json.loads(out)
+        outcomes[level] = (code, data["verdict"], data["radius_proof"])
+        assert all(b["proof"] == level for b in data["norms"])
+    assert outcomes == {"interval": (0, "stable", "interval"),
+                        "float": (0, "stable", "float"),
+                        "none": (1, "inconclusive", "none")}
+    code, out, _ = run(capsys, "verdict", STABLE, "--order", "1", "--amplitude", "0.1",
+                       "--proof", "float")
+    assert "proven" not in out and "r* = " in out and "(certified (float))" in out
+
+
+def test_proof_default_stated_and_bad_level_refused(capsys: pytest.CaptureFixture[str]) -> None:
+    for command in ("norm", "verdict"):
+        with pytest.raises(SystemExit):
+            main([command, "--help"])
+        out = " ".join(capsys.readouterr().out.split())
+        assert "--proof {none,float,interval}" in out and "'interval' (default" in out
+    with pytest.raises(SystemExit) as info:
+        main(["norm", STABLE, "--order", "1", "--proof", "exact"])
+    assert info.value.code == 2

@@ -1,0 +1,173 @@
+"""Hard cases where floats fail and intervals do not (issue 13 section 5).
+
+Each case compares the interval path (``proof="interval"``) and the float path
+(``proof="float"``) with an independent reference: mpmath at 50+ digits on the exact
+values of the float coefficients (roots of the stationary polynomial P'Q - PQ' by
+``mpmath.polyroots``, no FLINT), or a closed form.  The interval enclosure must
+contain the reference and be tight; the float path's error is shown beside it (run
+with ``-s`` to see the table) but not asserted: it is what the proof protects from.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import mpmath as mp
+import numpy as np
+import pytest
+
+from gfrf.criteria import theorem1
+from gfrf.model import parse_model
+from gfrf.norms import kernel_norm
+from gfrf.rational import rational_sup
+
+DIGITS = 60
+
+
+def mp_sup(num: list[float], den: list[float]) -> mp.mpf:
+    """sup over real w of |N(jw)/D(jw)| at DIGITS digits (coefficients highest first)."""
+    with mp.workdps(DIGITS):
+        def abs2(c: list[float]) -> list[mp.mpf]:  # |F(jw)|^2, lowest power of w first
+            low = [mp.mpf(x) * mp.j ** k for k, x in enumerate(reversed(c))]
+            out = [mp.mpc(0)] * (2 * len(low) - 1)
+            for i, a in enumerate(low):
+                for k, b in enumerate(low):
+                    out[i + k] += a * mp.conj(b)
+            return [mp.re(x) for x in out]
+
+        p, q = abs2(num), abs2(den)
+        dp = [k * p[k] for k in range(1, len(p))]
+        dq = [k * q[k] for k in range(1, len(q))]
+        s = [mp.mpf(0)] * (len(p) + len(q))
+        for i, a in enumerate(dp):
+            for k, b in enumerate(q):
+                s[i + k] += a * b
+        for i, a in enumerate(p):
+            for k, b in enumerate(dq):
+                s[i + k] -= a * b
+        while s and s[-1] == 0:
+            s.pop()
+        while s and s[0] == 0:  # w = 0 is a candidate anyway
+            s.pop(0)
+
+        def f(w: mp.mpf) -> mp.mpf:
+            return mp.sqrt(mp.polyval(p[::-1], w) / mp.polyval(q[::-1], w))
+
+        candidates = [f(mp.mpf(0))]
+        if len(s) > 1:
+            roots = mp.polyroots(s[::-1], maxsteps=2000, extraprec=2000)
+            candidates += [f(mp.re(r)) for r in roots
+                           if abs(mp.im(r)) < mp.mpf(10) ** -40 * (1 + abs(r)) and mp.re(r) > 0]
+        if len(p) == len(q):
+            candidates.append(mp.sqrt(p[-1] / q[-1]))
+        return max(candidates)
+
+
+def _contains(lower: float, upper: float, ref: mp.mpf) -> bool:
+    with mp.workdps(DIGITS):
+        return mp.mpf(lower) <= ref <= mp.mpf(upper)
+
+
+def _rel(x: float, ref: mp.mpf) -> float:
+    with mp.workdps(DIGITS):
+        return float(abs(mp.mpf(x) - ref) / ref) if mp.isfinite(mp.mpf(x)) else float("inf")
+
+
+CASES = {
+    "damping 1e-9": ([1.0], [1.0, 1e-9, 1.0]),
+    "double resonance, poles 1e-8 apart, damping 1e-6": (
+        [1.0], np.polymul([1.0, 2e-6, 1.0], [1.0, 2e-6 * (1 + 1e-8), (1 + 1e-8) ** 2]).tolist()),
+    "double resonance, poles 1e-8 apart, damping 1e-9": (
+        [1.0], np.polymul([1.0, 1e-9, 1.0], [1.0, 1e-9, (1 + 1e-8) ** 2]).tolist()),
+    "triple cluster (s^2 + 2e-6 s + 1)^3 in floats": (
+        [1.0], [1.0, 6e-06, 3.000000000012, 1.2000000000008e-05, 3.000000000012, 6e-06, 1.0]),
+    "exact cancellation (s + 0.5)": ([1.0, 2.5, 1.0], [1.0, 0.75, 4.125, 2.0]),
+    "near cancellation, zero 1e-12 from a pole": (
+        [1.0, 0.5 + 1e-12], np.polymul([1.0, 0.5], [1.0, 1e-3, 1.0]).tolist()),
+    "coefficients over 12 orders of magnitude": (
+        [1e6, 1.0], np.polymul([1e-6, 1.0], [1.0, 1e-6, 1e6]).tolist()),
+    "coefficients 1e-9 .. 1e6, slow pole and fast resonance": (
+        [1.0, 1e3], np.polymul([1.0, 1e-6], [1.0, 1e-3, 1e6]).tolist()),
+}
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_interval_encloses_the_50_digit_sup(name: str) -> None:
+    num, den = CASES[name]
+    ref = mp_sup(num, den)
+    proven = rational_sup(num, den, proof="interval")
+    floated = rational_sup(num, den, proof="float")
+    assert proven.proof == "interval" and proven.exact
+    assert _contains(proven.lower, proven.upper, ref)
+    assert _rel(proven.upper, ref) <= 4e-16 and _rel(proven.lower, ref) <= 4e-16
+    print(f"\n{name}: mpmath {mp.nstr(ref, 20)}; interval [{proven.lower!r}, "
+          f"{proven.upper!r}]; float {floated.value!r} (relative error "
+          f"{_rel(floated.value, ref):.2g})")
+
+
+def test_exact_cancellation_is_reported() -> None:
+    num, den = CASES["exact cancellation (s + 0.5)"]
+    proven = rational_sup(num, den)
+    assert proven.cancelled == (complex(-0.5, 0.0),)
+    # the reduced function (s + 2) / (s^2 + 0.25 s + 4), by mpmath
+    assert _contains(proven.lower, proven.upper, mp_sup([1.0, 2.0], [1.0, 0.25, 4.0]))
+
+
+def test_float_path_fails_where_the_interval_path_does_not() -> None:
+    """The reason for the proof: on these cases the float path is off by orders of
+    magnitude (or infinite) while the enclosures above are a few ulps wide."""
+    bad = [name for name, (num, den) in CASES.items()
+           if _rel(rational_sup(num, den, proof="float").value, mp_sup(num, den)) > 1e-6]
+    print("\nfloat path wrong by more than 1e-6 on:", ", ".join(bad))
+    assert "damping 1e-9" in bad or "triple cluster (s^2 + 2e-6 s + 1)^3 in floats" in bad
+
+
+# -- through the majorant: ||H3|| and r* with damping 1e-9 ---------------------------
+LIGHT = "D(y,2) + 1e-9*D(y) + y + 0.1*y**3 = u"
+
+
+def _light_closed_forms() -> tuple[mp.mpf, mp.mpf]:
+    """||H3|| = |c3| beta^4 (beta = ||H1|| = sup|1/A|) and the majorant radius
+    r* = 2 / (3 beta sqrt(3 |c3| beta)) of X = beta r + |c3| beta X^3, at 50 digits."""
+    with mp.workdps(DIGITS):
+        b = mp.mpf(1e-9)
+        beta = 1 / (b * mp.sqrt(1 - b * b / 4))
+        c3 = mp.mpf(0.1)
+        return c3 * beta ** 4, 2 / (3 * beta * mp.sqrt(3 * c3 * beta))
+
+
+def test_h3_bracket_with_damping_1e9() -> None:
+    h3, _ = _light_closed_forms()
+    model = parse_model(LIGHT)
+    proven = kernel_norm(model, 3, proof="interval")
+    assert proven.upper_proof == "interval" and proven.lower_proof == "float"
+    with mp.workdps(DIGITS):
+        assert mp.mpf(proven.upper) >= h3  # the proven end
+    assert _rel(proven.lower, h3) <= 1e-12  # the float witness, to its digits
+    floated = kernel_norm(model, 3, proof="float")
+    print(f"\n||H3||, damping 1e-9: closed form {mp.nstr(h3, 17)}; interval upper "
+          f"{proven.upper!r}; float upper {floated.upper!r}")
+
+
+def test_radius_with_damping_1e9() -> None:
+    _, radius = _light_closed_forms()
+    model = parse_model(LIGHT)
+    v = theorem1(model, order=1, amplitude=1e-14, with_norms=False, proof="interval")
+    assert v.radius_proof == "interval" and v.verdict == "stable"
+    with mp.workdps(DIGITS):
+        assert mp.mpf(v.radius) <= radius * (1 + mp.mpf(1e-12))
+    assert _rel(v.radius, radius) <= 1e-8
+    floated = theorem1(model, order=1, amplitude=1e-14, with_norms=False, proof="float")
+    print(f"\nr*, damping 1e-9: closed form {mp.nstr(radius, 17)}; interval {v.radius!r}; "
+          f"float {floated.radius!r} ({floated.verdict})")
+    assert floated.verdict != "unstable"  # the float path may fail, but closed
+
+
+def test_enclosure_endpoints_are_exact_dyadics() -> None:
+    """lower/upper are floats compared exactly (no decimal rounding in the check)."""
+    num, den = CASES["damping 1e-9"]
+    proven = rational_sup(num, den)
+    b = Fraction(1e-9)
+    # sup^2 = 1 / (b^2 (1 - b^2/4)) exactly, for A = s^2 + b s + 1
+    exact_sq = 1 / (b * b * (1 - b * b / 4))
+    assert Fraction(proven.lower) ** 2 <= exact_sq <= Fraction(proven.upper) ** 2
