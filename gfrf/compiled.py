@@ -156,9 +156,10 @@ def _anchor(name: str, source: str) -> Path | None:
 def numba_ufunc(gen: GFRFGenerator, n: int, symmetric: bool) -> Any:
     """A numba-compiled numpy ufunc ``f(w1..wn) -> complex128`` of H_n, cached on disk.
 
-    A cold compile takes seconds at order 3 and minutes at order 5 (see
-    :meth:`gfrf.kernels.Kernel.compiled`); with the on-disk cache (:func:`cache_dir`) a
-    later process loads the machine code instead.
+    Measured on a 2-core machine (numba 0.68), the cart-pole model: order 3 compiles
+    in 1.5 s and loads from the on-disk cache (:func:`cache_dir`) in 0.5 s in a later
+    process; order 5 in 3.3 s and 0.6 s.  Generating the source (sympy) takes 0.02 s
+    and 0.16 s of that.
 
     Raises
     ------
