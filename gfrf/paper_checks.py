@@ -9,8 +9,14 @@ The report renders these rows; ``tests/test_paper_checks`` style assertions use 
 Section 3's theta recursion is read as the generating function E = rho_1 r + rho_3 E^3
 of Theorem 2 applied to the open loop, with rho_1 = ||H1|| and rho_3 = |c_3| sup|1/A|
 (this reproduces the paper's theta_3 = rho_3); then theta_5 = 3 rho_3^2 and even orders
-vanish.  :func:`loop_sign_variants` enumerates sign conventions of the cart-pole loop
-to find which one reproduces the printed closed loop (614 s^2 + 12554 s + 73).
+vanish.  :func:`theta_readings` reads sections 3 and 5 with one convention: Theorem 2's
+printed recursion with its rho_1 prefactor reproduces neither printed theta_3; with
+rho_1 dropped (theta_3 = phi_3 lambda_1^3) both are reproduced (section 5: 0.006 =
+2.56 x 0.1331^3).  :func:`loop_sign_variants` enumerates sign conventions of the
+cart-pole loop to find which one reproduces the printed closed loop (614 s^2 + 12554 s
++ 73); the cart-pole findings themselves are in :mod:`gfrf.paper_checks_cartpole`.
+:func:`alpha_variants` compares eq (6) (input gain alpha = 1) with eq (2) (alpha =
+1/(m L^2) kept) at the paper's r = 1.
 """
 
 from __future__ import annotations
@@ -31,9 +37,20 @@ from gfrf.majorant import majorant
 from gfrf.model import parse_model
 from gfrf.modelfile import load_model
 from gfrf.norms import h1_norm, kernel_norm
+from gfrf.paper_checks_cartpole import (
+    LAG_TIME_CONSTANTS,
+    inertia_reversal,
+    lagged_loops,
+    theorem2_obstruction,
+)
 
 __all__ = ["CheckRow", "paper_checks", "coefficient_rows", "loop_sign_variants",
-           "printed_match"]
+           "printed_match", "AlphaRow", "alpha_variants", "ThetaReading", "theta_readings",
+           "ALPHA_MODELS"]
+
+#: (paper's variant eq (6), faithful eq (2)) model files for rho = 0.8 and rho = 8.
+ALPHA_MODELS = (("hanging_pendulum.toml", "hanging_pendulum_eq2.toml"),
+                ("hanging_pendulum_damped.toml", "hanging_pendulum_eq2_damped.toml"))
 
 #: The paper's cart-pole closed loop denominator 614 s^2 + 12554 s + 73 (section 5).
 PAPER_CLOSED_LOOP = (614.0, 12554.0, 73.0)
@@ -170,7 +187,10 @@ def _closed_loop_rows(path: Path) -> list[CheckRow]:
     variants = loop_sign_variants()
     good = [v for v in variants if v["reproduces"]]
     monic = loop.characteristic / loop.characteristic[0]
-    paper_theta3 = theta_series([0.58, 0.0, 2.56], 0.1331, 0.0016, 3)[2]
+    reading = theta_readings(path.parent)[-1]
+    inertia = inertia_reversal(mf)
+    lag = lagged_loops(mf, taus=(LAG_TIME_CONSTANTS[-1],), lags=(1,))[0]
+    obstruction = theorem2_obstruction(mf, grid=())
     return [
         CheckRow(section, "beta_1 = ||h1|| (L-inf, unstable plant)", 0.58, beta1.upper,
                  printed_match(0.58, beta1.upper), "attained at w = 0"),
@@ -201,15 +221,25 @@ def _closed_loop_rows(path: Path) -> list[CheckRow]:
                  "model's own signs (eq (13) plant, negative feedback, b = 379.3)"),
         CheckRow(section, "closed-loop poles", [-20.45, -0.01],
                  sorted(float(p.real) for p in loop.poles), False,
-                 f"stable with the model's own signs; the paper's polynomial itself has "
+                 f"stable with the model's own signs only because the improper a s^2 term "
+                 f"reverses the inertia: the closed-loop theta'' coefficient is 1 - "
+                 f"{inertia.input_gain:g} x {inertia.a:g} = {inertia.coefficient:.6g}; with "
+                 f"a lag 1/({lag.tau:g} s + 1) a pole moves to s = "
+                 f"{lag.unstable[0].real:.6g}. The paper's polynomial itself has "
                  f"roots {np.round(np.roots([1, 20.45, 0.12]).real, 4).tolist()}"),
-        CheckRow(section, "theta_3", 0.006, paper_theta3, False,
-                 "not reproducible: Theorem 2's recursion with the paper's own rho_1 = "
-                 "0.0016, lambda_1 = 0.1331, phi_3 = 2.56 gives this value; with the true "
-                 "lambda_1 = inf every theta_n (n >= 3) is infinite"),
+        CheckRow(section, "theta_3", reading.printed, reading.kept, reading.matches_kept,
+                 f"Theorem 2's recursion as printed (prefactor rho_1 = {reading.rho1:g}) with "
+                 f"the paper's lambda_1 = {reading.lambda1:g}, phi_3 = {reading.phi3:g} "
+                 f"gives this value; the printed {reading.printed:g} is phi_3 lambda_1^3 = "
+                 f"{reading.dropped:.4g}, i.e. rho_1 dropped (section 3's theta_3 = rho_3 "
+                 "reads the same way); with the true lambda_1 = inf every theta_n (n >= 3) "
+                 "is infinite"),
         CheckRow(section, "verdict", "stable (Theorem 2)", "inconclusive", False,
                  "Theorem 2 needs a proper controller; the linear closed loop is stable but "
-                 "lambda_1 = inf makes conditions 1 and 3 fail"),
+                 "lambda_1 = inf makes conditions 1 and 3 fail. No proper stable linear "
+                 "controller can do better: the theta-series converges only for reference "
+                 f"sizes r < {obstruction.ceiling:.4g} (proof in "
+                 "gfrf.paper_checks_cartpole.theorem2_obstruction)"),
     ]
 
 
@@ -282,3 +312,144 @@ def paper_checks(models_dir: str | Path = "models") -> list[CheckRow]:
     rows += coefficient_rows(d / "cartpole.toml")
     rows += _closed_loop_rows(d / "cartpole_reduced.toml")
     return rows
+
+
+@dataclass(frozen=True)
+class AlphaRow:
+    """One hanging-pendulum file at the paper's r = 1: eq (6) (alpha = 1) or eq (2).
+
+    Attributes
+    ----------
+    model : str
+        File stem.
+    alpha : float
+        Input gain, |coefficient of u| / coefficient of theta''.
+    rho : float
+        Damping of the file.
+    h1_norm : float
+        ||H1|| (exact sup, :func:`gfrf.norms.h1_norm`).
+    radius : float
+        r* of Theorem 1 (certified; ``radius_proof`` says how).
+    radius_proof : str
+    verdict : str
+        Theorem 1 at r = 1.
+    margin : float
+        Damping above which Theorem 1 certifies r = 1 (:func:`gfrf.criteria.parameter_margin`).
+    margin_tolerance : float
+    resonance : float
+        Peak of |H1| (rad/s).
+    bounded : bool
+        The polynomial model driven by u = cos(resonance t) (r = 1) stayed bounded.
+    peak : float
+        max |theta| (rad) of that run.
+    t_end : float
+    """
+
+    model: str
+    alpha: float
+    rho: float
+    h1_norm: float
+    radius: float
+    radius_proof: str
+    verdict: str
+    margin: float
+    margin_tolerance: float
+    resonance: float
+    bounded: bool
+    peak: float
+    t_end: float
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary."""
+        return {"model": self.model, "alpha": self.alpha, "rho": self.rho,
+                "h1_norm": self.h1_norm, "radius": self.radius,
+                "radius_proof": self.radius_proof, "verdict": self.verdict,
+                "margin": self.margin, "margin_tolerance": self.margin_tolerance,
+                "resonance": self.resonance, "bounded": self.bounded, "peak": self.peak,
+                "t_end": self.t_end}
+
+
+def alpha_variants(models_dir: str | Path = "models", tolerance: float = 1e-6,
+                   t_end: float = 100.0) -> list[AlphaRow]:
+    """The hanging pendulum with and without eq (2)'s input gain, at r = 1.
+
+    For each file of :data:`ALPHA_MODELS`: Theorem 1 at r = 1 (:func:`theorem1`), its
+    certified radius r*, the damping threshold of :func:`gfrf.criteria.parameter_margin`,
+    and a simulation of the polynomial model with u = cos(w_r t) at the resonance w_r.
+    """
+    from gfrf.criteria import parameter_margin
+    from gfrf.majorant import linear_polynomials
+    from gfrf.simulate import simulate
+    from gfrf.validation import resonance
+
+    rows = []
+    for pair in ALPHA_MODELS:
+        for name in pair:
+            mf = load_model(Path(models_dir) / name)
+            num, den = linear_polynomials(mf.plant)
+            v = theorem1(mf.plant, order=1, amplitude=1.0, with_norms=False)
+            w_r = resonance(mf.plant)
+            run = simulate(mf, f"cos({w_r!r}*t)", t_end=t_end, equation="polynomial",
+                           rtol=1e-8, atol=1e-11, blowup=1e3)
+            margin = parameter_margin(mf, "rho", 1.0, tolerance)
+            rows.append(AlphaRow(Path(name).stem, float(abs(num[-1] / den[0])),
+                                 float(mf.parameters["rho"]), h1_norm(mf.plant).upper,
+                                 v.radius, v.radius_proof, v.verdict, margin.value,
+                                 tolerance, w_r, run.bounded, run.peak, t_end))
+    return rows
+
+
+@dataclass(frozen=True)
+class ThetaReading:
+    """The paper's printed theta_3 against Theorem 2's recursion with and without rho_1.
+
+    ``kept`` is theta_3 = rho_1 phi_3 lambda_1^3 (Theorem 2 as printed), ``dropped`` is
+    phi_3 lambda_1^3 (the rho_1 prefactor left out); inputs are the paper's own printed
+    rho_1, phi_3 (section 3: its rho_3) and lambda_1 (section 3: 1, no controller).
+    """
+
+    section: str
+    printed: float
+    rho1: float
+    phi3: float
+    lambda1: float
+    kept: float
+    dropped: float
+
+    @property
+    def matches_kept(self) -> bool:
+        return printed_match(self.printed, self.kept)
+
+    @property
+    def matches_dropped(self) -> bool:
+        return printed_match(self.printed, self.dropped)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary."""
+        return {"section": self.section, "printed": self.printed, "rho1": self.rho1,
+                "phi3": self.phi3, "lambda1": self.lambda1, "kept": self.kept,
+                "dropped": self.dropped, "matches_kept": self.matches_kept,
+                "matches_dropped": self.matches_dropped}
+
+
+def theta_readings(models_dir: str | Path = "models") -> list[ThetaReading]:
+    """theta_3 of sections 3 and 5 under one convention, from the files' ``[paper]`` tables.
+
+    Uses :func:`gfrf.criteria.theta_series` (the printed recursion) with the paper's
+    rho_1 and with rho_1 = 1 (dropped).
+    """
+    d = Path(models_dir)
+    out = []
+    for name, label in (("hanging_pendulum.toml", "3 (rho = 0.8)"),
+                        ("hanging_pendulum_damped.toml", "3 (rho = 8)")):
+        p = load_model(d / name).paper
+        phi = [p["rho_1"], p["rho_2"], p["rho_3"]]
+        out.append(ThetaReading(label, p["theta_3"], p["rho_1"], p["rho_3"], 1.0,
+                                theta_series(phi, 1.0, p["rho_1"], 3)[2],
+                                theta_series(phi, 1.0, 1.0, 3)[2]))
+    p = load_model(d / "cartpole.toml").paper
+    phi = [p["beta_1"], 0.0, p["beta_3"]]
+    out.append(ThetaReading("5 (cart-pole)", p["theta_3"], p["rho_1"], p["beta_3"],
+                            p["lambda_1"], theta_series(phi, p["lambda_1"], p["rho_1"], 3)[2],
+                            theta_series(phi, p["lambda_1"], 1.0, 3)[2]))
+    return out
