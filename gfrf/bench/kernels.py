@@ -3,17 +3,22 @@
 Model: the cart-pole of eq (12) (every term type: cubic, theta*theta'^2,
 theta^2*theta'', theta^2*u).  Symbolic: a fresh generator builds the recursion steps
 (placeholder form) and the fully inlined rational functions of H1..H7.  Numeric: H3
-at 10^6 random frequency triples in [-20, 20] rad/s, by the numpy path and the numba
-ufunc (compile time excluded, reported), against the naive baseline a user would
-write, sympy ``subs``/``evalf`` of the explicit H3 point by point (timed on a sample
-and reported as a rate).  Error: max relative deviation from harmonic probing
-(:mod:`gfrf.probing`, an independent algorithm) on 2000 of the points.
+at 10^6 random frequency triples in [-20, 20] rad/s, by gfrf's numpy path and its
+numba ufunc (compile time excluded, reported), against the baseline a user would
+really write: ``sympy.lambdify((s1, s2, s3), H3, "numpy", cse=True)`` of the same
+explicit rational function, called at s = j*omega (its set-up time reported
+separately).  All on the same points, best of three, in one run.  Error: max relative
+deviation from harmonic probing (:mod:`gfrf.probing`, an independent algorithm) on
+2000 of the points.
 """
 
 from __future__ import annotations
 
+import os
 import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import sympy as sp
@@ -30,8 +35,18 @@ def _rate(points: int, seconds: float) -> str:
     return f"{points / seconds:.3g}"
 
 
+def _best(call: Callable[[], Any], repeat: int) -> tuple[float, Any]:
+    best, out = np.inf, None
+    for _ in range(repeat):
+        start = time.perf_counter()
+        out = call()
+        best = min(best, time.perf_counter() - start)
+    return best, out
+
+
 def run(quick: bool) -> BenchSection:
     """Time symbolic generation and numeric evaluation; return the report section."""
+    load = os.getloadavg()
     model = load_model(Path(__file__).resolve().parents[2] / "models" / "cartpole.toml").plant
     top = 5 if quick else 7
     fresh = GFRFGenerator(model)
@@ -46,7 +61,9 @@ def run(quick: bool) -> BenchSection:
 
     rng = np.random.default_rng(0)
     points = 10**5 if quick else 10**6
+    repeat = 3
     w = rng.uniform(-20.0, 20.0, (3, points))
+    s_points = 1j * w
     check = 200 if quick else 2000
     reference = np.array([probe_kernel(model, list(w[:, i])) for i in range(check)])
 
@@ -54,49 +71,61 @@ def run(quick: bool) -> BenchSection:
         return float(np.max(np.abs(values[:check] - reference) / np.abs(reference)))
 
     h3 = kernel(model, 3)
-    h3(*w[:, :10])  # plan and lambdify once, outside the timing
     start = time.perf_counter()
-    numpy_values = h3(*w)
-    t_numpy = time.perf_counter() - start
+    h3(*w[:, :10])  # plan and lambdify once, outside the timing
+    t_plan = time.perf_counter() - start
+    t_numpy, numpy_values = _best(lambda: h3(*w), repeat)
+
+    explicit, s = h3.expr, h3.variables
+    start = time.perf_counter()
+    baseline = sp.lambdify(s, explicit, "numpy", cse=True)
+    t_lambdify_setup = time.perf_counter() - start
+    t_lambdify, lambdify_values = _best(lambda: baseline(*s_points), repeat)
+
     rows = [[f"symbolic H1..H{top}, recursive form", "placeholder recursion",
              f"{t_recursive:.3f} s", "exact", "target < 5 s"],
             [f"symbolic H1..H{top}, explicit rational functions", "inlined",
              f"{t_explicit:.3f} s", "exact", "target < 5 s"],
-            [f"H3 numeric, {points} points", "numpy (vectorised)",
-             f"{_rate(points, t_numpy)} pts/s", f"{error(numpy_values):.1e}", ""]]
+            [f"H3 numeric, {points} points", "baseline: sympy.lambdify(..., 'numpy', cse=True)",
+             f"{_rate(points, t_lambdify)} pts/s", f"{error(lambdify_values):.1e}",
+             f"set-up (lambdify with cse) {t_lambdify_setup:.3f} s"],
+            [f"H3 numeric, {points} points", "gfrf numpy (vectorised)",
+             f"{_rate(points, t_numpy)} pts/s", f"{error(numpy_values):.1e}",
+             f"{t_lambdify / t_numpy:.2g}x the lambdify rate; set-up (plan) {t_plan:.3f} s"]]
     notes = []
     try:
         start = time.perf_counter()
         ufunc = h3.compiled()
         ufunc(*w[:, :2])
         t_compile = time.perf_counter() - start
-        timings = []
-        for _ in range(3):
-            start = time.perf_counter()
-            fast_values = ufunc(*w)
-            timings.append(time.perf_counter() - start)
-        t_fast = min(timings)
-        rows.append([f"H3 numeric, {points} points", "numba ufunc (one core)",
+        t_fast, fast_values = _best(lambda: ufunc(*w), repeat)
+        rows.append([f"H3 numeric, {points} points", "gfrf numba ufunc (one core)",
                      f"{_rate(points, t_fast)} pts/s", f"{error(fast_values):.1e}",
-                     "target >= 1e7 pts/s"])
-        notes.append(f"numba compile time of H3 (excluded above): {t_compile:.2f} s.")
+                     f"{t_lambdify / t_fast:.2g}x the lambdify rate; target >= 1e7 pts/s"])
+        notes.append(f"numba compile or cache load of H3 (excluded above): {t_compile:.2f} s; "
+                     f"it pays for itself against lambdify after about "
+                     f"{_break_even(t_compile, t_fast, t_lambdify, points)} points.")
     except ImportError:
-        t_fast = t_numpy
         notes.append("numba not installed: the compiled path was skipped.")
 
-    explicit = h3.expr
-    s = h3.variables
-    sample = 20 if quick else 100
+    sample = 10 if quick else 50
     start = time.perf_counter()
     naive = np.array([complex(explicit.subs({s[k]: sp.I * float(w[k, i]) for k in range(3)})
                               .evalf()) for i in range(sample)])
     t_naive = (time.perf_counter() - start) / sample
     naive_error = float(np.max(np.abs(naive - reference[:sample]) / np.abs(reference[:sample])))
-    rows.append(["H3 numeric", "naive: sympy subs/evalf per point",
-                 f"{1 / t_naive:.3g} pts/s", f"{naive_error:.1e}",
-                 f"ours is {t_naive * points / t_fast:.3g}x faster"])
+    notes.append(f"Not a fair baseline, for scale only: sympy subs/evalf point by point runs "
+                 f"at {1 / t_naive:.3g} pts/s (error {naive_error:.1e}, {sample} points).")
+    notes.append(f"Load average (1, 5, 15 min) at the start of this section: "
+                 f"{load[0]:.2f}, {load[1]:.2f}, {load[2]:.2f} on {os.cpu_count()} cores.")
     return BenchSection(
         title="GFRF generation and evaluation (cart-pole eq (12))",
-        intro=__doc__.split("\n\n", 1)[1].strip(),
+        intro=" ".join(__doc__.split("\n\n", 1)[1].split()),
         columns=["what", "method", "time or rate", "max rel. error", "note"],
         rows=rows, notes=notes)
+
+
+def _break_even(t_compile: float, t_fast: float, t_lambdify: float, points: int) -> str:
+    """Points after which compile + compiled evaluation beats lambdify evaluation."""
+    saving = (t_lambdify - t_fast) / points
+    return f"{t_compile / saving:.2g}" if saving > 0 else "never (the ufunc is not faster)"
