@@ -631,11 +631,15 @@ def _frequencies(expr: sp.Expr | None) -> tuple[tuple[str, float], ...]:
     return tuple(out)
 
 
+#: The zero input (immutable) built once per derivative count, not lambdified per run.
+_zero_input = functools.lru_cache(maxsize=8)(zero_input)
+
+
 def _signal(input_: str | InputSignal | None, system: OdeSystem) -> InputSignal:
     # A NARX model reads past samples of u, not derivatives: only u itself is needed.
     need = 0 if system.discrete else system.n_inputs - 1
     if input_ is None:
-        return zero_input(need)
+        return _zero_input(need)
     if isinstance(input_, InputSignal):
         if input_.max_derivative < need:
             raise ArgumentError(f"the model needs {need} input derivatives; build the "
