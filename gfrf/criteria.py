@@ -512,16 +512,38 @@ def _loop_radius(maj: Majorant, lam: float, rho1: float,
     if "none" in levels:
         return dataclasses.replace(rad, proof="none")
     if levels == {"interval"} and rad.solution is not None and rad.certified_below > 0:
-        # The majorant components x, xc of the solution are exact fixed points given E
-        # (their step does not involve r), so rhs <= z is an equality there that balls
-        # cannot confirm; E has the slack rho_1 (r' - r).  Inflating x, xc by a tiny
-        # factor moves slack into them; any z >= 0 with step(z, r) <= z is a proof.
-        for inflate in (0.0, 1e-13, 1e-12, 1e-11, 1e-10):
-            z = rad.solution.copy()
-            z[:-1] *= 1.0 + inflate
+        for z in _slack_candidates(step, rad.solution, rad.certified_below):
             if _loop_proves(maj, lam, rho1, cmaj, z, rad.certified_below):
                 return dataclasses.replace(rad, proof="interval")
     return rad
+
+
+def _slack_candidates(step: Any, z: np.ndarray, r: float) -> list[np.ndarray]:
+    """Points near the supersolution z to try the ball check at.
+
+    The majorant components of the loop solution are exact fixed points given E (their
+    step does not involve r), so step(z, r) <= z is an equality there that balls cannot
+    confirm; only E has the slack rho_1 (r' - r).  z + t d with (I - J) d = z (J the
+    Jacobian of the step, by finite differences; (I - J)^-1 >= 0 below the radius)
+    has step(z + t d) ~ z + t d - t z: slack in every component.  Any candidate that
+    passes the ball check is a proof, whatever produced it.
+    """
+    n = z.size
+    jac = np.empty((n, n))
+    base = step(z, r)
+    for i in range(n):
+        h = 1e-7 * max(abs(z[i]), float(np.max(np.abs(z))), 1e-300)
+        e = z.copy()
+        e[i] += h
+        jac[:, i] = (step(e, r) - base) / h
+    candidates = [z]
+    try:
+        d = np.linalg.solve(np.eye(n) - jac, z)
+    except np.linalg.LinAlgError:
+        return candidates
+    if np.all(np.isfinite(d)) and np.all(d >= 0):
+        candidates += [z + t * d for t in (1e-13, 1e-12, 1e-11, 1e-10, 1e-9)]
+    return candidates
 
 
 def _loop_proves(maj: Majorant, lam: float, rho1: float, cmaj: Majorant | None,

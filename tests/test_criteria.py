@@ -206,3 +206,46 @@ def test_length_margin_is_a_stable_below_boundary() -> None:
     margin = parameter_margin(load_model("models/hanging_pendulum.toml"), "L")
     assert margin.direction == "below"
     assert margin.value == pytest.approx(expected, rel=1e-5)
+
+
+# -- levels of proof -------------------------------------------------------------------
+LAG_LOOP = {"equation": "D(y,2) + D(y) + 2*y + 0.3*y**3 = u",
+            "controller": {"num": [0.5], "den": [0.1, 1.0]}}
+
+
+def test_theorem2_radius_is_proven_in_ball_arithmetic() -> None:
+    from gfrf.criteria import _loop_proves
+    from gfrf.loops import closed_loop
+
+    mf = model_from_dict(LAG_LOOP)
+    v = theorem2(mf, order=1, amplitude=0.01, with_norms=False)
+    assert v.radius_proof == "interval" and v.verdict == "stable"
+    floated = theorem2(mf, order=1, amplitude=0.01, with_norms=False, proof="float")
+    assert floated.radius_proof == "float"
+    assert floated.radius == pytest.approx(v.radius, rel=1e-9)
+    # the ball check refuses a point beyond the radius: no z >= 0 passes there, in
+    # particular not a large one or the one at the radius
+    loop, maj = closed_loop(mf), majorant(mf.plant)
+    lam, rho = loop.controller_norm_upper, loop.sensitivity_peak_upper
+    for z in (np.full(2, 1e3), np.full(2, 1e-3), np.array([v.radius, v.radius])):
+        assert not _loop_proves(maj, lam, rho, None, z, 1.5 * v.radius)
+
+
+def test_polynomial_controller_radius_is_proven() -> None:
+    mf = model_from_dict({"equation": PLANT,
+                          "controller": {"equation": "D(u) + 10*u = 5*y + 0.5*y**3"}})
+    v = theorem2(mf, order=1, amplitude=0.01, with_norms=False)
+    assert v.radius_proof == "interval"
+
+
+def test_proof_none_never_stable_and_float_agrees() -> None:
+    model = parse_model("D(y,2) + D(y) + 2*y + y**3 = u")
+    levels = {p: theorem1(model, order=3, amplitude=0.1, proof=p)
+              for p in ("interval", "float", "none")}
+    assert levels["interval"].verdict == levels["float"].verdict == "stable"
+    assert levels["none"].verdict == "inconclusive" and not levels["none"].radius_certified
+    assert [levels[p].radius_proof for p in levels] == ["interval", "float", "none"]
+    assert levels["float"].radius == pytest.approx(levels["interval"].radius, rel=1e-12)
+    assert levels["none"].to_dict()["radius_proof"] == "none"
+    with pytest.raises(ArgumentError, match="proof must be one of"):
+        verdict(model, proof="certified")

@@ -229,3 +229,43 @@ def test_failed_branch_point_falls_back_to_bisection(monkeypatch: pytest.MonkeyP
     monkeypatch.setattr(majorant_module, "_fold", lambda *args: None)
     fallback = radius(lambda x, r: maj.rhs(x, r), 1)
     assert (fallback.value, fallback.certified_below) == (slow.value, slow.certified_below)
+
+
+# -- levels of proof -------------------------------------------------------------------
+def test_h3_closed_form_at_each_level() -> None:
+    """Duffing-type pure cubic: ||H3|| = |c3| beta^4 (the majorant is attained)."""
+    b, c3 = 0.05, 0.41
+    m = parse_model(f"D(y,2) + {b}*D(y) + {C}*y - {c3}*y**3 = u")
+    with mpmath.workdps(50):
+        exact = mpmath.mpf(c3) / (mpmath.mpf(b) * mpmath.sqrt(C - mpmath.mpf(b) ** 2 / 4)) ** 4
+    proven = kernel_norm(m, 3, proof="interval")
+    assert (proven.proof, proven.upper_proof, proven.lower_proof) == ("float", "interval", "float")
+    assert mpmath.mpf(proven.upper) >= exact  # the proven end is an upper bound
+    floated = kernel_norm(m, 3, proof="float")
+    assert floated.certified and floated.upper_proof == "float"
+    assert floated.upper == pytest.approx(float(exact), rel=1e-12)
+    estimate = kernel_norm(m, 3, proof="none")
+    assert not estimate.certified and estimate.proof == "none"
+    assert "branch-and-bound" not in estimate.method
+    d = proven.to_dict()
+    assert (d["proof"], d["upper_proof"], d["lower_proof"]) == ("float", "interval", "float")
+
+
+def test_h1_levels_and_refusal() -> None:
+    m = parse_model("D(y,2) + 0.05*D(y) + 2.45*y = u")
+    levels = {p: h1_norm(m, p) for p in ("interval", "float", "none")}
+    assert [levels[p].proof for p in levels] == ["interval", "float", "none"]
+    assert levels["interval"].lower <= peak(0.05) <= levels["interval"].upper
+    assert levels["float"].upper == pytest.approx(peak(0.05), rel=1e-12)
+    assert levels["float"].certified and not levels["none"].certified
+    with pytest.raises(ArgumentError, match="proof must be one of"):
+        h1_norm(m, "exact")
+    with pytest.raises(ArgumentError, match="proof must be one of"):
+        kernel_norm(m, 3, proof="proven")
+
+
+def test_branch_and_bound_upper_is_labelled_float() -> None:
+    """An upper end lowered by the branch-and-bound is certified in floats only."""
+    bound = kernel_norm(load_model("models/cartpole_reduced.toml").plant, 3)
+    assert "branch-and-bound" in bound.method
+    assert bound.upper_proof == "float" and bound.proof == "float"
