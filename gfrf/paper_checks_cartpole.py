@@ -48,8 +48,9 @@ __all__ = ["InertiaReversal", "LagRow", "LagSimulation", "SignMargin", "Controll
 LAG_TIME_CONSTANTS = (1e-3, 3e-3, 1e-2)
 
 #: PD-with-filter gains (K_p, K_d, tau_f) tried by :func:`theorem2_obstruction`:
-#: u = +(K_d s + K_p)/(tau_f s + 1) theta.
-PD_GRID = tuple((kp, kd, tf) for kp in (1.8, 2.5, 5.0, 20.0) for kd in (0.05, 0.5, 5.0)
+#: u = +(K_d s + K_p)/(tau_f s + 1) theta.  No point has K_d = tau_f K_p (the zero would
+#: cancel the filter pole and leave closed-loop poles on the imaginary axis).
+PD_GRID = tuple((kp, kd, tf) for kp in (1.8, 2.5, 4.0, 20.0) for kd in (0.05, 0.5, 5.0)
                 for tf in (1e-3, 1e-2, 1e-1))
 
 
