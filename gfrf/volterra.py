@@ -67,7 +67,7 @@ from gfrf.errors import ArgumentError, ConvergenceError
 from gfrf.kernels import MAX_KERNEL_ORDER, generator, kernel
 from gfrf.model import Model
 from gfrf.signals import Tone, tones_input
-from gfrf.simulate import OdeSystem, build_system, input_values
+from gfrf.simulate import MAX_RHS_EVALUATIONS, OdeSystem, build_system, input_values
 
 __all__ = ["Component", "VolterraPrediction", "BeyondRadiusError", "NoSteadyStateError",
            "predict",
@@ -411,24 +411,34 @@ class SteadyState:
 
 def steady_state(system: OdeSystem, tones: Any, *, samples: int = 256,
                  guess: np.ndarray | None = None, tol: float = 1e-12,
-                 max_iter: int = 20) -> SteadyState:
+                 max_iter: int = 20, max_evaluations: int = MAX_RHS_EVALUATIONS
+                 ) -> SteadyState:
     """Periodic steady state of ``system`` under a commensurate multi-tone input.
 
     Newton's method on z -> Phi(z) - z, Phi the period map (DOP853, rtol 1e-12),
-    with a finite-difference Jacobian.
+    with a finite-difference Jacobian.  All integrations together may evaluate the
+    right-hand side at most ``max_evaluations`` times (default
+    :data:`gfrf.simulate.MAX_RHS_EVALUATIONS`; tones 1000 times apart need about that).
 
     Raises
     ------
     ConvergenceError
-        If the shooting residual does not fall below ``tol`` (times the state size).
+        If the shooting residual does not fall below ``tol`` (times the state size), or
+        the work budget is spent first.
     """
     tones = _check_tones(tones)
     w0 = base_frequency(tones)
     period = 2 * math.pi / w0
     signal = tones_input(tones)
     rhs = system.function("rhs")
+    count = [0]
 
     def f(t: float, z: np.ndarray) -> np.ndarray:
+        count[0] += 1
+        if count[0] > max_evaluations:
+            raise ConvergenceError(f"shooting stopped: the period maps of the common period "
+                                   f"{period:.6g} s used the work budget max_evaluations = "
+                                   f"{max_evaluations} right-hand-side evaluations")
         out = np.empty(system.n_states)
         rhs(z, input_values(signal, 1, np.array([t]))[:, 0], out)
         return out

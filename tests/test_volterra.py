@@ -201,3 +201,18 @@ def test_marginal_or_unstable_linear_part_refused(text, sample_time, where):
     model = parse_model(text, sample_time=sample_time)
     with pytest.raises(NoSteadyStateError, match=re.escape(where)):
         predict(model, [(1e-3, 2.0, 0.0)], 3)
+
+
+def test_shooting_stops_on_its_work_budget():
+    # 999 rad/s beside 1 rad/s: a common period of 2 pi s holds 999 fast periods
+    import time
+
+    from gfrf.errors import ConvergenceError
+    from gfrf.simulate import build_system
+    from gfrf.volterra import steady_state
+
+    system = build_system(parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"))
+    start = time.perf_counter()
+    with pytest.raises(ConvergenceError, match="max_evaluations = 5000 "):
+        steady_state(system, [(0.01, 1.0, 0.0), (0.01, 999.0, 0.0)], max_evaluations=5000)
+    assert time.perf_counter() - start < 5.0
