@@ -11,3 +11,10 @@ def test_quick_bench_section():
     assert len(targets) == 3
     assert all(r[6] == "yes" for r in targets)
     assert "| transition curve, branch 1/4 | homotopy" in section.to_markdown()
+    # gfrf's exact transition values agree with the independent brentq + DOP853 reference,
+    # and the fair baselines (brentq + solve_ivp) are in the table beside them
+    exact = [r for r in section.rows if str(r[0]).startswith("exact transition")]
+    assert any("brentq + solve_ivp RK45" in str(r[1]) for r in exact)
+    ours = [r for r in exact if str(r[1]).startswith("gfrf")]
+    assert len(ours) == 3
+    assert all(float(r[4]) < 1e-10 for r in ours)

@@ -4,12 +4,17 @@ Rows: each method's transition curve over ``eps`` in [0, 0.5] at ``x(0) = 0.5`` 
 against the Newton-shooting curve of eq (4)); perturbation order 2/4/6 vs error vs
 time; exact linear curves from Mathieu values for 1000 ``eps`` against the naive
 monodromy-trace bisection; one shooting orbit to 1e-10 against shooting with
-``solve_ivp`` default tolerances; the order-6 series of both branches.
+``solve_ivp`` default tolerances; the order-6 series of both branches.  The exact
+transition value as ``gfrf transition --method exact`` computes it (and the exact curve)
+against what a user writes: ``brentq`` on ``delta`` with ``x(pi)`` or ``x'(pi)`` from
+``solve_ivp(rtol=1e-10)``, all against a tight reference (``brentq`` xtol 1e-15 on
+DOP853 at rtol 1e-13, atol 1e-15).
 """
 
 from __future__ import annotations
 
 import math
+import os
 import time
 from collections.abc import Callable
 from typing import TypeVar
@@ -19,7 +24,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 from gfrf.bench import BenchSection
-from gfrf.periodic.compare import transition_curve
+from gfrf.periodic.compare import method_transition, transition_curve
 from gfrf.periodic.energy import energy_transition
 from gfrf.periodic.floquet import mathieu_transition, monodromy_transition
 from gfrf.periodic.perturbation import perturbation_series
@@ -60,8 +65,67 @@ def _naive_shooting_delta(eps: float, amp: float) -> float:
     return brentq(x_pi, d0 - 0.05, d0 + 0.1)
 
 
+def _brentq_delta(eps: float, amp: float, branch: str, method: str = "RK45",
+                  rtol: float = 1e-10, atol: float = 1e-12, xtol: float = 2e-12) -> float:
+    """Baseline: ``brentq`` on delta for x(pi) = 0 (branch 1/4) or x'(pi) = 0 (branch 0)."""
+    idx = 0 if branch == "1/4" else 1
+
+    def at_pi(delta: float) -> float:
+        sol = solve_ivp(lambda t, y: [y[1], -(delta + eps * math.cos(t)) * (y[0] - y[0]**3 / 6)],
+                        (0.0, math.pi), [amp, 0.0], method=method, rtol=rtol, atol=atol)
+        return float(sol.y[idx, -1])
+
+    d0 = float(mathieu_transition(eps, branch))
+    return brentq(at_pi, d0 - 0.05, d0 + 0.2, xtol=xtol)
+
+
+def _transition_rows(quick: bool) -> tuple[list[list[object]], list[str]]:
+    """gfrf's exact transition values and curve against brentq + solve_ivp, same accuracy."""
+    eps_set = (0.2, 0.5) if quick else (0.1, 0.2, 0.3, 0.4, 0.5)
+    cases = [(e, b) for b in ("0", "1/4") for e in eps_set]
+    ref = np.array([_brentq_delta(e, AMPLITUDE, b, "DOP853", 1e-13, 1e-15, 1e-15)
+                    for e, b in cases])
+    baselines = (("brentq + solve_ivp RK45, rtol 1e-10, atol 1e-12", "RK45", 1e-10, 1e-12),
+                 ("brentq + solve_ivp DOP853, rtol 1e-10, atol 1e-12", "DOP853", 1e-10, 1e-12),
+                 ("brentq + solve_ivp DOP853, rtol 1e-12, atol 1e-14 (gfrf's integrator)",
+                  "DOP853", 1e-12, 1e-14),
+                 ("brentq + solve_ivp RK45, rtol 1e-10 (default atol 1e-6)", "RK45", 1e-10, 1e-6))
+    setting = f"{len(cases)} points: eps in {list(eps_set)}, both branches, x(0) = {AMPLITUDE}"
+
+    def err(values: list[float]) -> str:
+        return f"{np.max(np.abs(np.array(values) - ref)):.1e}"
+
+    ours, t_ours = _timed(lambda: [method_transition("exact", e, AMPLITUDE, b).delta
+                                   for e, b in cases])
+    rows: list[list[object]] = [["exact transition value (gfrf transition --method exact)",
+                                 "gfrf: Newton shooting + continuation in x(0)", setting,
+                                 f"{t_ours:.3f}", err(ours), "", ""]]
+    notes = []
+    for label, method, rtol, atol in baselines:
+        vals, t_b = _timed(lambda m=method, r=rtol, a=atol: [
+            _brentq_delta(e, AMPLITUDE, b, m, r, a) for e, b in cases])
+        rows.append(["exact transition value", label, setting, f"{t_b:.3f}", err(vals), "", ""])
+        notes.append(f"gfrf transition --method exact takes {t_ours / t_b:.2g}x the time of "
+                     f"{label} (errors {err(ours)} and {err(vals)}).")
+    curve_eps = np.array(eps_set)
+    for branch in ("0", "1/4"):
+        sub = ref[[i for i, (_, b) in enumerate(cases) if b == branch]]
+        curve, t_curve = _timed(transition_curve, "exact", curve_eps, AMPLITUDE, branch)
+        naive, t_naive = _timed(lambda b=branch: [_brentq_delta(float(e), AMPLITUDE, b)
+                                                  for e in curve_eps])
+        for label, vals, sec in (("gfrf exact curve (continuation in eps)", curve, t_curve),
+                                 (baselines[0][0], naive, t_naive)):
+            rows.append([f"exact transition curve, branch {branch}", label,
+                         f"{len(curve_eps)} eps", f"{sec:.3f}",
+                         f"{np.max(np.abs(np.asarray(vals) - sub)):.1e}", "", ""])
+        notes.append(f"Exact curve, branch {branch}: gfrf takes {t_curve / t_naive:.2g}x the "
+                     f"time of brentq + solve_ivp RK45.")
+    return rows, notes
+
+
 def run(quick: bool) -> BenchSection:
     """Run the periodic-pendulum benchmarks and return the report section."""
+    load = os.getloadavg()
     rows: list[list[object]] = []
     n_eps = 6 if quick else 26
     eps = np.linspace(0.0, 0.5, n_eps)
@@ -120,6 +184,9 @@ def run(quick: bool) -> BenchSection:
                  "Fourier coefficients (exact rationals)", "", f"{t_series:.3f}", "exact",
                  "< 10 s", _yes(t_series < 10.0)])
 
+    transition_rows, transition_notes = _transition_rows(quick)
+    rows += transition_rows
+
     no_root = np.isnan(energy_transition(eps_pos, AMPLITUDE))
     edge = float(eps_pos[no_root].min()) if no_root.any() else math.inf
     return BenchSection(
@@ -133,4 +200,7 @@ def run(quick: bool) -> BenchSection:
         rows=rows,
         notes=[f"Energy method: eq (48) has no real root from eps = {edge:.3g} on (x(0) = "
                f"{AMPLITUDE}), so its curve stops there.",
-               "Averaging and energy treat only the 1/4 branch (as in the paper)."])
+               "Averaging and energy treat only the 1/4 branch (as in the paper).",
+               *transition_notes,
+               f"Load average (1, 5, 15 min) at the start of this section: "
+               f"{load[0]:.2f}, {load[1]:.2f}, {load[2]:.2f} on {os.cpu_count()} cores."])
