@@ -15,6 +15,7 @@ norms (exact sups of the majorant, ||H1||), series (the certified radius r*).
 from __future__ import annotations
 
 import math
+import os
 import time
 import tomllib
 from collections.abc import Callable
@@ -74,7 +75,7 @@ def cost_split(path: Path, names: list[str], points: list[dict[str, float]]
     split["model: full parse (naive)"] = _per_point(lambda p: rebuild(data, p), points)
     split["kernels: H1..H3 plans + 100 points"] = _per_point(lambda mf: _kernels(mf.plant),
                                                              files)
-    split["norms: majorant sups + ||H1||"] = _per_point(
+    split["norms: majorant sups + ‖H1‖"] = _per_point(
         lambda mf: (majorant(mf.plant), h1_norm(mf.plant)), files)
     majorants = [majorant(mf.plant) for mf in files]
     split["series: certified radius r*"] = _per_point(_series, majorants)
@@ -89,6 +90,7 @@ def run(quick: bool) -> BenchSection:
     data = tomllib.loads(path.read_text(encoding="utf-8"))
     n_rho, n_l = (6, 4) if quick else (12, 8)
     axes = [parse_axis(f"rho=0.2:20:{n_rho}"), parse_axis(f"L=0.5:6:{n_l}")]
+    load_local = os.getloadavg()
     local = sweep(data, axes, progress=False)
     n = len(local.rows)
     start = time.perf_counter()
@@ -113,12 +115,19 @@ def run(quick: bool) -> BenchSection:
             t_start = time.perf_counter() - start
             pool = client.get_executor()
             sweep(data, [parse_axis("rho=1:2:2")], scheduler=pool, workers=2, progress=False)
+            load_cluster = os.getloadavg()
             warm = sweep(data, axes, scheduler=pool, workers=2, progress=False)
+        speed_up = warm.points_per_second / local.points_per_second
         rows.append([f"verdict sweep, {n} points", "dask LocalCluster, 2 worker processes",
                      f"{warm.points_per_second:.3g} pts/s",
                      f"{_max_rel(warm.rows, local.rows):.1e}",
-                     f"{warm.points_per_second / local.points_per_second:.2f}x in-process; "
-                     f"cluster start {t_start:.1f} s"])
+                     f"{speed_up:.2f}x in-process; cluster start {t_start:.1f} s"])
+        notes.append(f"dask LocalCluster (2 single-threaded worker processes on this "
+                     f"{os.cpu_count()}-core machine): {speed_up:.2f}x the in-process rate "
+                     f"({warm.points_per_second:.3g} vs {local.points_per_second:.3g} pts/s), "
+                     f"measured with a 1-minute load average of {load_cluster[0]:.2f} "
+                     f"(in-process run: {load_local[0]:.2f}); other work on the machine "
+                     f"lowers both rates and the speed-up.")
     except ImportError:
         notes.append("dask.distributed not installed: the cluster row was skipped.")
     sample = [{"rho": r["rho"], "L": r["L"]} for r in local.rows[:: max(1, n // 12)]]
@@ -137,6 +146,9 @@ def run(quick: bool) -> BenchSection:
     notes.append("Kernels are not used by a verdict sweep (with_norms=False decides from "
                  "the majorant); their row is what 'gfrf verdict' adds per model for the "
                  "norm lower bounds.")
+    notes.append(f"Load average (1, 5, 15 min) at the start of this section: "
+                 f"{load_local[0]:.2f}, {load_local[1]:.2f}, {load_local[2]:.2f} on "
+                 f"{os.cpu_count()} cores.")
     return BenchSection(
         title="Parameter sweeps: throughput and per-point cost (hanging pendulum rho x L)",
         intro=__doc__.split("\n\n", 1)[1].strip(),
