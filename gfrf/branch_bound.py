@@ -32,9 +32,14 @@ the sup is enclosed directly (angular frequencies in rad/s throughout):
   ``lower / (1 - tol)`` are discarded, box centres raise the lower bound and a new
   best centre is polished by Nelder-Mead.
 
-The upper bound is certified up to floating-point rounding (about 1e-12 relative:
-values, stationary points and polynomial extrema are computed in double precision,
-not with outward rounding).  Continuous-time models only.
+Soundness.  The tail's one-dimensional sups are proven (Arb, :class:`gfrf.exact.SupBeyond`);
+the extrema of |A|, |A'| and |2 A'^2 - A A''| over an interval use critical points
+isolated exactly (Arb) and endpoint values widened by an a-priori Horner error bound,
+so a cluster of lightly damped poles cannot shrink them.  The Taylor arithmetic itself
+runs in double precision without outward rounding, and a box centre's value is used only
+where |A| there is accurate to 1e-8 relative (elsewhere the box keeps its magnitude
+bounds): the upper bound is certified in floating point (``proof = "float"``), not
+proven.  Continuous-time models only.
 
 Examples
 --------
@@ -54,7 +59,6 @@ from typing import Any
 
 import numpy as np
 import sympy as sp
-from numpy.polynomial import Polynomial
 from scipy.optimize import minimize
 
 from gfrf.combinatorics import compositions
@@ -113,48 +117,102 @@ class BranchBoundResult:
 
 
 # -- polynomials of sigma (real) -----------------------------------------------------
-class _Modulus:
-    """Exact extrema of |p(sigma)| over intervals for a complex polynomial p of real sigma."""
+#: Relative error of |A(j sigma)| (a-priori Horner bound) above which a box centre's
+#: value and slope are not used (the box keeps its magnitude bounds only).
+_POINT_RTOL = 1e-8
 
-    def __init__(self, p: Polynomial) -> None:
-        self.coef = p.coef[::-1].copy()  # highest first, for np.polyval
-        squared = Polynomial((p * Polynomial(np.conj(p.coef))).coef.real)
-        stationary = squared.deriv().trim()
-        roots = stationary.roots() if stationary.degree() >= 1 else np.zeros(0)
-        # Every root's real part is a candidate: a multiple real root that rounding
-        # splits into a complex pair is kept, and a spurious candidate only adds an
-        # attained value, so the extrema stay exact.
-        self.crit = np.sort(roots.real)
-        self.crit_abs = np.abs(np.polyval(self.coef, self.crit))
+
+def _cmul(a: tuple[Any, Any], b: tuple[Any, Any]) -> tuple[Any, Any]:
+    """Product of complex polynomials given as (real part, imaginary part) fmpq_polys."""
+    return a[0] * b[0] - a[1] * b[1], a[0] * b[1] + a[1] * b[0]
+
+
+class _Modulus:
+    """Bounds of |p(sigma)| over intervals, p a complex polynomial of real sigma given
+    exactly by its real and imaginary parts (fmpq_polys).
+
+    The critical points of |p|^2 are the real roots of its derivative, isolated
+    rigorously (FLINT/Arb) once, and |p| is enclosed on their balls; the endpoint
+    values are double-precision Horner evaluations widened by the a-priori error bound
+    gamma * sum |c_k| |sigma|^k.  So ``extrema`` is a sound (min, max) even for a cluster
+    of lightly damped poles, where float roots of d|p|^2 can be off by 1e-4.
+    """
+
+    def __init__(self, re: Any, im: Any) -> None:
+        from flint import arb_poly
+
+        from gfrf.exact import _PREC, _down, _precision, _real_roots, _up
+
+        degree = max(re.degree(), im.degree(), 0)
+        re_c = [float(c) for c in re.coeffs()] + [0.0] * (degree + 1 - len(re.coeffs()))
+        im_c = [float(c) for c in im.coeffs()] + [0.0] * (degree + 1 - len(im.coeffs()))
+        self.coef = (np.array(re_c) + 1j * np.array(im_c))[::-1]  # highest first
+        self.abs_coef = np.abs(self.coef)
+        self.gamma = (4 * degree + 8) * 2.0 ** -53
+        squared = re * re + im * im
+        slope = squared.derivative()
+        lo, hi, small, large = [], [], [], []
+        if slope.degree() >= 1:
+            with _precision(_PREC):
+                sq = arb_poly([c for c in squared.coeffs()])
+                for x, _ in _real_roots(slope):
+                    value = sq(x)
+                    lo.append(_down(x))
+                    hi.append(_up(x))
+                    small.append(math.sqrt(max(_down(value), 0.0)))
+                    large.append(math.sqrt(_up(value)) * (1 + 2.0 ** -52))
+        self.crit_lo, self.crit_hi = np.array(lo), np.array(hi)
+        self.crit_min, self.crit_max = np.array(small), np.array(large)
 
     def __call__(self, sigma: np.ndarray) -> np.ndarray:
         return np.polyval(self.coef, sigma)
 
+    def error(self, sigma: np.ndarray) -> np.ndarray:
+        """A-priori bound on the error of the double-precision value at sigma."""
+        return self.gamma * np.polyval(self.abs_coef, np.abs(sigma))
+
     def extrema(self, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(min, max) of |p| over [lo, hi] (vectorised over intervals)."""
+        """(lower bound of min, upper bound of max) of |p| over [lo, hi] (vectorised)."""
         a, b = np.abs(self(lo)), np.abs(self(hi))
-        small, large = np.minimum(a, b), np.maximum(a, b)
-        if self.crit.size:
-            inside = (self.crit >= lo[:, None]) & (self.crit <= hi[:, None])
-            small = np.minimum(small, np.where(inside, self.crit_abs, np.inf).min(axis=1))
-            large = np.maximum(large, np.where(inside, self.crit_abs, -np.inf).max(axis=1))
+        ea, eb = self.error(lo), self.error(hi)
+        small = np.maximum(np.minimum(a - ea, b - eb), 0.0)
+        large = np.maximum(a + ea, b + eb)
+        if self.crit_lo.size:
+            inside = (self.crit_lo <= hi[:, None]) & (self.crit_hi >= lo[:, None])
+            small = np.minimum(small, np.where(inside, self.crit_min, np.inf).min(axis=1))
+            large = np.maximum(large, np.where(inside, self.crit_max, -np.inf).max(axis=1))
         return small, large
 
 
 class _InverseA:
-    """r(sigma) = 1 / A(j sigma) with its derivatives and their bounds on intervals."""
+    """r(sigma) = 1 / A(j sigma) with its derivatives and their bounds on intervals.
+
+    A(j sigma), its sigma-derivatives and 2 A'^2 - A A'' are formed exactly from the
+    float coefficients (highest power first) and bounded by :class:`_Modulus`.
+    """
 
     def __init__(self, den: np.ndarray) -> None:
-        low = den[::-1].astype(complex) * (1j ** np.arange(den.size))
-        a = Polynomial(low)
-        da, dda = a.deriv(), a.deriv(2)
-        self.a, self.da = _Modulus(a), _Modulus(da)
-        self.second = _Modulus(2 * da * da - a * dda)
+        from flint import fmpq, fmpq_poly
+
+        from gfrf.exact import fractions
+
+        low = [fmpq(c.numerator, c.denominator) for c in reversed(fractions(den))]
+        unit = [(1, 0), (0, 1), (-1, 0), (0, -1)]  # j^k
+        a = (fmpq_poly([c * unit[k % 4][0] for k, c in enumerate(low)]),
+             fmpq_poly([c * unit[k % 4][1] for k, c in enumerate(low)]))
+        da = (a[0].derivative(), a[1].derivative())
+        dda = (da[0].derivative(), da[1].derivative())
+        sq, prod = _cmul(da, da), _cmul(a, dda)
+        self.a, self.da = _Modulus(*a), _Modulus(*da)
+        self.second = _Modulus(2 * sq[0] - prod[0], 2 * sq[1] - prod[1])
 
     def point(self, sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """r and dr/dsigma at points."""
+        """r and dr/dsigma at points (NaN where |A| is not accurate to _POINT_RTOL)."""
         a = self.a(sigma)
-        return 1.0 / a, -self.da(sigma) / (a * a)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            bad = self.a.error(sigma) > _POINT_RTOL * np.abs(a)
+            value, slope = 1.0 / a, -self.da(sigma) / (a * a)
+        return np.where(bad, np.nan, value), np.where(bad, np.nan, slope)
 
     def bounds(self, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, ...]:
         """Sups over [lo, hi] of |r|, |r'| and |r''| = |2 a'^2 - a a''| / |a|^3."""
