@@ -171,3 +171,24 @@ def test_enclosure_endpoints_are_exact_dyadics() -> None:
     # sup^2 = 1 / (b^2 (1 - b^2/4)) exactly, for A = s^2 + b s + 1
     exact_sq = 1 / (b * b * (1 - b * b / 4))
     assert Fraction(proven.lower) ** 2 <= exact_sq <= Fraction(proven.upper) ** 2
+
+
+@pytest.mark.slow
+def test_bench_section_proof_levels() -> None:
+    """The 'Proof levels' bench section times every quantity at every level in one run."""
+    from gfrf.bench import SECTION_MODULES
+    from gfrf.bench.proof import run
+
+    assert "gfrf.bench.proof" in SECTION_MODULES
+    section = run(quick=True)
+    assert section.title == "Proof levels"
+    quantities = {row[1] for row in section.rows}
+    assert {"sup \\|H1\\|", "\\|\\|H1\\|\\|", "\\|\\|H3\\|\\|", "r*"} <= quantities
+    for row in section.rows:
+        assert all(float(x) > 0 for x in row[2:7])
+    # r* of the hanging pendulum (b = 0.05, c = 2.45, c3 = g / (6 L) with L = 4):
+    # X = beta r + c3 beta X^3 with beta = 1 / (b sqrt(c - b^2/4))
+    beta = 1 / (0.05 * (2.45 - 0.05 ** 2 / 4) ** 0.5)
+    radius = 2 / (3 * beta * (3 * (9.8 / 24) * beta) ** 0.5)
+    hanging = next(row for row in section.rows if row[:2] == ["hanging_pendulum", "r*"])
+    assert float(hanging[7]) == pytest.approx(radius, rel=1e-8)
