@@ -42,7 +42,7 @@ from gfrf.modelfile import ModelFile
 __all__ = ["InertiaReversal", "LagRow", "LagSimulation", "SignMargin", "ControllerTrial",
            "Theorem2Obstruction", "DriveTrial", "LoopDrive", "inertia_reversal",
            "lagged_loops", "lagged_simulation", "sign_margin", "theorem2_obstruction",
-           "loop_drive", "LAG_TIME_CONSTANTS", "PD_GRID"]
+           "loop_drive", "has_physical_equation", "LAG_TIME_CONSTANTS", "PD_GRID"]
 
 #: Lag time constants tau (s) of the realisable controllers (the paper: "T_i << 1").
 LAG_TIME_CONSTANTS = (1e-3, 3e-3, 1e-2)
@@ -678,14 +678,21 @@ class LoopDrive:
                       "trials": [t.to_dict() for t in self.trials]})
 
 
+def has_physical_equation(mf: ModelFile) -> bool:
+    """The file's untruncated equation differs from its polynomial (eq (12)'s file, not
+    eq (16)'s, whose "physical" equation is the polynomial itself)."""
+    physical = mf.plant.physical
+    return physical is not None and (physical - mf.plant.polynomial()).expand() != 0
+
+
 def loop_drive(mf: ModelFile, angles_deg: tuple[float, ...] = (5.0, 10.0, 15.0),
                periods: int = 100, blowup: float = 1e3) -> LoopDrive:
     """Drive the closed loop with r = A cos(omega t) at its own frequency scale.
 
     A is chosen so that the *linear* loop's steady angle amplitude is each of
     ``angles_deg``; the nonlinear loop (polynomial equation, and the physical one when
-    the file has it) is simulated by :func:`gfrf.simulate.simulate` over ``periods``
-    periods.
+    the file has a distinct one, :func:`has_physical_equation`) is simulated by
+    :func:`gfrf.simulate.simulate` over ``periods`` periods.
     """
     from gfrf.simulate import build_system, simulate
 
@@ -698,7 +705,7 @@ def loop_drive(mf: ModelFile, angles_deg: tuple[float, ...] = (5.0, 10.0, 15.0),
         omega = max(abs(p) for p in poles)
     gain = float(abs(loop.reference_to_output(1j * omega)))
     t_end = periods * 2.0 * math.pi / omega
-    equations = ["polynomial"] + (["physical"] if mf.plant.physical is not None else [])
+    equations = ["polynomial"] + (["physical"] if has_physical_equation(mf) else [])
     trials = []
     for eq in equations:
         system = build_system(mf, closed_loop=True, equation=eq)
