@@ -24,6 +24,7 @@ __all__ = ["BenchSection", "SECTION_MODULES", "figure_dir", "machine_description
 
 #: Modules that each define ``run(quick: bool) -> BenchSection``.
 SECTION_MODULES: tuple[str, ...] = (
+    "gfrf.bench.startup",
     "gfrf.bench.kernels",
     "gfrf.bench.simulation",
     "gfrf.bench.norms",
@@ -75,7 +76,7 @@ class BenchSection:
 
 
 def machine_description() -> str:
-    """Cores, CPU model, Python and date, for the report header."""
+    """Cores, CPU model, Python, date and load average, for the report header."""
     cpu = platform.processor() or "unknown CPU"
     try:
         with open("/proc/cpuinfo", encoding="utf-8") as fh:
@@ -86,7 +87,10 @@ def machine_description() -> str:
     except OSError:
         pass
     return (f"{os.cpu_count()} cores, {cpu}, Python {platform.python_version()}, "
-            f"{platform.system()} {platform.machine()}, run on {_dt.date.today().isoformat()}")
+            f"{platform.system()} {platform.machine()}, run on {_dt.date.today().isoformat()}; "
+            "load average (1, 5, 15 min) when the report was written: "
+            + ", ".join(f"{x:.2f}" for x in os.getloadavg())
+            + " (a section's own load note gives the load at its start)")
 
 
 def figure_dir() -> Path:
