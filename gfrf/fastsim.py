@@ -45,7 +45,7 @@ import numpy as np
 
 from gfrf.errors import ArgumentError
 from gfrf.signals import InputSignal
-from gfrf.simulate import OdeSystem, SimulationResult, input_values
+from gfrf.simulate import MAX_RHS_EVALUATIONS, OdeSystem, SimulationResult, input_values
 
 __all__ = ["simulate_fast", "compile_system", "numba_available", "MAX_STEPS",
            "BLOWUP_AGREEMENT", "BLOWUP_RESOLUTION"]
@@ -253,7 +253,7 @@ def _agree(coarse: _Run, fine: _Run, finished: bool, rtol: float, atol: float,
 
 def simulate_fast(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end: float,
                   t_eval: np.ndarray, *, blowup: float, dt: float | None, rtol: float,
-                  atol: float) -> SimulationResult:
+                  atol: float, max_evaluations: int = MAX_RHS_EVALUATIONS) -> SimulationResult:
     """Integrate ``system`` with the compiled RK4 (see the module docstring).
 
     Parameters
@@ -273,6 +273,9 @@ def simulate_fast(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end:
         Fixed step in seconds; None chooses it from ``rtol``/``atol`` by step doubling.
     rtol, atol : float
         Tolerances for the automatic step.
+    max_evaluations : int
+        Work budget of the scipy fallback without numba (the compiled path is bounded
+        by :data:`MAX_STEPS`).
 
     Returns
     -------
@@ -280,7 +283,8 @@ def simulate_fast(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end:
     """
     if not numba_available():
         from gfrf.simulate import _scipy
-        result = _scipy(system, signal, z0, t_end, t_eval, "dop853", rtol, atol, blowup)
+        result = _scipy(system, signal, z0, t_end, t_eval, "dop853", rtol, atol, blowup,
+                        max_evaluations)
         result.notes.append("numba is not installed (pip install 'gfrf[fast]'): the fast "
                             "path fell back to scipy DOP853 at the same tolerances")
         return result

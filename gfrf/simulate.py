@@ -574,7 +574,7 @@ def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | N
     elif method == "fast":
         from gfrf.fastsim import simulate_fast
         result = simulate_fast(system, signal, z0, t_end, t_eval, blowup=blowup, dt=dt,
-                               rtol=rtol, atol=atol)
+                               rtol=rtol, atol=atol, max_evaluations=max_evaluations)
     else:
         result = _scipy(system, signal, z0, t_end, t_eval, method, rtol, atol, blowup,
                         max_evaluations)
