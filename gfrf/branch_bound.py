@@ -432,6 +432,12 @@ class _Beyond:
         return self.bound.upper(v)
 
 
+@lru_cache(maxsize=64)
+def _beyond(num: tuple[float, ...], den: tuple[float, ...]) -> _Beyond:
+    """:class:`_Beyond` of N/D, built once (its stationary points are isolated once)."""
+    return _Beyond(np.array(num), np.array(den))
+
+
 def tail_bound(model: Model, n: int, width: float, maj: Majorant | None = None) -> float:
     """Certified bound of |H_n| where some |w_i| > ``width`` (rad/s).
 
@@ -477,9 +483,9 @@ def tail_bound(model: Model, n: int, width: float, maj: Majorant | None = None) 
                 total += t.weight * best if best else 0.0
         return total
 
-    linear = {ell: _Beyond(np.concatenate([num, np.zeros(ell)]), den) for ell in maj.powers}
-    gain = {ell: _Beyond(np.concatenate([np.ones(1), np.zeros(ell)]), den)
-            for ell in maj.powers}
+    key = tuple(den.tolist())
+    linear = {ell: _beyond((*num.tolist(), *[0.0] * ell), key) for ell in maj.powers}
+    gain = {ell: _beyond((1.0, *[0.0] * ell), key) for ell in maj.powers}
     whole = {order: numerator(order, None) for order in range(2, n + 1)}
 
     @cache
