@@ -140,7 +140,10 @@ def _figure(curves: dict[str, Curve], path: Path) -> None:
 def _span(values: list[float]) -> str:
     if not values:
         return "n/a (no overlap of the error ranges)"
-    return f"{min(values):.2g}x to {max(values):.2g}x"
+    def fmt(v: float) -> str:
+        return f"{v:.0f}" if v >= 10 else f"{v:.2g}"
+
+    return f"{fmt(min(values))}x to {fmt(max(values))}x"
 
 
 def run(quick: bool) -> BenchSection:
