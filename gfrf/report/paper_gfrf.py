@@ -20,6 +20,7 @@ import numpy as np
 
 from gfrf._atomic import atomic_write_text
 from gfrf.criteria import parameter_margin
+from gfrf.kernels import kernel
 from gfrf.loops import closed_loop
 from gfrf.majorant import linear_polynomials
 from gfrf.modelfile import load_model
@@ -103,17 +104,35 @@ def _figures(out_dir: Path, quick: bool) -> list[str]:
     def reference(w: np.ndarray) -> np.ndarray:
         return np.asarray(loop.reference_to_output(1j * w), dtype=complex)
 
+    plant_den = linear_polynomials(plant)[1]
+    plant_poles = np.roots(plant_den)
+    unstable = bool(np.any(plant_poles.real > 0))
     fig34 = h1_figure(plant, out_dir / "paper-gfrf-fig3-4.png", hz=True,
                       extra=[(f"paper's printed h1 = {gain:g}/(-w^2 + {stiff:g})", printed),
                              ("linear closed loop y/r (for comparison)", reference)],
-                      title="Figs 3-4: first-order gain and phase, eq (16)")
+                      title="Figs 3-4: H1 of eq (16)" + (
+                          ": L-inf gain of an unstable plant (pole at s = "
+                          f"{max(plant_poles.real):.4g})" if unstable else ""))
     half = 2.5 * frequency_scale(plant)
     points = 151 if quick else 301
     fig5 = h3_slice_figure(plant, out_dir / "paper-gfrf-fig5.png", 0.0, half, hz=True,
                            points=points, title="Fig 5: |H3(f1, f2, f3 = 0)|, eq (16)")
+    grid = 2 * np.pi * np.linspace(-half, half, points)
+    w1, w2 = np.meshgrid(grid, grid)
+    h3 = np.asarray(kernel(plant, 3)(w1, w2, np.zeros_like(w1)), dtype=complex)
+    real = bool(np.all(np.abs(h3.imag) <= 1e-12 * np.abs(h3)))
+    sign = ("negative" if np.all(h3.real < 0) else "positive" if np.all(h3.real > 0)
+            else "of both signs")
     fig6 = h3_slice_figure(plant, out_dir / "paper-gfrf-fig6.png", 0.0, half, hz=True,
                            points=points, phase=True,
-                           title="Fig 6: phase of H3(f1, f2, f3 = 0), eq (16)")
+                           title="Fig 6: phase of H3(f1, f2, f3 = 0), eq (16)" + (
+                               f"; H3 real, {sign}" if real else ""))
+    d0 = float(plant_den[-1])
+    flat = (" H3 is real on this slice (no damping term: A(jw) = -w^2 "
+            f"{'+' if d0 >= 0 else '-'} {abs(d0):g} is real) and {sign} at every one of "
+            f"the {points}^2 grid points, so figure 6 is one flat colour (phase 180 deg "
+            "where H3 < 0, 0 where H3 > 0): the phase plot shows only the sign."
+            if real else "")
     b3 = a.verdict.norms[2]
     return ["## Figures 3-6 regenerated", "",
             "**What is drawn.** Section 5 prints the plant kernels h1 and h3 of the reduced "
@@ -123,7 +142,10 @@ def _figures(out_dir: Path, quick: bool) -> list[str]:
             "printed h1 formula (its sign slip puts a pole at "
             f"{num(float(np.sqrt(stiff)) / (2 * np.pi), 4)} Hz) and the linear closed loop "
             "y/r. Eq (12)'s extra terms theta theta'^2 and theta^2 theta'' change H3 only "
-            f"(see [cartpole](models/cartpole.md)).", "",
+            "(see [cartpole](models/cartpole.md))."
+            + (" The plant is unstable, so |H1(jw)| in figure 3-4 is the L-inf gain on the "
+               "frequency axis, not a response that could be measured; it only looks like a "
+               "stable low-pass." if unstable else "") + flat, "",
             f"![Figs 3-4]({fig34})", "",
             f"![Fig 5]({fig5}) ![Fig 6]({fig6})", "",
             f"The largest |H3| found is {num(b3.lower)} at "
