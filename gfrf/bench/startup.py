@@ -83,18 +83,8 @@ def _json_out(cmd: list[str]) -> object:
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
-def _main_accepts_argv() -> bool:
-    """Whether ``gfrf.cli.main`` takes an argument list (else it reads sys.argv)."""
-    import inspect
-
-    from gfrf.cli import main
-    return bool(inspect.signature(main).parameters)
-
-
 def _heavy_modules(args: list[str]) -> str:
-    code = _MODULES if _main_accepts_argv() else _MODULES.replace(
-        "main(sys.argv[1:])", "sys.argv[0] = 'gfrf'; main()")
-    loaded = _json_out([sys.executable, "-c", code, *args])
+    loaded = _json_out([sys.executable, "-c", _MODULES, *args])
     return ", ".join(loaded) if loaded else "none"  # type: ignore[arg-type]
 
 
