@@ -75,6 +75,8 @@ class InputSignal:
         f = self._funcs[k]
 
         def value(t: Any) -> np.ndarray:
+            if isinstance(t, float):  # the ODE solvers' scalar calls: no array round trip
+                return np.float64(f(t))  # type: ignore[return-value]
             t_arr = np.asarray(t, dtype=float)
             return np.broadcast_to(np.asarray(f(t_arr), dtype=float), t_arr.shape).copy()
 
