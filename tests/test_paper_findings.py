@@ -287,3 +287,22 @@ def test_paper_rows_quote_the_findings() -> None:
     assert "-612.369" in rows["closed-loop poles"].reason
     assert "rho_1 dropped" in rows["theta_3"].reason
     assert "0.6664" in rows["verdict"].reason
+
+
+def test_report_sections_quote_the_result_objects(alpha_rows) -> None:
+    from gfrf.paper_checks_cartpole import has_physical_equation
+    from gfrf.report import paper_gfrf
+    from gfrf.report._format import cell
+
+    text, summary = paper_gfrf._alpha_section(list(alpha_rows.values()))
+    page = "\n".join(text)
+    for r in alpha_rows.values():
+        assert f"| {cell(r.radius)} |" in page and f"| {cell(r.margin)} |" in page
+    damped = alpha_rows["hanging_pendulum_eq2_damped"]
+    assert f"r* = {paper_gfrf.num(damped.radius, 4)}" in summary
+    rendered = paper_gfrf.simulation_table([["m", "physical", "x", 1.0, None, None, True,
+                                             0.5, None]])
+    assert rendered.splitlines()[2] == "| m | physical | x | 1 | - | n/a | yes | 0.5 | - |"
+    # eq (16)'s file has no untruncated equation of its own: no duplicated 'physical' runs
+    assert has_physical_equation(load_model(FULL))
+    assert not has_physical_equation(load_model(REDUCED))
