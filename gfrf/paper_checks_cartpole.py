@@ -22,6 +22,15 @@ Code that exists only for this paper; the general library is :mod:`gfrf.loops` a
   periods (it has no resonance: both poles are real), polynomial and physical equation.
 
 Angular frequencies are in rad/s, times in s, angles in rad unless a name says deg.
+
+Examples
+--------
+>>> from gfrf.modelfile import load_model
+>>> mf = load_model("models/cartpole_reduced.toml")
+>>> round(inertia_reversal(mf).coefficient, 4)
+-612.3686
+>>> sign_margin(mf).c_min
+Fraction(135156, 78637)
 """
 
 from __future__ import annotations
@@ -139,7 +148,7 @@ def inertia_reversal(mf: ModelFile) -> InertiaReversal:
     num_p, den_p, num_c, den_c, f = _loop_parts(mf)
     chi = characteristic((num_p, den_p), (num_c, den_c), f)
     lead = float(den_p[0] * den_c[0] - f * num_p[0] * num_c[0])
-    return InertiaReversal(float(-num_p[0] * den_p[0]), float(num_c[0] / den_c[0]), f, lead,
+    return InertiaReversal(float(-num_p[0] / den_p[0]), float(num_c[0] / den_c[0]), f, lead,
                            tuple(float(x) for x in chi),
                            tuple(complex(p) for p in _poles(num_p, den_p, num_c, den_c, f)),
                            float(den_p[0] * den_c[0]))
