@@ -478,8 +478,19 @@ def _method(method: str) -> str:
     return method
 
 
+#: The float path refuses (inf, with a reason) when rounding could move its sup by more
+#: than this relative amount, or when stationary points cluster closer than this.
+_FLOAT_RTOL = 1e-8
+
+
 def _float_finish(num: Any, den: Any, cancelled: tuple[complex, ...]) -> ExactSup:
-    """The float path of :func:`_finish`: numpy roots of P'Q - PQ', double evaluation."""
+    """The float path of :func:`_finish`: numpy roots of P'Q - PQ', double evaluation.
+
+    It fails closed: where the a-priori Horner error bounds of P and Q at a candidate
+    could change the sup by more than ``_FLOAT_RTOL`` relative, or the float
+    stationary points cluster (their positions are then unreliable, and a peak can be
+    missed), the result is ``inf`` with the reason, never a wrong finite number.
+    """
     if num.degree() < 0:
         return ExactSup(0.0, 0.0, 0.0, 0.0, cancelled=cancelled)
     p, q = _abs2_in_x(num), _abs2_in_x(den)
@@ -489,17 +500,38 @@ def _float_finish(num: Any, den: Any, cancelled: tuple[complex, ...]) -> ExactSu
     candidates = [0.0]
     if s.degree() >= 1:
         roots = np.roots([float(c) for c in reversed(s.coeffs())])
+        gaps = np.abs(roots[:, None] - roots[None, :])
+        np.fill_diagonal(gaps, np.inf)
+        if roots.size > 1 and np.any(gaps < _FLOAT_RTOL * (1 + np.abs(roots))[:, None]):
+            return _refused("stationary points of |N/D|^2 cluster closer than "
+                            f"{_FLOAT_RTOL:g} relative", cancelled)
         candidates += [float(r.real) for r in roots
                        if abs(r.imag) <= 1e-6 * (1 + abs(r)) and r.real > 0]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        values = [float(np.polyval(pf, x) / np.polyval(qf, x)) for x in candidates]
-    best = max(range(len(values)), key=lambda i: values[i])
-    value, omega = math.sqrt(max(values[best], 0.0)), math.sqrt(candidates[best])
+    xs = np.array(candidates)
+    gamma = 2.0 * (pf.size + qf.size + 2) * 2.0 ** -53
+    pv, qv = np.polyval(pf, xs), np.polyval(qf, xs)
+    p_err, q_err = gamma * np.polyval(np.abs(pf), xs), gamma * np.polyval(np.abs(qf), xs)
+    if np.any(qv - q_err <= 0):
+        return _refused("|D(j w)|^2 at a stationary point is below its rounding error",
+                        cancelled)
+    values = pv / qv
+    best = int(np.argmax(values))
+    value, omega = math.sqrt(max(float(values[best]), 0.0)), math.sqrt(candidates[best])
+    worst = (pv + p_err) / (qv - q_err)
+    if np.any(worst > (1 + _FLOAT_RTOL) * max(float(values[best]), 0.0)):
+        return _refused("rounding could change the sup by more than "
+                        f"{_FLOAT_RTOL:g} relative", cancelled)
     if p.degree() == q.degree():
         limit = math.sqrt(float(p.coeffs()[-1] / q.coeffs()[-1]))
         if limit > value:
             value, omega = limit, math.inf
     return ExactSup(value, value, value, omega, cancelled=cancelled)
+
+
+def _refused(why: str, cancelled: tuple[complex, ...]) -> ExactSup:
+    return ExactSup(math.inf, math.inf, math.inf, math.nan,
+                    f"ill-conditioned in double precision ({why}); the interval level "
+                    "(proof='interval') encloses it", cancelled)
 
 
 @lru_cache(maxsize=1024)
