@@ -430,7 +430,7 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
     else:
         c4 = Condition("sum phi_m lambda_1^m converges", False, {"lambda_1": lam},
                        "lambda_1 = inf: the series diverges from its second term")
-        rad = Radius(0.0, 0.0, None, proof="none" if proof == "none" else "float")
+        rad = Radius(0.0, 0.0, None, proof=proof)  # r* = 0: a trivially valid lower end
     c5 = _series_condition("sum theta_n rho_1^n r^n converges", rad, amplitude, exact, None)
     literal = _literal_rho(loop)
     c5 = Condition(c5.name, c5.passed if ctrl_ok else False,
