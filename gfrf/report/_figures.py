@@ -33,6 +33,13 @@ def frequency_scale(model: Model) -> float:
     return float(max(np.abs(poles), default=1.0)) or 1.0
 
 
+def _phase_deg(h: np.ndarray) -> np.ndarray:
+    """Phase in degrees, with -0.0 imaginary parts read as +0.0: a real negative value is
+    +180 deg whichever evaluation path (numpy or compiled) produced its signed zero."""
+    h = np.asarray(h, dtype=complex)
+    return np.degrees(np.arctan2(h.imag + 0.0, h.real))
+
+
 def h1_figure(model: Model, path: Path, *, hz: bool = False,
               extra: Sequence[tuple[str, Callable[[np.ndarray], np.ndarray]]] = (),
               title: str = "") -> str:
@@ -46,11 +53,11 @@ def h1_figure(model: Model, path: Path, *, hz: bool = False,
     x = w / (2 * math.pi) if hz else w
     fig, (ax_g, ax_p) = plt.subplots(2, 1, figsize=(6, 5), sharex=True)
     ax_g.loglog(x, np.abs(h), label="H1 (this model)")
-    ax_p.semilogx(x, np.degrees(np.angle(h)))
+    ax_p.semilogx(x, _phase_deg(h))
     for label, f in extra:
         values = f(w)
         ax_g.loglog(x, np.abs(values), "--", label=label)
-        ax_p.semilogx(x, np.degrees(np.angle(values)), "--")
+        ax_p.semilogx(x, _phase_deg(values), "--")
     ax_g.set_ylabel("|H1|")
     ax_p.set_ylabel("phase of H1 (deg)")
     ax_p.set_xlabel("frequency (Hz)" if hz else "angular frequency w (rad/s)")
@@ -74,7 +81,7 @@ def h3_slice_figure(model: Model, path: Path, w3: float, half_width: float, *,
     unit = "Hz" if hz else "rad/s"
     fig, ax = plt.subplots(figsize=(5.5, 4.5))
     if phase:
-        image = ax.pcolormesh(x, x, np.degrees(np.angle(h)), cmap="twilight", vmin=-180,
+        image = ax.pcolormesh(x, x, _phase_deg(h), cmap="twilight", vmin=-180,
                               vmax=180, shading="auto")
         fig.colorbar(image, ax=ax, label="phase of H3 (deg)")
     else:
