@@ -167,7 +167,7 @@ def linear_stability(model: Model) -> tuple[bool, np.ndarray]:
     return report.stable, report.roots
 
 
-def h1_norm(model: Model, proof: str = "interval") -> Bound:
+def h1_norm(model: Model, proof: str = "interval", cross_check: bool = False) -> Bound:
     """||H1||_inf = sup over omega (rad/s) of |H1(j omega)|, as a proven enclosure.
 
     Parameters
@@ -175,6 +175,9 @@ def h1_norm(model: Model, proof: str = "interval") -> Bound:
     model : Model
     proof : {"interval", "float", "none"}
         Level of proof (:func:`gfrf.rational.rational_sup`); the default proves.
+    cross_check : bool, optional
+        Also compute python-control's ``norm(sys, 'inf')`` into ``Bound.reference``
+        (imports python-control, ~2 s cold, and ~70 % of a warm call: off by default).
 
     Returns
     -------
@@ -198,20 +201,18 @@ def h1_norm(model: Model, proof: str = "interval") -> Bound:
     if model.is_discrete:
         sup = discrete_rational_sup(num, den, model.sample_time, proof)  # type: ignore[arg-type]
         method = ("exact rational algebra on the unit circle (Cayley map) + "
-                  + _stationary_text(proof) + ", cross-checked with control.norm")
-        import control  # imported where used: the other norms do not need it
-
-        reference = (_control_norm(control.tf(_pad(num, den), _pad(den, num),
-                                              model.sample_time))
-                     if stable and math.isfinite(sup.upper) else None)
+                  + _stationary_text(proof))
     else:
         sup = rational_sup(num, den, proof)
-        method = ("exact rational algebra + " + _stationary_text(proof)
-                  + ", cross-checked with control.norm")
-        import control
+        method = "exact rational algebra + " + _stationary_text(proof)
+    reference = None
+    if cross_check and stable and math.isfinite(sup.upper):
+        import control  # imported where used: nothing else here needs it
 
-        reference = (_control_norm(control.tf(num, den))
-                     if stable and math.isfinite(sup.upper) else None)
+        system = (control.tf(_pad(num, den), _pad(den, num), model.sample_time)
+                  if model.is_discrete else control.tf(num, den))
+        reference = _control_norm(system)
+        method += ", cross-checked with control.norm"
     notes += [f"||H1|| = inf: {note}" if note == sup.reason else note for note in sup.notes]
     return Bound(sup.lower, sup.upper, (sup.omega,), proof != "none", method, 1, True, stable,
                  tuple(notes), reference, proof)
@@ -284,7 +285,8 @@ def _start_points(freqs: list[float], n: int) -> np.ndarray:
 
 
 def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
-                max_boxes: int = BOX_BUDGET, proof: str = "interval") -> Bound:
+                max_boxes: int = BOX_BUDGET, proof: str = "interval",
+                cross_check: bool = False) -> Bound:
     """Bracket ||H_n||_inf over R^n (rad/s): certified upper, best-found lower bound.
 
     Parameters
@@ -305,6 +307,8 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
         ``"float"``: the majorant in floating point on double-precision sups.
         ``"none"``: the float majorant and the local search only (no
         branch-and-bound), labelled estimates (``certified = False``).
+    cross_check : bool, optional
+        For n = 1, also python-control's norm (see :func:`h1_norm`).
 
     Returns
     -------
@@ -315,7 +319,7 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
     check_proof(proof)
     k = kernel(model, n, symmetric)
     if n == 1:
-        b = h1_norm(model, proof)
+        b = h1_norm(model, proof, cross_check)
         return Bound(b.lower, b.upper, b.argmax, b.certified, b.method, 1, symmetric,
                      b.stable, b.notes, b.reference, b.proof)
     stable, _ = linear_stability(model)

@@ -37,7 +37,7 @@ def test_h1_second_order_peak(b: float) -> None:
 
 
 def test_h1_cross_check_python_control() -> None:
-    bound = h1_norm(parse_model("D(y,2) + 0.05*D(y) + 2.45*y = u"))
+    bound = h1_norm(parse_model("D(y,2) + 0.05*D(y) + 2.45*y = u"), cross_check=True)
     assert bound.reference == pytest.approx(bound.upper, rel=1e-5)
 
 
@@ -269,3 +269,8 @@ def test_branch_and_bound_upper_is_labelled_float() -> None:
     bound = kernel_norm(load_model("models/cartpole_reduced.toml").plant, 3)
     assert "branch-and-bound" in bound.method
     assert bound.upper_proof == "float" and bound.proof == "float"
+
+
+def test_h1_cross_check_is_off_by_default() -> None:
+    bound = h1_norm(parse_model("D(y,2) + 0.05*D(y) + 2.45*y = u"))
+    assert bound.reference is None and "control.norm" not in bound.method

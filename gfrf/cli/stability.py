@@ -75,6 +75,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     n.add_argument("--tol", type=float, default=1e-6, help="target relative gap (default 1e-6)")
     n.add_argument("--asymmetric", action="store_true",
                    help="norm of the asymmetric kernel of the recursion (default symmetric)")
+    n.add_argument("--cross-check", action="store_true",
+                   help="order 1: also print python-control's norm(sys, 'inf') (imports "
+                        "python-control)")
     _add_proof(n)
     add_json_flag(n)
     n.set_defaults(func=_norm)
@@ -116,7 +119,8 @@ def _norm(args: argparse.Namespace) -> int:
     mf = resolve_model(args)
     from gfrf.norms import kernel_norm
 
-    b = kernel_norm(mf.plant, args.order, not args.asymmetric, args.tol, proof=args.proof)
+    b = kernel_norm(mf.plant, args.order, not args.asymmetric, args.tol, proof=args.proof,
+                    cross_check=args.cross_check)
     kind = "symmetric" if not args.asymmetric else "asymmetric"
     lines = [f"{mf.name}: {kind} kernel, angular frequencies in rad/s, proof level "
              f"{args.proof}", _bound_line(b),
