@@ -17,6 +17,7 @@ import sympy as sp
 
 from gfrf._atomic import atomic_write_text
 from gfrf.kernels import kernel
+from gfrf.norms import linear_poles
 from gfrf.report._figures import frequency_scale, h1_figure, h3_slice_figure, response_figure
 from gfrf.report._format import cell, code, header, mark, num, table
 from gfrf.report.analysis import MARGIN_OCTAVES, ModelAnalysis, analyse
@@ -116,8 +117,11 @@ def _kernel_section(a: ModelAnalysis, out_dir: Path) -> list[str]:
            f"at any point with {code(cmd)}.", ""]
     for n in (1, 2, 3):
         out += ["```math", _latex(a, n), "```", ""]
+    poles = linear_poles(plant)
+    kind = ("" if poles.stable else "\nL∞ gain of an unstable plant" if poles.outside
+            else "\nL∞ gain of a plant with poles on the stability boundary")
     h1_png = h1_figure(plant, out_dir / f"{a.stem}-h1.png",
-                       title=f"H1 of {a.model_file.name}")
+                       title=f"H1 of {a.model_file.name}{kind}")
     out += [f"![gain and phase of H1]({h1_png})", ""]
     norm3 = a.verdict.norms[2] if len(a.verdict.norms) >= 3 else None
     if norm3 is not None and norm3.upper > 0:
