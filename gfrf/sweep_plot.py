@@ -11,6 +11,7 @@ majorants; ``bounded`` sweeps colour points by bounded / blown-up simulations.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -19,7 +20,7 @@ from gfrf._atomic import atomic_path
 from gfrf.errors import ArgumentError
 from gfrf.sweep import SweepResult
 
-__all__ = ["plot_stability_map", "point_class", "CLASSES"]
+__all__ = ["plot_stability_map", "point_class", "map_title", "CLASSES"]
 
 #: Class label and colour of each point kind, in legend order.
 CLASSES = {
@@ -49,8 +50,32 @@ def _label(kind: str, result: SweepResult) -> str:
     return CLASSES[kind][0].format(theorem=theorem)
 
 
+_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+
+
+def map_title(result: SweepResult, title: str = "") -> str:
+    """Title of the map: ``title`` without the file values of the swept parameters.
+
+    A model name such as ``"Hanging pendulum, rho = 0.8"`` states the file value of
+    ``rho``; on a map sweeping ``rho`` that value is not fixed, so each
+    ``NAME = NUMBER`` of a swept parameter is removed (with a leading comma) and a
+    second line states the swept range of every axis.
+    """
+    base = title or f"gfrf sweep --what {result.what}"
+    for axis in result.axes:
+        base = re.sub(rf"(?:,\s*)?(?<![\w.]){re.escape(axis.name)}\s*=\s*{_NUMBER}", "",
+                      base)
+    base = re.sub(r"\s{2,}", " ", base).strip(" ,")
+    swept = "; ".join(f"{a.name} from {a.values[0]:g} to {a.values[-1]:g} "
+                      f"({len(a.values)} values)" for a in result.axes)
+    return f"{base}\nswept: {swept}"
+
+
 def plot_stability_map(result: SweepResult, path: str | Path, title: str = "") -> Path:
     """Write the stability map of ``result`` to ``path`` (PNG, PDF, SVG by suffix).
+
+    The title is :func:`map_title` of ``title``: the file values of swept parameters
+    are dropped from it and the swept ranges are stated.
 
     Raises
     ------
@@ -70,7 +95,7 @@ def plot_stability_map(result: SweepResult, path: str | Path, title: str = "") -
         _one(ax, result)
     else:
         _two(ax, result)
-    ax.set_title(title or f"gfrf sweep --what {result.what}")
+    ax.set_title(map_title(result, title), fontsize=10)
     fig.tight_layout()
     out = Path(path)
     try:

@@ -266,3 +266,15 @@ def test_progress_moves_per_point_from_the_first(monkeypatch: pytest.MonkeyPatch
     sweep(data, [parse_axis("c=0.1:0.4:5")], what="radius", progress=True)
     assert reported == [1] * 5
     assert seen_at_call == [0, 1, 2, 3, 4]  # point k starts after k points were shown
+
+
+def test_map_title_drops_the_file_value_of_a_swept_parameter() -> None:
+    from gfrf.sweep import Axis, SweepResult
+    from gfrf.sweep_plot import map_title
+
+    result = SweepResult((Axis("rho", (0.2, 1.0, 4.0)),), "verdict", 1.0, [], [], 0.0, 0.0,
+                         "local")
+    title = map_title(result, "Hanging pendulum, rho = 8 (damped variant), rho_1 = 1.29")
+    assert "rho = 8" not in title and "0.8" not in title
+    assert title == ("Hanging pendulum (damped variant), rho_1 = 1.29\n"
+                     "swept: rho from 0.2 to 4 (3 values)")
