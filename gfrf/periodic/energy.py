@@ -34,6 +34,7 @@ terms are exactly the eq (4) expressions, so nothing beyond eq (4) is derived.
 from __future__ import annotations
 
 import math
+from fractions import Fraction
 
 import numpy as np
 import sympy as sp
@@ -43,7 +44,7 @@ from gfrf.errors import ArgumentError
 from gfrf.periodic.equation import parse_branch, parse_side, upper_side_times
 from gfrf.periodic.fourier import trig_harmonic
 
-__all__ = ["energy_formulas", "energy_solution", "energy_transition"]
+__all__ = ["energy_cutoff", "energy_formulas", "energy_solution", "energy_transition"]
 
 
 def _require_quarter(branch: str) -> None:
@@ -68,21 +69,48 @@ def energy_transition(eps: float | np.ndarray, amplitude: float, branch: str = "
     NaN where there is no real root.
     """
     _require_quarter(branch)
-    a2 = amplitude**2
-    if variant == "paper":
-        A = (1 - a2 / 16) * (1 - a2 / 6)
-        C = (1 - a2 / 16) * (1 - a2 / 12) / 4
-    elif variant == "consistent":
-        A = 1 - 11 * a2 / 48 + a2 * a2 / 96
-        C = 0.25 - a2 / 16 + 31 * a2 * a2 / 9216
-    else:
-        raise ArgumentError(f"unknown energy variant {variant!r}")
-    B = (1 - a2 / 6) / 2
+    A, B, C = _quadratic(amplitude, variant)
     sign = 1.0 if parse_side(side, branch) == "lower" else -1.0
     disc = B * B - 4 * A * C * sign * np.asarray(eps, dtype=float)
     with np.errstate(invalid="ignore"):
         s = (B + np.sqrt(disc)) / (2 * A)
     return np.where(disc >= 0, s * s, np.nan)
+
+
+def _quadratic(amplitude: float | Fraction, variant: str
+               ) -> tuple[float | Fraction, float | Fraction, float | Fraction]:
+    """``(A, B, C)`` of ``A s**2 - B s + C eps = 0`` (exact for a ``Fraction`` amplitude)."""
+    a2 = amplitude * amplitude
+    if variant == "paper":
+        A = (1 - a2 / 16) * (1 - a2 / 6)
+        C = (1 - a2 / 16) * (1 - a2 / 12) / 4
+    elif variant == "consistent":
+        A = 1 - 11 * a2 / 48 + a2 * a2 / 96
+        C = (2304 - 576 * a2 + 31 * a2 * a2) / 9216
+    else:
+        raise ArgumentError(f"unknown energy variant {variant!r}")
+    return A, (1 - a2 / 6) / 2, C
+
+
+def energy_cutoff(amplitude: float | Fraction, variant: str = "paper") -> float | Fraction:
+    """``eps`` beyond which the lower-side curve (48) has no real root, in closed form.
+
+    The discriminant ``B**2 - 4 A C eps`` of :func:`energy_transition` vanishes at
+    ``eps = B**2 / (4 A C)``; for ``variant="paper"`` this is
+    ``(1 - a**2/6) / (4 (1 - a**2/16)**2 (1 - a**2/12))`` (``1/4`` at ``a = 0``,
+    ``47104/186543 = 0.252510...`` at ``a = 1/2``).  A ``Fraction`` amplitude gives the
+    exact rational value.  The upper side (49) has a real root for every ``eps > 0``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``amplitude**2 >= 6`` (outside the well of the quartic potential, where
+        ``1 - a**2/6 <= 0``) or for an unknown ``variant``.
+    """
+    if not 0 <= amplitude * amplitude < 6:
+        raise ArgumentError(f"energy method needs 0 <= a < sqrt(6), got a = {amplitude}")
+    A, B, C = _quadratic(amplitude, variant)
+    return B * B / (4 * A * C)
 
 
 def energy_solution(eps: float, amplitude: float, t: np.ndarray, delta: float | None = None,

@@ -34,6 +34,7 @@ __all__ = [
     "mathieu_transition",
     "monodromy",
     "monodromy_transition",
+    "quarter_tongue_zero",
     "upper_quarter_transition",
 ]
 
@@ -98,6 +99,20 @@ def monodromy_transition(eps: float, branch: str = "0", xtol: float = 1e-12) -> 
         return brentq(lambda d: np.trace(monodromy(eps, d)) - 2.0, -0.5 - 2 * eps**2, mid,
                       xtol=xtol)
     return brentq(lambda d: np.trace(monodromy(eps, d)) + 2.0, mid, 0.25, xtol=xtol)
+
+
+def quarter_tongue_zero(xtol: float = 1e-13) -> float:
+    """``eps`` where the lower ``1/4`` curve crosses ``delta = 0`` (tongue reaches ``delta < 0``).
+
+    Brent's method on ``eps`` of ``trace(M(eps, 0)) + 2`` (monodromy integrated with
+    ``rtol = 1e-12``) over ``[0.3, 0.6]``: below the root ``delta = 0`` lies between the
+    branch-0 and the lower ``1/4`` curve (``|trace| < 2``), above it inside the tongue
+    (``trace < -2``); the upper curve ``a_1(2 eps)/4`` stays above ``1/4``, so the root is
+    unique.  Equals ``q/2`` at the root ``q`` of scipy's ``mathieu_b(1, q)``; the
+    physical inverted pendulum (``delta = -g/(L omega**2) < 0``) has ``4 pi``-periodic
+    orbits of small amplitude only for ``eps`` beyond this value.
+    """
+    return float(brentq(lambda e: np.trace(monodromy(e, 0.0)) + 2.0, 0.3, 0.6, xtol=xtol))
 
 
 def linear_orbit_shape(eps: float, branch: str, t: np.ndarray) -> np.ndarray:

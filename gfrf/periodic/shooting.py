@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
 
 from gfrf.errors import ArgumentError, ConvergenceError
 from gfrf.periodic.equation import branch_period, nonlinearity, parse_branch
@@ -35,6 +36,7 @@ __all__ = [
     "orbit_at_delta",
     "orbit_on_transition",
     "transition_delta",
+    "transition_zero_eps",
 ]
 
 _RTOL = 1e-12
@@ -258,3 +260,32 @@ def orbit_at_delta(eps: float, delta: float, amplitude_guess: float, branch: str
     if not 0 < amplitude_guess < math.pi:
         raise ArgumentError(f"amplitude guess must be in (0, pi), got {amplitude_guess}")
     return _newton(eps, delta, amplitude_guess, branch, truncation, "amp", tol, maxiter)
+
+
+def transition_zero_eps(amplitude: float, branch: str = "1/4",
+                        bracket: tuple[float, float] = (0.3, 0.7),
+                        xtol: float = 1e-12) -> float:
+    """``eps`` where the exact nonlinear ``1/4`` curve at ``x(0) = amplitude`` hits ``delta = 0``.
+
+    Brent's method on ``eps`` of :func:`transition_delta` (shooting residual ``1e-10``
+    relative, so ``delta`` and the root are accurate to about ``1e-10``).  The linear
+    limit (``amplitude -> 0``) is :func:`~gfrf.periodic.floquet.quarter_tongue_zero`.
+
+    Raises
+    ------
+    ArgumentError
+        Branch ``"0"`` (its curve ``a_0(2 eps)/4 < 0`` for every ``eps > 0``) or no sign
+        change of ``delta`` over ``bracket``.
+    """
+    if parse_branch(branch) != "1/4":
+        raise ArgumentError("only the '1/4' curve crosses delta = 0 at eps > 0; the branch-0 "
+                            "curve is negative for every eps > 0")
+
+    def delta(e: float) -> float:
+        return transition_delta(e, amplitude, "1/4").delta
+
+    lo, hi = bracket
+    if not delta(lo) > 0 > delta(hi):
+        raise ArgumentError(f"the 1/4 curve at x(0) = {amplitude} does not cross delta = 0 "
+                            f"for eps in [{lo}, {hi}]; widen the bracket")
+    return float(brentq(delta, lo, hi, xtol=xtol))

@@ -14,6 +14,7 @@ file is the same on every run.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from fractions import Fraction
 from pathlib import Path
 
 import matplotlib.pyplot as plt
@@ -22,17 +23,18 @@ from scipy.optimize import brentq
 
 from gfrf._atomic import atomic_write_text
 from gfrf.periodic.compare import PeriodicComparison, compare_periodic, transition_curve
-from gfrf.periodic.energy import energy_transition
+from gfrf.periodic.energy import energy_cutoff
 from gfrf.periodic.equation import load_model
 from gfrf.periodic.floquet import (
     mathieu_transition,
     monodromy_transition,
+    quarter_tongue_zero,
     upper_quarter_transition,
 )
 from gfrf.periodic.formulas import FormulaCheck, formula_checks
 from gfrf.periodic.homotopy import ham
 from gfrf.periodic.perturbation import perturbation_series
-from gfrf.periodic.shooting import exact_transition_curve, transition_delta
+from gfrf.periodic.shooting import exact_transition_curve, transition_delta, transition_zero_eps
 from gfrf.report._format import header, num, save_figure, table
 
 __all__ = ["ConclusionCheck", "ErrorGrid", "conclusion_checks", "error_grid", "write"]
@@ -180,8 +182,20 @@ def _orbit_panel(ax: plt.Axes, t: np.ndarray, x_exact: np.ndarray, x_method: np.
     ax.plot(t, x_exact, "-", color="k", lw=1.2, label="exact (shooting)")
     step = max(1, len(t) // 60)
     ax.plot(t[::step], x_method[::step], ".", color="C3", ms=4, label="analytical")
+    if not np.isfinite(x_method).any():
+        ax.text(0.5, 0.5, "method has no orbit", transform=ax.transAxes, ha="center",
+                fontsize=8, color="C3")
     ax.set_title(title, fontsize=8)
     ax.tick_params(labelsize=7)
+    ax.set_xticks(np.pi * np.arange(5), ["0", "π", "2π", "3π", "4π"])
+
+
+def _label_orbit_axes(axes: list[list[plt.Axes]]) -> None:
+    """Axis labels on the outer panels of a grid of orbit panels (time t = omega t_phys)."""
+    for row in axes:
+        row[0].set_ylabel("x (rad)", fontsize=8)
+    for ax in axes[-1]:
+        ax.set_xlabel("t = ω t_phys", fontsize=8)
 
 
 def _fig2(out: Path, quick: bool) -> tuple[str, list[list[object]]]:
@@ -202,6 +216,7 @@ def _fig2(out: Path, quick: bool) -> tuple[str, list[list[object]]]:
             rows.append([e, a, float(x_an[0]), s.delta_at(e, a), orbit.delta,
                          float(np.max(np.abs(x_an - x_ex)))])
     axes[0][0].legend(fontsize=7)
+    _label_orbit_axes(axes)
     fig.tight_layout()
     return save_figure(fig, out / "paper-periodic-fig2.png"), rows
 
@@ -271,24 +286,28 @@ def _stability_chart(out: Path, quick: bool) -> str:
     return save_figure(fig, out / "paper-periodic-stability.png")
 
 
-def _orbit_figure(out: Path, name: str, method: str, cases: list[tuple[float, float]],
+def _orbit_figure(out: Path, name: str, method: str, cases: list[list[tuple[float, float]]],
                   order: int | None = None) -> tuple[str, list[PeriodicComparison]]:
-    """One panel per (eps, x(0)) on the 1/4 branch: exact solid, method dots."""
+    """One panel per (eps, x(0)) on the 1/4 branch, one row of panels per list in ``cases``."""
     from gfrf.periodic.compare import method_orbit
 
-    fig, axes = plt.subplots(1, len(cases), figsize=(3 * len(cases), 2.4), squeeze=False)
+    ncol = max(len(row) for row in cases)
+    fig, axes = plt.subplots(len(cases), ncol, figsize=(3 * ncol, 0.4 + 2.4 * len(cases)),
+                             squeeze=False)
     rows = []
     t = np.linspace(0, 4 * np.pi, 401)
-    for j, (e, a) in enumerate(cases):
-        r = compare_periodic(method, e, a, "1/4", order)
-        rows.append(r)
-        x_ex = transition_delta(e, a, "1/4").evaluate(t)
-        if np.isfinite(r.max_error):
-            _, x_m = method_orbit(method, e, a, "1/4", t, order)
-        else:
-            x_m = np.full_like(t, np.nan)
-        _orbit_panel(axes[0][j], t, x_ex, x_m, f"eps={e}, x(0)={a}")
+    for i, row in enumerate(cases):
+        for j, (e, a) in enumerate(row):
+            r = compare_periodic(method, e, a, "1/4", order)
+            rows.append(r)
+            x_ex = transition_delta(e, a, "1/4").evaluate(t)
+            if np.isfinite(r.max_error):
+                _, x_m = method_orbit(method, e, a, "1/4", t, order)
+            else:
+                x_m = np.full_like(t, np.nan)
+            _orbit_panel(axes[i][j], t, x_ex, x_m, f"eps={e}, x(0)={a}, delta={r.delta_exact:.3g}")
     axes[0][0].legend(fontsize=6)
+    _label_orbit_axes(axes)
     fig.tight_layout()
     return save_figure(fig, out / name), rows
 
@@ -310,6 +329,8 @@ def _fig10(out: Path, quick: bool) -> tuple[str, list[PeriodicComparison]]:
             x_m = method_orbit(m, e, 0.5, "1/4", t, k)[1] if np.isfinite(r.max_error) \
                 else np.full_like(t, np.nan)
             _orbit_panel(axes[i][j], t, x_ex, x_m, f"{m}, eps={e}")
+    axes[0][0].legend(fontsize=6)
+    _label_orbit_axes(axes)
     fig.tight_layout()
     return save_figure(fig, out / "paper-periodic-fig10.png"), rows
 
@@ -386,8 +407,21 @@ def _equation3_rows(quick: bool) -> list[list[object]]:
 
 def _formula_table(checks: list[FormulaCheck]) -> str:
     return table(["eq.", "quantity", "printed", "regenerated", "agrees", "corrected / note"],
-                 [[c.equation, c.quantity, c.printed, c.regenerated, c.agrees,
+                 [[c.equation, c.quantity, c.printed, c.regenerated,
+                   f"no (inherits {c.inherits})" if c.inherits else c.agrees,
                    (c.corrected + ". " if c.corrected else "") + c.note] for c in checks])
+
+
+def _delta_signs(orbits: dict[str, list[tuple[float, float]]]) -> str:
+    """How many figure orbits ``(eps, delta)`` have delta > 0, and where delta < 0."""
+    n = sum(len(v) for v in orbits.values())
+    pos = [d for v in orbits.values() for _, d in v if d > 0]
+    neg = {fig: sorted({e for e, d in v if d <= 0}) for fig, v in orbits.items()}
+    where = "; ".join(f"{fig} at eps = {', '.join(str(e) for e in es)}"
+                      for fig, es in neg.items() if es)
+    text = f"{len(pos)} of {n} orbits have delta > 0 (delta from {num(min(pos), 3)} to " \
+        f"{num(max(pos), 3)})"
+    return text + (f"; delta <= 0 only in {where}" if where else "")
 
 
 def write(out_dir: Path, quick: bool = False) -> Path:
@@ -411,29 +445,44 @@ def write(out_dir: Path, quick: bool = False) -> Path:
         out, "paper-periodic-fig8.png", ("1/4",), (0.05, 0.5, 0.8, 1.0),
         (("averaging (58), 2 phi = 0", "averaging", None),), eps_line)
     fig6, fig6_rows = _orbit_figure(out, "paper-periodic-fig6.png", "energy",
-                                    [(0.001, 0.5), (0.01, 0.5), (0.1, 0.5)])
+                                    [[(0.001, 0.5), (0.01, 0.5), (0.1, 0.5)]])
     fig7, fig7_rows = _orbit_figure(out, "paper-periodic-fig7.png", "energy",
-                                    [(0.1, 0.01), (0.1, 0.1), (0.1, 0.4)])
-    fig9_cases = [(e, b) for e in (0.1, 0.2, 0.3) for b in ((0.05, 1.0) if quick
-                                                            else (0.05, 0.5, 1.0))]
+                                    [[(0.1, 0.01), (0.1, 0.1), (0.1, 0.4)]])
+    fig9_cases = [[(e, b) for b in ((0.05, 1.0) if quick else (0.05, 0.5, 1.0))]
+                  for e in (0.1, 0.2, 0.3)]
     fig9, fig9_rows = _orbit_figure(out, "paper-periodic-fig9.png", "averaging", fig9_cases)
     fig45, ham_rows = _ham_h_figure(out)
     fig10, fig10_rows = _fig10(out, quick)
     chart = _stability_chart(out, quick)
-    energy_edge = float(eps_line[np.argmax(np.isnan(energy_transition(eps_line, 0.5)))])
+    energy_edge = energy_cutoff(Fraction(1, 2))
+    edge_text = (f"{num(float(energy_edge), 6)} (= {energy_edge}, the closed form "
+                 "(1 - a^2/6)/(4 (1 - a^2/16)^2 (1 - a^2/12)) at a = 1/2)")
     ham_eps = brentq(lambda e: float(mathieu_transition(e, "0")) + 0.2, 0.01, 1.0)
+    eps_zero, eps_zero_05 = quarter_tongue_zero(), transition_zero_eps(0.5)
+    orbits = {"Figure 2": [(float(r[0]), float(r[4])) for r in fig2_rows]}
+    for fig, rows in (("Figure 6", fig6_rows), ("Figure 7", fig7_rows),
+                      ("Figure 9", fig9_rows), ("Figure 10", fig10_rows)):
+        # one orbit per (eps, x(0)): Figure 10 compares four methods on the same orbit
+        orbits[fig] = sorted({(r.eps, round(r.delta_exact, 9)) for r in rows
+                              if np.isfinite(r.delta_exact)})
+    signs = _delta_signs(orbits)
     n_bad = sum(not c.agrees for c in checks)
+    n_inherit = sum(bool(c.inherits) for c in checks)
     n_held = sum(c.holds for c in conclusions)
     best = min(grid14.labels(), key=lambda lab: max(
         v.max_error for k, v in grid14.rows.items() if k[0] == lab))
     summary = [
         f"{len(checks)} formulas/references of the paper regenerated: {len(checks) - n_bad} "
-        f"agree, {n_bad} are misprints, inconsistencies or flaws (corrected forms below).",
+        f"agree, {n_bad} are misprints, inconsistencies or flaws ({n_inherit} of them only "
+        "because they follow from an earlier flawed formula; corrected forms below).",
         f"Against exact shooting orbits of eq (4), {best} is the most accurate method on the "
-        f"1/4 branch; at x(0) = 0.5 the energy method has no solution from eps = "
-        f"{num(energy_edge, 3)} on.",
+        f"1/4 branch; at x(0) = 0.5 the energy method has no solution beyond eps = "
+        f"{num(float(energy_edge), 6)} (closed form {energy_edge}).",
         f"{n_held} of {len(conclusions)} tested statements of the paper's conclusions hold "
-        "on our numbers (details in the last section).",
+        "on our numbers (last section). The paper claims the inverted pendulum, "
+        f"-1 < delta = -g/(L omega^2) < 0, but in its figures (2, 6-10, regenerated exactly) "
+        f"{signs}: the 1/4 tongue first reaches delta < 0 at eps = {eps_zero:.12f} "
+        f"(linear, Floquet), the exact x(0) = 0.5 curve at eps = {eps_zero_05:.10f}.",
     ]
     text = [
         header("Periodic solutions of the parametrically excited inverted pendulum",
@@ -466,11 +515,24 @@ def write(out_dir: Path, quick: bool = False) -> Path:
         f"![stability chart]({chart})",
         "",
         "Solid: exact linear curves; dashed: exact nonlinear curves at x(0) = 0.5; dots: "
-        "each method at x(0) = 0.5. The energy curve stops where (48) loses its real root "
-        f"(first grid eps without a root: {num(energy_edge, 3)}). Upper boundary of the 1/4 "
+        "each method at x(0) = 0.5. The energy curve stops where (48) loses its real root, "
+        f"at eps = {edge_text}. Upper boundary of the 1/4 "
         "tongue (orbits ~ sin(t/2) with x(0) = 0, amplitude = turning point x(pi)): dotted "
         "exact nonlinear curve, open squares energy (49) and averaging case 3 (the paper "
         "derives both but plots neither); (49) has a real root for every eps.",
+        "",
+        "**Sign of delta.** The paper's delta = -g/(L omega^2) is negative for the "
+        "inverted pendulum, and the paper states -1 < delta < 0 after (3) and again before "
+        f"Figure 8; yet in Figures 2 and 6-10 {signs}. An orbit with delta > 0 needs "
+        "g < 0, i.e. it is a hanging-pendulum orbit, not an inverted one. On the chart, "
+        "delta < 0 is below the horizontal line: the 1/4 tongue reaches it only from "
+        f"eps = {eps_zero:.12f} on (lower curve b_1(2 eps)/4 = 0: Brent's method on eps "
+        "of trace M(eps, 0) = -2, monodromy rtol 1e-12, root to 1e-12; agrees with the "
+        "root of scipy's mathieu_b(1, 2 eps) and a 20-digit mpmath integration), and the "
+        "exact nonlinear curve through x(0) = 0.5 from "
+        f"eps = {eps_zero_05:.10f} on (Brent on eps of the shooting delta, residual "
+        "1e-10, root to 1e-10). Figures 4-5 do set delta = -0.2, but there eps <= 0.08 and "
+        "no periodic orbit exists (see below).",
         "",
         "## Errors versus eps and amplitude",
         "",
