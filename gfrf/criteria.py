@@ -39,8 +39,14 @@ How the ambiguous symbols are read
   function (:mod:`gfrf.majorant`): the verdict says the series converges for every
   amplitude below r*, and whether the requested amplitude is inside.  Beyond r* the
   majorant diverges, which decides nothing: the condition is then "not established"
-  (``passed = None``), and a finite-term root-test estimate from the *lower* bounds of
-  ||H_n|| is reported, labelled an estimate.
+  (``passed = None``).
+* Three radii, never confused.  ``radius``: r*, the proven (certified) lower bound on
+  the radius of the theorem's series.  ``radius_upper``: a proven upper bound on the
+  true radius of the norm series sum ||H_n|| r^n (the plant's, for Theorem 2), from
+  the static branch point of the zero-frequency kernels (:func:`gfrf.static.radius_upper`),
+  where one is proven.  ``radius_estimate``: a many-term estimate of that true radius
+  (:func:`gfrf.static.radius_estimate`), clamped into [lower bound, ``radius_upper``]: an
+  estimate, never a proof and never the ground of a verdict.
 
 Verdicts: ``stable`` when every condition holds (certified); ``unstable`` when the
 linearisation has a pole in the open right half plane (Lyapunov's indirect method:
@@ -118,13 +124,25 @@ class Verdict:
     series : tuple of dict
         Per order n: the series terms (certified majorant and estimates).
     radius_estimate : float or None
-        Root-test estimate of the true radius from lower bounds (estimate only).
+        Estimate of the true radius of the norm series (the plant's for Theorem 2):
+        a fit to many terms of a lower-bound series, clamped into [proven lower bound,
+        ``radius_upper``].  An estimate only: no verdict rests on it.
     summary : str
         One sentence.
     radius_proof : str
         ``"interval"``: convergence at the certified end of r* re-checked in ball
         arithmetic on proven sups (Theorems 1 and 2); ``"float"``: certified in double
         precision; ``"none"``: an estimate.
+    radius_upper : float or None
+        Proven upper bound on the true radius of the norm series (the plant's for
+        Theorem 2): the modulus of a static branch point (:mod:`gfrf.static`).
+    radius_upper_detail : str
+        Where ``radius_upper`` comes from (the branch point and fold), or why absent.
+    estimate_of : str
+        Which series ``radius_upper`` and ``radius_estimate`` are about.
+    estimate_lower : float or None
+        The proven lower bound of that series the estimate was clamped to (r* for
+        Theorem 1, the plant majorant's radius for Theorem 2).
     """
 
     verdict: str
@@ -138,6 +156,10 @@ class Verdict:
     radius_estimate: float | None = None
     summary: str = ""
     radius_proof: str = "float"
+    radius_upper: float | None = None
+    radius_upper_detail: str = ""
+    estimate_of: str = ""
+    estimate_lower: float | None = None
 
     def __repr__(self) -> str:
         return short_repr(self, "verdict", "theorem", "radius", "amplitude")
@@ -149,7 +171,14 @@ class Verdict:
                 "conditions": [c.to_dict() for c in self.conditions],
                 "norms": [b.to_dict() for b in self.norms], "series": list(self.series),
                 "radius_estimate": self.radius_estimate, "summary": self.summary,
-                "radius_proof": self.radius_proof}
+                "radius_proof": self.radius_proof, "radius_upper": self.radius_upper,
+                "radius_upper_detail": self.radius_upper_detail,
+                "estimate_of": self.estimate_of, "estimate_lower": self.estimate_lower,
+                "radius_kinds": {
+                    "radius": "proven lower bound r* (certified)" if self.radius_certified
+                              else "not certified (estimated sups)",
+                    "radius_upper": "proven upper bound (static branch point)",
+                    "radius_estimate": "estimate (not a proof; never decides a verdict)"}}
 
 
 def _check_amplitude(amplitude: float, order: int) -> None:
@@ -209,8 +238,7 @@ def _stability_condition(model: Model) -> tuple[Condition, str]:
 
 
 def _norms_and_series(model: Model, maj: Majorant, order: int, amplitude: float,
-                      with_lower: bool) -> tuple[tuple[Bound, ...], tuple[dict[str, Any], ...],
-                                                 float | None]:
+                      with_lower: bool) -> tuple[tuple[Bound, ...], tuple[dict[str, Any], ...]]:
     coefficients = maj.coefficients(order)[:, 0]
     norms, rows = [], []
     for n in range(1, order + 1):
@@ -221,7 +249,7 @@ def _norms_and_series(model: Model, maj: Majorant, order: int, amplitude: float,
         rows.append({"order": n, "lower": bound.lower if bound else None, "upper": upper,
                      "majorant": float(coefficients[n]),
                      "majorant_term": _majorant_term(float(coefficients[n]), amplitude, n)})
-    return tuple(norms), tuple(rows), _root_estimate([r["lower"] for r in rows])
+    return tuple(norms), tuple(rows)
 
 
 def _majorant_term(coefficient: float, amplitude: float, n: int) -> float:
@@ -236,15 +264,44 @@ def _majorant_term(coefficient: float, amplitude: float, n: int) -> float:
         return math.inf
 
 
-def _root_estimate(lower: list[float | None]) -> float | None:
-    """Estimate of the radius from the last two nonzero lower bounds (ratio test)."""
-    nonzero = [(n + 1, v) for n, v in enumerate(lower) if v]
-    if len(nonzero) < 2:
-        return None
-    (m, a), (n, b) = nonzero[-2], nonzero[-1]
-    if n == 1 or not (math.isfinite(a) and math.isfinite(b)):
-        return None
-    return float((b / a) ** (-1.0 / (n - m)))
+@dataclass(frozen=True)
+class _Radii:
+    """Proven upper bound and estimate of a norm series' true radius."""
+
+    upper: float | None
+    detail: str
+    estimate: float | None
+    lower: float
+    clamp: str = ""
+
+    def text(self) -> str:
+        """The clause appended to a series condition."""
+        out = ""
+        if self.upper is not None:
+            out += f"; true radius proven <= {self.upper:.6g} ({self.detail})"
+        if self.estimate is not None:
+            out += f"; estimate of the true radius {self.estimate:.4g} (not a proof{self.clamp})"
+        return out
+
+
+def _radii(model: Model, lower: float, with_estimate: bool) -> _Radii:
+    """radius_upper and radius_estimate of ``model``'s norm series (both skipped for
+    margins and sweeps, ``with_estimate`` False)."""
+    if not with_estimate:
+        return _Radii(None, "not computed (norms off)", None, lower)
+    from gfrf.static import radius_estimate, radius_upper
+
+    bound = radius_upper(model)
+    upper = None if bound is None else bound.value
+    detail = ("no static branch point proven (no finite static gain, a polynomial static "
+              "map, or the tracking budget ran out)" if bound is None else bound.detail)
+    est = radius_estimate(model, lower, upper)
+    if est is None:
+        return _Radii(upper, detail, None, lower)
+    clamp = ("" if est.value == est.fitted else
+             f"; the fit gave {est.fitted:.4g}, clamped to the proven "
+             f"{'upper' if est.value < est.fitted else 'lower'} bound")
+    return _Radii(upper, detail, est.value, lower, clamp)
 
 
 def theorem1(model: Model, order: int = 5, amplitude: float = 1.0,
@@ -276,21 +333,23 @@ def theorem1(model: Model, order: int = 5, amplitude: float = 1.0,
     proper = _proper_condition(model, maj, "H_n")
     stable, bad = _stability_condition(model)
     rad = _plant_radius(maj)
-    norms, rows, estimate = _norms_and_series(model, maj, order, amplitude, with_norms)
+    norms, rows = _norms_and_series(model, maj, order, amplitude, with_norms)
+    radii = _radii(model, rad.certified_below if maj.certified else 0.0, with_norms)
     series = _series_condition("norm series sum ||H_n|| r^n converges", rad, amplitude,
-                               maj.certified, estimate)
+                               maj.certified, radii.text())
     conditions = (proper, stable, series)
     result = bad or ("stable" if all(c.passed for c in conditions) else "inconclusive")
     summary = _summary(result, 1, rad, amplitude, conditions, maj.certified)
+    if radii.upper is not None or radii.estimate is not None:
+        summary += " The norm series:" + radii.text().lstrip(";") + "."
     return Verdict(result, 1, rad.value, maj.certified, float(amplitude), conditions, norms, rows,
-                   estimate, summary, rad.proof)
+                   radii.estimate, summary, rad.proof, radii.upper, radii.detail,
+                   "norm series sum ||H_n|| r^n", radii.lower if with_norms else None)
 
 
 def _series_condition(name: str, rad: Radius, amplitude: float, exact: bool,
-                      estimate: float | None) -> Condition:
+                      est: str = "") -> Condition:
     label = _label(rad.proof) if exact else "not certified"
-    est = (f"; finite-term estimate of the true radius (from lower bounds): {estimate:.4g}"
-           if estimate else "")
     if amplitude < rad.certified_below:
         return Condition(name, True if exact else None, rad.value,
                          f"majorant converges for r < r* = {rad.value:.6g} ({label}); "
@@ -415,7 +474,8 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
                    if cmaj is None else "alpha_n = M^c_n / lambda_1^n from the controller's "
                    "certified majorant M^c_n >= lambda_n")
     plant_rad = _plant_radius(maj)
-    norms, rows, estimate = _norms_and_series(plant, maj, order, amplitude, with_norms)
+    norms, rows = _norms_and_series(plant, maj, order, amplitude, with_norms)
+    radii = _radii(plant, plant_rad.certified_below if maj.certified else 0.0, with_norms)
     exact = maj.certified and (cmaj is None or cmaj.certified)
     lam_up, rho1_up = loop.controller_norm_upper, loop.sensitivity_peak_upper
     if ctrl_ok:
@@ -431,7 +491,7 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
         c4 = Condition("sum phi_m lambda_1^m converges", False, {"lambda_1": lam},
                        "lambda_1 = inf: the series diverges from its second term")
         rad = Radius(0.0, 0.0, None, proof=proof)  # r* = 0: a trivially valid lower end
-    c5 = _series_condition("sum theta_n rho_1^n r^n converges", rad, amplitude, exact, None)
+    c5 = _series_condition("sum theta_n rho_1^n r^n converges", rad, amplitude, exact)
     literal = _literal_rho(loop)
     c5 = Condition(c5.name, c5.passed if ctrl_ok else False,
                    {"rho_1": rho1, "rho_1_literal": literal, "radius": rad.value},
@@ -451,8 +511,13 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
     result = ("stable" if all(c.passed for c in conditions) else
               "unstable" if loop.outside else "inconclusive")
     summary = _summary(result, 2, rad, amplitude, conditions, exact)
+    if radii.upper is not None or radii.estimate is not None:
+        summary += (" The plant's own norm series sum ||h_n|| r^n (not the loop):"
+                    + radii.text().lstrip(";") + ".")
     return Verdict(result, 2, rad.value, exact, float(amplitude), conditions, norms, rows,
-                   estimate, summary, rad.proof)
+                   radii.estimate, summary, rad.proof, radii.upper, radii.detail,
+                   "plant norm series sum ||h_n|| r^n (not the loop series)",
+                   radii.lower if with_norms else None)
 
 
 def _controller_output(cmaj: Majorant) -> float:

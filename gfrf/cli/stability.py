@@ -151,11 +151,16 @@ def _verdict_text(name: str, v: Verdict, proof: str = "") -> list[str]:
                  if "theta_term" in row else "")
         lines.append(f"  n = {row['order']}: M_n = {_num(row['majorant'])}, "
                      f"term = {_num(row['majorant_term'])}{extra}")
-    est = (f"; estimate of the true radius from lower bounds: {v.radius_estimate:.4g}"
-           if v.radius_estimate else "")
     kind = ({"interval": "proven", "float": "certified (float)"}.get(v.radius_proof, "estimate")
             if v.radius_certified else "estimate")
-    lines += ["", f"r* = {_num(v.radius)} ({kind}){est}", f"verdict: {v.verdict}", v.summary]
+    lines += ["", f"radius (lower bound r*, {kind}): {_num(v.radius)}"]
+    if v.radius_upper is not None:
+        lines.append(f"radius_upper (proven upper bound of the {v.estimate_of}): "
+                     f"{_num(v.radius_upper)}")
+    if v.radius_estimate is not None:
+        lines.append(f"radius_estimate (estimate of the true radius of the {v.estimate_of}; "
+                     f"not a proof): {v.radius_estimate:.4g}")
+    lines += [f"verdict: {v.verdict}", v.summary]
     return lines
 
 
