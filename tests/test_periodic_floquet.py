@@ -8,6 +8,7 @@ from gfrf.periodic.floquet import (
     mathieu_transition,
     monodromy,
     monodromy_transition,
+    quarter_tongue_zero,
     upper_quarter_transition,
 )
 
@@ -46,3 +47,29 @@ def test_multipliers_unit_product_and_stability():
     assert np.allclose(np.abs(mu), 1.0, atol=1e-8)
     # below the branch-0 curve the upright position is unstable
     assert np.max(np.abs(floquet_multipliers(0.3, -0.2))) > 1.5
+
+
+def test_quarter_tongue_reaches_negative_delta_at_the_mathieu_root():
+    from scipy.optimize import brentq
+    from scipy.special import mathieu_b
+
+    # independent: root q of the characteristic value b_1(q) = 0, eps = q/2
+    q = brentq(lambda q: mathieu_b(1, q), 0.5, 1.5, xtol=1e-15)
+    eps0 = quarter_tongue_zero()
+    assert eps0 == pytest.approx(q / 2, abs=1e-12)
+    assert float(mathieu_transition(eps0 - 1e-6, "1/4")) > 0 > \
+        float(mathieu_transition(eps0 + 1e-6, "1/4"))
+
+
+@pytest.mark.slow
+def test_quarter_tongue_zero_against_a_20_digit_integration():
+    import mpmath as mp
+
+    with mp.workdps(20):
+        def trace_plus_two(e):
+            f = lambda t, y: [y[1], -e * mp.cos(t) * y[0], y[3], -e * mp.cos(t) * y[2]]  # noqa: E731
+            y = mp.odefun(f, 0, [1, 0, 0, 1])(2 * mp.pi)
+            return y[0] + y[3] + 2
+
+        root = mp.findroot(trace_plus_two, mp.mpf("0.454"))
+    assert quarter_tongue_zero() == pytest.approx(float(root), abs=1e-12)

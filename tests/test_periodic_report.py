@@ -1,9 +1,19 @@
 """paper-periodic.md: tables come from the result objects; conclusions are computed."""
 
 import pytest
+from PIL import Image
+from scipy.optimize import brentq
+from scipy.special import mathieu_b
 
 from gfrf.report._format import num
-from gfrf.report.periodic import _grid_table, conclusion_checks, error_grid, write
+from gfrf.report.periodic import (
+    _delta_signs,
+    _formula_table,
+    _grid_table,
+    conclusion_checks,
+    error_grid,
+    write,
+)
 
 
 @pytest.fixture(scope="module")
@@ -43,6 +53,13 @@ def test_write_quick_is_deterministic(tmp_path):
         f = p1.parent / f"paper-periodic-{png}.png"
         assert f.exists()
         assert f.read_bytes() == (p2.parent / f.name).read_bytes()
+        width, height = Image.open(f).size
+        assert width <= 4 * height, f"{f.name} is a {width}x{height} strip"
+    # the energy cut-off in closed form and the delta = 0 crossing of the 1/4 tongue,
+    # against independent values (exact rational; root of scipy's Mathieu b_1)
+    assert "47104/186543" in text and "eps = 0.25251 " in text
+    q = brentq(lambda q: mathieu_b(1, q), 0.5, 1.5, xtol=1e-15)
+    assert f"eps = {q / 2:.12f}" in text
 
 
 def test_upper_side_grid():
@@ -51,3 +68,16 @@ def test_upper_side_grid():
     text = _grid_table(g)
     r = g.rows[("averaging case 3", 0.1, 0.5)]
     assert "x(pi) = 0.5" in text and f"{num(r.delta_error, 2)} / {num(r.max_error, 2)}" in text
+
+
+def test_delta_signs_counts_and_locates_negative_delta():
+    text = _delta_signs({"Figure 2": [(0.1, 0.2), (0.5, -0.02)], "Figure 6": [(0.01, 0.25)]})
+    assert text.startswith("2 of 3 orbits have delta > 0 (delta from 0.2 to 0.25)")
+    assert text.endswith("delta <= 0 only in Figure 2 at eps = 0.5")
+
+
+def test_formula_table_marks_inherited_errors():
+    from gfrf.periodic.formulas import FormulaCheck
+
+    row = FormulaCheck("(48)", "q", "p", "r", False, "c", "n", inherits="(47) second")
+    assert "| no (inherits (47) second) |" in _formula_table([row])

@@ -6,7 +6,7 @@ from scipy.integrate import solve_ivp
 
 from gfrf.errors import ConvergenceError
 from gfrf.periodic.floquet import linear_orbit_shape, mathieu_transition
-from gfrf.periodic.shooting import orbit_at_delta, transition_delta
+from gfrf.periodic.shooting import orbit_at_delta, transition_delta, transition_zero_eps
 
 
 def _ode_check(orbit, g):
@@ -62,3 +62,18 @@ def test_truncated_and_full_agree_for_small_amplitude():
     d3 = transition_delta(0.2, a, "0", 3).delta
     dfull = transition_delta(0.2, a, "0", None).delta
     assert abs(d3 - dfull) < 1e-6
+
+
+def test_nonlinear_quarter_curve_reaches_delta_zero():
+    eps0 = transition_zero_eps(0.5)
+
+    def x_at_pi(e: float) -> float:
+        # independent integration of eq (4) at delta = 0 from x(0) = 0.5, x'(0) = 0: the
+        # 4 pi-periodic orbit of the 1/4 branch is even with x(pi) = 0
+        sol = solve_ivp(lambda t, y: [y[1], -e * np.cos(t) * (y[0] - y[0] ** 3 / 6)],
+                        (0, np.pi), [0.5, 0.0], method="LSODA", rtol=1e-12, atol=1e-14)
+        return sol.y[0, -1]
+
+    slope = (x_at_pi(eps0 + 1e-4) - x_at_pi(eps0 - 1e-4)) / 2e-4
+    assert abs(x_at_pi(eps0) / slope) < 1e-9  # eps0 is a root to about 1e-9
+    assert eps0 > 0.4540231668  # beyond the linear (small-amplitude) crossing
