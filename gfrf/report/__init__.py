@@ -51,7 +51,9 @@ def write_index(out_dir: Path, models: list[str], quick: bool) -> Path:
         a = analyse(path, quick)
         v = a.verdict
         rows.append([f"[{a.model_file.name}](models/{a.stem}.md)", f"Theorem {v.theorem}",
-                     v.verdict, v.radius, "certified" if v.radius_certified else "estimate"])
+                     v.verdict, v.radius,
+                     "proven lower bound" if v.radius_certified and v.radius_proof != "none"
+                     else "estimate (not a proof)"])
     summary = ["Reports of gfrf: the GFRF paper reproduced, the periodic paper checked, and one "
                "verdict page per model.",
                f"{len(models)} model pages; the verdict is at input amplitude r = 1 and r* is "

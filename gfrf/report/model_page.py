@@ -38,10 +38,13 @@ def command_path(path: str) -> str:
 def summary_lines(a: ModelAnalysis) -> list[str]:
     """The three-line summary of a model page (also used in the index)."""
     v = a.verdict
-    cert = "certified" if v.radius_certified else "estimate"
-    if v.radius > 0:
+    if v.radius > 0 and v.radius_certified and v.radius_proof != "none":
         first = (f"Theorem {v.theorem}: stable (L2) for every input amplitude r < r* = "
-                 f"**{num(v.radius)}** ({cert}); verdict at r = 1: **{v.verdict}**.")
+                 f"**{num(v.radius)}** (proven lower bound); verdict at r = 1: "
+                 f"**{v.verdict}**.")
+    elif v.radius > 0:  # an estimated r* never headlines 'stable'
+        first = (f"Theorem {v.theorem}: verdict **{v.verdict}**; no input amplitude is proven "
+                 f"stable (r* = {num(v.radius)} is an estimate, not a proof).")
     else:
         failed = [c.name for c in v.conditions if c.passed is False]
         first = (f"Theorem {v.theorem}: verdict **{v.verdict}**; r* = 0, no input amplitude "
@@ -175,11 +178,15 @@ def _verdict_section(a: ModelAnalysis) -> list[str]:
     out += ["Series at r = 1 (M_n is the certified majorant, M_n >= ||H_n||):", "",
             table(["n", "M_n", "M_n r^n", "theta_n rho_1^n r^n"], series_rows)]
     cert = "certified" if v.radius_certified else "estimate (grid sups)"
-    est = (f" A finite-term estimate of the true radius from the lower bounds is "
-           f"{num(v.radius_estimate, 4)} (an estimate, not a proof)." if v.radius_estimate
-           else "")
+    est = (f" Proven upper bound on the true radius of the {v.estimate_of}: "
+           f"{num(v.radius_upper, 6)} ({v.radius_upper_detail})." if v.radius_upper else "")
+    est += (f" Estimate of that true radius: {num(v.radius_estimate, 4)} (an estimate, not a "
+            "proof; no verdict rests on it)." if v.radius_estimate else "")
     margin = (f"the certified series converges for every input amplitude r < r*, so the "
-              f"verdict is *stable* there.{est}" if v.radius > 0 else
+              f"verdict is *stable* there.{est}" if v.radius > 0 and v.radius_certified
+              and v.radius_proof != "none" else
+              f"r* is an estimate (not a proof): no input amplitude is proven stable.{est}"
+              if v.radius > 0 else
               f"no input amplitude is certified: the theorem's hypotheses fail.{est}")
     out += [f"**Margin r\\* = {num(v.radius)}** ({cert}): {margin}", "",
             f"Verdict at r = 1: **{v.verdict}**. {v.summary}", ""]
