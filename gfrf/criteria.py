@@ -65,9 +65,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import tomllib
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -729,7 +727,9 @@ def parameter_margin(model_file: ModelFile, parameter: str, amplitude: float = 1
                             f"parameters: {', '.join(sorted(model_file.parameters))}")
     if not model_file.path:
         raise ArgumentError("parameter margins need a model file (its path is re-read)")
-    data = tomllib.loads(Path(model_file.path).read_text(encoding="utf-8"))
+    from gfrf.modelfile import read_table
+
+    data = read_table(model_file.path)
     current = model_file.parameters[parameter]
 
     def passes(value: float) -> bool:

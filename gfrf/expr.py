@@ -43,6 +43,7 @@ gfrf.errors.ModelError: unexpected character "'" at column 12 of "__import__('os
 
 from __future__ import annotations
 
+import keyword
 import math
 import re
 from collections.abc import Callable, Mapping, Sequence
@@ -52,9 +53,10 @@ import sympy as sp
 
 from gfrf.errors import ModelError
 
-__all__ = ["Parsed", "UnknownNames", "parse_expression", "quote", "MAX_TEXT_LENGTH",
+__all__ = ["Parsed", "UnknownNames", "check_name", "parse_expression", "quote", "MAX_TEXT_LENGTH",
            "MAX_NESTING", "MAX_TERMS", "MAX_NUMBER_LENGTH", "MAX_NUMBER_BITS", "MAX_EXPONENT",
-           "MAX_DEGREE", "MAX_MONOMIALS", "MAX_NAME_LENGTH", "MODEL_FUNCTIONS",
+           "MAX_DEGREE", "MAX_MONOMIALS", "MAX_NAME_LENGTH", "MAX_FUNCTION_NESTING",
+           "MAX_FUNCTION_CALLS", "MODEL_FUNCTIONS",
            "SIGNAL_FUNCTIONS", "CONSTANTS"]
 
 #: Longest text accepted in one field, in characters.
@@ -76,6 +78,10 @@ MAX_DEGREE = 15
 MAX_MONOMIALS = 20_000
 #: Longest name (signal, parameter, function).
 MAX_NAME_LENGTH = 64
+#: Deepest nesting of functions of the signals (``sin(cos(y))`` is 2).
+MAX_FUNCTION_NESTING = 2
+#: Most calls of functions of the signals in one text.
+MAX_FUNCTION_CALLS = 32
 
 #: Functions allowed in model equations and parameter values (``D`` is added for ODEs).
 MODEL_FUNCTIONS: dict[str, Callable[..., sp.Expr]] = {
@@ -90,6 +96,7 @@ SIGNAL_FUNCTIONS: dict[str, Callable[..., sp.Expr]] = {
 #: Named constants (a parameter of the same name takes precedence).
 CONSTANTS: dict[str, sp.Expr] = {"pi": sp.pi, "E": sp.E}
 
+_PLAIN_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
 _NOT_FINITE = frozenset({"inf", "infinity", "oo", "nan", "zoo", "Infinity", "NaN"})
 _QUOTE_LENGTH = 80
 
@@ -98,7 +105,25 @@ _TOKEN = re.compile(r"""
   | (?P<number>(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)
   | (?P<name>[A-Za-z_][A-Za-z0-9_]*)
   | (?P<op>\*\*|[-+*/(),\[\]^])
-""", re.VERBOSE)
+""", re.VERBOSE | re.ASCII)
+
+
+def check_name(name: object, what: str) -> str:
+    """``name`` if it is a plain identifier: ASCII letters, digits and single underscores,
+    not a Python keyword, not starting with ``_``, at most :data:`MAX_NAME_LENGTH` long.
+
+    Raises
+    ------
+    ModelError
+        Naming ``what`` and the offending name.
+    """
+    if not isinstance(name, str) or not _PLAIN_NAME.fullmatch(name) or "__" in name \
+            or keyword.iskeyword(name) or len(name) > MAX_NAME_LENGTH:
+        raise ModelError(f"{what} {quote(str(name))} is not a plain identifier (ASCII "
+                         f"letters, digits and single underscores, not starting with '_', "
+                         f"not a keyword, at most MAX_NAME_LENGTH = {MAX_NAME_LENGTH} "
+                         f"characters)")
+    return name
 
 
 def quote(text: str) -> str:
@@ -135,11 +160,23 @@ class Parsed:
     analytic : bool
         True if a variable appears inside a function or a denominator, so the
         expression is not a polynomial and needs a Taylor truncation.
+    monomials : int
+        Upper bound of the number of monomials of the expanded expression.
+    varying : bool
+        True if the expression depends on a variable.
+    nesting : int
+        Deepest nesting of functions of the variables (``sin(cos(y))`` is 2).
+
+    A ``Parsed`` may stand as the value of a name in a later parse (a parameter
+    defined by an expression of swept parameters): the bounds then carry over.
     """
 
     expr: sp.Expr
     degree: int
     analytic: bool
+    monomials: int = 1
+    varying: bool = False
+    nesting: int = 0
 
 
 @dataclass(frozen=True)
@@ -149,12 +186,13 @@ class _Node:
     monomials: int = 1       # bound on the monomials of the expanded expression
     analytic: bool = False   # a variable sits inside a function or a denominator
     varying: bool = False    # depends on a variable at all
+    nesting: int = 0         # nesting of functions of the variables
 
 
 @dataclass
 class _Context:
     text: str
-    names: Mapping[str, sp.Expr]
+    names: Mapping[str, sp.Expr | Parsed]
     functions: Mapping[str, Callable[..., sp.Expr]]
     variables: frozenset[sp.Symbol]
     derivative: Callable[[str, int], sp.Expr] | None
@@ -162,10 +200,12 @@ class _Context:
     signals: tuple[str, ...]
     max_order: int
     hints: Mapping[str, str]
+    series: bool = True
     tokens: list[tuple[str, str, int]] = field(default_factory=list)
     pos: int = 0
     depth: int = 0
     terms: int = 0
+    calls: int = 0
 
     # -- errors ------------------------------------------------------------------
     def fail(self, message: str, column: int | None = None) -> ModelError:
@@ -178,7 +218,8 @@ class _Context:
 
     def take(self) -> tuple[str, str, int]:
         token = self.tokens[self.pos]
-        self.pos += 1
+        if token[0] != "end":  # the end token is never passed: reading on keeps seeing it
+            self.pos += 1
         return token
 
     def expect(self, value: str) -> None:
@@ -197,14 +238,15 @@ class _Context:
         self.depth -= 1
 
 
-def parse_expression(text: str, *, names: Mapping[str, sp.Expr] | None = None,
+def parse_expression(text: str, *, names: Mapping[str, sp.Expr | Parsed] | None = None,
                      functions: Mapping[str, Callable[..., sp.Expr]] | None = None,
                      variables: Sequence[sp.Symbol] = (),
                      signals: Sequence[str] = (),
                      derivative: Callable[[str, int], sp.Expr] | None = None,
                      lag: Callable[[str, int], sp.Expr] | None = None,
                      max_order: int = 20,
-                     hints: Mapping[str, str] | None = None) -> Parsed:
+                     hints: Mapping[str, str] | None = None,
+                     series: bool = True) -> Parsed:
     """Parse ``text`` of the gfrf expression language into a sympy expression.
 
     Parameters
@@ -212,8 +254,9 @@ def parse_expression(text: str, *, names: Mapping[str, sp.Expr] | None = None,
     text : str
         The text (data, never evaluated as code).
     names : mapping, optional
-        Allowed names and the sympy values they stand for (numbers or symbols).  The
-        constants ``pi`` and ``E`` are added unless ``names`` defines them.
+        Allowed names and the sympy values they stand for (numbers or symbols), or a
+        :class:`Parsed` whose degree and size bounds carry over.  The constants ``pi``
+        and ``E`` are added unless ``names`` defines them.
     functions : mapping, optional
         Allowed function names and the sympy functions they build (default
         :data:`MODEL_FUNCTIONS`).
@@ -228,6 +271,12 @@ def parse_expression(text: str, *, names: Mapping[str, sp.Expr] | None = None,
         Largest derivative order or lag.
     hints : mapping, optional
         A message for particular unknown names (e.g. ``{"t": "... time t ..."}``).
+    series : bool
+        The expression will be expanded or Taylor-truncated in the ``variables`` (model
+        equations, sweep templates): functions of the variables are then limited by
+        :data:`MAX_FUNCTION_NESTING` and :data:`MAX_FUNCTION_CALLS`, and ``log`` of a
+        variable is refused (``exp(n*log(X))`` would be ``X**n``).  False for input
+        signals u(t), which are only differentiated and evaluated.
 
     Returns
     -------
@@ -247,14 +296,16 @@ def parse_expression(text: str, *, names: Mapping[str, sp.Expr] | None = None,
     ctx = _Context(text=text, names={**CONSTANTS, **(names or {})},
                    functions=MODEL_FUNCTIONS if functions is None else functions,
                    variables=frozenset(variables), derivative=derivative, lag=lag,
-                   signals=tuple(signals), max_order=max_order, hints=hints or {})
+                   signals=tuple(signals), max_order=max_order, hints=hints or {},
+                   series=series)
     ctx.tokens = _tokenize(ctx)
     _check_names(ctx)
     node = _expression(ctx)
     kind, token, column = ctx.peek()
     if kind != "end":
         raise ctx.fail(f"unexpected {token!r}", column)
-    return Parsed(node.expr, node.degree, node.analytic)
+    return Parsed(node.expr, node.degree, node.analytic, node.monomials, node.varying,
+                  node.nesting)
 
 
 def _tokenize(ctx: _Context) -> list[tuple[str, str, int]]:
@@ -437,7 +488,10 @@ def _number(ctx: _Context, value: str, column: int) -> _Node:
 
 def _name(ctx: _Context, value: str) -> _Node:
     expr = ctx.names[value]
-    varying = bool(ctx.variables & expr.free_symbols) if isinstance(expr, sp.Basic) else False
+    if isinstance(expr, Parsed):
+        return _Node(expr.expr, expr.degree, expr.monomials, expr.analytic, expr.varying,
+                     expr.nesting)
+    varying = bool(ctx.variables & expr.free_symbols)
     return _Node(expr, degree=1 if varying else 0, varying=varying)
 
 
@@ -464,6 +518,8 @@ def _call(ctx: _Context, name: str, column: int) -> _Node:
 
 
 def _derivative(ctx: _Context, column: int) -> _Node:
+    if ctx.peek()[0] == "end":
+        raise ctx.fail("D( is not closed", column)
     kind, signal, at = ctx.take()
     order = 1
     order_text = ""
@@ -542,11 +598,12 @@ def _sum(ctx: _Context, operands: list[_Node]) -> _Node:
     if expr.is_number:
         expr = _checked_number(ctx, expr, None)
     return _Node(expr, max(o.degree for o in operands), monomials,
-                 any(o.analytic for o in operands), varying)
+                 any(o.analytic for o in operands), varying, max(o.nesting for o in operands))
 
 
 def _negate(node: _Node) -> _Node:
-    return _Node(-node.expr, node.degree, node.monomials, node.analytic, node.varying)
+    return _Node(-node.expr, node.degree, node.monomials, node.analytic, node.varying,
+                 node.nesting)
 
 
 def _product(ctx: _Context, left: _Node, right: _Node, column: int) -> _Node:
@@ -568,12 +625,15 @@ def _product(ctx: _Context, left: _Node, right: _Node, column: int) -> _Node:
     if expr.is_number:
         expr = _checked_number(ctx, expr, column)
     return _Node(expr, degree, monomials, left.analytic or right.analytic,
-                 left.varying or right.varying)
+                 left.varying or right.varying, max(left.nesting, right.nesting))
 
 
 def _quotient(ctx: _Context, left: _Node, right: _Node, column: int) -> _Node:
     if right.varying:
-        inverse = _Node(1 / right.expr, 0, 1, True, True)
+        # The inverse keeps the degree and size bounds of its base: sympy may cancel
+        # 1/(1/X) back to X, so an inverse must not launder X's size.
+        inverse = _Node(1 / right.expr, right.degree, right.monomials, True, True,
+                        right.nesting)
         return _product(ctx, left, inverse, column)
     if right.expr.is_Rational and left.expr.is_Rational:
         bits = sum(max(int(e.p).bit_length(), int(e.q).bit_length())
@@ -584,18 +644,17 @@ def _quotient(ctx: _Context, left: _Node, right: _Node, column: int) -> _Node:
     expr = left.expr / right.expr
     if expr.is_number and expr.is_finite:
         expr = _checked_number(ctx, expr, column)
-    return _Node(expr, left.degree, left.monomials, left.analytic, left.varying)
+    return _Node(expr, left.degree, left.monomials, left.analytic, left.varying, left.nesting)
 
 
 def _raise(ctx: _Context, base: _Node, exponent: int, column: int) -> _Node:
-    if base.varying and exponent < 0:
-        return _Node(base.expr ** exponent, 0, 1, True, True)
-    degree = base.degree * exponent
+    count = abs(exponent)  # X**-n is bounded like X**n: sympy may cancel the inverse
+    degree = base.degree * count
     if degree > MAX_DEGREE:
         raise ctx.fail(f"the power of total degree {degree} exceeds the limit MAX_DEGREE = "
                        f"{MAX_DEGREE}", column)
-    monomials = min(base.monomials ** exponent,
-                    math.comb(base.monomials + exponent - 1, exponent)) if base.varying else 1
+    monomials = min(base.monomials ** count,
+                    math.comb(base.monomials + count - 1, count)) if base.varying else 1
     if monomials > MAX_MONOMIALS:
         raise ctx.fail(f"the power would expand to more than MAX_MONOMIALS = "
                        f"{MAX_MONOMIALS} monomials", column)
@@ -610,18 +669,41 @@ def _raise(ctx: _Context, base: _Node, exponent: int, column: int) -> _Node:
         expr = base.expr ** exponent
     if expr.is_number and expr.is_finite:
         expr = _checked_number(ctx, expr, column)
-    return _Node(expr, degree, monomials, base.analytic, base.varying)
+    return _Node(expr, degree, monomials, base.analytic or (base.varying and exponent < 0),
+                 base.varying, base.nesting)
 
 
 def _apply(ctx: _Context, name: str, arg: _Node, column: int) -> _Node:
-    expr = ctx.functions[name](arg.expr)
+    if arg.varying and ctx.series:
+        if name == "log":
+            raise ctx.fail("log() of a signal is not accepted (write its Taylor polynomial)",
+                           column)
+        ctx.calls += 1
+        if ctx.calls > MAX_FUNCTION_CALLS:
+            raise ctx.fail(f"more than MAX_FUNCTION_CALLS = {MAX_FUNCTION_CALLS} calls of "
+                           f"functions of the signals", column)
+        if arg.nesting + 1 > MAX_FUNCTION_NESTING:
+            raise ctx.fail(f"functions of the signals nested deeper than "
+                           f"MAX_FUNCTION_NESTING = {MAX_FUNCTION_NESTING}", column)
+        # A function keeps its argument's bounds (sympy may simplify f(g(X)) to X).
+        return _Node(ctx.functions[name](arg.expr), arg.degree, arg.monomials, True, True,
+                     arg.nesting + 1)
+    if arg.varying:
+        return _Node(ctx.functions[name](arg.expr), arg.degree, arg.monomials, True, True,
+                     arg.nesting + 1)
+    argument = arg.expr
+    if argument.is_number and not (argument.is_Rational or argument.is_Float):
+        # An irrational number (sin(1) + ... + sin(2000)): one numeric evaluation here,
+        # so nested calls never re-evaluate a large exact tree.
+        argument = argument.evalf(30)
+    expr = ctx.functions[name](argument)
     if expr.is_number:
         try:
             value = complex(expr)
         except (TypeError, ValueError, OverflowError):
             value = complex(math.nan)
         if not (math.isfinite(value.real) and math.isfinite(value.imag)):
-            raise ctx.fail(f"{name}() of {arg.expr} is not finite", column)
+            raise ctx.fail(f"{name}() of its argument is not finite", column)
         if value.imag != 0:
-            raise ctx.fail(f"{name}() of {arg.expr} is not a real number", column)
-    return _Node(expr, 0, 1, arg.varying or arg.analytic, arg.varying)
+            raise ctx.fail(f"{name}() of its argument is not a real number", column)
+    return _Node(expr, 0, 1, arg.analytic, False, arg.nesting)

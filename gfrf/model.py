@@ -27,7 +27,6 @@ Examples
 
 from __future__ import annotations
 
-import keyword
 import math
 import re
 from dataclasses import dataclass, field
@@ -39,10 +38,11 @@ from gfrf.errors import ModelError
 from gfrf.expr import (
     MAX_DEGREE,
     MAX_MONOMIALS,
-    MAX_NAME_LENGTH,
     MAX_TEXT_LENGTH,
     MODEL_FUNCTIONS,
+    Parsed,
     UnknownNames,
+    check_name,
     parse_expression,
     quote,
 )
@@ -50,6 +50,7 @@ from gfrf.expr import (
 __all__ = ["Term", "Model", "parse_model", "coefficient_formulas", "MAX_DERIVATIVE_ORDER",
            "MAX_DEGREE"]
 
+_LARGEST_FLOAT = 1.7976931348623157e308
 #: Largest derivative order or lag accepted in a model text.
 MAX_DERIVATIVE_ORDER = 20
 
@@ -256,12 +257,13 @@ def _truncate(expr: sp.Expr, atoms: list[sp.Symbol], order: int) -> sp.Expr:
     return sp.expand(series.subs(scale, 1))
 
 
-def _signal_expression(text: str, local: dict[str, sp.Expr], output: str, input_: str,
+def _signal_expression(text: str, local: dict[str, sp.Expr | Parsed], output: str, input_: str,
                        discrete: bool) -> tuple[sp.Expr, list[sp.Symbol], bool]:
     """Left-hand side minus right-hand side in the atom symbols, the atoms present, and
     whether a signal sits inside a function or a denominator (truncation needed)."""
     lhs_text, rhs_text = _split_equation(text)
-    names: dict[str, sp.Expr] = {**local, output: _atom(output, 0), input_: _atom(input_, 0)}
+    names: dict[str, sp.Expr | Parsed] = {**local, output: _atom(output, 0),
+                                          input_: _atom(input_, 0)}
     grammar: dict[str, Any] = {
         "names": names, "variables": (names[output], names[input_]),
         "signals": (output, input_), "max_order": MAX_DERIVATIVE_ORDER,
@@ -295,7 +297,7 @@ def _monomial_orders(monom: tuple[int, ...], atoms: list[sp.Symbol], output: str
 
 def coefficient_formulas(text: str, *, output: str = "y", input: str = "u",  # noqa: A002
                          discrete: bool = False, truncation: int | None = None,
-                         symbols: dict[str, sp.Expr] | None = None
+                         symbols: dict[str, sp.Expr | Parsed] | None = None
                          ) -> dict[tuple[tuple[int, ...], tuple[int, ...]], sp.Expr]:
     """Coefficient of every monomial of an equation as a sympy expression.
 
@@ -364,26 +366,20 @@ def parse_model(text: str, *, sample_time: float | None = None, truncation: int 
         if truncation > MAX_DEGREE:
             raise ModelError(f"truncation {truncation} exceeds the limit {MAX_DEGREE}")
     for name in (output, input):
-        if not isinstance(name, str) or not name.isidentifier() or keyword.iskeyword(name) \
-                or name.startswith("_") or "__" in name or len(name) > MAX_NAME_LENGTH:
-            raise ModelError(f"signal name {quote(str(name))} is not a plain identifier (letters, "
-                             f"digits, single underscores, at most {MAX_NAME_LENGTH} "
-                             f"characters)")
+        check_name(name, "signal name")
     if output == input:
         raise ModelError(f"output and input have the same name {output!r}")
 
     local: dict[str, sp.Expr] = {}
     for name, value in parameters.items():
-        if not isinstance(name, str) or not name.isidentifier() or keyword.iskeyword(name) \
-                or "__" in name or len(name) > MAX_NAME_LENGTH:
-            raise ModelError(f"parameter name {quote(str(name))} is not an identifier of at "
-                             f"most MAX_NAME_LENGTH = {MAX_NAME_LENGTH} characters")
+        check_name(name, "parameter name")
         if name in (output, input, "D", "t", "k") or name in MODEL_FUNCTIONS:
             raise ModelError(f"parameter name {name!r} clashes with a signal, operator or "
                              f"function")
         if isinstance(value, bool) or not isinstance(value, (int, float)) \
-                or not math.isfinite(value):
-            raise ModelError(f"parameter {name!r} must be a finite number, got {value!r}")
+                or not abs(value) <= _LARGEST_FLOAT:  # also NaN
+            raise ModelError(f"parameter {name!r} must be a finite number, got "
+                             f"{quote(repr(value))}")
         local[name] = sp.Float(value) if isinstance(value, float) else sp.Integer(value)
     expr, atoms, analytic = _signal_expression(text, local, output, input, discrete)
 

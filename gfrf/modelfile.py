@@ -38,11 +38,11 @@ from typing import Any
 import sympy as sp
 
 from gfrf.errors import ModelError
-from gfrf.expr import UnknownNames, parse_expression, quote
+from gfrf.expr import UnknownNames, check_name, parse_expression, quote
 from gfrf.model import Model, parse_model
 
-__all__ = ["Controller", "ModelFile", "load_model", "model_from_dict", "MAX_FILE_BYTES",
-           "MAX_PARAMETERS", "MAX_CONTROLLER_COEFFICIENTS", "parse_number"]
+__all__ = ["Controller", "ModelFile", "load_model", "model_from_dict", "read_table",
+           "MAX_FILE_BYTES", "MAX_PARAMETERS", "MAX_CONTROLLER_COEFFICIENTS", "parse_number"]
 
 #: Largest model file accepted, in bytes (checked before reading it).
 MAX_FILE_BYTES = 256 * 1024
@@ -133,21 +133,36 @@ def load_model(path: str | Path) -> ModelFile:
         names the file and the key.
     """
     p = Path(path)
-    if not p.is_file():
-        raise ModelError(f"model file {str(p)!r} does not exist")
-    size = p.stat().st_size
-    if size > MAX_FILE_BYTES:
-        raise ModelError(f"{p}: {size} bytes, more than the limit MAX_FILE_BYTES = "
-                         f"{MAX_FILE_BYTES}")
-    try:
-        data = tomllib.loads(p.read_text(encoding="utf-8"))
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise ModelError(f"{p}: not valid TOML: {exc}") from None
+    data = read_table(p)
     try:
         return model_from_dict(data, path=str(p))
     except ModelError as exc:
         message = str(exc)
         raise ModelError(message if message.startswith(str(p)) else f"{p}: {message}") from None
+
+
+def read_table(path: str | Path) -> dict[str, Any]:
+    """The TOML table of a model file, read within :data:`MAX_FILE_BYTES`.
+
+    Raises
+    ------
+    ModelError
+        Missing or oversized file, invalid TOML or UTF-8, nesting too deep to read.
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise ModelError(f"model file {quote(str(p))} does not exist")
+    size = p.stat().st_size
+    if size > MAX_FILE_BYTES:
+        raise ModelError(f"{p}: {size} bytes, more than the limit MAX_FILE_BYTES = "
+                         f"{MAX_FILE_BYTES}")
+    try:
+        return tomllib.loads(p.read_text(encoding="utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise ModelError(f"{p}: not valid TOML: {exc}") from None
+    except RecursionError:
+        raise ModelError(f"{p}: not readable TOML: arrays or tables nested too deep") \
+            from None
 
 
 def parse_number(value: Any, key: str, parameters: Mapping[str, float]) -> float:
@@ -164,7 +179,10 @@ def parse_number(value: Any, key: str, parameters: Mapping[str, float]) -> float
     if isinstance(value, bool):
         raise ModelError(f"{key}: expected a number, got {value!r}")
     if isinstance(value, (int, float)):
-        result = float(value)
+        try:
+            result = float(value)
+        except OverflowError:
+            raise ModelError(f"{key}: the integer is too large for a float") from None
     elif isinstance(value, str):
         names = {k: sp.Float(v) for k, v in parameters.items()}
         try:
@@ -176,7 +194,10 @@ def parse_number(value: Any, key: str, parameters: Mapping[str, float]) -> float
             raise ModelError(f"{key}: {exc}") from None
         if not expr.is_number or not expr.is_real:
             raise ModelError(f"{key}: {quote(value)} is not a real number")
-        result = float(expr)
+        try:
+            result = float(expr)
+        except OverflowError:
+            result = math.inf
     else:
         raise ModelError(f"{key}: expected a number or an expression, got {value!r}")
     if not math.isfinite(result):
@@ -194,6 +215,7 @@ def _parameters(table: Any, where: str) -> dict[str, float]:
                          f"MAX_PARAMETERS = {MAX_PARAMETERS}")
     values: dict[str, float] = {}
     for name, value in table.items():
+        check_name(name, f"{where}: parameter name")
         values[name] = parse_number(value, f"{where}.{name}", values)
     return values
 

@@ -76,7 +76,8 @@ class InputSignal:
 
         def value(t: Any) -> np.ndarray:
             if isinstance(t, float):  # the ODE solvers' scalar calls: no array round trip
-                return np.float64(f(t))  # type: ignore[return-value]
+                with np.errstate(all="ignore"):  # 1/t at 0 is inf, as for arrays
+                    return np.float64(f(np.float64(t)))  # type: ignore[return-value]
             t_arr = np.asarray(t, dtype=float)
             return np.broadcast_to(np.asarray(f(t_arr), dtype=float), t_arr.shape).copy()
 
@@ -141,7 +142,7 @@ def parse_input(text: str, *, max_derivative: int = 0) -> InputSignal:
 def _parse_expression(text: str) -> sp.Expr:
     try:
         expr = parse_expression(text, names={"t": T}, functions=SIGNAL_FUNCTIONS,
-                                variables=(T,)).expr
+                                variables=(T,), series=False).expr
     except UnknownNames as exc:
         raise ArgumentError(f"unknown symbol(s) {', '.join(exc.names)} in the input "
                             f"{quote(text)}: the only variable is the time t (seconds)") \

@@ -322,7 +322,7 @@ def _polynomial_loop(expr: sp.Expr, model: Model, ctrl: Controller, equation: st
     if q > m:
         raise ModelError(f"the plant uses D({model.input},{q}), above the controller's output "
                          f"order {m}: the loop has no state form")
-    r = [sp.Symbol(f"r__{j}", real=True) for j in range(q + 1)]
+    r = [sp.Symbol(f"_r__{j}", real=True) for j in range(q + 1)]
     loop = expr.xreplace({model.atom(model.input, j): r[j] + ctrl.feedback * _w(j)
                           for j in u_orders})
     y_top, w_top = _solve_pair(loop, cexpr, y_atom(n), _w(m))
@@ -404,7 +404,7 @@ def build_system(source: ModelFile | Model, *, closed_loop: bool = False,
         if any(k > 0 for k in u_orders):
             raise ModelError("closed-loop simulation with input derivatives D(u,k) in the "
                              "plant is not supported with a transfer-function controller")
-        r = sp.Symbol("r__0", real=True)
+        r = sp.Symbol("_r__0", real=True)
         law, ctrl_states, ctrl_rates = _controller_law(ctrl, y_atom, n, r)
         if law.has(y_atom(n)):
             notes.append(f"the controller is improper: its D({model.output},{n}) term makes "
@@ -456,7 +456,7 @@ def _narx_loop(model: Model, expr: sp.Expr, ctrl: Controller, equation: str,
     cexpr = _controller_equation(ctrl, model, equation)
     u_orders = _orders(expr, model.input)
     q = max(u_orders, default=0)
-    r = [sp.Symbol(f"r__{j}", real=True) for j in range(q + 1)]
+    r = [sp.Symbol(f"_r__{j}", real=True) for j in range(q + 1)]
     loop = expr.xreplace({model.atom(model.input, j): r[j] + ctrl.feedback * _w(j)
                           for j in u_orders})
     y_now, w_now = _solve_pair(loop, cexpr, y_atom(0), _w(0))
@@ -568,6 +568,12 @@ def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | N
         if t_eval.ndim != 1 or t_eval.size < 1 or np.any(np.diff(t_eval) <= 0) \
                 or t_eval[0] < 0 or t_eval[-1] > t_end:
             raise ArgumentError("t_eval must be increasing times within [0, t_end]")
+    for k in range(system.n_inputs if not system.discrete else 1):
+        with np.errstate(all="ignore"):
+            value = float(signal.derivative(k)(0.0))
+        if not math.isfinite(value):
+            raise ArgumentError(f"the input{' derivative ' + str(k) if k else ''} is not "
+                                f"finite at t = 0 s: u(t) = {signal.text[:80]}")
     start = time.perf_counter()
     if system.discrete:
         result = _narx(system, signal, z0, t_end, blowup)
@@ -702,7 +708,9 @@ def _scipy(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end: float,
     with np.errstate(all="ignore"):
         sol = solve_ivp(f, (0.0, t_end), z0, method=_SCIPY[method], t_eval=t_eval,
                         rtol=rtol, atol=atol, events=[escape, budget])
-    states = sol.y
+    # A run that fails before its first output time returns an empty list.
+    states = np.asarray(sol.y, dtype=float).reshape(z0.size, -1)
+    times = np.asarray(sol.t, dtype=float)
     finite = np.all(np.isfinite(states), axis=0)
     status, blow_t, message = "ok", None, sol.message
     if sol.t_events[0].size:
@@ -716,11 +724,11 @@ def _scipy(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end: float,
     elif not finite.all() or sol.status < 0:
         first = int(np.argmin(finite)) if not finite.all() else states.shape[1]
         states = states[:, :first]
-        blow_t = float(sol.t[first]) if first < sol.t.size else float(sol.t[-1]) \
-            if sol.t.size else 0.0
+        blow_t = float(times[first]) if first < times.size else float(times[-1]) \
+            if times.size else 0.0
         status = "blowup" if not finite.all() else "failed"
         message = f"the integration failed near t = {blow_t:.6g} s: {sol.message}"
-    t = sol.t[:states.shape[1]]
+    t = times[:states.shape[1]]
     v = input_values(signal, system.n_inputs, t)
     u = plant_input(system, states, v) if t.size else np.zeros(0)
     return SimulationResult(t=t, y=states[0] if states.size else np.zeros(0), u=u,

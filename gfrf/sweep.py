@@ -497,8 +497,8 @@ def sweep(data: Mapping[str, Any], axes: Sequence[Axis], *, what: str = "verdict
     start = time.perf_counter()
     try:
         template: ModelTemplate | None = model_template(data, [a.name for a in axes], path)
-    except TemplateUnsupported:
-        template = None
+    except TemplateUnsupported as exc:
+        template, no_template = None, str(exc)
     task = _Task(template, what, float(amplitude), order, float(t_end), dict(data), path)
     template_seconds = time.perf_counter() - start
     context = (contextlib.nullcontext((scheduler, workers or 1))
@@ -528,8 +528,8 @@ def sweep(data: Mapping[str, Any], axes: Sequence[Axis], *, what: str = "verdict
     notes = [f"{sum(1 for r in rows if r['error'])} point(s) with an invalid model"] \
         if any(r["error"] for r in rows) else []
     if template is None:
-        notes.append("no template for this model (sample_time depends on a swept "
-                      "parameter): every point re-parsed the file (path 'rebuild')")
+        notes.append(f"no template for this model ({no_template}): every point re-parsed "
+                     f"the file (path 'rebuild')")
     name = scheduler if isinstance(scheduler, str) else type(scheduler).__name__
     return SweepResult(tuple(axes), what, float(amplitude), rows,
                        _columns(axes, what, order), seconds, template_seconds, name, notes)

@@ -35,7 +35,7 @@ from typing import Any
 import sympy as sp
 
 from gfrf.errors import ArgumentError, ModelError
-from gfrf.expr import UnknownNames, parse_expression, quote
+from gfrf.expr import Parsed, UnknownNames, parse_expression, quote
 from gfrf.model import Model, Term, coefficient_formulas
 from gfrf.modelfile import ModelFile, model_from_dict
 
@@ -103,7 +103,7 @@ class ModelTemplate:
     structure : tuple of (y_orders, u_orders)
         One entry per plant coefficient formula.
     source : str
-        Python source of ``lambda <names>: (plant coefficients, controller numbers)``,
+        Python source of ``lambda _p0, _p1, ...: (plant coefficients, controller numbers)``,
         the controller numbers being ``num`` then ``den`` of a transfer function, or
         the coefficients of a polynomial controller in ``controller_structure`` order.
     n_num : int
@@ -190,13 +190,15 @@ class ModelTemplate:
             raise ModelError(f"{self._where(values)}: {what} has no input {model.input!r}")
 
 
-def _symbolic(value: Any, values: Mapping[str, sp.Expr], key: str) -> sp.Expr:
-    """A TOML number or expression text as a sympy expression in ``values`` (parsed by
-    :mod:`gfrf.expr`; the model file was validated first, so errors are rare)."""
+def _symbolic(value: Any, values: Mapping[str, Parsed], key: str) -> Parsed:
+    """A TOML number or expression text as a parsed expression in ``values`` (by
+    :mod:`gfrf.expr`, whose degree and size limits count the swept parameters, so a
+    chain of parameter definitions cannot grow an expression without bound)."""
     if not isinstance(value, str):
-        return sp.Float(value)
+        return Parsed(sp.Float(value), 0, False)
+    swept = [v.expr for v in values.values() if isinstance(v.expr, sp.Symbol)]
     try:
-        return parse_expression(value, names=values).expr
+        return parse_expression(value, names=values, variables=swept)
     except UnknownNames as exc:
         raise ModelError(f"{key}: {quote(value)} uses unknown symbol(s) "
                          f"{', '.join(exc.names)}") from None
@@ -204,8 +206,8 @@ def _symbolic(value: Any, values: Mapping[str, sp.Expr], key: str) -> sp.Expr:
         raise ModelError(f"{key}: {exc}") from None
 
 
-def _symbolic_table(table: Mapping[str, Any] | None, swept: Mapping[str, sp.Symbol],
-                    known: dict[str, sp.Expr], where: str) -> dict[str, sp.Expr]:
+def _symbolic_table(table: Mapping[str, Any] | None, swept: Mapping[str, Parsed],
+                    known: dict[str, Parsed], where: str) -> dict[str, Parsed]:
     values = dict(known)
     for name, value in (table or {}).items():
         values[name] = swept[name] if name in swept else \
@@ -213,7 +215,7 @@ def _symbolic_table(table: Mapping[str, Any] | None, swept: Mapping[str, sp.Symb
     return values
 
 
-def _coefficients(text: str, model: Model, values: dict[str, sp.Expr]) -> dict[tuple, sp.Expr]:
+def _coefficients(text: str, model: Model, values: dict[str, Parsed]) -> dict[tuple, sp.Expr]:
     """Coefficient formulas {(y_orders, u_orders): expr} of the equation ``text`` of
     ``model`` (its signals, truncation and time base), parameters as in ``values``."""
     return coefficient_formulas(text, output=model.output, input=model.input,
@@ -257,28 +259,39 @@ def model_template(data: Mapping[str, Any], names: Sequence[str], path: str = ""
         if name not in where:
             raise ArgumentError(_unknown(name, where))
     base = model_from_dict(dict(data), path=path)
-    swept = {n: sp.Symbol(n, real=True) for n in names}
-    values = _symbolic_table(data.get("parameters"), swept, {}, "parameters")
-    step = data.get("sample_time")
-    if isinstance(step, str) and _symbolic(step, values, "sample_time").free_symbols:
-        raise TemplateUnsupported("sweep templates need a sample_time independent of the "
-                                  "swept parameters")
-    formulas = _coefficients(data["equation"], base.plant, values)
-    exprs = list(formulas.values())
-    n_num = 0
-    law: dict[tuple, sp.Expr] = {}
-    if base.controller is not None:
-        controller = data["controller"]
-        own = _symbolic_table(controller.get("parameters"), swept, values,
-                              "controller.parameters")
-        if base.controller.model is not None:
-            law = _coefficients(controller["equation"], base.controller.model, own)
-            exprs += list(law.values())
-        else:
-            num = [_symbolic(v, own, "controller.num") for v in controller.get("num", [1])]
-            den = [_symbolic(v, own, "controller.den") for v in controller.get("den", [1])]
-            exprs += num + den
-            n_num = len(num)
+    # Internal argument names _p0, _p1, ...: no user-written name reaches the source.
+    swept = {n: Parsed(sp.Symbol(f"_p{i}", real=True), 1, False, 1, True)
+             for i, n in enumerate(names)}
+    try:
+        values = _symbolic_table(data.get("parameters"), swept, {}, "parameters")
+        step = data.get("sample_time")
+        if isinstance(step, str) and _symbolic(step, values, "sample_time").expr.free_symbols:
+            raise TemplateUnsupported("sweep templates need a sample_time independent of the "
+                                      "swept parameters")
+        formulas = _coefficients(data["equation"], base.plant, values)
+        exprs = list(formulas.values())
+        n_num = 0
+        law: dict[tuple, sp.Expr] = {}
+        if base.controller is not None:
+            controller = data["controller"]
+            own = _symbolic_table(controller.get("parameters"), swept, values,
+                                  "controller.parameters")
+            if base.controller.model is not None:
+                law = _coefficients(controller["equation"], base.controller.model, own)
+                exprs += list(law.values())
+            else:
+                num = [_symbolic(v, own, "controller.num").expr
+                       for v in controller.get("num", [1])]
+                den = [_symbolic(v, own, "controller.den").expr
+                       for v in controller.get("den", [1])]
+                exprs += num + den
+                n_num = len(num)
+    except ModelError as exc:
+        # The file is valid (parsed above with numbers); only the symbolic form in the
+        # swept parameters exceeds a limit of gfrf.expr: each point is parsed in full.
+        raise TemplateUnsupported(f"its form in the swept parameters exceeds a parser "
+                                  f"limit: {exc}") from None
     body = ", ".join(sp.pycode(_exact(e)) for e in exprs)
-    source = f"lambda {', '.join(names) or '*_'}: ({body},)"
+    arguments = ", ".join(f"_p{i}" for i in range(len(names)))
+    source = f"lambda {arguments or '*_'}: ({body},)"
     return ModelTemplate(tuple(names), base, tuple(formulas), source, n_num, tuple(law))

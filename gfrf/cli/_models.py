@@ -23,12 +23,19 @@ def add_model_argument(parser: argparse.ArgumentParser) -> None:
                         help="sample time in s when MODEL is an inline discrete (NARX) equation")
 
 
+def _is_file(text: str) -> bool:
+    try:
+        return Path(text).is_file()
+    except (OSError, ValueError):  # too long for a file name, or a NUL character
+        return False
+
+
 def resolve_model(args: argparse.Namespace) -> ModelFile:
     """Load ``args.model`` as a file if it names one (or ends in .toml), else parse it."""
     from gfrf.modelfile import load_model, model_from_dict
 
     text = args.model
-    if text.endswith(".toml") or Path(text).is_file():
+    if text.endswith(".toml") or ("=" not in text and _is_file(text)):
         if args.sample_time is not None:
             raise ModelError("--sample-time is for inline equations; a model file sets "
                              "sample_time itself")

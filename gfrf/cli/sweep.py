@@ -11,9 +11,7 @@ from __future__ import annotations
 
 import argparse
 import math
-import tomllib
 from collections import Counter
-from pathlib import Path
 
 from gfrf.cli._output import add_json_flag, check_plot_path, emit
 from gfrf.sweep import (
@@ -89,10 +87,10 @@ def _sweep(args: argparse.Namespace) -> int:
         check_output(args.out)
     check_plot_path(args.plot)
     check_scheduler(args.scheduler)
-    from gfrf.modelfile import load_model
+    from gfrf.modelfile import load_model, read_table
 
     mf = load_model(args.model)  # validates the file and gives its errors their names
-    data = tomllib.loads(Path(args.model).read_text(encoding="utf-8"))
+    data = read_table(args.model)
     result = sweep(data, axes, what=args.what, amplitude=args.amplitude, order=args.order,
                    t_end=args.t_end, scheduler=args.scheduler, workers=args.workers,
                    chunk_size=args.chunk, path=args.model)
