@@ -306,3 +306,96 @@ def test_fuzz_random_strings(text: str) -> None:
     except ModelError:
         pass
     assert time.perf_counter() - start < BOUND
+
+
+# -- findings of the hostile audit of the parser -----------------------------------------
+
+def test_sweep_template_never_puts_user_names_in_code(sentinel: Path) -> None:
+    evil = f"x=__import__('os').system('touch {sentinel}')"
+    data = {"equation": BASE, "controller": {"num": [1], "den": [1, 1],
+                                             "parameters": {evil: 1.0}}}
+    _timed(lambda: model_template(data, [evil]))
+    assert not sentinel.exists()
+    # Names that are keywords or modules of the generated code are refused or harmless.
+    _timed(lambda: model_from_dict({"equation": BASE, "controller": {
+        "num": ["lambda"], "den": [1, 1], "parameters": {"lambda": 1.0}}}))
+    template = model_template({"equation": "D(y,2) + math*D(y) + y = u",
+                               "parameters": {"math": 0.2}}, ["math"])
+    assert "math" not in template.source.split(":")[0]
+    assert template.instantiate({"math": 0.4}).plant.linear_output[1] == 0.4
+
+
+def test_sweep_template_of_parameter_chains_stays_cheap() -> None:
+    data = {"equation": "D(y,2) + 0.2*D(y) + y + p3*y**3 = u",
+            "parameters": {"a": 1.0, "b": 0.0, "p1": "(a+b)**15", "p2": "p1**15",
+                           "p3": "p2**15"}}
+    from gfrf.template import TemplateUnsupported
+
+    start = time.perf_counter()
+    with pytest.raises(TemplateUnsupported, match="MAX_DEGREE"):
+        model_template(data, ["a", "b"])
+    assert time.perf_counter() - start < BOUND
+
+
+@pytest.mark.parametrize(("payload", "fragment"), [
+    ("((y+u+D(y)+D(u)+D(y,2)+D(u,2)+D(y,3)+D(u,3))**-1)**-15", "MAX_MONOMIALS"),
+    ("(y**-1)**-15*(y**-1)**-15*(u**-1)**-15", "MAX_DEGREE"),
+    ("exp(log(y + u))", "log() of a signal"),
+    ("tan(tan(tan(y)))", "MAX_FUNCTION_NESTING"),
+    ("+".join(f"sin({i}*y)" for i in range(1, 41)), "MAX_FUNCTION_CALLS"),
+    ("D(", "D( is not closed"),
+    ("\u0663*y", "unexpected character"),
+    ("D(y,\u0663)", "unexpected character"),
+])
+def test_laundered_sizes_are_refused(payload: str, fragment: str) -> None:
+    error = _timed(lambda: parse_model(f"D(y,2) + y + {payload} = u", truncation=3))
+    assert fragment in str(error)
+
+
+def test_numeric_function_towers_are_evaluated_once() -> None:
+    inner = "+".join(f"sin({k})" for k in range(1, 2000))
+    start = time.perf_counter()
+    model = parse_model("D(y) + y + " + "sin(" * 30 + inner + ")" * 30 + "*y**3 = u")
+    assert time.perf_counter() - start < BOUND
+    assert model.degree == 3
+
+
+def test_file_and_number_edge_cases_are_clean_errors(tmp_path: Path) -> None:
+    deep = tmp_path / "deep.toml"
+    deep.write_text(f'equation = "{BASE}"\npaper = {{ x = {"[" * 5000}{"]" * 5000} }}\n')
+    assert "nested too deep" in str(_timed(lambda: load_model(deep)))
+    big = tmp_path / "big.toml"
+    big.write_text(f'equation = "D(y,2) + a*y = u"\n[parameters]\na = {10 ** 400}\n')
+    assert "too large" in str(_timed(lambda: load_model(big)))
+    assert "finite number" in str(_timed(lambda: parse_model("D(y)+a*y=u",
+                                                             parameters={"a": 10 ** 400})))
+
+
+def test_long_inline_equation_on_the_cli(capsys: pytest.CaptureFixture[str]) -> None:
+    terms = "+".join(["0.001*y**3"] * 300)
+    assert main(["norm", f"D(y,2) + 0.2*D(y) + y + {terms} = u", "--order", "1",
+                 "--json"]) == 0
+    assert '"upper"' in capsys.readouterr().out
+
+
+def test_input_not_finite_at_start_is_refused(capsys: pytest.CaptureFixture[str]) -> None:
+    line = _run_cli(["simulate", BASE, "--input", "1/t", "--t-end", "1"], capsys)
+    assert "not finite at t = 0" in line
+
+
+@pytest.mark.filterwarnings("ignore:the linearisation of the closed loop is unstable")
+def test_closed_loop_with_an_output_named_r(capsys: pytest.CaptureFixture[str],
+                                            tmp_path: Path) -> None:
+    """The reference's internal symbols must not clash with a signal called r."""
+    import json
+
+    peaks = []
+    for name in ("y", "r"):
+        path = tmp_path / f"{name}.toml"
+        path.write_text(f'equation = "D({name},2) + 0.2*D({name}) + {name} + '
+                        f'0.5*{name}**3 = u"\noutput = "{name}"\n[controller]\n'
+                        f'equation = "D(u) + u = 0.5*{name}"\n')
+        assert main(["simulate", str(path), "--closed-loop", "--input", "0.3*sin(t)",
+                     "--t-end", "20", "--json"]) == 0
+        peaks.append(json.loads(capsys.readouterr().out)["peak_abs_y"])
+    assert peaks[0] == pytest.approx(peaks[1], rel=1e-12)
