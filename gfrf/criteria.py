@@ -282,9 +282,11 @@ class _Radii:
         return out
 
 
-def _radii(model: Model, lower: float, with_estimate: bool) -> _Radii:
+def _radii(model: Model, lower: float, with_estimate: bool, proof: str) -> _Radii:
     """radius_upper and radius_estimate of ``model``'s norm series (both skipped for
-    margins and sweeps, ``with_estimate`` False)."""
+    margins and sweeps, ``with_estimate`` False).  The upper bound is reported at the
+    ``interval`` level only (it is proven in ball arithmetic); the estimate is clamped
+    by it at every level."""
     if not with_estimate:
         return _Radii(None, "not computed (norms off)", None, lower)
     from gfrf.static import radius_estimate, radius_upper
@@ -294,10 +296,12 @@ def _radii(model: Model, lower: float, with_estimate: bool) -> _Radii:
     detail = ("no static branch point proven (no finite static gain, a polynomial static "
               "map, or the tracking budget ran out)" if bound is None else bound.detail)
     est = radius_estimate(model, lower, upper)
+    if proof != "interval":
+        upper, detail = None, f"not reported at proof level {proof!r} (use 'interval')"
     if est is None:
         return _Radii(upper, detail, None, lower)
     clamp = ("" if est.value == est.fitted else
-             f"; the fit gave {est.fitted:.4g}, clamped to the proven "
+             f"; the fit gave {est.fitted:.4g}, clamped to the "
              f"{'upper' if est.value < est.fitted else 'lower'} bound")
     return _Radii(upper, detail, est.value, lower, clamp)
 
@@ -332,7 +336,7 @@ def theorem1(model: Model, order: int = 5, amplitude: float = 1.0,
     stable, bad = _stability_condition(model)
     rad = _plant_radius(maj)
     norms, rows = _norms_and_series(model, maj, order, amplitude, with_norms)
-    radii = _radii(model, rad.certified_below if maj.certified else 0.0, with_norms)
+    radii = _radii(model, rad.certified_below if maj.certified else 0.0, with_norms, proof)
     series = _series_condition("norm series sum ||H_n|| r^n converges", rad, amplitude,
                                maj.certified, radii.text())
     conditions = (proper, stable, series)
@@ -473,7 +477,8 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
                    "certified majorant M^c_n >= lambda_n")
     plant_rad = _plant_radius(maj)
     norms, rows = _norms_and_series(plant, maj, order, amplitude, with_norms)
-    radii = _radii(plant, plant_rad.certified_below if maj.certified else 0.0, with_norms)
+    radii = _radii(plant, plant_rad.certified_below if maj.certified else 0.0, with_norms,
+                   proof)
     exact = maj.certified and (cmaj is None or cmaj.certified)
     lam_up, rho1_up = loop.controller_norm_upper, loop.sensitivity_peak_upper
     if ctrl_ok:

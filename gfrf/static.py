@@ -472,9 +472,13 @@ def _harmonic_coefficients(model: Model, w: float, n: int) -> np.ndarray | None:
             for p in t.u_orders:
                 f = fac[p] * u
                 prod = f if prod is None else convolve2d(prod, f)[: n + 1, : n + 1]
-            total += t.coefficient * prod
+            with np.errstate(all="ignore"):
+                total += t.coefficient * prod
         mask = degree == order
-        y[mask] = -total[mask] / a_lin[mask]
+        with np.errstate(all="ignore"):
+            y[mask] = -total[mask] / a_lin[mask]
+        if not np.all(np.isfinite(y[mask])):
+            return None  # A(j m w) = 0 (a pole on the axis) or overflow: no value at w
     return y
 
 
