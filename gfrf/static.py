@@ -233,8 +233,8 @@ def _segment(sigma: Any, a: float, b: float) -> Any:
 
 def _discs(polys: list[Any], u: Any) -> tuple[np.ndarray, np.ndarray] | None:
     """Weierstrass inclusion discs (centres, radii) of the roots of P(., u) for every u
-    in the ball ``u``; None unless the discs are pairwise disjoint (then each holds
-    exactly one root of every member) and the leading coefficient excludes 0."""
+    in the ball ``u`` (their union holds every root, a connected component of m discs
+    exactly m roots); None unless the leading coefficient excludes 0."""
     from flint import acb
 
     d = len(polys) - 1
@@ -256,10 +256,6 @@ def _discs(polys: list[Any], u: Any) -> tuple[np.ndarray, np.ndarray] | None:
             return None
         value = _eval_p(polys, acb(complex(z[j])), u)
         radii[j] = d * arb_upper(value.abs_upper()) / (low * prod) * (1 + 1e-9)
-    for j in range(d):
-        for k in range(j):
-            if abs(z[j] - z[k]) <= radii[j] + radii[k]:
-                return None
     return z, radii
 
 
@@ -330,13 +326,17 @@ def _start(polys: list[Any], sigma: Any) -> tuple[float, float] | None:
 
 def _link(discs: tuple[np.ndarray, np.ndarray],
           current: tuple[complex, float]) -> tuple[complex, float] | None:
-    """The disc of this piece holding the tracked root (the only one meeting the last)."""
+    """The disc of this piece holding the tracked root: the only one meeting the last,
+    and disjoint from every other disc (a component of one disc: exactly one root).
+    Other roots' discs may overlap each other (a fold of other sheets is harmless)."""
     z, radii = discs
     c, r = current
     hits = [j for j in range(z.size) if abs(z[j] - c) <= radii[j] + r]
     if len(hits) != 1:
         return None
     j = hits[0]
+    if any(abs(z[j] - z[k]) <= radii[j] + radii[k] for k in range(z.size) if k != j):
+        return None
     return complex(z[j]), float(radii[j])
 
 
@@ -364,6 +364,8 @@ def _end_stage(polys: list[Any], sigma: Any, t: float, current: tuple[complex, f
     eps = rho / (2 * (1 + d))  # two roots in D at sigma, the others simple outside D
     approx = [y0 + eps, y0 - eps, *others]
     lead_low = float(_eval(polys[-1], sigma).abs_lower())
+    if not lead_low > 0:  # sigma is a zero of the leading coefficient: not a fold
+        return False
     radii = []
     for j, zj in enumerate(approx):
         prod = math.prod(abs(zj - zk) for k, zk in enumerate(approx) if k != j)

@@ -103,6 +103,19 @@ def test_quadratic_static_map_closed_form() -> None:
     assert bound.double_root == pytest.approx(-0.5, abs=1e-12)
 
 
+def test_fold_of_other_sheets_is_not_taken_for_the_branch() -> None:
+    # u = y + 1.85 y^2 + 0.9 y^3: critical points y = -1 (u = -0.05, a fold of the two
+    # other sheets: the branch through 0 is y = -0.0556 there, regular) and y = -10/27.
+    bound = radius_upper(parse_model("D(y) + y + 1.85*y**2 + 0.9*y**3 = u"))
+    y = Fraction(-10, 27)
+    reference = abs(y + Fraction(185, 100) * y**2 + Fraction(9, 10) * y**3)
+    assert bound is not None and not bound.exact
+    assert bound.value == pytest.approx(float(reference), rel=1e-14)
+    # the exact static series agrees: its root test approaches 0.1623, not 0.05
+    coefficients = static_series(parse_model("D(y) + y + 1.85*y**2 + 0.9*y**3 = u"), 60)
+    assert abs(float(coefficients[60])) ** (-1 / 60) > 0.15
+
+
 def test_static_series_equals_zero_frequency_kernels() -> None:
     plant = load_model(PENDULUM).plant
     series = static_series(plant, 5)
