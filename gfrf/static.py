@@ -23,9 +23,11 @@ Three numbers describe how far the norm series sum_n ||H_n|| r^n converges:
   (all splits into +w and -w), which is <= ||H_n||.  Those values are the harmonic
   coefficients of the response to a e^{jwt} + b e^{-jwt}, computed to order 24 by
   harmonic balance in two-variable power series (cheap at any order, unlike the
-  symbolic kernels).  The radius is read off log L_n ~ n log(1/R) + alpha log n + c
-  (the tail of an algebraic singularity) by least squares over the upper half of the
-  nonzero terms, and clamped into [r*, radius_upper]: an estimate, never a proof.
+  symbolic kernels).  The radius is read off log L_n ~ n log(1/R) - (3/2) log n + c
+  (the tail of a square-root branch point) by least squares on the upper envelope
+  of the upper half of the nonzero terms (:func:`fit_radius`), and clamped into
+  [r*, radius_upper]: an estimate, never a proof.  Fed the exact static series, the
+  same fit recovers the closed-form branch points (tested).
 
 Examples
 --------
@@ -50,7 +52,7 @@ from gfrf.exact import arb_upper
 from gfrf.model import Model
 
 __all__ = ["StaticBound", "RadiusEstimate", "static_polynomial", "static_series",
-           "radius_upper", "resonant_lower_bounds", "radius_estimate"]
+           "radius_upper", "resonant_lower_bounds", "radius_estimate", "fit_radius"]
 
 #: Kernel orders used by the estimate (harmonic balance, float).
 ESTIMATE_ORDER = 24
@@ -541,26 +543,48 @@ def resonant_lower_bounds(model: Model, n_max: int = ESTIMATE_ORDER) -> np.ndarr
     return best
 
 
-def _envelope_fit(tail: list[int], values: np.ndarray) -> tuple[float, int]:
-    """R of the fit log L_n = n log(1/R) + alpha log n + c to the upper envelope.
+#: Exponent alpha of the tail L_n ~ C R^-n n^alpha assumed by the fit: a square-root
+#: branch point (a fold, the generic singularity of an algebraic map) gives -3/2.
+TAIL_EXPONENT = -1.5
 
-    Points more than 0.02 below the fit (troughs of an oscillating sequence: complex
-    singularities, alternating resonance families) are dropped and the fit repeated,
-    keeping at least four points; returns (R, points used).
+
+def fit_radius(values: np.ndarray | list[float]) -> tuple[float, int, int, int]:
+    """Radius R of the tail fit log L_n = n log(1/R) + alpha log n + c, alpha = -3/2.
+
+    The fit uses the upper half of the nonzero terms; points more than 0.02 below the
+    fit (troughs of an oscillating sequence: complex-conjugate singularities, families
+    of resonances taking turns) are dropped and the fit repeated on the upper envelope,
+    keeping at least three points.
+
+    Parameters
+    ----------
+    values : array_like
+        L_0, L_1, ..., L_N (nonnegative; zeros are skipped).
+
+    Returns
+    -------
+    tuple
+        (R, points used, first order, last order); R is nan with fewer than four
+        nonzero terms.
     """
-    keep = list(tail)
-    coef = np.zeros(3)
+    values = np.asarray(values, dtype=float)
+    ns = [n for n in range(1, values.size) if values[n] > 0 and math.isfinite(values[n])]
+    if len(ns) < 4:
+        return math.nan, 0, 0, 0
+    tail = ns[len(ns) // 2 - 1:]
+    full = np.array(tail, dtype=float)
+    target = np.log(values[tail]) - TAIL_EXPONENT * np.log(full)
+    keep = list(range(len(tail)))
+    coef = np.zeros(2)
     for _ in range(len(tail)):
-        x = np.array(keep, dtype=float)
-        design = np.column_stack([x, np.log(x), np.ones_like(x)])
-        coef, *_ = np.linalg.lstsq(design, np.log(values[keep]), rcond=None)
-        full = np.array(tail, dtype=float)
-        fit = np.column_stack([full, np.log(full), np.ones_like(full)]) @ coef
-        upper = [n for n, f in zip(tail, fit, strict=True) if math.log(values[n]) >= f - 0.02]
-        if upper == keep or len(upper) < 4:
+        design = np.column_stack([full[keep], np.ones(len(keep))])
+        coef, *_ = np.linalg.lstsq(design, target[keep], rcond=None)
+        fit = coef[0] * full + coef[1]
+        upper = [i for i in range(len(tail)) if target[i] >= fit[i] - 0.02]
+        if upper == keep or len(upper) < 3:
             break
         keep = upper
-    return float(math.exp(-coef[0])), len(keep)
+    return float(math.exp(-coef[0])), len(keep), tail[0], tail[-1]
 
 
 def radius_estimate(model: Model, lower: float, upper: float | None,
@@ -582,17 +606,15 @@ def radius_estimate(model: Model, lower: float, upper: float | None,
         None when fewer than four nonzero L_n exist (a polynomial map: nothing to fit).
     """
     values = resonant_lower_bounds(model, n_max)
-    ns = [n for n in range(1, n_max + 1) if values[n] > 0 and math.isfinite(values[n])]
-    if len(ns) < 4:
+    fitted, used, first, last = fit_radius(values)
+    if not math.isfinite(fitted):
         return None
-    tail = ns[len(ns) // 2 - 1:]
-    fitted, used = _envelope_fit(tail, values)
     value = fitted
     if upper is not None:
         value = min(value, upper)
     value = max(value, lower)
     return RadiusEstimate(value, fitted, lower, upper, used,
-                          f"least-squares fit of log L_n = n log(1/R) + alpha log n + c to the "
-                          f"upper envelope of orders {tail[0]}..{tail[-1]}, L_n = max "
+                          f"least-squares fit of log L_n = n log(1/R) - 1.5 log n + c to the "
+                          f"upper envelope of orders {first}..{last}, L_n = max "
                           "|H_n(w,..,w,-w,..,-w)| over resonance frequencies (a lower bound "
                           "of ||H_n||)")

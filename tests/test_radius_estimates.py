@@ -20,7 +20,7 @@ from gfrf.kernels import kernel
 from gfrf.majorant import majorant
 from gfrf.model import parse_model
 from gfrf.modelfile import load_model
-from gfrf.static import radius_upper, resonant_lower_bounds, static_series
+from gfrf.static import fit_radius, radius_upper, resonant_lower_bounds, static_series
 
 NARX = "models/narx_example.toml"
 PENDULUM = "models/hanging_pendulum_damped.toml"
@@ -136,3 +136,19 @@ def test_resonant_lower_bounds_are_kernel_values_and_below_the_majorant() -> Non
     w_r = 1.5247950681976907  # argmax of |H1| (proven sup of gfrf.norms, rad/s)
     assert lower[3] >= abs(complex(k3(w_r, w_r, -w_r))) * (1 - 1e-12)
     assert lower[3] <= abs(complex(k3(w_r, w_r, -w_r))) * 1.01
+
+
+@pytest.mark.parametrize(("path", "reference"), [
+    (NARX, math.sqrt(5 / 16)),
+    (PENDULUM, 9.8 / 4.0 * math.sqrt(2) * 2 / 3),
+    (CARTPOLE, 1.8461280582),  # critical values, see test_cartpole_upper_bound_...
+])
+def test_tail_fit_recovers_closed_form_radius_of_the_static_series(path: str,
+                                                                   reference: float) -> None:
+    """The estimator, fed the exact static series (orders 1..24), finds its closed-form
+    radius: the extrapolation is checked where the answer is known (the cart-pole's
+    conjugate branch points make the sequence oscillate)."""
+    series = [abs(float(c)) for c in static_series(load_model(path).plant, 24)]
+    radius, used, _, last = fit_radius(series)
+    assert used >= 3 and last == 23
+    assert radius == pytest.approx(reference, rel=0.01)
