@@ -173,10 +173,16 @@ class Verdict:
                 "radius_upper_detail": self.radius_upper_detail,
                 "estimate_of": self.estimate_of, "estimate_lower": self.estimate_lower,
                 "radius_kinds": {
-                    "radius": "proven lower bound r* (certified)" if self.radius_certified
-                              else "not certified (estimated sups)",
-                    "radius_upper": "proven upper bound (static branch point)",
-                    "radius_estimate": "estimate (not a proof; never decides a verdict)"}}
+                    "radius": f"lower bound r* of the {_SERIES[self.theorem]}, "
+                              + (_label(self.radius_proof) if self.radius_certified
+                                 else "estimate (not certified)"),
+                    "radius_upper": f"proven upper bound on the true radius of the "
+                                    f"{self.estimate_of} (static branch point)",
+                    "radius_estimate": f"estimate of the true radius of the {self.estimate_of}"
+                                       " (not a proof; never decides a verdict)"}}
+
+
+_SERIES = {1: "norm series sum ||H_n|| r^n", 2: "loop series sum theta_n rho_1^n r^n"}
 
 
 def _check_amplitude(amplitude: float, order: int) -> None:

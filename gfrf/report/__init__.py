@@ -52,8 +52,9 @@ def write_index(out_dir: Path, models: list[str], quick: bool) -> Path:
         v = a.verdict
         rows.append([f"[{a.model_file.name}](models/{a.stem}.md)", f"Theorem {v.theorem}",
                      v.verdict, v.radius,
-                     "proven lower bound" if v.radius_certified and v.radius_proof != "none"
-                     else "estimate (not a proof)"])
+                     "estimate (not a proof)" if not v.radius_certified
+                     or v.radius_proof == "none" else "proven lower bound"
+                     if v.radius_proof == "interval" else "certified (float) lower bound"])
     summary = ["Reports of gfrf: the GFRF paper reproduced, the periodic paper checked, and one "
                "verdict page per model.",
                f"{len(models)} model pages; the verdict is at input amplitude r = 1 and r* is "

@@ -39,8 +39,9 @@ def summary_lines(a: ModelAnalysis) -> list[str]:
     """The three-line summary of a model page (also used in the index)."""
     v = a.verdict
     if v.radius > 0 and v.radius_certified and v.radius_proof != "none":
+        level = "proven" if v.radius_proof == "interval" else "certified (float)"
         first = (f"Theorem {v.theorem}: stable (L2) for every input amplitude r < r* = "
-                 f"**{num(v.radius)}** (proven lower bound); verdict at r = 1: "
+                 f"**{num(v.radius)}** ({level} lower bound); verdict at r = 1: "
                  f"**{v.verdict}**.")
     elif v.radius > 0:  # an estimated r* never headlines 'stable'
         first = (f"Theorem {v.theorem}: verdict **{v.verdict}**; no input amplitude is proven "
