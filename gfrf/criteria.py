@@ -342,7 +342,7 @@ def theorem1(model: Model, order: int = 5, amplitude: float = 1.0,
     stable, bad = _stability_condition(model)
     rad = _plant_radius(maj)
     norms, rows = _norms_and_series(model, maj, order, amplitude, with_norms)
-    radii = _radii(model, rad.certified_below if maj.certified else 0.0, with_norms, proof)
+    radii = _radii(model, rad.value if maj.certified else 0.0, with_norms, proof)
     series = _series_condition("norm series sum ||H_n|| r^n converges", rad, amplitude,
                                maj.certified, radii.text())
     conditions = (proper, stable, series)
@@ -483,7 +483,7 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
                    "certified majorant M^c_n >= lambda_n")
     plant_rad = _plant_radius(maj)
     norms, rows = _norms_and_series(plant, maj, order, amplitude, with_norms)
-    radii = _radii(plant, plant_rad.certified_below if maj.certified else 0.0, with_norms,
+    radii = _radii(plant, plant_rad.value if maj.certified else 0.0, with_norms,
                    proof)
     exact = maj.certified and (cmaj is None or cmaj.certified)
     lam_up, rho1_up = loop.controller_norm_upper, loop.sensitivity_peak_upper

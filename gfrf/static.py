@@ -33,8 +33,8 @@ Examples
 --------
 >>> from gfrf.model import parse_model
 >>> m = parse_model("y[k] = 0.5*y[k-1] - 0.2*y[k-1]**2*u[k-2] + u[k-1]", sample_time=0.1)
->>> [str(c) for c in static_series(m, 3)]
-['0', '2', '0', '16/5']
+>>> [float(c) for c in static_series(m, 3)]  # exact values of the float coefficients
+[0.0, 2.0, 0.0, -1.6]
 >>> round(radius_upper(m).value, 6)  # branch points at +-i sqrt(5/16)
 0.559017
 """

@@ -50,7 +50,9 @@ def test_narx_verdict_labels_three_radii() -> None:
     v = verdict(load_model(NARX), order=3)
     d = v.to_dict()
     assert set(d["radius_kinds"]) == {"radius", "radius_upper", "radius_estimate"}
-    assert "proven lower bound" in d["radius_kinds"]["radius"]
+    assert d["radius_kinds"]["radius"].startswith("lower bound r*")
+    assert d["radius_kinds"]["radius"].endswith(", proven")
+    assert "estimate" in d["radius_kinds"]["radius_estimate"]
     assert d["radius_upper"] == pytest.approx(math.sqrt(5 / 16), rel=1e-14)
     # r* (proven lower) <= estimate <= proven upper; here the bounds pinch to 0.559.
     assert d["radius"] <= d["radius_upper"]
@@ -168,3 +170,12 @@ def test_page_headline_never_says_stable_on_an_estimate() -> None:
         assert ("stable (L2)" in first) is stable_headline
         assert ("proven lower bound" in first) is stable_headline
     assert "stable" not in verdict(model, 1, 0.1, False, "none").verdict
+
+
+@pytest.mark.parametrize("name", ["gfrf.static", "gfrf.criteria"])
+def test_module_examples(name: str) -> None:
+    import doctest
+    import importlib
+
+    result = doctest.testmod(importlib.import_module(name), optionflags=doctest.ELLIPSIS)
+    assert result.attempted > 0 and result.failed == 0
