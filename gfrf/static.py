@@ -156,7 +156,7 @@ def static_series(model: Model, n_max: int) -> list[Fraction]:
     """
     p = _static_terms(model)
     a0 = p.get((1, 0), Fraction(0))
-    if a0 == 0:
+    if a0 == 0 or (0, 0) in p:  # no finite static gain, or a constant term (y(0) != 0)
         return []
     y = [Fraction(0)] * (n_max + 1)
     for n in range(1, n_max + 1):
@@ -401,7 +401,7 @@ def radius_upper(model: Model) -> StaticBound | None:
     from flint import ctx
 
     p = _static_terms(model)
-    if p.get((1, 0), Fraction(0)) == 0 or max(i for i, _ in p) < 2:
+    if p.get((1, 0), Fraction(0)) == 0 or (0, 0) in p or max(i for i, _ in p) < 2:
         return None
     saved = ctx.prec
     ctx.prec = PRECISION

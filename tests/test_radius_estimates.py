@@ -179,3 +179,19 @@ def test_module_examples(name: str) -> None:
 
     result = doctest.testmod(importlib.import_module(name), optionflags=doctest.ELLIPSIS)
     assert result.attempted > 0 and result.failed == 0
+
+
+@pytest.mark.parametrize(("path", "w"), [(PENDULUM, 0.77), (NARX, 2.1), (CARTPOLE, 4.1)])
+def test_harmonic_values_are_symmetric_kernel_values(path: str, w: float) -> None:
+    """Y[k, l] / C(n, k) of the harmonic recursion is H_n(w x k, -w x l) of gfrf.kernels."""
+    from gfrf.static import _harmonic_coefficients
+
+    plant = load_model(path).plant
+    y = _harmonic_coefficients(plant, w, 5)
+    assert y is not None
+    for n in (3, 5):
+        k_n = kernel(plant, n)
+        for k in range(n + 1):
+            direct = complex(k_n(*([w] * k + [-w] * (n - k))))
+            got = y[k, n - k] / math.comb(n, k)
+            assert abs(got - direct) <= 1e-10 * max(abs(direct), 1e-12)
