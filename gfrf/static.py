@@ -467,21 +467,19 @@ def _harmonic_coefficients(model: Model, w: float, n: int) -> np.ndarray | None:
     y = np.zeros((n + 1, n + 1), dtype=complex)
     nonlinear = [t for t in model.terms if not t.is_linear_output]
     for order in range(1, n + 1):
-        total = np.zeros((n + 1, n + 1), dtype=complex)
+        size = order + 1  # entries of degree <= order only
+        total = np.zeros((size, size), dtype=complex)
         for t in nonlinear:
             prod = None
-            for p in t.y_orders:
-                f = fac[p] * y
-                prod = f if prod is None else convolve2d(prod, f)[: n + 1, : n + 1]
-            for p in t.u_orders:
-                f = fac[p] * u
-                prod = f if prod is None else convolve2d(prod, f)[: n + 1, : n + 1]
+            for p, base in [(p, y) for p in t.y_orders] + [(p, u) for p in t.u_orders]:
+                f = fac[p][:size, :size] * base[:size, :size]
+                prod = f if prod is None else convolve2d(prod, f)[:size, :size]
             with np.errstate(all="ignore"):
                 total += t.coefficient * prod
-        mask = degree == order
+        mask = degree[:size, :size] == order
         with np.errstate(all="ignore"):
-            y[mask] = -total[mask] / a_lin[mask]
-        if not np.all(np.isfinite(y[mask])):
+            y[:size, :size][mask] = -total[mask] / a_lin[:size, :size][mask]
+        if not np.all(np.isfinite(y[:size, :size][mask])):
             return None  # A(j m w) = 0 (a pole on the axis) or overflow: no value at w
     return y
 
