@@ -13,7 +13,9 @@ Three numbers describe how far the norm series sum_n ||H_n|| r^n converges:
   a root sigma of the discriminant of P in y at which the branch is proven singular:
   the branch is tracked along the segment [0, sigma] in Arb ball arithmetic
   (Weierstrass root-inclusion discs, valid for every u of a ball covering a piece of
-  the segment, pairwise disjoint), it is shown to enter a disc D around the double
+  the segment; the branch's disc meets no other, so it holds exactly one root; a
+  fold of other sheets on the way does not matter), it is shown to enter a disc D
+  around the double
   root y0 of P(., sigma) on whose boundary P(., u) has no zero for u on the rest of
   the segment, D holds exactly two roots at sigma, and P_u != 0 on D x {sigma}.  Were
   the branch analytic at sigma, y(sigma) = y0 and P_y y' + P_u = 0 there would force
