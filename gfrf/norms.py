@@ -300,7 +300,8 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
         Target relative gap; more local searches are run while the gap exceeds it.
     max_boxes : int, optional
         Budget of the branch-and-bound (boxes evaluated), used when the majorant
-        leaves a gap above ``tol`` (continuous model, n <= 5).
+        leaves a gap above ``tol`` (continuous model, n <= 5); 0 skips it (the
+        majorant's upper end and the local search only).
     proof : {"interval", "float", "none"}
         ``"interval"`` (default): the majorant's upper end in ball arithmetic on proven
         sups (``upper_proof = "interval"``; the lower end is a float witness).
@@ -343,7 +344,8 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
                "float": "recursive majorant in floating point (certified upper)",
                "none": "recursive majorant in floating point (estimate)"}[proof]
               + " + resonance-start Nelder-Mead (lower, float witness)")
-    if (upper - lower > tol * upper and math.isfinite(upper) and not model.is_discrete
+    if (max_boxes != 0 and upper - lower > tol * upper and math.isfinite(upper)
+            and not model.is_discrete
             and n <= MAX_ORDER and proof != "none"):
         bb = branch_and_bound(model, n, symmetric, lower, argmax, tol, max_boxes=max_boxes)
         if bb.lower > lower:
