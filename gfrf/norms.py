@@ -286,7 +286,7 @@ def _start_points(freqs: list[float], n: int) -> np.ndarray:
 
 def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
                 max_boxes: int = BOX_BUDGET, proof: str = "interval",
-                cross_check: bool = False) -> Bound:
+                cross_check: bool = False, searches: int | None = None) -> Bound:
     """Bracket ||H_n||_inf over R^n (rad/s): certified upper, best-found lower bound.
 
     Parameters
@@ -310,6 +310,9 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
         branch-and-bound), labelled estimates (``certified = False``).
     cross_check : bool, optional
         For n = 1, also python-control's norm (see :func:`h1_norm`).
+    searches : int, optional
+        Most local searches of the lower bound (default: up to 12 for n <= 4 and 2
+        above, stopping once the gap is below ``tol``); fewer searches only lower it.
 
     Returns
     -------
@@ -317,6 +320,9 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
     """
     if not (isinstance(tol, float | int) and 0 < tol < 1):
         raise ArgumentError(f"tol must be in (0, 1), got {tol!r}")
+    if searches is not None and (isinstance(searches, bool) or not isinstance(searches, int)
+                                 or searches < 0):
+        raise ArgumentError(f"searches must be a non-negative integer, got {searches!r}")
     check_proof(proof)
     k = kernel(model, n, symmetric)
     if n == 1:
@@ -339,7 +345,7 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
                      "A(j w) = 0 on the axis and P_n != 0 there", n, symmetric, stable,
                      (*notes, "||H_n|| = inf: H_n = -P_n / A(j(w_1+..+w_n)) with A(j w0) = 0 "
                       "and P_n bounded away from 0 near the hyperplane w_1+..+w_n = w0"))
-    lower, argmax = _search(k, model, n, symmetric, upper, tol, proof)
+    lower, argmax = _search(k, model, n, symmetric, upper, tol, proof, searches)
     method = ({"interval": "recursive majorant in ball arithmetic (proven upper)",
                "float": "recursive majorant in floating point (certified upper)",
                "none": "recursive majorant in floating point (estimate)"}[proof]
@@ -394,7 +400,8 @@ def _axis_blowup(k: Any, model: Model, n: int) -> tuple[float, ...] | None:
 
 
 def _search(k: Any, model: Model, n: int, symmetric: bool, upper: float,
-            tol: float, proof: str) -> tuple[float, tuple[float, ...]]:
+            tol: float, proof: str, searches: int | None = None
+            ) -> tuple[float, tuple[float, ...]]:
     """Best |H_n| from resonance start points, locally maximised."""
     freqs, scale = _frequencies(model, proof)
     starts = _start_points(freqs, n)
@@ -406,7 +413,8 @@ def _search(k: Any, model: Model, n: int, symmetric: bool, upper: float,
     order = np.argsort(values)[::-1]
     best, best_x = float(values[order[0]]), tuple(float(v) for v in starts[order[0]])
     batch = 4 if n <= 4 else 1
-    for count, i in enumerate(order[: 3 * batch if n <= 4 else 2]):
+    most = 3 * batch if n <= 4 else 2
+    for count, i in enumerate(order[: most if searches is None else min(most, searches)]):
         if count >= batch and (upper - best) <= tol * upper:
             break
         x, value = (_nelder_mead(k, starts[i], scale) if n <= 4
