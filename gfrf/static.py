@@ -453,11 +453,24 @@ def _atom_factors(model: Model, w: float, n: int) -> dict[int, np.ndarray]:
     return {p: (1j * m * w) ** p for p in orders}
 
 
+def _truncated_product(p: np.ndarray, f: np.ndarray) -> np.ndarray:
+    """The leading n x n block of the 2-D convolution of two n x n arrays (the product
+    of two bivariate series truncated to degree < n in each variable), as one matrix
+    product of shifted copies: direct sums, no FFT rounding, no scipy.signal import."""
+    n = p.shape[0]
+    k = np.arange(n)
+    idx = np.subtract.outer(k, k)  # idx[i, a] = i - a
+    idx = np.where(idx >= 0, idx, n)  # n: the zero padding
+    f_pad = np.vstack([f, np.zeros((1, n), dtype=f.dtype)])
+    p_pad = np.hstack([p, np.zeros((n, 1), dtype=p.dtype)])
+    shifted = f_pad[idx]  # shifted[i, a, b] = f[i - a, b]
+    toeplitz = p_pad[:, idx.T]  # toeplitz[a, b, j] = p[a, j - b]
+    return shifted.reshape(n, n * n) @ toeplitz.reshape(n * n, n)
+
+
 def _harmonic_coefficients(model: Model, w: float, n: int) -> np.ndarray | None:
     """Y[k, l]: coefficient of a^k b^l e^{j (k - l) w t} of the response to
     u = a e^{jwt} + b e^{-jwt}; Y[k, l] = C(k + l, k) H_{k+l}(w x k, -w x l)."""
-    from scipy.signal import convolve2d
-
     fac = _atom_factors(model, w, n)
     a_lin = sum((c * fac[p] for p, c in model.linear_output.items()), np.zeros((n + 1, n + 1)))
     u = np.zeros((n + 1, n + 1), dtype=complex)
@@ -475,7 +488,7 @@ def _harmonic_coefficients(model: Model, w: float, n: int) -> np.ndarray | None:
             prod = None
             for p, base in [(p, y) for p in t.y_orders] + [(p, u) for p in t.u_orders]:
                 f = fac[p][:size, :size] * base[:size, :size]
-                prod = f if prod is None else convolve2d(prod, f)[:size, :size]
+                prod = f if prod is None else _truncated_product(prod, f)
             with np.errstate(all="ignore"):
                 total += t.coefficient * prod
         mask = degree[:size, :size] == order
