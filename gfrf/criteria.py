@@ -74,7 +74,6 @@ from gfrf._results import plain, short_repr
 from gfrf.errors import ArgumentError
 from gfrf.exact import format_roots
 from gfrf.kernels import MAX_KERNEL_ORDER
-from gfrf.loops import closed_loop
 from gfrf.majorant import Majorant, Radius, certify, majorant, radius
 from gfrf.model import Model
 from gfrf.modelfile import ModelFile, model_from_dict
@@ -82,7 +81,19 @@ from gfrf.norms import Bound, kernel_norm, linear_poles
 from gfrf.rational import check_proof, rational_sup
 
 __all__ = ["Condition", "Verdict", "Margin", "theorem1", "theorem2", "verdict",
-           "parameter_margin", "theta_series", "phi_series"]
+           "parameter_margin", "theta_series", "phi_series", "NORM_LEVELS", "DEFAULT_NORMS"]
+
+#: Tightness of the ||H_n|| brackets a verdict prints.  ``"none"``: no brackets and no
+#: radius estimate (the series rows carry the majorant only); ``"fast"``: the certified
+#: majorant as upper end and one local search from the best resonance start as lower end
+#: (no branch-and-bound); ``"tight"``: the full :func:`gfrf.norms.kernel_norm`
+#: (branch-and-bound within its box budget, every local search).  ``radius_upper`` and
+#: ``radius_estimate`` are computed at ``fast`` and ``tight``.  The conclusions
+#: (conditions, verdict, r* and its proof label) never depend on the level.
+#: ``with_norms=False`` (sweeps, margins) is ``norms="none"``.
+NORM_LEVELS = ("none", "fast", "tight")
+#: Level used when none is given (``gfrf verdict --norms``, ``norms=``).
+DEFAULT_NORMS = "fast"
 
 
 @dataclass(frozen=True)
@@ -241,12 +252,30 @@ def _stability_condition(model: Model) -> tuple[Condition, str]:
         "unstable" if report.outside else "inconclusive"
 
 
+#: Local searches of a ``fast`` bracket's lower end (from the best resonance start).
+FAST_SEARCHES = 1
+
+
+def _norm_level(with_norms: bool, norms: str | None) -> str:
+    """The bracket level from ``with_norms`` (legacy switch) and ``norms``."""
+    if norms is None:
+        return DEFAULT_NORMS if with_norms else "none"
+    if norms not in NORM_LEVELS:
+        raise ArgumentError(f"norms must be one of {', '.join(NORM_LEVELS)}, got {norms!r}")
+    if not with_norms and norms != "none":
+        raise ArgumentError(f"with_norms=False contradicts norms={norms!r}; give norms alone")
+    return norms
+
+
 def _norms_and_series(model: Model, maj: Majorant, order: int, amplitude: float,
-                      with_lower: bool) -> tuple[tuple[Bound, ...], tuple[dict[str, Any], ...]]:
+                      level: str) -> tuple[tuple[Bound, ...], tuple[dict[str, Any], ...]]:
+    """The brackets at ``level`` (each computed once) and the majorant rows of the series."""
     coefficients = maj.coefficients(order)[:, 0]
     norms, rows = [], []
     for n in range(1, order + 1):
-        bound = kernel_norm(model, n, proof=maj.proof) if with_lower else None
+        bound = (None if level == "none" else
+                 kernel_norm(model, n, proof=maj.proof) if level == "tight" else
+                 kernel_norm(model, n, proof=maj.proof, max_boxes=0, searches=FAST_SEARCHES))
         if bound is not None:
             norms.append(bound)
         upper = bound.upper if bound is not None else float(coefficients[n])
@@ -313,7 +342,8 @@ def _radii(model: Model, lower: float, with_estimate: bool, proof: str) -> _Radi
 
 
 def theorem1(model: Model, order: int = 5, amplitude: float = 1.0,
-             with_norms: bool = True, proof: str = "interval") -> Verdict:
+             with_norms: bool = True, proof: str = "interval", *,
+             norms: str | None = None) -> Verdict:
     """Theorem 1 (open loop) for ``model`` at input amplitude ``amplitude``.
 
     Parameters
@@ -324,12 +354,18 @@ def theorem1(model: Model, order: int = 5, amplitude: float = 1.0,
     amplitude : float
         Input amplitude r (the paper's test is r = 1).
     with_norms : bool
-        Compute the lower bounds of ||H_n|| (slower); False for margins.
+        False is ``norms="none"`` (margins, sweeps).
     proof : {"interval", "float", "none"}
         Level of proof (see :data:`gfrf.rational.PROOF_LEVELS`).  ``"interval"``
         (default): proven sups, majorant bounds and r* in ball arithmetic;
         ``"float"``: the same sound method in double precision; ``"none"``: estimates,
         which never give ``stable``.  Stability of A is decided exactly at every level.
+    norms : {"none", "fast", "tight"}, optional
+        Tightness of the printed ||H_n|| brackets (:data:`NORM_LEVELS`); default
+        ``"fast"`` (:data:`DEFAULT_NORMS`): the certified majorant as upper end and one
+        local search as lower end.  ``"tight"`` adds the branch-and-bound and every
+        local search; ``"none"`` prints no bracket and no radius estimate.  The verdict,
+        r* and the conditions are the same at every level.
 
     Returns
     -------
@@ -337,12 +373,13 @@ def theorem1(model: Model, order: int = 5, amplitude: float = 1.0,
     """
     _check_amplitude(amplitude, order)
     check_proof(proof)
+    level = _norm_level(with_norms, norms)
     maj = majorant(model, proof)
     proper = _proper_condition(model, maj, "H_n")
     stable, bad = _stability_condition(model)
     rad = _plant_radius(maj)
-    norms, rows = _norms_and_series(model, maj, order, amplitude, with_norms)
-    radii = _radii(model, rad.value if maj.certified else 0.0, with_norms, proof)
+    norms, rows = _norms_and_series(model, maj, order, amplitude, level)
+    radii = _radii(model, rad.value if maj.certified else 0.0, level != "none", proof)
     series = _series_condition("norm series sum ||H_n|| r^n converges", rad, amplitude,
                                maj.certified, radii.text())
     conditions = (proper, stable, series)
@@ -352,7 +389,7 @@ def theorem1(model: Model, order: int = 5, amplitude: float = 1.0,
         summary += " The norm series:" + radii.text().lstrip(";") + "."
     return Verdict(result, 1, rad.value, maj.certified, float(amplitude), conditions, norms, rows,
                    radii.estimate, summary, rad.proof, radii.upper, radii.detail,
-                   "norm series sum ||H_n|| r^n", radii.lower if with_norms else None)
+                   "norm series sum ||H_n|| r^n", radii.lower if level != "none" else None)
 
 
 def _series_condition(name: str, rad: Radius, amplitude: float, exact: bool,
@@ -429,7 +466,8 @@ def phi_series(beta: list[float], alpha: list[float], order: int) -> list[float]
 
 
 def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
-             with_norms: bool = True, proof: str = "interval") -> Verdict:
+             with_norms: bool = True, proof: str = "interval", *,
+             norms: str | None = None) -> Verdict:
     """Theorem 2 (closed loop) for a model file with a controller.
 
     A transfer-function controller has lambda_n = alpha_n = 0 (n >= 2).  A polynomial
@@ -442,10 +480,10 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
     ----------
     model_file : ModelFile
         Plant and controller.
-    order, amplitude, with_norms, proof
-        As in :func:`theorem1`; the amplitude scales the reference r.  At the interval
-        level the loop radius is re-checked in ball arithmetic with the proven upper
-        ends of rho_1 and lambda_1.
+    order, amplitude, with_norms, proof, norms
+        As in :func:`theorem1` (default ``norms="fast"``); the amplitude scales the
+        reference r.  At the interval level the loop radius is re-checked in ball
+        arithmetic with the proven upper ends of rho_1 and lambda_1.
 
     Returns
     -------
@@ -453,10 +491,13 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
     """
     _check_amplitude(amplitude, order)
     check_proof(proof)
+    level = _norm_level(with_norms, norms)
     controller = model_file.controller
     if controller is None:
         raise ArgumentError("Theorem 2 needs a controller; use theorem1 for an open loop")
     plant = model_file.plant
+    from gfrf.loops import closed_loop  # imports python-control: Theorem 2 only
+
     loop = closed_loop(model_file, proof=proof)
     maj = majorant(plant, proof)
     cmaj = (None if controller.is_linear else
@@ -482,8 +523,8 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
                    if cmaj is None else "alpha_n = M^c_n / lambda_1^n from the controller's "
                    "certified majorant M^c_n >= lambda_n")
     plant_rad = _plant_radius(maj)
-    norms, rows = _norms_and_series(plant, maj, order, amplitude, with_norms)
-    radii = _radii(plant, plant_rad.value if maj.certified else 0.0, with_norms,
+    norms, rows = _norms_and_series(plant, maj, order, amplitude, level)
+    radii = _radii(plant, plant_rad.value if maj.certified else 0.0, level != "none",
                    proof)
     exact = maj.certified and (cmaj is None or cmaj.certified)
     lam_up, rho1_up = loop.controller_norm_upper, loop.sensitivity_peak_upper
@@ -526,7 +567,7 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
     return Verdict(result, 2, rad.value, exact, float(amplitude), conditions, norms, rows,
                    radii.estimate, summary, rad.proof, radii.upper, radii.detail,
                    "plant norm series sum ||h_n|| r^n (not the loop series)",
-                   radii.lower if with_norms else None)
+                   radii.lower if level != "none" else None)
 
 
 def _controller_output(cmaj: Majorant) -> float:
@@ -648,7 +689,8 @@ def _loop_proves(maj: Majorant, lam: float, rho1: float, cmaj: Majorant | None,
 
 
 def verdict(model: ModelFile | Model, order: int = 5, amplitude: float = 1.0,
-            with_norms: bool = True, proof: str = "interval") -> Verdict:
+            with_norms: bool = True, proof: str = "interval", *,
+            norms: str | None = None) -> Verdict:
     """Theorem 2 when the model file has a controller, Theorem 1 otherwise.
 
     Parameters
@@ -660,19 +702,22 @@ def verdict(model: ModelFile | Model, order: int = 5, amplitude: float = 1.0,
     amplitude : float
         Input amplitude r at which the series is tested (the paper's r = 1).
     with_norms : bool
-        Compute the lower bounds of the norms (slower); False for sweeps and margins.
+        False is ``norms="none"`` (sweeps and margins).
     proof : {"interval", "float", "none"}
         Level of proof, default ``"interval"`` (see :func:`theorem1`).
+    norms : {"none", "fast", "tight"}, optional
+        Tightness of the ||H_n|| brackets, default ``"fast"`` (see :func:`theorem1`);
+        the verdict and r* do not depend on it.
 
     Returns
     -------
     Verdict
     """
     if isinstance(model, Model):
-        return theorem1(model, order, amplitude, with_norms, proof)
+        return theorem1(model, order, amplitude, with_norms, proof, norms=norms)
     if model.controller is not None:
-        return theorem2(model, order, amplitude, with_norms, proof)
-    return theorem1(model.plant, order, amplitude, with_norms, proof)
+        return theorem2(model, order, amplitude, with_norms, proof, norms=norms)
+    return theorem1(model.plant, order, amplitude, with_norms, proof, norms=norms)
 
 
 @dataclass(frozen=True)

@@ -1,10 +1,13 @@
 """``gfrf verdict`` and ``gfrf norm``: Theorems 1/2 and GFRF norm brackets (rad/s).
 
-``gfrf verdict MODEL [--order N] [--amplitude R] [--margin PARAM] [--proof LEVEL] [--json]``
-applies
+``gfrf verdict MODEL [--order N] [--amplitude R] [--margin PARAM] [--proof LEVEL]
+[--norms none|fast|tight] [--json]`` applies
 Theorem 2 when the model file has a ``[controller]``, Theorem 1 otherwise; it prints
 every condition with pass/FAIL/open and its numbers, the bracket of ||H_n|| for
-n = 1..N, the series terms, the certified radius r* and the verdict.  Exit code 0:
+n = 1..N at the tightness ``--norms`` (default ``fast``: certified majorant upper end,
+one local search for the lower end; ``tight``: branch-and-bound; ``none``: no brackets),
+the series terms, the certified radius r* and the verdict (the same at every
+``--norms``).  Exit code 0:
 stability proven; 1: not proven or unstable; 2: bad input.
 
 ``gfrf norm MODEL --order N [--tol T] [--asymmetric] [--proof LEVEL] [--json]`` prints
@@ -62,6 +65,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     v.add_argument("--margin", metavar="PARAM", default=None,
                    help="also find the boundary value of this model-file parameter for a "
                         "certified 'stable' verdict at the amplitude")
+    v.add_argument("--norms", choices=("none", "fast", "tight"), default="fast",
+                   help="tightness of the printed ||H_n|| brackets: 'fast' (default; certified "
+                        "majorant upper end, one local search for the lower end), 'tight' "
+                        "(adds the branch-and-bound and every local search: slower) or "
+                        "'none' (no brackets, no radius estimate); the verdict, r* and the "
+                        "conditions do not depend on it")
     _add_proof(v)
     add_json_flag(v)
     v.set_defaults(func=_verdict)
@@ -169,8 +178,9 @@ def _verdict(args: argparse.Namespace) -> int:
     mf = resolve_model(args)
     from gfrf.criteria import parameter_margin, verdict
 
-    v = verdict(mf, args.order, args.amplitude, proof=args.proof)
-    payload = {"model": mf.name, "proof_level": args.proof, **v.to_dict()}
+    v = verdict(mf, args.order, args.amplitude, proof=args.proof, norms=args.norms)
+    payload = {"model": mf.name, "proof_level": args.proof, "norms_level": args.norms,
+               **v.to_dict()}
     lines = _verdict_text(mf.name, v, args.proof)
     if args.margin:
         margin = parameter_margin(mf, args.margin, args.amplitude)
