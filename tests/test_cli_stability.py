@@ -209,3 +209,26 @@ def test_proof_default_stated_and_bad_level_refused(capsys: pytest.CaptureFixtur
     with pytest.raises(SystemExit) as info:
         main(["norm", STABLE, "--order", "1", "--proof", "exact"])
     assert info.value.code == 2
+
+
+def test_verdict_norms_levels_same_conclusions(capsys: pytest.CaptureFixture[str]) -> None:
+    got = {}
+    for level in ("none", "fast", "tight"):
+        code, out, _ = run(capsys, "verdict", "models/duffing.toml", "--order", "3",
+                           "--norms", level, "--json")
+        data = json.loads(out)
+        assert data["norms_level"] == level
+        got[level] = (code, data["verdict"], data["radius"], data["radius_proof"],
+                      [c["passed"] for c in data["conditions"]], len(data["norms"]))
+    assert got["none"][:5] == got["fast"][:5] == got["tight"][:5]
+    assert (got["none"][5], got["fast"][5], got["tight"][5]) == (0, 3, 3)
+
+
+def test_verdict_help_states_the_norms_default(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit):
+        main(["verdict", "--help"])
+    out = " ".join(capsys.readouterr().out.split())
+    assert "--norms {none,fast,tight}" in out and "'fast' (default;" in out
+    with pytest.raises(SystemExit) as bad:
+        main(["verdict", "models/duffing.toml", "--norms", "exact"])
+    assert bad.value.code == 2
