@@ -594,8 +594,8 @@ def _poly_text(coefficients: np.ndarray) -> str:
 
 def _literal_rho(loop: Any) -> float:
     """Theorem 2's printed sup|(1 + h1(jw)) s1(jw)| (reported, not used)."""
-    num_p, den_p = np.asarray(loop.plant.num[0][0]), np.asarray(loop.plant.den[0][0])
-    num_c, den_c = np.asarray(loop.controller.num[0][0]), np.asarray(loop.controller.den[0][0])
+    num_p, den_p = loop.plant_poly  # the polynomials, not python-control objects
+    num_c, den_c = loop.controller_poly
     return rational_sup(np.polymul(np.polyadd(den_p, num_p), num_c),
                         np.polymul(den_p, den_c)).value
 

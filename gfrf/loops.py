@@ -38,9 +38,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import control
 import numpy as np
 
 from gfrf._results import plain, short_repr
@@ -50,6 +49,9 @@ from gfrf.majorant import linear_polynomials
 from gfrf.model import Model
 from gfrf.modelfile import Controller, ModelFile
 from gfrf.rational import rational_sup
+
+if TYPE_CHECKING:  # python-control (~1 s to import) is imported where a tf is built
+    import control
 
 __all__ = ["ClosedLoop", "linear_plant", "controller_tf", "controller_polynomials",
            "closed_loop", "characteristic", "characteristic_exact", "with_lags"]
@@ -67,6 +69,8 @@ def linear_plant(model: Model) -> control.TransferFunction:
     A discrete (NARX) model gives a discrete transfer function in z = 1/q with
     ``dt = sample_time``.
     """
+    import control
+
     num, den = linear_polynomials(model)
     if model.is_discrete:
         size = max(num.size, den.size)
@@ -86,6 +90,8 @@ def controller_polynomials(controller: Controller) -> tuple[np.ndarray, np.ndarr
 
 def controller_tf(controller: Controller) -> control.TransferFunction:
     """The controller's linear part as a :class:`control.TransferFunction` (may be improper)."""
+    import control
+
     num, den = controller_polynomials(controller)
     return control.tf(num, den)
 
@@ -143,9 +149,14 @@ class ClosedLoop:
     Attributes
     ----------
     plant, controller : control.TransferFunction
-        H1 of the plant and the controller's linear part.
+        H1 of the plant and the controller's linear part (properties: python-control
+        is imported on first use, not by the verdict).
     reference_to_output, sensitivity : control.TransferFunction
-        y/r = P / (1 - f P C) and g1 = 1 / (1 - f P C).
+        y/r = P / (1 - f P C) and g1 = 1 / (1 - f P C) (properties, likewise).
+    plant_poly, controller_poly : tuple of numpy.ndarray
+        (numerator, denominator) of P and C, highest power first.
+    sensitivity_num : numpy.ndarray
+        Numerator D_P D_C of g1 (its denominator is ``characteristic``).
     characteristic : numpy.ndarray
         chi(s), highest power first.
     poles : numpy.ndarray
@@ -174,10 +185,9 @@ class ClosedLoop:
         stability is decided exactly at every level.
     """
 
-    plant: control.TransferFunction
-    controller: control.TransferFunction
-    reference_to_output: control.TransferFunction
-    sensitivity: control.TransferFunction
+    plant_poly: tuple[np.ndarray, np.ndarray]
+    controller_poly: tuple[np.ndarray, np.ndarray]
+    sensitivity_num: np.ndarray
     characteristic: np.ndarray
     poles: np.ndarray
     stable: bool
@@ -193,6 +203,26 @@ class ClosedLoop:
     controller_norm_upper: float = math.nan
     characteristic_exact: tuple[Fraction, ...] = field(default=())
     proof: str = "interval"
+
+    @property
+    def plant(self) -> control.TransferFunction:
+        """H1 of the plant."""
+        return _tf(*self.plant_poly)
+
+    @property
+    def controller(self) -> control.TransferFunction:
+        """The controller's linear part."""
+        return _tf(*self.controller_poly)
+
+    @property
+    def reference_to_output(self) -> control.TransferFunction:
+        """y/r = P / (1 - f P C)."""
+        return _tf(np.polymul(self.plant_poly[0], self.controller_poly[1]), self.characteristic)
+
+    @property
+    def sensitivity(self) -> control.TransferFunction:
+        """g1 = 1 / (1 - f P C)."""
+        return _tf(self.sensitivity_num, self.characteristic)
 
     def __repr__(self) -> str:
         return short_repr(self, "stable", "feedback", "sensitivity_peak",
@@ -266,14 +296,18 @@ def closed_loop(model_file: ModelFile, feedback: int | None = None,
                      + where + ("" if np.isfinite(peak.value) else
                                 "; a pole on the imaginary axis makes the sensitivity peak "
                                 "infinite"))
-    p_tf = control.tf(*plant_poly)
-    c_tf = control.tf(*ctrl_poly)
-    return ClosedLoop(p_tf, c_tf, control.tf(np.polymul(plant_poly[0], ctrl_poly[1]), chi),
-                      control.tf(np.array([float(c) for c in sens_num]), chi), chi,
+    return ClosedLoop(plant_poly, ctrl_poly, np.array([float(c) for c in sens_num]), chi,
                       report.roots, report.stable, peak.value, peak.omega, lam.value,
                       _degree(ctrl_poly[0]) <= _degree(ctrl_poly[1]),
                       poles(plant_poly[1]).stable, sign, tuple(notes), report.outside,
                       peak.upper, lam.upper, tuple(chi_exact), proof)
+
+
+def _tf(num: np.ndarray, den: np.ndarray) -> control.TransferFunction:
+    """control.tf(num, den), importing python-control on first use."""
+    import control
+
+    return control.tf(num, den)
 
 
 def with_lags(model_file: ModelFile, time_constants: tuple[float, ...]) -> ModelFile:
