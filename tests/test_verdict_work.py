@@ -104,14 +104,15 @@ def test_default_level_and_bad_levels() -> None:
         verdict(model, 2, 0.1, False, norms="tight")
 
 
-def test_theorem1_verdict_does_not_import_python_control() -> None:
+@pytest.mark.parametrize("name", ["duffing", "cartpole"])  # Theorems 1 and 2
+def test_a_verdict_does_not_import_python_control(name: str) -> None:
     code = ("import sys; from gfrf.modelfile import load_model; "
             "from gfrf.criteria import verdict; "
-            "v = verdict(load_model('models/duffing.toml'), 5); "
-            "print(v.verdict, 'control' in sys.modules, 'scipy.signal' in sys.modules)")
+            f"v = verdict(load_model('models/{name}.toml'), 5); "
+            "print(v.theorem, 'control' in sys.modules, 'scipy.signal' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
                          text=True, check=True).stdout.split()
-    assert out[1:] == ["False", "False"]
+    assert out == ["1" if name == "duffing" else "2", "False", "False"]
 
 
 def test_radius_estimate_values_unchanged_by_the_matmul_product() -> None:
