@@ -153,8 +153,8 @@ def _simulate(args: argparse.Namespace) -> int:
         _plot(res, args.plot, mf.name, mf.plant.output)
     payload: dict[str, Any] = {"model": mf.name, "input": args.input, "t_end": args.t_end,
                                "closed_loop": args.closed_loop, **res.to_dict()}
-    lines = [f"{mf.name}: {res.status} ({res.method}, {res.nfev} evaluations, "
-             f"{res.wall_time:.3g} s)",
+    # No wall time in the text: the same command prints the same bytes (it is in --json).
+    lines = [f"{mf.name}: {res.status} ({res.method}, {res.nfev} evaluations)",
              f"  t in [0, {res.t[-1]:.6g}] s, {res.t.size} samples, max |{mf.plant.output}| = "
              f"{res.peak:.6g}, final {mf.plant.output} = {res.y[-1]:.6g}" if res.t.size else
              "  no output sample before the run stopped"]
