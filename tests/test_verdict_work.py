@@ -44,7 +44,6 @@ def test_every_bundled_model_is_covered() -> None:
     assert "parametric_pendulum.toml" not in MODELS
 
 
-@pytest.mark.slow  # the module fixture: every model at three levels, about 11 s in all
 @pytest.mark.parametrize("name", MODELS)
 def test_conclusions_do_not_depend_on_the_norm_level(by_level, name: str) -> None:
     none, fast, tight = (by_level[name][level] for level in ("none", "fast", "tight"))
@@ -53,7 +52,6 @@ def test_conclusions_do_not_depend_on_the_norm_level(by_level, name: str) -> Non
     assert [r["majorant"] for r in none.series] == [r["majorant"] for r in tight.series]
 
 
-@pytest.mark.slow
 @pytest.mark.parametrize("name", MODELS)
 def test_tight_brackets_lie_inside_the_fast_ones(by_level, name: str) -> None:
     none, fast, tight = (by_level[name][level] for level in ("none", "fast", "tight"))
