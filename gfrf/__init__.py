@@ -29,7 +29,7 @@ Errors
 
 Result objects have a short ``repr`` and a ``to_dict()`` that :func:`json.dumps`
 accepts.  Modules: :mod:`gfrf.model`, :mod:`gfrf.modelfile`, :mod:`gfrf.kernels`,
-:mod:`gfrf.norms`, :mod:`gfrf.criteria`, :mod:`gfrf.loops`, :mod:`gfrf.simulate`,
+:mod:`gfrf.norms`, :mod:`gfrf.criteria`, :mod:`gfrf.loops`, :mod:`gfrf.simulation`,
 :mod:`gfrf.volterra`, :mod:`gfrf.sweep`, :mod:`gfrf.periodic` (the parametrically
 excited pendulum).
 """
@@ -56,8 +56,8 @@ _LAZY = {
     "Verdict": "gfrf.criteria", "Margin": "gfrf.criteria",
     "parameter_margin": "gfrf.criteria",
     "ClosedLoop": "gfrf.loops", "closed_loop": "gfrf.loops",
-    "SimulationResult": "gfrf.simulate", "build_system": "gfrf.simulate",
-    "simulate": "gfrf.simulate",
+    "SimulationResult": "gfrf.simulation", "build_system": "gfrf.simulation",
+    "simulate": "gfrf.simulation",
     "VolterraPrediction": "gfrf.volterra",
     "SweepResult": "gfrf.sweep",
     "from_sysidentpy": "gfrf.identify",

@@ -379,7 +379,7 @@ def alpha_variants(models_dir: str | Path = "models", tolerance: float = 1e-6,
     """
     from gfrf.criteria import parameter_margin
     from gfrf.majorant import linear_polynomials
-    from gfrf.simulate import simulate
+    from gfrf.simulation import simulate
     from gfrf.validation import resonance
 
     rows = []

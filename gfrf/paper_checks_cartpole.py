@@ -701,9 +701,9 @@ def loop_drive(mf: ModelFile, angles_deg: tuple[float, ...] = (5.0, 10.0, 15.0),
     A is chosen so that the *linear* loop's steady angle amplitude is each of
     ``angles_deg``; the nonlinear loop (polynomial equation, and the physical one when
     the file has a distinct one, :func:`has_physical_equation`) is simulated by
-    :func:`gfrf.simulate.simulate` over ``periods`` periods.
+    :func:`gfrf.simulation.simulate` over ``periods`` periods.
     """
-    from gfrf.simulate import build_system, simulate
+    from gfrf.simulation import build_system, simulate
 
     loop = closed_loop(mf)
     poles = tuple(complex(p) for p in loop.poles)

@@ -196,7 +196,7 @@ def evaluate_point(task: _Task, point: Mapping[str, float]) -> dict[str, Any]:
 
 
 def _simulate(mf: Any, task: _Task) -> dict[str, Any]:
-    from gfrf.simulate import simulate
+    from gfrf.simulation import simulate
     from gfrf.validation import resonance
 
     w = resonance(mf.plant)

@@ -59,7 +59,7 @@ from gfrf.errors import ArgumentError
 from gfrf.kernels import kernel
 from gfrf.modelfile import ModelFile
 from gfrf.signals import InputSignal, parse_input
-from gfrf.simulate import OdeSystem, SimulationResult, build_system, simulate
+from gfrf.simulation import OdeSystem, SimulationResult, build_system, simulate
 
 #: Multiples of the radius estimate r_est tried for Theorem 1 (r_est and beyond).
 ESTIMATE_FACTORS = (1.0, 2.0, 10.0)
@@ -242,7 +242,7 @@ def validate(mf: ModelFile, scale: float | None = None, *,
     blowup : float
         |y| counted as unbounded.
     method : str
-        Integrator of :func:`gfrf.simulate.simulate` (``"fast"``: numba RK4).
+        Integrator of :func:`gfrf.simulation.simulate` (``"fast"``: numba RK4).
 
     Returns
     -------

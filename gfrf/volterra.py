@@ -67,7 +67,7 @@ from gfrf.errors import ArgumentError, ConvergenceError
 from gfrf.kernels import MAX_KERNEL_ORDER, generator, kernel
 from gfrf.model import Model
 from gfrf.signals import Tone, tones_input
-from gfrf.simulate import MAX_RHS_EVALUATIONS, OdeSystem, build_system, input_values
+from gfrf.simulation import MAX_RHS_EVALUATIONS, OdeSystem, build_system, input_values
 
 __all__ = ["Component", "VolterraPrediction", "BeyondRadiusError", "NoSteadyStateError",
            "predict",
@@ -418,7 +418,7 @@ def steady_state(system: OdeSystem, tones: Any, *, samples: int = 256,
     Newton's method on z -> Phi(z) - z, Phi the period map (DOP853, rtol 1e-12),
     with a finite-difference Jacobian.  All integrations together may evaluate the
     right-hand side at most ``max_evaluations`` times (default
-    :data:`gfrf.simulate.MAX_RHS_EVALUATIONS`; tones 1000 times apart need about that).
+    :data:`gfrf.simulation.MAX_RHS_EVALUATIONS`; tones 1000 times apart need about that).
 
     Raises
     ------

@@ -28,7 +28,7 @@ from gfrf.paper_checks_cartpole import (
     sign_margin,
     theorem2_obstruction,
 )
-from gfrf.simulate import simulate
+from gfrf.simulation import simulate
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 REDUCED = MODELS / "cartpole_reduced.toml"

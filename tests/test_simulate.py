@@ -1,4 +1,4 @@
-"""Tests of gfrf.simulate and gfrf.fastsim against closed forms and each other."""
+"""Tests of gfrf.simulation and gfrf.fastsim against closed forms and each other."""
 
 import math
 import re
@@ -11,7 +11,7 @@ import pytest
 from gfrf.errors import ArgumentError, ModelError
 from gfrf.model import parse_model
 from gfrf.modelfile import load_model
-from gfrf.simulate import build_system, simulate
+from gfrf.simulation import build_system, simulate
 
 MODELS = "models"
 
@@ -334,7 +334,7 @@ def test_work_budget_stops_scipy_run_with_its_time(method):
 
 def test_default_budget_fits_a_long_accurate_run():
     # the largest bundled use (speed report): hanging pendulum, 200 s, RK45 at rtol 1e-10
-    from gfrf.simulate import MAX_RHS_EVALUATIONS
+    from gfrf.simulation import MAX_RHS_EVALUATIONS
 
     res = simulate(load_model(f"{MODELS}/hanging_pendulum.toml"), "0.05*sin(1.565*t)",
                    t_end=200.0, rtol=1e-10, atol=1e-13)

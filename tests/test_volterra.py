@@ -208,7 +208,7 @@ def test_shooting_stops_on_its_work_budget():
     import time
 
     from gfrf.errors import ConvergenceError
-    from gfrf.simulate import build_system
+    from gfrf.simulation import build_system
     from gfrf.volterra import steady_state
 
     system = build_system(parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"))

@@ -30,7 +30,7 @@ from gfrf._atomic import atomic_path
 from gfrf.bench import BenchSection, figure_dir
 from gfrf.modelfile import load_model
 from gfrf.signals import parse_input
-from gfrf.simulate import build_system, simulate
+from gfrf.simulation import build_system, simulate
 
 __all__ = ["run", "measure"]
 
@@ -38,7 +38,7 @@ _INPUT = "0.05*sin(1.565*t)"
 _T_END = 200.0
 _DAMPING, _STIFFNESS = 0.05, 2.45
 _CUBIC = _STIFFNESS / 6.0
-_DEFAULT_RTOL = 1e-8  # gfrf.simulate's default (atol 1e-10)
+_DEFAULT_RTOL = 1e-8  # gfrf.simulation's default (atol 1e-10)
 _PLAIN = ("RK45", "DOP853", "LSODA")
 
 Curve = list[tuple[float, float, float]]  # (setting, seconds, error)

@@ -5,7 +5,7 @@ physical equation when the file has one, ``--polynomial`` for the truncated mode
 ``--closed-loop`` with the file's controller (the input is then the reference),
 ``--initial y0,dy0`` for initial conditions.  Exit code 0 when the run reaches
 t_end, 1 when it blows up or fails (one line ``FAILED: ...``, e.g. the work budget
-``--max-evaluations``, default :data:`gfrf.simulate.MAX_RHS_EVALUATIONS`, was spent:
+``--max-evaluations``, default :data:`gfrf.simulation.MAX_RHS_EVALUATIONS`, was spent:
 it names the limit and the time reached), 2 for bad input (among them an input tone
 too fast for that budget over t_end).  ``gfrf predict MODEL --input TEXT
 --order N`` lists the steady-state harmonics of a sum of tones (rad/s); exit 1 (one
@@ -30,11 +30,11 @@ from gfrf.cli._output import add_json_flag, check_plot_path, emit
 from gfrf.errors import ArgumentError
 
 if TYPE_CHECKING:  # the numerical modules are imported where used: the parser stays cheap
-    from gfrf.simulate import SimulationResult
+    from gfrf.simulation import SimulationResult
 
 __all__ = ["register", "METHODS"]
 
-#: Same as :data:`gfrf.simulate.METHODS` (kept here so that building the parser does not
+#: Same as :data:`gfrf.simulation.METHODS` (kept here so that building the parser does not
 #: import scipy/sympy; a test asserts equality).
 METHODS: tuple[str, ...] = ("rk45", "dop853", "radau", "lsoda", "fast")
 
@@ -128,7 +128,7 @@ def _simulate(args: argparse.Namespace) -> int:
     import numpy as np
     from tqdm import tqdm
 
-    from gfrf.simulate import MAX_RHS_EVALUATIONS, simulate
+    from gfrf.simulation import MAX_RHS_EVALUATIONS, simulate
 
     check_plot_path(args.plot)
     mf = resolve_model(args)

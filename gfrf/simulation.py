@@ -64,6 +64,7 @@ import numpy as np
 import sympy as sp
 from scipy.integrate import solve_ivp
 
+from gfrf._results import short_repr
 from gfrf.errors import ArgumentError, ModelError
 from gfrf.model import Model
 from gfrf.modelfile import Controller, ModelFile
@@ -198,8 +199,12 @@ class SimulationResult:
             "nfev": self.nfev, "wall_time_s": self.wall_time,
             "compile_time_s": self.compile_time, "notes": list(self.notes)}
         if arrays:
-            out.update(t=self.t, y=self.y, u=self.u)
+            out.update(t=self.t.tolist(), y=self.y.tolist(), u=self.u.tolist())
         return out
+
+    def __repr__(self) -> str:
+        return short_repr(self, "status", "method", "peak",
+                          t_final=float(self.t[-1]) if self.t.size else 0.0)
 
 
 def _solve_for(expr: sp.Expr, top: sp.Symbol, what: str) -> sp.Expr:
