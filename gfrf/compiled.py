@@ -25,15 +25,28 @@ import os
 import sys
 import types
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
-if TYPE_CHECKING:
-    from gfrf.kernels import GFRFGenerator
+from gfrf.model import Model
 
-__all__ = ["kernel_source", "numba_ufunc", "HAVE_NUMBA", "cache_dir"]
+__all__ = ["kernel_source", "numba_ufunc", "HAVE_NUMBA", "cache_dir", "Recursion"]
+
+
+class Recursion(Protocol):
+    """What code generation needs of :class:`gfrf.kernels.GFRFGenerator` (a protocol, so
+    that this module does not import :mod:`gfrf.kernels`, which imports it)."""
+
+    model: Model
+
+    def plan(self, n: int, symmetric: bool) -> Any:
+        """The recursion step of H_n: ``is_zero``, ``blocks``, ``placeholders``,
+        ``numerator``."""
+
+    def variables(self, n: int) -> tuple[sp.Symbol, ...]:
+        """The symbolic variables s1..sn (or q1..qn)."""
 
 #: Whether numba (the optional ``fast`` extra) is installed; it is imported only when a
 #: kernel is compiled (importing it costs about half a second).
@@ -58,7 +71,7 @@ class _Printer(PythonCodePrinter):
         return super()._print_Pow(expr, rational=rational)
 
 
-def kernel_source(gen: GFRFGenerator, n: int, symmetric: bool, name: str = "kernel") -> str:
+def kernel_source(gen: Recursion, n: int, symmetric: bool, name: str = "kernel") -> str:
     """Python source of ``name(w0, ..., w{n-1}) -> H_n`` (angular frequencies in rad/s)."""
     printer = _Printer()
     model = gen.model
@@ -126,7 +139,7 @@ def cache_dir() -> Path:
     return root / "gfrf" / "kernels"
 
 
-def _module_source(gen: GFRFGenerator, n: int, symmetric: bool, cache: bool) -> str:
+def _module_source(gen: Recursion, n: int, symmetric: bool, cache: bool) -> str:
     """Source of a module defining the ufunc ``scalar_kernel`` of H_n."""
     signature = f"complex128({', '.join(['float64'] * n)})"
     return ("from cmath import exp as cmath_exp\n\nfrom numba import vectorize\n\n\n"
@@ -153,7 +166,7 @@ def _anchor(name: str, source: str) -> Path | None:
     return path
 
 
-def numba_ufunc(gen: GFRFGenerator, n: int, symmetric: bool) -> Any:
+def numba_ufunc(gen: Recursion, n: int, symmetric: bool) -> Any:
     """A numba-compiled numpy ufunc ``f(w1..wn) -> complex128`` of H_n, cached on disk.
 
     Measured on a 2-core machine (numba 0.68), the cart-pole model: order 3 compiles

@@ -44,8 +44,14 @@ from types import ModuleType
 import numpy as np
 
 from gfrf.errors import ArgumentError
+from gfrf.integrate import (
+    MAX_RHS_EVALUATIONS,
+    OdeSystem,
+    SimulationResult,
+    input_values,
+    integrate_scipy,
+)
 from gfrf.signals import InputSignal
-from gfrf.simulation import MAX_RHS_EVALUATIONS, OdeSystem, SimulationResult, input_values
 
 __all__ = ["simulate_fast", "compile_system", "numba_available", "MAX_STEPS",
            "BLOWUP_AGREEMENT", "BLOWUP_RESOLUTION"]
@@ -282,9 +288,8 @@ def simulate_fast(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end:
     SimulationResult
     """
     if not numba_available():
-        from gfrf.simulation import _scipy
-        result = _scipy(system, signal, z0, t_end, t_eval, "dop853", rtol, atol, blowup,
-                        max_evaluations)
+        result = integrate_scipy(system, signal, z0, t_end, t_eval, "dop853", rtol, atol,
+                                 blowup, max_evaluations)
         result.notes.append("numba is not installed (pip install 'gfrf[fast]'): the fast "
                             "path fell back to scipy DOP853 at the same tolerances")
         return result

@@ -56,10 +56,11 @@ import numpy as np
 from gfrf.criteria import Verdict
 from gfrf.criteria import verdict as compute_verdict
 from gfrf.errors import ArgumentError
+from gfrf.integrate import OdeSystem, SimulationResult
 from gfrf.kernels import kernel
 from gfrf.modelfile import ModelFile
 from gfrf.signals import InputSignal, parse_input
-from gfrf.simulation import OdeSystem, SimulationResult, build_system, simulate
+from gfrf.simulation import build_system, simulate
 
 #: Multiples of the radius estimate r_est tried for Theorem 1 (r_est and beyond).
 ESTIMATE_FACTORS = (1.0, 2.0, 10.0)

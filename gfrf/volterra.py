@@ -64,10 +64,11 @@ from scipy.integrate import solve_ivp
 
 from gfrf._results import short_repr
 from gfrf.errors import ArgumentError, ConvergenceError
+from gfrf.integrate import MAX_RHS_EVALUATIONS, OdeSystem, input_values
 from gfrf.kernels import MAX_KERNEL_ORDER, generator, kernel
 from gfrf.model import Model
 from gfrf.signals import Tone, tones_input
-from gfrf.simulation import MAX_RHS_EVALUATIONS, OdeSystem, build_system, input_values
+from gfrf.simulation import build_system
 
 __all__ = ["Component", "VolterraPrediction", "BeyondRadiusError", "NoSteadyStateError",
            "predict",
@@ -418,7 +419,7 @@ def steady_state(system: OdeSystem, tones: Any, *, samples: int = 256,
     Newton's method on z -> Phi(z) - z, Phi the period map (DOP853, rtol 1e-12),
     with a finite-difference Jacobian.  All integrations together may evaluate the
     right-hand side at most ``max_evaluations`` times (default
-    :data:`gfrf.simulation.MAX_RHS_EVALUATIONS`; tones 1000 times apart need about that).
+    :data:`gfrf.integrate.MAX_RHS_EVALUATIONS`; tones 1000 times apart need about that).
 
     Raises
     ------

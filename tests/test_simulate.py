@@ -334,7 +334,7 @@ def test_work_budget_stops_scipy_run_with_its_time(method):
 
 def test_default_budget_fits_a_long_accurate_run():
     # the largest bundled use (speed report): hanging pendulum, 200 s, RK45 at rtol 1e-10
-    from gfrf.simulation import MAX_RHS_EVALUATIONS
+    from gfrf.integrate import MAX_RHS_EVALUATIONS
 
     res = simulate(load_model(f"{MODELS}/hanging_pendulum.toml"), "0.05*sin(1.565*t)",
                    t_end=200.0, rtol=1e-10, atol=1e-13)

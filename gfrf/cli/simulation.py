@@ -5,7 +5,7 @@ physical equation when the file has one, ``--polynomial`` for the truncated mode
 ``--closed-loop`` with the file's controller (the input is then the reference),
 ``--initial y0,dy0`` for initial conditions.  Exit code 0 when the run reaches
 t_end, 1 when it blows up or fails (one line ``FAILED: ...``, e.g. the work budget
-``--max-evaluations``, default :data:`gfrf.simulation.MAX_RHS_EVALUATIONS`, was spent:
+``--max-evaluations``, default :data:`gfrf.integrate.MAX_RHS_EVALUATIONS`, was spent:
 it names the limit and the time reached), 2 for bad input (among them an input tone
 too fast for that budget over t_end).  ``gfrf predict MODEL --input TEXT
 --order N`` lists the steady-state harmonics of a sum of tones (rad/s); exit 1 (one
@@ -30,7 +30,7 @@ from gfrf.cli._output import add_json_flag, check_plot_path, emit
 from gfrf.errors import ArgumentError
 
 if TYPE_CHECKING:  # the numerical modules are imported where used: the parser stays cheap
-    from gfrf.simulation import SimulationResult
+    from gfrf.integrate import SimulationResult
 
 __all__ = ["register", "METHODS"]
 
@@ -128,7 +128,8 @@ def _simulate(args: argparse.Namespace) -> int:
     import numpy as np
     from tqdm import tqdm
 
-    from gfrf.simulation import MAX_RHS_EVALUATIONS, simulate
+    from gfrf.integrate import MAX_RHS_EVALUATIONS
+    from gfrf.simulation import simulate
 
     check_plot_path(args.plot)
     mf = resolve_model(args)

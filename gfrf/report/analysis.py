@@ -25,8 +25,9 @@ import numpy as np
 
 from gfrf.criteria import Margin, Verdict, parameter_margin, verdict
 from gfrf.errors import GfrfError
+from gfrf.integrate import SimulationResult
 from gfrf.modelfile import ModelFile, load_model
-from gfrf.simulation import SimulationResult, build_system, simulate
+from gfrf.simulation import build_system, simulate
 from gfrf.template import ModelTemplate, model_template
 from gfrf.validation import ValidationResult, resonance, validate
 
