@@ -348,9 +348,25 @@ def generator(model: Model) -> GFRFGenerator:
 class Kernel:
     """The n-th order GFRF H_n of a model, symmetric (default) or asymmetric.
 
-    Call it with n arrays of angular frequencies in rad/s (broadcast like numpy)
-    to get complex128 values; ``.expr`` is the explicit sympy form in s1..sn
-    (s_i = j*omega_i) or, for a discrete model, q1..qn (q_i = exp(-j*omega_i*T)).
+    Call it with n arrays of **angular frequencies in rad/s** (broadcast like numpy)
+    to get complex128 values: ``H(w1, ..., wn)`` is H_n at s_i = j*w_i, not at
+    s_i = w_i (python-control's ``sys(x)`` evaluates at s = x; here pass ``w`` for
+    s = j*w).  :meth:`at_s` evaluates at complex s_i; ``.expr`` is the explicit
+    sympy form in s1..sn or, for a discrete model, q1..qn (q_i = exp(-j*w_i*T)).
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> from gfrf.model import parse_model
+    >>> H1 = kernel(parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"), 1)
+    >>> complex(H1(1.0))  # at s = 1j rad/s: 1 / (0.2j)
+    -5j
+    >>> s = -0.5 + 2j
+    >>> abs(complex(H1.at_s(s)) - 1 / (s**2 + 0.2*s + 1)) < 1e-15
+    True
+    >>> f = sp.lambdify(H1.variables, H1.expr)  # the same from the sympy form
+    >>> abs(f(s) - complex(H1.at_s(s))) < 1e-15
+    True
     """
 
     model: Model
@@ -391,7 +407,12 @@ class Kernel:
         Returns
         -------
         numpy.ndarray of complex128
-            H_n(j*omega_1, ..., j*omega_n) with the broadcast shape.
+            H_n(j*omega_1, ..., j*omega_n) with the broadcast shape (discrete models:
+            at q_i = exp(-j*omega_i*T)).
+
+        See Also
+        --------
+        at_s : values at complex s_i (``H(w)`` is ``H.at_s(1j * w)``).
         """
         if len(omega) != self.order:
             raise ArgumentError(f"H{self.order} takes {self.order} angular frequencies, "
@@ -403,6 +424,47 @@ class Kernel:
                 raise ArgumentError("angular frequencies must be finite real numbers (rad/s)")
             arrays.append(a)
         return self._gen.evaluate(self.order, arrays, self.symmetric)
+
+    def at_s(self, *s: Any) -> np.ndarray:
+        """Evaluate H_n at complex Laplace variables s_1..s_n (1/s).
+
+        ``H.at_s(1j * w)`` equals ``H(w)``; a discrete (NARX) model is evaluated at
+        q_i = exp(-s_i*T), its backward shift at s_i.
+
+        Parameters
+        ----------
+        *s : array_like
+            n complex arrays (or scalars) that broadcast together.
+
+        Returns
+        -------
+        numpy.ndarray of complex128
+            H_n(s_1, ..., s_n) with the broadcast shape (inf or nan at a pole).
+
+        Raises
+        ------
+        ArgumentError
+            Not n values, or a value that is not a finite complex number.
+
+        Examples
+        --------
+        >>> from gfrf.model import parse_model
+        >>> H1 = kernel(parse_model("D(y) + 2*y = u"), 1)
+        >>> complex(H1.at_s(1.0))  # 1 / (s + 2) at s = 1
+        (0.3333333333333333+0j)
+        """
+        if len(s) != self.order:
+            raise ArgumentError(f"H{self.order} takes {self.order} values of s, got {len(s)}")
+        omegas = []
+        for value in s:
+            a = np.asarray(value)
+            if a.dtype.kind not in "biufc":
+                raise ArgumentError(f"s must be complex numbers (1/s), got {value!r}")
+            a = a.astype(np.complex128)
+            if not np.all(np.isfinite(a)):
+                raise ArgumentError("s must be finite complex numbers (1/s)")
+            omegas.append(-1j * a)  # s = j*omega exactly (multiplying by -1j is exact)
+        return self._gen.evaluate(self.order, omegas, self.symmetric)
 
     def compiled(self) -> Any:
         """A numba-compiled numpy ufunc of this kernel: ``f(w1, ..., wn)`` in rad/s.

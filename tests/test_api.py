@@ -158,3 +158,38 @@ def test_module_examples(name: str) -> None:
 
     result = doctest.testmod(importlib.import_module(name), optionflags=doctest.ELLIPSIS)
     assert result.attempted > 0 and result.failed == 0
+
+
+def h1_duffing_s(s: complex) -> complex:
+    """H1 of the Duffing oscillator at complex s: 1 / (s^2 + 0.2 s + 1)."""
+    return 1 / (s * s + 0.2 * s + 1)
+
+
+def test_kernel_at_complex_s_matches_the_closed_form() -> None:
+    mf = gfrf.load_model(DUFFING)
+    h1, h3 = gfrf.kernel(mf, 1), gfrf.kernel(mf, 3)
+    points = [-0.5 + 2j, 0.3 - 0.7j, 2.0 + 0j, -0.1 + 0.99j]
+    for s in points:
+        assert complex(h1.at_s(s)) == pytest.approx(h1_duffing_s(s), rel=1e-13)
+    got = h1.at_s(np.array(points))
+    assert got.shape == (4,)
+    assert got == pytest.approx([h1_duffing_s(s) for s in points], rel=1e-13)
+    s1, s2, s3 = 0.2 + 1j, -0.3 + 0.5j, 0.1 - 2j
+    expected = -0.5 * h1_duffing_s(s1) * h1_duffing_s(s2) * h1_duffing_s(s3) \
+        * h1_duffing_s(s1 + s2 + s3)
+    assert complex(h3.at_s(s1, s2, s3)) == pytest.approx(expected, rel=1e-12)
+    # on the imaginary axis it is the rad/s evaluation
+    assert complex(h3.at_s(1j, 1j, -0.5j)) == complex(h3(1.0, 1.0, -0.5))
+    with pytest.raises(gfrf.ArgumentError, match="3 values of s"):
+        h3.at_s(1j)
+    with pytest.raises(gfrf.ArgumentError, match="finite"):
+        h1.at_s(complex("nan"))
+    with pytest.raises(gfrf.ArgumentError, match="complex"):
+        h1.at_s("1j")
+
+
+def test_narx_kernel_at_s_uses_the_backward_shift() -> None:
+    h1 = gfrf.kernel(gfrf.load_model(NARX), 1)  # H1(q) = q / (1 - 0.5 q), q = exp(-0.1 s)
+    for s in (0.3 + 2j, -1.0 + 0.5j):
+        q = cmath.exp(-0.1 * s)
+        assert complex(h1.at_s(s)) == pytest.approx(q / (1 - 0.5 * q), rel=1e-13)
