@@ -20,7 +20,8 @@ Stability
     verdict (Theorem 1, or 2 with the file's controller or ``controller=`` a
     python-control system), Verdict, parameter_margin, Margin, closed_loop, ClosedLoop
 Time and frequency domain
-    simulate, SimulationResult, build_system, predict, VolterraPrediction
+    simulate, SimulationResult, build_system, predict, VolterraPrediction,
+    to_nlsys (the plant or closed loop as a ``control.NonlinearIOSystem``)
 Sweeps
     :mod:`gfrf.sweep` (``gfrf.sweep.sweep``), SweepResult
 Errors
@@ -62,6 +63,7 @@ _LAZY = {
     "SweepResult": "gfrf.sweep",
     "from_sysidentpy": "gfrf.identify",
     "linear_part": "gfrf._api", "verdict": "gfrf._api",
+    "to_nlsys": "gfrf.nlsys",
 }
 #: Functions of a plant model re-exported so that they also take a ModelFile.
 _PLANT = {

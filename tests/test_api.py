@@ -193,3 +193,61 @@ def test_narx_kernel_at_s_uses_the_backward_shift() -> None:
     for s in (0.3 + 2j, -1.0 + 0.5j):
         q = cmath.exp(-0.1 * s)
         assert complex(h1.at_s(s)) == pytest.approx(q / (1 - 0.5 * q), rel=1e-13)
+
+
+def test_to_nlsys_matches_simulate_on_the_same_input() -> None:
+    mf = gfrf.load_model(DUFFING)
+    sys = gfrf.to_nlsys(mf)
+    assert isinstance(sys, control.NonlinearIOSystem) and sys.isctime()
+    assert (sys.input_labels, sys.output_labels) == (["u"], ["y"])
+    t = np.linspace(0.0, 20.0, 40001)  # python-control interpolates u linearly: error ~h^2
+    response = control.input_output_response(sys, t, 0.5 * np.sin(1.3 * t), X0=[0.1, 0.0],
+                                             solve_ivp_kwargs={"rtol": 1e-10, "atol": 1e-12})
+    ours = gfrf.simulate(mf, "0.5*sin(1.3*t)", t_end=20.0, t_eval=t, initial=[0.1, 0.0],
+                         rtol=1e-10, atol=1e-12)
+    assert np.max(np.abs(ours.y)) > 1.0  # the cubic term matters
+    assert np.max(np.abs(response.outputs - ours.y)) < 1e-6
+
+
+def test_to_nlsys_closed_loop_with_a_dynamic_controller() -> None:
+    # y'' + y' - y + 0.1 y^3 = u, u = r - (4 s + 4)/(s + 2) [y]: linear closed loop
+    # s^3 + 3 s^2 + 5 s + 2, stable
+    mf = model_from_dict({"equation": UNSTABLE_PLANT,
+                          "controller": {"num": [4, 4], "den": [1, 2]}})
+    sys = gfrf.to_nlsys(mf, closed_loop=True)
+    assert (sys.input_labels, sys.output_labels, sys.nstates) == (["r"], ["y", "u"], 3)
+    t = np.linspace(0.0, 10.0, 20001)
+    response = control.input_output_response(sys, t, 0.2 * np.sin(t),
+                                             solve_ivp_kwargs={"rtol": 1e-10, "atol": 1e-12})
+    ours = gfrf.simulate(mf, "0.2*sin(t)", t_end=10.0, t_eval=t, closed_loop=True,
+                         rtol=1e-10, atol=1e-12)
+    assert np.max(np.abs(response.outputs[0] - ours.y)) < 1e-6
+    assert np.max(np.abs(response.outputs[1] - ours.u)) < 1e-5
+    # the linearisation at 0 is python-control's feedback of the linear parts
+    linear = control.feedback(gfrf.linear_part(mf), control.tf([4, 4], [1, 2]))
+    assert sorted(np.linalg.eigvals(sys.linearize([0, 0, 0], [0]).A), key=np.imag) == \
+        pytest.approx(sorted(linear.poles(), key=np.imag), rel=1e-9)
+
+
+def test_to_nlsys_narx_is_discrete_and_matches_the_recursion() -> None:
+    mf = gfrf.load_model(NARX)
+    sys = gfrf.to_nlsys(mf)
+    assert sys.dt == pytest.approx(0.1) and sys.nstates == 3  # y[k-1], u[k-1], u[k-2]
+    ours = gfrf.simulate(mf, "0.3*sin(2*t) + 0.5", t_end=5.0)
+    response = control.input_output_response(sys, ours.t, 0.3 * np.sin(2 * ours.t) + 0.5)
+    assert np.max(np.abs(response.outputs - ours.y)) < 1e-12
+    # independent recursion y[k] = 0.5 y[k-1] - 0.2 y[k-1]^2 u[k-2] + u[k-1]
+    u = 0.3 * np.sin(2 * ours.t) + 0.5
+    y = np.zeros_like(u)
+    for k in range(1, u.size):
+        y[k] = 0.5 * y[k - 1] + u[k - 1] - (0.2 * y[k - 1] ** 2 * u[k - 2] if k >= 2 else 0)
+    assert response.outputs == pytest.approx(y, abs=1e-12)
+
+
+def test_to_nlsys_refusals() -> None:
+    with pytest.raises(gfrf.ModelError, match="controller"):
+        gfrf.to_nlsys(gfrf.load_model(DUFFING), closed_loop=True)
+    with pytest.raises(gfrf.ModelError, match="derivatives"):
+        gfrf.to_nlsys(gfrf.parse_model("D(y) + y = D(u) + u"))
+    with pytest.raises(gfrf.ArgumentError, match="load_model"):
+        gfrf.to_nlsys(str(DUFFING))
