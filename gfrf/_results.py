@@ -17,7 +17,8 @@ from __future__ import annotations
 
 from typing import Any
 
-__all__ = ["short_repr", "plain"]
+__all__ = ["short_repr", "plain", "markdown_table", "new_figure", "verdict_markdown",
+           "verdict_figure", "simulation_markdown", "simulation_figure"]
 
 
 def _value(value: Any) -> str:
@@ -47,3 +48,117 @@ def plain(value: Any) -> Any:
     if isinstance(value, complex):
         return {"re": float(value.real), "im": float(value.imag)}
     return value
+
+
+def _cell(value: Any) -> str:
+    """A Markdown table cell: floats to 6 digits, None as an em dash, ``|`` escaped."""
+    if value is None:
+        text = "—"
+    elif isinstance(value, bool):
+        text = "yes" if value else "no"
+    elif isinstance(value, float):
+        text = f"{value:.6g}"
+    else:
+        text = str(value)
+    return text.replace("|", "\\|").replace("\n", " ")
+
+
+def markdown_table(header: tuple[str, ...], rows: list[tuple[Any, ...]]) -> str:
+    """A Markdown table (GitHub/Jupyter pipe syntax) of ``rows`` under ``header``.
+
+    >>> print(markdown_table(("n", "||H_n||"), [(1, 5.0251890762960), (2, None)]))
+    | n | \\|\\|H_n\\|\\| |
+    |---|---|
+    | 1 | 5.02519 |
+    | 2 | — |
+    """
+    lines = ["| " + " | ".join(_cell(h) for h in header) + " |",
+             "|" + "---|" * len(header)]
+    lines += ["| " + " | ".join(_cell(v) for v in row) + " |" for row in rows]
+    return "\n".join(lines)
+
+
+def new_figure(rows: int, columns: int, size: tuple[float, float]) -> tuple[Any, Any]:
+    """A matplotlib ``Figure`` and its axes, made without pyplot (any backend, Agg included;
+    no global figure state).  matplotlib is imported here, on first plot only."""
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=size, layout="constrained")
+    return figure, figure.subplots(rows, columns, squeeze=False)
+
+
+def verdict_markdown(verdict: Any) -> str:
+    """Markdown of a :class:`gfrf.criteria.Verdict`: r*, r and the bounds, the conditions,
+    the norm brackets."""
+    kind = (f"certified, {verdict.radius_proof}" if verdict.radius_certified
+            else "estimate, not certified")
+    held = {True: "yes", False: "no", None: "not established"}
+    parts = [f"**Theorem {verdict.theorem}: {verdict.verdict}**",
+             markdown_table(("quantity", "value"), [
+                 (f"r* ({kind})", verdict.radius),
+                 ("amplitude r", verdict.amplitude),
+                 ("proven upper bound on the true radius", verdict.radius_upper),
+                 ("estimate of the true radius (not a proof)", verdict.radius_estimate)]),
+             markdown_table(("condition", "holds"),
+                            [(c.name, held[c.passed]) for c in verdict.conditions])]
+    if verdict.norms:
+        parts.append(markdown_table(("n", "‖H_n‖ lower", "‖H_n‖ upper"),
+                                    [(b.order, b.lower, b.upper) for b in verdict.norms]))
+    return "\n\n".join(parts)
+
+
+def verdict_figure(verdict: Any) -> Any:
+    """The norm series of a verdict: ||H_n|| and the majorant against n, and the root-test
+    radii c_n^(-1/n) of the majorant with r*, r and the radius bounds."""
+    from matplotlib.ticker import MaxNLocator
+
+    figure, axes = new_figure(1, 2, (9.0, 3.6))
+    left, right = axes[0]
+    rows = [row for row in verdict.series if row["majorant"] > 0]
+    n = [row["order"] for row in rows]
+    majorant = [row["majorant"] for row in rows]
+    left.semilogy(n, majorant, "o-", label="certified majorant c_n")
+    if any(row["lower"] is not None for row in rows):
+        left.semilogy(n, [row["upper"] for row in rows], "v", label="‖H_n‖ upper")
+        left.semilogy(n, [row["lower"] if row["lower"] else float("nan") for row in rows],
+                      "^", label="‖H_n‖ lower")
+    left.set(xlabel="order n", ylabel="‖H_n‖ (plant)", title="kernel norms")
+    right.plot(n, [c ** (-1.0 / k) for k, c in zip(n, majorant, strict=True)], "o-",
+               label="c_n^(-1/n)")
+    right.axhline(verdict.radius, color="#2b8a3e", label=f"r* = {verdict.radius:.4g}")
+    right.axhline(verdict.amplitude, color="black", linestyle="--",
+                  label=f"r = {verdict.amplitude:.4g}")
+    if verdict.radius_upper is not None:
+        right.axhline(verdict.radius_upper, color="#c92a2a", linestyle=":",
+                      label=f"true radius <= {verdict.radius_upper:.4g}")
+    right.set(xlabel="order n", ylabel="amplitude r",
+              title=f"Theorem {verdict.theorem}: {verdict.verdict}")
+    for ax in (left, right):
+        ax.xaxis.set_major_locator(MaxNLocator(integer=True))
+        ax.legend(fontsize="small")
+    return figure
+
+
+def simulation_markdown(result: Any) -> str:
+    """Markdown of a :class:`gfrf.integrate.SimulationResult` (no wall time)."""
+    t_final = float(result.t[-1]) if result.t.size else 0.0
+    y_final = float(result.y[-1]) if result.y.size else None
+    return markdown_table(("status", "method", "t_final (s)", "samples", "max |y|",
+                           "y(t_final)", "blow-up time (s)"),
+                          [(result.status, result.method, t_final, int(result.t.size),
+                            result.peak, y_final, result.blowup_time)])
+
+
+def simulation_figure(result: Any) -> Any:
+    """y(t) and u(t) of a simulation, stacked, with the blow-up time marked."""
+    figure, axes = new_figure(2, 1, (7.0, 4.5))
+    top, bottom = axes[0][0], axes[1][0]
+    top.plot(result.t, result.y)
+    bottom.plot(result.t, result.u, color="#e8590c")
+    top.set(ylabel="output y", title=f"simulation ({result.method}): {result.status}")
+    bottom.set(xlabel="t (s)", ylabel="input u")
+    if result.blowup_time is not None:
+        for ax in (top, bottom):
+            ax.axvline(result.blowup_time, color="#c92a2a", linestyle=":")
+    top.sharex(bottom)
+    return figure

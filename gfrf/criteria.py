@@ -70,7 +70,7 @@ from typing import Any
 
 import numpy as np
 
-from gfrf._results import plain, short_repr
+from gfrf._results import markdown_table, plain, short_repr, verdict_figure, verdict_markdown
 from gfrf.errors import ArgumentError
 from gfrf.exact import format_roots
 from gfrf.kernels import MAX_KERNEL_ORDER
@@ -172,6 +172,20 @@ class Verdict:
 
     def __repr__(self) -> str:
         return short_repr(self, "verdict", "theorem", "radius", "amplitude")
+
+    def _repr_markdown_(self) -> str:
+        return verdict_markdown(self)
+
+    def plot(self) -> Any:
+        """The norm series: ||H_n|| and the certified majorant c_n against n, and the
+        root-test radii c_n^(-1/n) with r*, the amplitude r and the proven upper bound.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            Made without pyplot (works with any backend; display it or ``savefig``).
+        """
+        return verdict_figure(self)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary (the ``--json`` output of ``gfrf verdict``)."""
@@ -746,6 +760,11 @@ class Margin:
 
     def __repr__(self) -> str:
         return short_repr(self, "parameter", "value", "direction", "amplitude")
+
+    def _repr_markdown_(self) -> str:
+        return markdown_table(("parameter", "boundary", "stable", "file value", "amplitude r"),
+                              [(self.parameter, self.value, f"{self.direction} the boundary",
+                                self.current, self.amplitude)])
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary."""

@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from gfrf._results import short_repr
+from gfrf._results import short_repr, simulation_figure, simulation_markdown
 from gfrf.signals import InputSignal
 
 __all__ = ["OdeSystem", "SimulationResult", "MAX_RHS_EVALUATIONS", "SCIPY_METHODS",
@@ -155,6 +155,19 @@ class SimulationResult:
     def __repr__(self) -> str:
         return short_repr(self, "status", "method", "peak",
                           t_final=float(self.t[-1]) if self.t.size else 0.0)
+
+    def _repr_markdown_(self) -> str:
+        return simulation_markdown(self)
+
+    def plot(self) -> Any:
+        """y(t) and u(t) (the plant input; r + feedback*C[y] in closed loop), t in seconds.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            Made without pyplot (works with any backend; display it or ``savefig``).
+        """
+        return simulation_figure(self)
 
 
 def budget_name(max_evaluations: int) -> str:

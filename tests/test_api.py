@@ -6,6 +6,7 @@ from __future__ import annotations
 import cmath
 import json
 import math
+import os
 import pydoc
 import subprocess
 import sys
@@ -251,3 +252,57 @@ def test_to_nlsys_refusals() -> None:
         gfrf.to_nlsys(gfrf.parse_model("D(y) + y = D(u) + u"))
     with pytest.raises(gfrf.ArgumentError, match="load_model"):
         gfrf.to_nlsys(str(DUFFING))
+
+
+def test_markdown_of_the_results_shows_the_key_numbers() -> None:
+    mf = gfrf.load_model(DUFFING)
+    v = gfrf.verdict(mf, 3)
+    text = v._repr_markdown_()
+    assert text.startswith(f"**Theorem 1: {v.verdict}**")
+    assert f"| {v.radius:.6g} |" in text
+    zeta = 0.1  # ||H1|| = 1 / (2 zeta sqrt(1 - zeta^2)) = 5.02519 in the norm table
+    assert f"| 1 | {1 / (2 * zeta * math.sqrt(1 - zeta ** 2)):.6g} |" in text
+    assert "sum \\|\\|H_n\\|\\| r^n" in text  # pipes in cells are escaped
+    assert all(line.count("|") >= 3 for line in text.splitlines() if line.startswith("|"))
+
+    run = gfrf.simulate(gfrf.parse_model("D(y) + y = u"), "step(t)", t_end=2.0, rtol=1e-11,
+                        atol=1e-13)
+    row = run._repr_markdown_().splitlines()[2].split(" | ")
+    assert row[0] == "| ok" and row[2] == "2" and row[3] == "2001"
+    assert float(row[4]) == pytest.approx(1 - math.exp(-2.0), rel=1e-6)  # max |y| = y(2)
+    assert float(row[5]) == pytest.approx(1 - math.exp(-2.0), rel=1e-6)
+
+    from gfrf.criteria import Margin
+
+    margin = Margin("rho", 0.25, "above", 1.0, 0.8, 1e-6)._repr_markdown_()
+    assert "| rho | 0.25 | above the boundary | 0.8 | 1 |" in margin
+
+
+def test_plots_return_labelled_figures_without_pyplot() -> None:
+    from matplotlib.figure import Figure
+
+    mf = gfrf.load_model(DUFFING)
+    run = gfrf.simulate(mf, "0.5*sin(1.3*t)", t_end=5.0)
+    figure = run.plot()
+    assert isinstance(figure, Figure)
+    y_axes, u_axes = figure.axes
+    assert (y_axes.get_ylabel(), u_axes.get_ylabel(), u_axes.get_xlabel()) == \
+        ("output y", "input u", "t (s)")
+    assert np.array_equal(y_axes.lines[0].get_ydata(), run.y)
+    assert np.allclose(u_axes.lines[0].get_ydata(), 0.5 * np.sin(1.3 * run.t), atol=1e-15)
+
+    v = gfrf.verdict(mf, 5)
+    norms, radii = v.plot().axes
+    assert norms.get_xlabel() == radii.get_xlabel() == "order n"
+    assert norms.get_ylabel() and radii.get_ylabel() == "amplitude r"
+    assert [float(y) for y in norms.lines[0].get_ydata()] == \
+        [row["majorant"] for row in v.series if row["majorant"] > 0]  # H2, H4 vanish
+    levels = {float(line.get_ydata()[0]) for line in radii.lines[1:]}
+    assert {v.radius, v.amplitude} <= levels
+    script = ("import gfrf\nm = gfrf.parse_model('D(y) + y = u')\n"
+              "gfrf.simulate(m, 'step(t)', t_end=1.0).plot()\n"
+              "import sys; print('matplotlib.pyplot' in sys.modules)\n")
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                          timeout=300, env={**os.environ, "MPLBACKEND": "Agg"})
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split() == ["False"]
