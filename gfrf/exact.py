@@ -46,8 +46,8 @@ import numpy as np
 from gfrf.errors import ArgumentError
 
 __all__ = ["ExactSup", "PoleReport", "SupBeyond", "hurwitz", "schur", "poles", "sup_abs",
-           "discrete_sup_abs", "sup_abs_beyond", "cayley", "format_roots", "arb_upper",
-           "clear_caches"]
+           "discrete_sup_abs", "sup_abs_beyond", "cayley", "format_roots", "arb_lower",
+           "arb_upper", "clear_caches"]
 
 #: Working precision (bits) of the first ball evaluation; doubled up to _MAX_PREC.
 _PREC = 128
@@ -317,6 +317,11 @@ def clear_caches() -> None:
     """Forget the memoised sups (for timing a cold computation)."""
     _sup_continuous.cache_clear()
     _sup_discrete.cache_clear()
+
+
+def arb_lower(x: Any) -> float:
+    """The largest float <= every point of the Arb ball ``x`` (-inf if unbounded)."""
+    return _down(x)
 
 
 def arb_upper(x: Any) -> float:

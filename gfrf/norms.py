@@ -28,9 +28,12 @@ Stability of A is decided exactly (Routh's test in rationals, :mod:`gfrf.exact`)
   resonance frequencies of the linear part (each w_i in {0, +-damped natural
   frequencies, +-peak frequencies of |H1| and |1/A|}, plus points whose sum hits a
   resonance), taken up to permutation and global sign (the symmetric kernel is
-  invariant under both in modulus), then polished by Nelder-Mead on log|H_n|.  It is
-  a floating-point evaluation (~1e-15 relative), so an order n >= 2 bracket has
-  ``proof = "float"``; an identically zero kernel (decided symbolically) is exact.
+  invariant under both in modulus), then polished by Nelder-Mead on log|H_n|.  At
+  ``proof = "interval"`` |H_n| is re-evaluated at that witness point in ball arithmetic
+  (:mod:`gfrf.witness`: exact binary coefficients and frequencies) and the lower end is
+  the ball's lower end rounded down, proven to be attained to its digits
+  (``lower_proof = "interval"``); a ball wider than 1e-10 relative keeps the float
+  value, labelled ``"float"``.  An identically zero kernel (decided symbolically) is exact.
 
 Which kernel: the symmetric kernel by default (it is unique for the system); the
 asymmetric kernel of the recursion on request (it depends on how the model is written).
@@ -108,8 +111,9 @@ class Bound:
         float witness point); ``"none"``: estimates only (not certified).
     upper_proof, lower_proof : str
         The level of each end ("" means ``proof``): for n >= 2 at the interval level
-        the upper end is proven (ball-arithmetic majorant) and the lower end is a
-        float witness (|H_n| evaluated in double precision at ``argmax``).
+        the upper end is proven by the ball-arithmetic majorant (``"float"`` where the
+        float branch-and-bound lowered it) and the lower end by |H_n| at ``argmax`` in
+        ball arithmetic (``"float"`` if that ball is too wide, see ``notes``).
     """
 
     lower: float
@@ -304,7 +308,8 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
         majorant's upper end and the local search only).
     proof : {"interval", "float", "none"}
         ``"interval"`` (default): the majorant's upper end in ball arithmetic on proven
-        sups (``upper_proof = "interval"``; the lower end is a float witness).
+        sups (``upper_proof = "interval"``) and the witness |H_n(argmax)| in ball
+        arithmetic (``lower_proof = "interval"``).
         ``"float"``: the majorant in floating point on double-precision sups.
         ``"none"``: the float majorant and the local search only (no
         branch-and-bound), labelled estimates (``certified = False``).
@@ -349,7 +354,9 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
     method = ({"interval": "recursive majorant in ball arithmetic (proven upper)",
                "float": "recursive majorant in floating point (certified upper)",
                "none": "recursive majorant in floating point (estimate)"}[proof]
-              + " + resonance-start Nelder-Mead (lower, float witness)")
+              + " + resonance-start Nelder-Mead (lower: "
+              + ("witness re-evaluated in ball arithmetic)" if proof == "interval"
+                 else "float witness)"))
     if (max_boxes != 0 and upper - lower > tol * upper and math.isfinite(upper)
             and not model.is_discrete
             and n <= MAX_ORDER and proof != "none"):
@@ -367,11 +374,35 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
         notes.append(f"relative gap {gap:.3g} > tol {tol:g}: the majorant is not attained "
                      "(terms of different sign or phase) and the branch-and-bound budget "
                      "did not close the gap; honest bracket")
+    lower_proof = "none" if proof == "none" else "float"
+    if proof == "interval":
+        lower, lower_proof, note = _proven_witness(model, n, symmetric, lower, argmax)
+        notes += [note] if note else []
     if lower > upper:  # only rounding of the float levels can do this
         upper = lower
-    weakest = "none" if proof == "none" else "float"
+    weakest = min(upper_proof, lower_proof, key=("none", "float", "interval").index)
     return Bound(lower, upper, argmax, maj.certified, method, n, symmetric, stable,
-                 tuple(notes), proof=weakest, upper_proof=upper_proof, lower_proof=weakest)
+                 tuple(notes), proof=weakest, upper_proof=upper_proof, lower_proof=lower_proof)
+
+
+def _proven_witness(model: Model, n: int, symmetric: bool, lower: float,
+                    argmax: tuple[float, ...]) -> tuple[float, str, str]:
+    """(lower, lower_proof, note): |H_n| at the witness ``argmax`` re-evaluated in balls.
+
+    The proven lower end is the ball's lower end rounded down (at most an ulp or two
+    below the float value); a ball wider than :data:`gfrf.witness.WIDTH` relative keeps
+    the float value, labelled "float", with a note.
+    """
+    from gfrf.witness import WIDTH, witness_bound
+
+    if lower == 0.0:  # |H_n| >= 0 needs no witness
+        return 0.0, "interval", ""
+    ball = witness_bound(model, n, argmax, symmetric)
+    if ball.relative_width > WIDTH:
+        return lower, "float", (f"witness |H_{n}| at {list(argmax)} enclosed only to relative "
+                                f"width {ball.relative_width:.3g} in ball arithmetic "
+                                f"({ball.precision} bits): the lower end stays a float value")
+    return ball.lower, "interval", ""
 
 
 def _axis_blowup(k: Any, model: Model, n: int) -> tuple[float, ...] | None:

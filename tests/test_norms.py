@@ -239,8 +239,8 @@ def test_h3_closed_form_at_each_level() -> None:
     with mpmath.workdps(50):
         exact = mpmath.mpf(c3) / (mpmath.mpf(b) * mpmath.sqrt(C - mpmath.mpf(b) ** 2 / 4)) ** 4
     proven = kernel_norm(m, 3, proof="interval")
-    assert (proven.proof, proven.upper_proof, proven.lower_proof) == ("float", "interval", "float")
-    assert mpmath.mpf(proven.upper) >= exact  # the proven end is an upper bound
+    assert (proven.proof, proven.upper_proof, proven.lower_proof) == ("interval",) * 3
+    assert mpmath.mpf(proven.lower) <= exact <= mpmath.mpf(proven.upper)  # both ends proven
     floated = kernel_norm(m, 3, proof="float")
     assert floated.certified and floated.upper_proof == "float"
     assert floated.upper == pytest.approx(float(exact), rel=1e-12)
@@ -248,7 +248,7 @@ def test_h3_closed_form_at_each_level() -> None:
     assert not estimate.certified and estimate.proof == "none"
     assert "branch-and-bound" not in estimate.method
     d = proven.to_dict()
-    assert (d["proof"], d["upper_proof"], d["lower_proof"]) == ("float", "interval", "float")
+    assert (d["proof"], d["upper_proof"], d["lower_proof"]) == ("interval",) * 3
 
 
 def test_h1_levels_and_refusal() -> None:

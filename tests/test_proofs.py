@@ -149,10 +149,10 @@ def test_h3_bracket_with_damping_1e9() -> None:
     h3, _ = _light_closed_forms()
     model = parse_model(LIGHT)
     proven = kernel_norm(model, 3, proof="interval")
-    assert proven.upper_proof == "interval" and proven.lower_proof == "float"
+    assert proven.upper_proof == proven.lower_proof == proven.proof == "interval"
     with mp.workdps(DIGITS):
-        assert mp.mpf(proven.upper) >= h3  # the proven end
-    assert _rel(proven.lower, h3) <= 1e-12  # the float witness, to its digits
+        assert mp.mpf(proven.lower) <= h3 <= mp.mpf(proven.upper)  # both ends proven
+    assert _rel(proven.lower, h3) <= 1e-12  # the witness attains the sup to its digits
     floated = kernel_norm(model, 3, proof="float")
     print(f"\n||H3||, damping 1e-9: closed form {mp.nstr(h3, 17)}; interval upper "
           f"{proven.upper!r}; float upper {floated.upper!r}")

@@ -99,7 +99,8 @@ def _num(x: float | None) -> str:
 
 
 def _bound_label(b: Bound) -> str:
-    """'proven' only for interval results; a proven upper end with a float witness says so."""
+    """'proven' only when both ends are interval; a proven upper end whose witness ball
+    was too wide to prove the lower end says so."""
     if not b.certified or b.proof == "none":
         return "estimate"
     if b.proof == "interval":
