@@ -29,7 +29,9 @@ Errors
     InstabilityError
 
 Result objects have a short ``repr`` and a ``to_dict()`` that :func:`json.dumps`
-accepts.  Modules: :mod:`gfrf.model`, :mod:`gfrf.modelfile`, :mod:`gfrf.kernels`,
+accepts; Verdict, Margin and SimulationResult show as Markdown tables in notebooks,
+and ``Verdict.plot()`` (norm series with r*) and ``SimulationResult.plot()`` (y and u
+against t) return a matplotlib Figure.  Modules: :mod:`gfrf.model`, :mod:`gfrf.modelfile`, :mod:`gfrf.kernels`,
 :mod:`gfrf.norms`, :mod:`gfrf.criteria`, :mod:`gfrf.loops`, :mod:`gfrf.simulation`,
 :mod:`gfrf.volterra`, :mod:`gfrf.sweep`, :mod:`gfrf.periodic` (the parametrically
 excited pendulum).
