@@ -31,8 +31,9 @@ Errors
 Result objects have a short ``repr`` and a ``to_dict()`` that :func:`json.dumps`
 accepts; Verdict, Margin and SimulationResult show as Markdown tables in notebooks,
 and ``Verdict.plot()`` (norm series with r*) and ``SimulationResult.plot()`` (y and u
-against t) return a matplotlib Figure.  Modules: :mod:`gfrf.model`, :mod:`gfrf.modelfile`, :mod:`gfrf.kernels`,
-:mod:`gfrf.norms`, :mod:`gfrf.criteria`, :mod:`gfrf.loops`, :mod:`gfrf.simulation`,
+against t) return a matplotlib Figure.  Modules: :mod:`gfrf.model`,
+:mod:`gfrf.modelfile`, :mod:`gfrf.kernels`, :mod:`gfrf.norms`, :mod:`gfrf.criteria`,
+:mod:`gfrf.loops`, :mod:`gfrf.simulation`, :mod:`gfrf.nlsys`,
 :mod:`gfrf.volterra`, :mod:`gfrf.sweep`, :mod:`gfrf.periodic` (the parametrically
 excited pendulum).
 """
