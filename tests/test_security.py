@@ -399,3 +399,9 @@ def test_closed_loop_with_an_output_named_r(capsys: pytest.CaptureFixture[str],
                      "--t-end", "20", "--json"]) == 0
         peaks.append(json.loads(capsys.readouterr().out)["peak_abs_y"])
     assert peaks[0] == pytest.approx(peaks[1], rel=1e-12)
+
+
+def test_taylor_truncation_work_is_bounded_before_sympy_runs() -> None:
+    atoms = "y+u+D(y)+D(u)+D(y,2)+D(u,2)+D(y,3)+D(u,3)"
+    error = _timed(lambda: parse_model(f"D(y)+y+exp({atoms}) - 1 = u", truncation=7))
+    assert "MAX_TRUNCATION_WORK" in str(error)  # 6435 monomials: minutes of sympy series
