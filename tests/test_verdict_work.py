@@ -58,7 +58,9 @@ def test_tight_brackets_lie_inside_the_fast_ones(by_level, name: str) -> None:
     assert none.norms == () and none.radius_estimate is None
     assert [b.order for b in fast.norms] == [b.order for b in tight.norms] == [1, 2, 3]
     for f, t in zip(fast.norms, tight.norms, strict=True):
-        assert f.lower <= t.lower <= t.upper <= f.upper
+        # Both lower ends are proven values at witness points; the tight search may settle
+        # on a point a few ulps below the fast one, never meaningfully lower.
+        assert f.lower <= t.lower * (1 + 1e-12) and t.lower <= t.upper <= f.upper
         if math.isfinite(f.upper):  # the fast upper end is the certified majorant
             assert f.upper == pytest.approx(fast.series[f.order - 1]["majorant"], rel=1e-12)
 
