@@ -60,7 +60,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                      help="simulate the truncated polynomial model, not the physical equation")
     sim.add_argument("--initial", default=None, metavar="Y0,DY0,...",
                      help="initial output and derivatives (NARX: past outputs)")
-    sim.add_argument("--method", choices=METHODS, default="rk45")
+    sim.add_argument("--method", choices=METHODS, default="dop853",
+                     help="integrator (default dop853: scipy's choice for the tight default "
+                          "rtol; fast = numba fixed-step RK4)")
     sim.add_argument("--rtol", type=float, default=1e-8, help="relative tolerance (> 0)")
     sim.add_argument("--atol", type=float, default=1e-10, help="absolute tolerance (> 0)")
     sim.add_argument("--dt", type=float, default=None,
