@@ -615,17 +615,23 @@ def _product(ctx: _Context, left: _Node, right: _Node, column: int) -> _Node:
     if monomials > MAX_MONOMIALS:
         raise ctx.fail(f"the product would expand to more than MAX_MONOMIALS = "
                        f"{MAX_MONOMIALS} monomials", column)
+    _check_operands(ctx, left, right, column)
+    expr = left.expr * right.expr
+    if expr.is_number:
+        expr = _checked_number(ctx, expr, column)
+    return _Node(expr, degree, monomials, left.analytic or right.analytic,
+                 left.varying or right.varying, max(left.nesting, right.nesting))
+
+
+def _check_operands(ctx: _Context, left: _Node, right: _Node, column: int) -> None:
+    """Refuse a product or quotient of two exact numbers whose result could exceed
+    :data:`MAX_NUMBER_BITS` by much, before sympy computes it."""
     if left.expr.is_Rational and right.expr.is_Rational:
         bits = sum(max(int(e.p).bit_length(), int(e.q).bit_length())
                    for e in (left.expr, right.expr))
         if bits > 2 * MAX_NUMBER_BITS:
             raise ctx.fail(f"an intermediate number exceeds MAX_NUMBER_BITS = "
                            f"{MAX_NUMBER_BITS} bits", column)
-    expr = left.expr * right.expr
-    if expr.is_number:
-        expr = _checked_number(ctx, expr, column)
-    return _Node(expr, degree, monomials, left.analytic or right.analytic,
-                 left.varying or right.varying, max(left.nesting, right.nesting))
 
 
 def _quotient(ctx: _Context, left: _Node, right: _Node, column: int) -> _Node:
@@ -635,12 +641,7 @@ def _quotient(ctx: _Context, left: _Node, right: _Node, column: int) -> _Node:
         inverse = _Node(1 / right.expr, right.degree, right.monomials, True, True,
                         right.nesting)
         return _product(ctx, left, inverse, column)
-    if right.expr.is_Rational and left.expr.is_Rational:
-        bits = sum(max(int(e.p).bit_length(), int(e.q).bit_length())
-                   for e in (left.expr, right.expr))
-        if bits > 2 * MAX_NUMBER_BITS:
-            raise ctx.fail(f"an intermediate number exceeds MAX_NUMBER_BITS = "
-                           f"{MAX_NUMBER_BITS} bits", column)
+    _check_operands(ctx, left, right, column)
     expr = left.expr / right.expr
     if expr.is_number and expr.is_finite:
         expr = _checked_number(ctx, expr, column)

@@ -16,6 +16,7 @@ from fractions import Fraction
 import mpmath as mp
 import numpy as np
 import pytest
+from mp_reference import mp_sup as reference_sup
 
 from gfrf.criteria import theorem1
 from gfrf.model import parse_model
@@ -27,41 +28,7 @@ DIGITS = 60
 
 def mp_sup(num: list[float], den: list[float]) -> mp.mpf:
     """sup over real w of |N(jw)/D(jw)| at DIGITS digits (coefficients highest first)."""
-    with mp.workdps(DIGITS):
-        def abs2(c: list[float]) -> list[mp.mpf]:  # |F(jw)|^2, lowest power of w first
-            low = [mp.mpf(x) * mp.j ** k for k, x in enumerate(reversed(c))]
-            out = [mp.mpc(0)] * (2 * len(low) - 1)
-            for i, a in enumerate(low):
-                for k, b in enumerate(low):
-                    out[i + k] += a * mp.conj(b)
-            return [mp.re(x) for x in out]
-
-        p, q = abs2(num), abs2(den)
-        dp = [k * p[k] for k in range(1, len(p))]
-        dq = [k * q[k] for k in range(1, len(q))]
-        s = [mp.mpf(0)] * (len(p) + len(q))
-        for i, a in enumerate(dp):
-            for k, b in enumerate(q):
-                s[i + k] += a * b
-        for i, a in enumerate(p):
-            for k, b in enumerate(dq):
-                s[i + k] -= a * b
-        while s and s[-1] == 0:
-            s.pop()
-        while s and s[0] == 0:  # w = 0 is a candidate anyway
-            s.pop(0)
-
-        def f(w: mp.mpf) -> mp.mpf:
-            return mp.sqrt(mp.polyval(p[::-1], w) / mp.polyval(q[::-1], w))
-
-        candidates = [f(mp.mpf(0))]
-        if len(s) > 1:
-            roots = mp.polyroots(s[::-1], maxsteps=2000, extraprec=2000)
-            candidates += [f(mp.re(r)) for r in roots
-                           if abs(mp.im(r)) < mp.mpf(10) ** -40 * (1 + abs(r)) and mp.re(r) > 0]
-        if len(p) == len(q):
-            candidates.append(mp.sqrt(p[-1] / q[-1]))
-        return max(candidates)
+    return reference_sup(num, den, digits=DIGITS)
 
 
 def _contains(lower: float, upper: float, ref: mp.mpf) -> bool:
