@@ -194,7 +194,8 @@ class Verdict:
                 "conditions": [c.to_dict() for c in self.conditions],
                 "norms": [b.to_dict() for b in self.norms], "series": list(self.series),
                 "radius_estimate": self.radius_estimate, "summary": self.summary,
-                "radius_proof": self.radius_proof, "radius_upper": self.radius_upper,
+                "radius_proof": self.radius_proof, "proof": self.radius_proof,
+                "radius_upper": self.radius_upper,
                 "radius_upper_detail": self.radius_upper_detail,
                 "estimate_of": self.estimate_of, "estimate_lower": self.estimate_lower,
                 "radius_kinds": {
