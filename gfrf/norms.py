@@ -58,7 +58,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from scipy.optimize import minimize
 
-from gfrf._results import short_repr
+from gfrf._results import markdown_table, short_repr
 from gfrf.branch_bound import MAX_ORDER, branch_and_bound
 from gfrf.errors import ArgumentError
 from gfrf.exact import PoleReport, format_roots, poles
@@ -141,6 +141,13 @@ class Bound:
 
     def __repr__(self) -> str:
         return short_repr(self, "order", "lower", "upper", "certified")
+
+    def _repr_markdown_(self) -> str:
+        """The bracket as a one-row Markdown table (Jupyter)."""
+        return markdown_table(("n", "lower", "upper", "gap", "lower proof", "upper proof"),
+                              [(self.order, self.lower, self.upper, self.gap,
+                                self.lower_proof or self.proof,
+                                self.upper_proof or self.proof)])
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary (infinities become "inf" through the CLI encoder)."""

@@ -315,3 +315,13 @@ def test_plots_return_labelled_figures_without_pyplot() -> None:
                           timeout=300, env={**os.environ, "MPLBACKEND": "Agg"})
     assert done.returncode == 0, done.stderr
     assert done.stdout.split() == ["False"]
+
+
+def test_bound_markdown_shows_the_bracket_and_its_proof() -> None:
+    import gfrf
+
+    b = gfrf.h1_norm(gfrf.parse_model("D(y,2) + 0.2*D(y) + y = u"))
+    text = b._repr_markdown_()
+    exact = 1.0 / (0.2 * (1.0 - 0.01) ** 0.5)  # 1/(c sqrt(k - c^2/4))
+    assert text.count("\n") == 2 and "interval" in text
+    assert f"{exact:.6g}"[:6] in text
