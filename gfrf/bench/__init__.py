@@ -10,17 +10,21 @@ from __future__ import annotations
 
 import datetime as _dt
 import importlib
+import math
 import os
 import platform
+import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from tqdm import tqdm
 
 from gfrf._atomic import atomic_write_text
 
-__all__ = ["BenchSection", "SECTION_MODULES", "figure_dir", "machine_description", "run_all",
-           "write_report"]
+__all__ = ["BenchSection", "SECTION_MODULES", "best_of", "figure_dir", "load_note",
+           "machine_description", "run_all", "write_report"]
 
 #: Modules that each define ``run(quick: bool) -> BenchSection``.
 SECTION_MODULES: tuple[str, ...] = (
@@ -73,6 +77,26 @@ class BenchSection:
         lines += [f"- {n}" for n in self.notes]
         lines += [f"![{f}]({f})" for f in self.figures]
         return "\n".join(lines).rstrip() + "\n"
+
+
+def best_of(call: Callable[[], Any], repeat: int,
+            before: Callable[[], None] | None = None) -> tuple[float, Any]:
+    """Best wall time in seconds of ``repeat`` calls (``before`` runs untimed before each,
+    e.g. to clear a cache) and the last call's result."""
+    best, out = math.inf, None
+    for _ in range(repeat):
+        if before is not None:
+            before()
+        start = time.perf_counter()
+        out = call()
+        best = min(best, time.perf_counter() - start)
+    return best, out
+
+
+def load_note(load: tuple[float, float, float]) -> str:
+    """The report line stating the load average ``load`` at the start of a section."""
+    return (f"Load average (1, 5, 15 min) at the start of this section: "
+            f"{load[0]:.2f}, {load[1]:.2f}, {load[2]:.2f} on {os.cpu_count()} cores.")
 
 
 def machine_description() -> str:

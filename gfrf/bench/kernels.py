@@ -16,14 +16,12 @@ from __future__ import annotations
 
 import os
 import time
-from collections.abc import Callable
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 import sympy as sp
 
-from gfrf.bench import BenchSection
+from gfrf.bench import BenchSection, best_of, load_note
 from gfrf.kernels import GFRFGenerator, kernel
 from gfrf.modelfile import load_model
 from gfrf.probing import probe_kernel
@@ -33,15 +31,6 @@ __all__ = ["run"]
 
 def _rate(points: int, seconds: float) -> str:
     return f"{points / seconds:.3g}"
-
-
-def _best(call: Callable[[], Any], repeat: int) -> tuple[float, Any]:
-    best, out = np.inf, None
-    for _ in range(repeat):
-        start = time.perf_counter()
-        out = call()
-        best = min(best, time.perf_counter() - start)
-    return best, out
 
 
 def run(quick: bool) -> BenchSection:
@@ -74,13 +63,13 @@ def run(quick: bool) -> BenchSection:
     start = time.perf_counter()
     h3(*w[:, :10])  # plan and lambdify once, outside the timing
     t_plan = time.perf_counter() - start
-    t_numpy, numpy_values = _best(lambda: h3(*w), repeat)
+    t_numpy, numpy_values = best_of(lambda: h3(*w), repeat)
 
     explicit, s = h3.expr, h3.variables
     start = time.perf_counter()
     baseline = sp.lambdify(s, explicit, "numpy", cse=True)
     t_lambdify_setup = time.perf_counter() - start
-    t_lambdify, lambdify_values = _best(lambda: baseline(*s_points), repeat)
+    t_lambdify, lambdify_values = best_of(lambda: baseline(*s_points), repeat)
 
     rows = [[f"symbolic H1..H{top}, recursive form", "placeholder recursion",
              f"{t_recursive:.3f} s", "exact", "target < 5 s"],
@@ -98,7 +87,7 @@ def run(quick: bool) -> BenchSection:
         ufunc = h3.compiled()
         ufunc(*w[:, :2])
         t_compile = time.perf_counter() - start
-        t_fast, fast_values = _best(lambda: ufunc(*w), repeat)
+        t_fast, fast_values = best_of(lambda: ufunc(*w), repeat)
         rows.append([f"H3 numeric, {points} points", "gfrf numba ufunc (one core)",
                      f"{_rate(points, t_fast)} pts/s", f"{error(fast_values):.1e}",
                      f"{t_lambdify / t_fast:.2g}x the lambdify rate; target >= 1e7 pts/s"])
@@ -116,8 +105,7 @@ def run(quick: bool) -> BenchSection:
     naive_error = float(np.max(np.abs(naive - reference[:sample]) / np.abs(reference[:sample])))
     notes.append(f"Not a fair baseline, for scale only: sympy subs/evalf point by point runs "
                  f"at {1 / t_naive:.3g} pts/s (error {naive_error:.1e}, {sample} points).")
-    notes.append(f"Load average (1, 5, 15 min) at the start of this section: "
-                 f"{load[0]:.2f}, {load[1]:.2f}, {load[2]:.2f} on {os.cpu_count()} cores.")
+    notes.append(load_note(load))
     return BenchSection(
         title="GFRF generation and evaluation (cart-pole eq (12))",
         intro=" ".join(__doc__.split("\n\n", 1)[1].split()),

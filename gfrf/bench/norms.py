@@ -28,7 +28,7 @@ import control
 import numpy as np
 import sympy as sp
 
-from gfrf.bench import BenchSection
+from gfrf.bench import BenchSection, best_of, load_note
 from gfrf.kernels import kernel
 from gfrf.model import Model, parse_model
 from gfrf.norms import h1_norm, kernel_norm
@@ -59,14 +59,6 @@ def _time(f: Callable[[], Any]) -> tuple[float, Any]:
     start = time.perf_counter()
     value = f()
     return time.perf_counter() - start, value
-
-
-def _best_of(f: Callable[[], Any], repeat: int) -> tuple[float, Any]:
-    best, value = math.inf, None
-    for _ in range(repeat):
-        seconds, value = _time(f)
-        best = min(best, seconds)
-    return best, value
 
 
 def _objective(model: Model, n: int) -> Callable[..., Any]:
@@ -151,8 +143,7 @@ def run(quick: bool) -> BenchSection:
              "The baselines find a value (or a local maximum: their error column shows which) "
              "without any bound on how far the true sup may lie above it.",
              *h1_notes,
-             f"Load average (1, 5, 15 min) at the start of this section: "
-             f"{load[0]:.2f}, {load[1]:.2f}, {load[2]:.2f} on {os.cpu_count()} cores."]
+             load_note(load)]
     return BenchSection(
         title="GFRF norms: ||Hn|| and ||H1|| of the hanging pendulum (rho = 0.8)",
         intro=" ".join(__doc__.split("\n\n", 1)[1].split()),
@@ -162,14 +153,14 @@ def run(quick: bool) -> BenchSection:
 
 def _h1_rows(model: Model, beta1: float) -> tuple[list[list[object]], list[str]]:
     repeat = 5
-    t_ours, ours = _best_of(lambda: h1_norm(model), repeat)
-    t_float, ours_float = _best_of(lambda: h1_norm(model, proof="float"), repeat)
+    t_ours, ours = best_of(lambda: h1_norm(model), repeat)
+    t_float, ours_float = best_of(lambda: h1_norm(model, proof="float"), repeat)
     system = control.tf([1.0], [1.0, _B, _C])
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        t_pc, pc = _best_of(lambda: float(control.norm(system, p="inf")), repeat)
+        t_pc, pc = best_of(lambda: float(control.norm(system, p="inf")), repeat)
     w = np.linspace(0.0, 3.0, 100_000)
-    t_grid, grid = _best_of(lambda: float(np.max(1.0 / np.abs(_C - w * w + 1j * _B * w))),
+    t_grid, grid = best_of(lambda: float(np.max(1.0 / np.abs(_C - w * w + 1j * _B * w))),
                             repeat)
 
     def err(value: float) -> str:

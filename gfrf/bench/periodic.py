@@ -23,7 +23,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from gfrf.bench import BenchSection
+from gfrf.bench import BenchSection, load_note
 from gfrf.periodic.compare import method_transition, transition_curve
 from gfrf.periodic.energy import energy_transition
 from gfrf.periodic.floquet import mathieu_transition, monodromy_transition
@@ -202,5 +202,4 @@ def run(quick: bool) -> BenchSection:
                f"{AMPLITUDE}), so its curve stops there.",
                "Averaging and energy treat only the 1/4 branch (as in the paper).",
                *transition_notes,
-               f"Load average (1, 5, 15 min) at the start of this section: "
-               f"{load[0]:.2f}, {load[1]:.2f}, {load[2]:.2f} on {os.cpu_count()} cores."])
+               load_note(load)])

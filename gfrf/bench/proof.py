@@ -25,11 +25,10 @@ proven enclosure is shown); where they do not, the float path is wrong, not the 
 from __future__ import annotations
 
 import math
-import time
 from collections.abc import Callable
 from typing import Any
 
-from gfrf.bench import BenchSection
+from gfrf.bench import BenchSection, best_of
 
 __all__ = ["run", "LEVELS"]
 
@@ -37,18 +36,6 @@ __all__ = ["run", "LEVELS"]
 LEVELS = ("float", "none", "interval")
 #: Cart-pole controller lags (s) for a loop with a proper controller (finite lambda_1).
 LAGS = (0.01, 0.01, 0.01)
-
-
-def _best_time(f: Callable[[], Any], repeats: int) -> tuple[float, Any]:
-    from gfrf.exact import clear_caches
-
-    best, value = math.inf, None
-    for _ in range(repeats):
-        clear_caches()
-        start = time.perf_counter()
-        value = f()
-        best = min(best, time.perf_counter() - start)
-    return best, value
 
 
 def _cases() -> list[tuple[str, str, Callable[[str], Any], Callable[[Any], float]]]:
@@ -90,6 +77,8 @@ def _cases() -> list[tuple[str, str, Callable[[str], Any], Callable[[Any], float
 
 def run(quick: bool) -> BenchSection:
     """Time every case at every level; return the report section."""
+    from gfrf.exact import clear_caches
+
     repeats = 2 if quick else 5
     rows: list[list[object]] = []
     worst: dict[str, float] = {}
@@ -98,7 +87,8 @@ def run(quick: bool) -> BenchSection:
             f(level)
         times, values = {}, {}
         for level in LEVELS:
-            times[level], result = _best_time(lambda lv=level, g=f: g(lv), repeats)
+            times[level], result = best_of(lambda lv=level, g=f: g(lv), repeats,
+                                           before=clear_caches)
             values[level] = value(result)
         ratio = {lv: times[lv] / times["float"] for lv in LEVELS}
         key = quantity.split(" ")[0]

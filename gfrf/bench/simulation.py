@@ -19,7 +19,6 @@ from __future__ import annotations
 import math
 import os
 import time
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -27,7 +26,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from gfrf._atomic import atomic_path
-from gfrf.bench import BenchSection, figure_dir
+from gfrf.bench import BenchSection, best_of, figure_dir, load_note
 from gfrf.modelfile import load_model
 from gfrf.signals import parse_input
 from gfrf.simulation import build_system, simulate
@@ -56,15 +55,6 @@ def _plain(method: str, rtol: float, atol: float, t_eval: np.ndarray) -> np.ndar
     return sol.y[0]
 
 
-def _time(call: Callable[[], Any], repeat: int) -> tuple[float, Any]:
-    best, out = np.inf, None
-    for _ in range(repeat):
-        start = time.perf_counter()
-        out = call()
-        best = min(best, time.perf_counter() - start)
-    return best, out
-
-
 def measure(quick: bool) -> dict[str, Any]:
     """Run the sweeps; return curves of (setting, seconds, error) and the compile time."""
     root = Path(__file__).resolve().parents[2]
@@ -73,7 +63,7 @@ def measure(quick: bool) -> dict[str, Any]:
     signal = parse_input(_INPUT)
     t_eval = np.linspace(0.0, _T_END, 2001)
     common = {"t_end": _T_END, "t_eval": t_eval}
-    t_ref, ref = _time(lambda: _plain("DOP853", 1e-13, 1e-15, t_eval), 1)
+    t_ref, ref = best_of(lambda: _plain("DOP853", 1e-13, 1e-15, t_eval), 1)
     start = time.perf_counter()
     first = simulate(system, signal, method="fast", dt=0.1, **common)
     compile_time = first.compile_time or (time.perf_counter() - start)
@@ -86,20 +76,20 @@ def measure(quick: bool) -> dict[str, Any]:
 
     curves: dict[str, Curve] = {"gfrf fast RK4": [], "gfrf default (DOP853)": []}
     for dt in steps:
-        sec, res = _time(lambda dt=dt: simulate(system, signal, method="fast", dt=dt,
+        sec, res = best_of(lambda dt=dt: simulate(system, signal, method="fast", dt=dt,
                                                 **common), repeat)
         curves["gfrf fast RK4"].append((dt, sec, err(res.y)))
     for rtol in rtols:
         atol = 1e-10 if rtol == _DEFAULT_RTOL else rtol * 1e-3
-        sec, res = _time(lambda r=rtol, a=atol: simulate(system, signal, rtol=r, atol=a,
+        sec, res = best_of(lambda r=rtol, a=atol: simulate(system, signal, rtol=r, atol=a,
                                                          **common), repeat)
         curves["gfrf default (DOP853)"].append((rtol, sec, err(res.y)))
     for method in _PLAIN:
         curves[f"solve_ivp {method}"] = []
         for rtol in rtols:
-            sec, y = _time(lambda m=method, r=rtol: _plain(m, r, r * 1e-3, t_eval), repeat)
+            sec, y = best_of(lambda m=method, r=rtol: _plain(m, r, r * 1e-3, t_eval), repeat)
             curves[f"solve_ivp {method}"].append((rtol, sec, err(y)))
-    auto_sec, auto = _time(lambda: simulate(system, signal, method="fast", **common), repeat)
+    auto_sec, auto = best_of(lambda: simulate(system, signal, method="fast", **common), repeat)
     return {"curves": curves, "compile_time": compile_time, "reference_time": t_ref,
             "fast_auto": (auto_sec, err(auto.y),
                           next((n for n in auto.notes if n.startswith("step doubling")), ""))}
@@ -190,8 +180,7 @@ def run(quick: bool) -> BenchSection:
              f"error (above 1x: gfrf's wrapper is slower).",
              f"numba compile / cache load of the fast path (excluded from the timings): "
              f"{data['compile_time']:.2f} s; reference run {data['reference_time']:.2f} s.",
-             f"Load average (1, 5, 15 min) at the start of this section: "
-             f"{load[0]:.2f}, {load[1]:.2f}, {load[2]:.2f} on {os.cpu_count()} cores."]
+             load_note(load)]
     return BenchSection(
         title="Simulation: gfrf fast and default paths vs plain solve_ivp (hanging pendulum)",
         intro=" ".join(__doc__.split("\n\n", 1)[1].split()),

@@ -21,7 +21,7 @@ import sys
 import time
 from pathlib import Path
 
-from gfrf.bench import BenchSection
+from gfrf.bench import BenchSection, load_note
 
 __all__ = ["run"]
 
@@ -144,8 +144,7 @@ def run(quick: bool) -> BenchSection:
              f"by `gfrf simulate ... --method fast`: {_heavy_modules(_SIMULATE)}.",
              f"Best of {repeat} fresh processes each (median beside it); every ratio divides "
              f"two best times measured in this run.",
-             f"Load average (1, 5, 15 min) at the start of this section: "
-             f"{load[0]:.2f}, {load[1]:.2f}, {load[2]:.2f} on {os.cpu_count()} cores."]
+             load_note(load)]
     return BenchSection(
         title="Start-up and first call (fresh processes)",
         intro=" ".join(__doc__.split("\n\n", 1)[1].split()),

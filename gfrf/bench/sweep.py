@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from gfrf.bench import BenchSection
+from gfrf.bench import BenchSection, load_note
 from gfrf.criteria import verdict
 from gfrf.kernels import GFRFGenerator
 from gfrf.majorant import majorant, radius
@@ -146,9 +146,7 @@ def run(quick: bool) -> BenchSection:
     notes.append("Kernels are not used by a verdict sweep (with_norms=False decides from "
                  "the majorant); their row is what 'gfrf verdict' adds per model for the "
                  "norm lower bounds.")
-    notes.append(f"Load average (1, 5, 15 min) at the start of this section: "
-                 f"{load_local[0]:.2f}, {load_local[1]:.2f}, {load_local[2]:.2f} on "
-                 f"{os.cpu_count()} cores.")
+    notes.append(load_note(load_local))
     return BenchSection(
         title="Parameter sweeps: throughput and per-point cost (hanging pendulum rho x L)",
         intro=__doc__.split("\n\n", 1)[1].strip(),
