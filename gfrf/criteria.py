@@ -74,7 +74,7 @@ from gfrf._results import markdown_table, plain, short_repr, verdict_figure, ver
 from gfrf.errors import ArgumentError
 from gfrf.exact import format_roots
 from gfrf.kernels import MAX_KERNEL_ORDER
-from gfrf.majorant import Majorant, Radius, certify, majorant, radius
+from gfrf.majorant import Majorant, Radius, certify, majorant, plant_radius, radius
 from gfrf.model import Model
 from gfrf.modelfile import ModelFile, model_from_dict
 from gfrf.norms import Bound, kernel_norm, linear_poles
@@ -218,19 +218,6 @@ def _check_amplitude(amplitude: float, order: int) -> None:
         raise ArgumentError(f"order must be a positive integer, got {order!r}")
     if order > MAX_KERNEL_ORDER:  # before any norm is computed
         raise ArgumentError(f"order {order} exceeds MAX_KERNEL_ORDER = {MAX_KERNEL_ORDER}")
-
-
-def _plant_radius(maj: Majorant) -> Radius:
-    """r* of the plant majorant; ``proof = "interval"`` when the sups are proven and the
-    supersolution at the certified end passes the ball-arithmetic check rhs(x, r) <= x,
-    ``"none"`` for an estimated majorant."""
-    rad = radius(lambda x, r: maj.rhs(x, r), len(maj.powers))
-    if maj.proof == "none":
-        return dataclasses.replace(rad, proof="none")
-    if (maj.proof == "interval" and maj.exact and rad.solution is not None
-            and rad.certified_below > 0 and maj.proves(rad.solution, rad.certified_below)):
-        return dataclasses.replace(rad, proof="interval")
-    return rad
 
 
 def _proper_condition(model: Model, maj: Majorant, what: str) -> Condition:
@@ -392,7 +379,7 @@ def theorem1(model: Model, order: int = 5, amplitude: float = 1.0,
     maj = majorant(model, proof)
     proper = _proper_condition(model, maj, "H_n")
     stable, bad = _stability_condition(model)
-    rad = _plant_radius(maj)
+    rad = plant_radius(maj)
     norms, rows = _norms_and_series(model, maj, order, amplitude, level)
     radii = _radii(model, rad.value if maj.certified else 0.0, level != "none", proof)
     series = _series_condition("norm series sum ||H_n|| r^n converges", rad, amplitude,
@@ -537,7 +524,7 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
                    "linear controller: lambda_n = alpha_n = 0 for n >= 2, phi_n = beta_n"
                    if cmaj is None else "alpha_n = M^c_n / lambda_1^n from the controller's "
                    "certified majorant M^c_n >= lambda_n")
-    plant_rad = _plant_radius(maj)
+    plant_rad = plant_radius(maj)
     norms, rows = _norms_and_series(plant, maj, order, amplitude, level)
     radii = _radii(plant, plant_rad.value if maj.certified else 0.0, level != "none",
                    proof)

@@ -47,6 +47,7 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -59,7 +60,8 @@ from gfrf.model import Model
 from gfrf.rational import SupResult, check_proof, discrete_rational_sup, rational_sup
 from gfrf.scaling import normalized
 
-__all__ = ["Majorant", "MajorantTerm", "Radius", "majorant", "radius", "linear_polynomials"]
+__all__ = ["Majorant", "MajorantTerm", "Radius", "majorant", "radius", "plant_radius",
+           "linear_polynomials"]
 
 
 @dataclass(frozen=True)
@@ -573,3 +575,17 @@ def radius(step: Callable[[np.ndarray, float], np.ndarray], dim: int,
         else:
             lo, x_lo = mid, x
     return Radius(hi, lo, x_lo)
+
+
+def plant_radius(maj: Majorant) -> Radius:
+    """r* of the plant majorant (the radius of the norm series, used by the verdict and by
+    the Volterra prediction); ``proof = "interval"`` when the sups are proven and the
+    supersolution at the certified end passes the ball-arithmetic check rhs(x, r) <= x,
+    ``"none"`` for an estimated majorant."""
+    rad = radius(lambda x, r: maj.rhs(x, r), len(maj.powers))
+    if maj.proof == "none":
+        return dataclasses.replace(rad, proof="none")
+    if (maj.proof == "interval" and maj.exact and rad.solution is not None
+            and rad.certified_below > 0 and maj.proves(rad.solution, rad.certified_below)):
+        return dataclasses.replace(rad, proof="interval")
+    return rad

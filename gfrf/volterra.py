@@ -72,7 +72,8 @@ from gfrf.simulation import build_system
 
 __all__ = ["Component", "VolterraPrediction", "BeyondRadiusError", "NoSteadyStateError",
            "predict",
-           "input_amplitude", "series_radius", "intermodulation_count", "MAX_PRODUCTS",
+           "input_amplitude", "series_radius", "PROOF_WORDS", "intermodulation_count",
+           "MAX_PRODUCTS",
            "SteadyState", "steady_state", "compare", "error_vs_amplitude",
            "figure_error_vs_amplitude", "OrderChoice", "select_order", "base_frequency"]
 
@@ -121,9 +122,9 @@ class VolterraPrediction:
 
     ``amplitude`` is the input amplitude the series is judged by: the sum of the tone
     amplitudes, the sup of |u(t)| over t and the tones' phases.  ``radius`` is r* of the
-    series (certified when ``radius_certified``); ``warning`` is set when the prediction
-    was forced without a steady state (unstable linear part) or at an amplitude at or
-    beyond r*, where the series is not known to converge.
+    series, of the kind ``radius_proof`` names (:data:`PROOF_WORDS`); ``warning`` is set
+    when the prediction was forced without a steady state (unstable linear part) or at an
+    amplitude at or beyond r*, where the series is not known to converge.
     """
 
     tones: tuple[Tone, ...]
@@ -131,8 +132,13 @@ class VolterraPrediction:
     components: tuple[Component, ...]
     amplitude: float = 0.0
     radius: float = math.inf
-    radius_certified: bool = True
+    radius_proof: str = "interval"
     warning: str | None = None
+
+    @property
+    def radius_certified(self) -> bool:
+        """True unless r* is only an estimate."""
+        return self.radius_proof != "none"
 
     def component(self, omega: float) -> Component | None:
         """The component at angular frequency ``omega`` (rad/s), None if absent."""
@@ -159,7 +165,8 @@ class VolterraPrediction:
         """JSON-ready description."""
         return {"tones": [list(x) for x in self.tones], "order": self.order,
                 "amplitude": self.amplitude, "radius": self.radius,
-                "radius_certified": self.radius_certified, "warning": self.warning,
+                "radius_certified": self.radius_certified, "radius_proof": self.radius_proof,
+                "warning": self.warning,
                 "components": [c.to_dict() for c in self.components]}
 
 
@@ -227,19 +234,20 @@ def input_amplitude(tones: Any) -> float:
     return float(sum(abs(a) for a, _, _ in _check_tones(tones)))
 
 
-def series_radius(model: Model) -> tuple[float, float, bool]:
-    """(r*, certified_below, certified) of the Volterra series of ``model``.
+#: How each proof level of a radius is named in text.
+PROOF_WORDS = {"interval": "proven", "float": "certified (float)", "none": "estimated"}
 
-    r* is the radius of the certified majorant series (:func:`gfrf.majorant.radius`):
-    for every input amplitude below ``certified_below`` (within 1e-10 of r*) the series
-    sum_n ||H_n|| r^n converges.  ``certified`` is False for a discrete model, whose
-    majorant sups are grid estimates.
+
+def series_radius(model: Model) -> tuple[float, float, str]:
+    """(r*, certified_below, proof) of the Volterra series of ``model``: the radius of the
+    norm series that ``gfrf verdict`` reports (:func:`gfrf.majorant.plant_radius`), so the
+    series converges for every input amplitude below ``certified_below`` (within 1e-10
+    of r*).  ``proof`` is ``"interval"`` (proven), ``"float"`` or ``"none"`` (estimate).
     """
-    from gfrf.majorant import majorant, radius
+    from gfrf.majorant import majorant, plant_radius
 
-    maj = majorant(model)
-    rad = radius(lambda x, r: maj.rhs(x, r), len(maj.powers))
-    return rad.value, rad.certified_below, maj.exact
+    rad = plant_radius(majorant(model))
+    return rad.value, rad.certified_below, rad.proof
 
 
 def intermodulation_count(model: Model, n_tones: int, order: int) -> int:
@@ -315,9 +323,9 @@ def predict(model: Model, tones: Any, order: int, *, force: bool = False
         if not force:
             raise NoSteadyStateError(problem)
         cautions.append(problem)
-    r_star, inside, certified = series_radius(model)
+    r_star, inside, proof = series_radius(model)
     if amplitude >= inside:
-        kind = "certified" if certified else "estimated"
+        kind = PROOF_WORDS[proof]
         warning = (f"input amplitude {amplitude:.6g} (sum of the tone amplitudes, the peak |u| "
                    f"over all phases) is at or beyond the {kind} radius r* = {r_star:.6g} of "
                    f"the Volterra series: the series is not known to converge and the "
@@ -361,7 +369,7 @@ def predict(model: Model, tones: Any, order: int, *, force: bool = False
     if bad:
         raise ArgumentError(f"the prediction is not finite (overflow) at omega = {bad[0]:.6g} "
                             f"rad/s for input amplitude {amplitude:.6g}")
-    return VolterraPrediction(tones, order, comps, amplitude, r_star, certified,
+    return VolterraPrediction(tones, order, comps, amplitude, r_star, proof,
                               "; ".join(cautions) or None)
 
 

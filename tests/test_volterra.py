@@ -216,3 +216,17 @@ def test_shooting_stops_on_its_work_budget():
     with pytest.raises(ConvergenceError, match="max_evaluations = 5000 "):
         steady_state(system, [(0.01, 1.0, 0.0), (0.01, 999.0, 0.0)], max_evaluations=5000)
     assert time.perf_counter() - start < 5.0
+
+
+def test_predict_and_verdict_report_the_same_radius_and_proof() -> None:
+    """One r* for the norm series: the prediction's is the verdict's, with its proof level."""
+    from gfrf.criteria import verdict
+    from gfrf.volterra import predict
+
+    model = parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u")
+    v = verdict(model, 3, 0.01)
+    p = predict(model, [(0.01, 1.2, 0.0)], 3)
+    assert p.radius == v.radius and p.radius_proof == v.radius_proof == "interval"
+    # Duffing's majorant radius in closed form: 2 / (3 beta sqrt(3 * 0.5 beta)), beta = ||H1||
+    beta = 1.0 / (0.2 * (1.0 - 0.01) ** 0.5)
+    assert p.radius == pytest.approx(2.0 / (3.0 * beta * (3.0 * 0.5 * beta) ** 0.5), rel=1e-9)

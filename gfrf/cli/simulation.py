@@ -194,7 +194,7 @@ def _predict(args: argparse.Namespace) -> int:
     import numpy as np
 
     from gfrf.signals import parse_input
-    from gfrf.volterra import BeyondRadiusError, NoSteadyStateError, predict
+    from gfrf.volterra import PROOF_WORDS, BeyondRadiusError, NoSteadyStateError, predict
 
     mf = resolve_model(args)
     signal = parse_input(args.input)
@@ -206,7 +206,7 @@ def _predict(args: argparse.Namespace) -> int:
     except (NoSteadyStateError, BeyondRadiusError) as exc:
         print(f"gfrf: refused: {exc} (--force to predict anyway)", file=sys.stderr)
         return 1
-    kind = "certified" if p.radius_certified else "estimate"
+    kind = PROOF_WORDS[p.radius_proof]
     lines = [f"{mf.name}: steady state to order {args.order} for {args.input}",
              f"  input amplitude {p.amplitude:.6g} (sum of tone amplitudes), "
              f"series radius r* = {p.radius:.6g} ({kind})"]
