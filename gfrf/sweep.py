@@ -175,11 +175,13 @@ def evaluate_point(task: _Task, point: Mapping[str, float]) -> dict[str, Any]:
             v = verdict(mf, 1, task.amplitude, with_norms=False)
             if task.what == "verdict":
                 row.update(verdict=v.verdict, theorem=v.theorem)
-            row.update(radius=v.radius, linear_stable=_linear_stable(v))
+            row.update(radius=v.radius, radius_proof=v.radius_proof,
+                       linear_stable=_linear_stable(v))
         elif task.what == "norm":
             bound = h1_norm(mf.plant)
             coefficients = majorant(mf.plant).coefficients(task.order)[:, 0]
-            row.update(h1=bound.upper, linear_stable=bool(bound.stable))
+            row.update(h1=bound.upper, h1_proof=bound.upper_proof or bound.proof,
+                       linear_stable=bool(bound.stable))
             row.update({f"M{n}": float(coefficients[n]) for n in range(2, task.order + 1)})
         else:
             row.update(_simulate(mf, task))
@@ -432,9 +434,10 @@ def check_output(path: str | Path) -> str:
 
 def _columns(axes: Sequence[Axis], what: str, order: int) -> list[str]:
     names = [a.name for a in axes]
-    extra = {"verdict": ["verdict", "theorem", "radius", "linear_stable"],
-             "radius": ["radius", "linear_stable"],
-             "norm": ["h1", "linear_stable"] + [f"M{n}" for n in range(2, order + 1)],
+    extra = {"verdict": ["verdict", "theorem", "radius", "radius_proof", "linear_stable"],
+             "radius": ["radius", "radius_proof", "linear_stable"],
+             "norm": ["h1", "h1_proof", "linear_stable"]
+             + [f"M{n}" for n in range(2, order + 1)],
              "bounded": ["bounded", "peak", "blowup_time"]}[what]
     return names + extra + ["path", "error"]
 

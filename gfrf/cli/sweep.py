@@ -73,11 +73,14 @@ def _summary(name: str, result: SweepResult) -> list[str]:
     radii = [r["radius"] for r in rows if not r["error"] and "radius" in r]
     if radii:
         finite = [x for x in radii if math.isfinite(x)]
+        proofs = Counter(r["radius_proof"] for r in rows if not r["error"] and "radius" in r)
         if finite:
-            lines.append(f"  r*: min {min(finite):.4g}, max {max(finite):.4g}")
+            lines.append(f"  r*: min {min(finite):.4g}, max {max(finite):.4g} (proof: "
+                         + ", ".join(f"{k} {v}" for k, v in sorted(proofs.items())) + ")")
     lines += [f"  note: {n}" for n in result.notes]
-    lines.append(f"  {result.points_per_second:.3g} points/s on '{result.scheduler}' "
-                 f"({result.seconds:.3g} s; symbolic template {result.template_seconds:.3g} s)")
+    # Throughput is a measurement, not a result: it is in --json only, so the same
+    # command prints the same text anywhere.
+    lines.append(f"  scheduler '{result.scheduler}'")
     return lines
 
 
