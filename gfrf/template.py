@@ -192,13 +192,13 @@ class ModelTemplate:
 
 def _symbolic(value: Any, values: Mapping[str, Parsed], key: str) -> Parsed:
     """A TOML number or expression text as a parsed expression in ``values`` (by
-    :mod:`gfrf.expr`, whose degree and size limits count the swept parameters, so a
-    chain of parameter definitions cannot grow an expression without bound)."""
+    :mod:`gfrf.expr`; every name is a :class:`Parsed` that carries its degree and size in
+    the swept parameters, so a chain of parameter definitions cannot grow an expression
+    without bound)."""
     if not isinstance(value, str):
         return Parsed(sp.Float(value), 0, False)
-    swept = [v.expr for v in values.values() if isinstance(v.expr, sp.Symbol)]
     try:
-        return parse_expression(value, names=values, variables=swept)
+        return parse_expression(value, names=values)
     except UnknownNames as exc:
         raise ModelError(f"{key}: {quote(value)} uses unknown symbol(s) "
                          f"{', '.join(exc.names)}") from None
