@@ -9,12 +9,13 @@ import pytest
 from mp_reference import mp_sup
 from scipy.optimize import minimize
 
-from gfrf.branch_bound import box_bounds, branch_and_bound, tail_bound
+from gfrf.branch_bound import box_bounds, branch_and_bound
 from gfrf.errors import ArgumentError
 from gfrf.kernels import kernel
 from gfrf.majorant import majorant
 from gfrf.model import parse_model
 from gfrf.modelfile import load_model
+from gfrf.tail import tail_bound
 
 QUADRATIC = "D(y,2) + 0.2*D(y) + y + 0.4*y**2 = u"
 MIXED = "D(y,2) + 0.3*D(y) + 1.5*y + 0.4*y**2 - 0.2*y**3 + 0.1*y*u = u"
@@ -161,7 +162,7 @@ def mp_sup_beyond(num: list[float], den: list[float], v: float) -> float:
 def test_beyond_is_proven_on_a_pole_cluster(v: float) -> None:
     """(s^2 + 2e-6 s + 1)^3 with float coefficients: the old numpy-root tail gave 2.9e10
     where the sup is 1.25e17; the bound must be >= the 50-digit value and tight."""
-    from gfrf.branch_bound import _Beyond
+    from gfrf.tail import _Beyond
 
     ref = mp_sup_beyond([1.0], CLUSTER_DEN, v)
     got = _Beyond(np.array([1.0]), np.array(CLUSTER_DEN)).sup(v)
@@ -172,7 +173,7 @@ def test_beyond_is_proven_on_a_pole_cluster(v: float) -> None:
 
 def test_beyond_with_numerator_power() -> None:
     """sup|s^2 / D| beyond v (the ell = 2 factors of the tail recursion)."""
-    from gfrf.branch_bound import _Beyond
+    from gfrf.tail import _Beyond
 
     num = [1.0, 0.0, 0.0]
     beyond = _Beyond(np.array(num), np.array(CLUSTER_DEN))
