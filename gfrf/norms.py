@@ -56,7 +56,6 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from scipy.optimize import minimize
 
 from gfrf._results import markdown_table, short_repr
 from gfrf.branch_bound import MAX_ORDER, branch_and_bound
@@ -66,6 +65,7 @@ from gfrf.kernels import kernel
 from gfrf.majorant import linear_polynomials, majorant
 from gfrf.model import Model
 from gfrf.rational import check_proof, discrete_rational_sup, rational_sup
+from gfrf.simplex import nelder_mead
 
 if TYPE_CHECKING:
     import control
@@ -471,9 +471,8 @@ def _nelder_mead(k: Any, x0: np.ndarray, scale: float) -> tuple[np.ndarray, floa
         return -math.log(v) if v > 0 and math.isfinite(v) else 1e300
 
     simplex = np.vstack([x0, x0 + scale * np.eye(n)])
-    res = minimize(objective, x0, method="Nelder-Mead",
-                   options={"initial_simplex": simplex, "xatol": 1e-12 * (1 + scale),
-                            "fatol": 1e-14, "maxiter": 600 * n, "maxfev": 800 * n})
+    res = nelder_mead(objective, x0, initial_simplex=simplex, xatol=1e-12 * (1 + scale),
+                      fatol=1e-14, maxiter=600 * n, maxfev=800 * n)
     return res.x, abs(complex(k(*res.x)))
 
 
