@@ -59,13 +59,13 @@ from typing import Any
 
 import numpy as np
 import sympy as sp
-from scipy.optimize import minimize
 
 from gfrf.compiled import _Printer, kernel_source
 from gfrf.errors import ArgumentError
 from gfrf.kernels import GFRFGenerator, generator
 from gfrf.majorant import linear_polynomials, majorant
 from gfrf.model import Model
+from gfrf.simplex import nelder_mead
 from gfrf.tail import tail_bound
 
 __all__ = ["BranchBoundResult", "branch_and_bound", "box_bounds", "MAX_ORDER",
@@ -429,10 +429,9 @@ def _polish(point: Callable[..., complex], x0: np.ndarray, scale: float
         return -math.log(v) if v > 0 and math.isfinite(v) else 1e300
 
     n = x0.size
-    res = minimize(objective, x0, method="Nelder-Mead",
-                   options={"initial_simplex": np.vstack([x0, x0 + scale * np.eye(n)]),
-                            "xatol": 1e-13 * (1 + float(np.max(np.abs(x0)))), "fatol": 1e-15,
-                            "maxiter": 800 * n, "maxfev": 1000 * n})
+    res = nelder_mead(objective, x0, initial_simplex=np.vstack([x0, x0 + scale * np.eye(n)]),
+                      xatol=1e-13 * (1 + float(np.max(np.abs(x0)))), fatol=1e-15,
+                      maxiter=800 * n, maxfev=1000 * n)
     return res.x, abs(point(*res.x))
 
 
