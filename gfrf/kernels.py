@@ -261,9 +261,12 @@ class GFRFGenerator:
             plan = self.plan(n, symmetric)
             args = [*self.variables(n), *plan.placeholders]
             # One lambdify of a sum of thousands of terms (order 9) exceeds the Python
-            # compiler's recursion limit: compile it in chunks and add the parts.
+            # compiler's recursion limit: compile it in chunks and add the parts.  The
+            # numpy module itself as namespace: same printer and code as modules="numpy",
+            # without its ``from numpy import *`` (which loads numpy.f2py, numpy.testing,
+            # ... : 40-50 ms of start-up).
             terms = sp.Add.make_args(plan.numerator)
-            parts = [sp.lambdify(args, sp.Add(*terms[i:i + _CHUNK]), modules="numpy",
+            parts = [sp.lambdify(args, sp.Add(*terms[i:i + _CHUNK]), modules=[np],
                                  cse=True) for i in range(0, len(terms), _CHUNK)]
             self._compiled[key] = parts[0] if len(parts) == 1 else (
                 lambda *a: sum(part(*a) for part in parts))
