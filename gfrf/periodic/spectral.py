@@ -1,0 +1,280 @@
+"""Transition orbits of eq (3)/(4) as Fourier series: collocation + Newton (the fast exact path).
+
+An orbit on a transition curve with ``x(0) = amplitude``, ``x'(0) = 0`` is even in ``t``
+(see :mod:`~gfrf.periodic.shooting`), so it is a cosine series::
+
+    branch "0":   x(t) = sum_k a_k cos(k t),            k = 0 .. n-1  (period 2*pi)
+    branch "1/4": x(t) = sum_k a_k cos((k + 1/2) t),    k = 0 .. n-1  (period 4*pi,
+                                                                      x(t + 2 pi) = -x(t))
+
+and so is the residual ``R = x'' + (delta + eps cos t) g(x)`` (``g`` odd), with the same
+symmetry.  Both series are fixed by their values at the ``n`` points
+``t_j = pi (j + 1/2) / n`` of ``(0, pi)``.  Collocation ``R(t_j) = 0`` plus
+``sum_k a_k = amplitude`` are ``n + 1`` equations for ``(a_0 .. a_{n-1}, delta)``, solved
+by Newton's method with the exact Jacobian.  The orbit is analytic, so the coefficients
+decay faster than geometrically and ``delta`` converges spectrally in ``n``: ``n`` is
+doubled (from 16, at most :data:`MAX_MODES`) until the last quarter of the coefficients is
+below ``1e-15`` of the largest, a rule on the computed coefficients, never on time.
+
+The start is the linear orbit: the lowest eigenvalue of the same collocation operator
+with ``g(x) = x`` (Hill's method; it is the Mathieu value ``a_0(2 eps)/4`` resp.
+``b_1(2 eps)/4``), its eigenvector scaled to ``x(0) = amplitude``.  If Newton does not
+converge from there, the amplitude is walked up from a small one (continuation).
+
+:func:`gfrf.periodic.shooting.transition_delta` checks every result by an independent
+integration (Fortran DOP853 at ``rtol = 1e-12``) of the initial value problem.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from gfrf.errors import ArgumentError, ConvergenceError
+from gfrf.periodic.equation import branch_period, nonlinearity, parse_branch
+
+__all__ = ["MAX_MODES", "FourierOrbit", "fourier_transition"]
+
+#: Largest number of cosine modes tried before giving up.
+MAX_MODES = 256
+_FIRST_MODES = 16
+#: Newton stops once its step is below this (``delta`` absolute, coefficients relative to
+#: the amplitude): convergence is quadratic, so the iterate is then accurate to rounding.
+_STEP_TOL = 1e-9
+#: The last quarter of the coefficients must be below this fraction of the largest.
+_TAIL_TOL = 1e-15
+_MAXITER = 30
+
+
+@dataclass(frozen=True)
+class FourierOrbit:
+    """A transition orbit ``x(t) = sum_k a_k cos(w_k t)`` of eq (3)/(4).
+
+    Attributes
+    ----------
+    eps, delta, amplitude : float
+        Excitation, transition value and ``x(0)``.
+    branch : str
+        ``"0"`` (``w_k = k``) or ``"1/4"`` (``w_k = k + 1/2``).
+    truncation : int or None
+        Taylor degree of ``sin`` (None: ``sin`` itself).
+    coefficients : ndarray
+        ``a_k``, ``k = 0 .. modes-1``.
+    iterations : int
+        Newton iterations over all mode counts tried.
+    tail : float
+        Largest ``|a_k|`` of the last quarter, relative to the largest ``|a_k|``.
+    """
+
+    eps: float
+    delta: float
+    amplitude: float
+    branch: str
+    truncation: int | None
+    coefficients: np.ndarray
+    iterations: int
+    tail: float
+
+    @property
+    def modes(self) -> int:
+        """Number of cosine modes."""
+        return len(self.coefficients)
+
+    @property
+    def period(self) -> float:
+        """Period in ``t``."""
+        return branch_period(self.branch)
+
+    def evaluate(self, t: np.ndarray) -> np.ndarray:
+        """Return ``x(t)`` at the times ``t`` (any order, any sign)."""
+        t = np.asarray(t, dtype=float)
+        w = _frequencies(self.branch, self.modes)
+        return np.cos(np.multiply.outer(t, w)) @ self.coefficients
+
+
+def _frequencies(branch: str, n: int) -> np.ndarray:
+    return np.arange(n, dtype=float) + (0.0 if branch == "0" else 0.5)
+
+
+@functools.lru_cache(maxsize=16)
+def _grid(branch: str, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Collocation times, ``C[j, k] = cos(w_k t_j)`` and the second derivative ``-w_k**2 C``."""
+    t = math.pi * (np.arange(n) + 0.5) / n
+    w = _frequencies(branch, n)
+    c = np.cos(np.outer(t, w))
+    d2 = c * -(w**2)
+    for arr in (t, c, d2):
+        arr.flags.writeable = False
+    return t, c, d2
+
+
+def _linear_start(eps: float, branch: str, n: int, amplitude: float
+                  ) -> tuple[np.ndarray, float]:
+    """Lowest eigenpair of the linear (Mathieu) collocation problem, scaled to ``x(0)``."""
+    t, c, d2 = _grid(branch, n)
+    # D2 a + eps cos(t_j) C a = -delta C a  <=>  C^-1 (D2 + eps cos C) a = -delta a
+    op = np.linalg.solve(c, d2 + (eps * np.cos(t))[:, None] * c)
+    vals, vecs = np.linalg.eig(op)
+    i = int(np.argmax(vals.real))
+    vec = vecs[:, i].real
+    return vec * (amplitude / vec.sum()), float(-vals[i].real)
+
+
+def _newton(eps: float, amplitude: float, branch: str, truncation: int | None,
+            a: np.ndarray, delta: float) -> tuple[np.ndarray, float, int] | None:
+    """Newton on the collocation equations; None if it does not converge."""
+    n = len(a)
+    t, c, d2 = _grid(branch, n)
+    g, dg = nonlinearity(truncation)
+    k_t = eps * np.cos(t)
+    jac = np.empty((n + 1, n + 1))
+    jac[n, :n] = 1.0
+    jac[n, n] = 0.0
+    f = np.empty(n + 1)
+    a = a.copy()
+    for it in range(1, _MAXITER + 1):
+        x = c @ a
+        k = delta + k_t
+        gx = g(x)
+        f[:n] = d2 @ a + k * gx
+        f[n] = a.sum() - amplitude
+        jac[:n, :n] = d2 + (k * dg(x))[:, None] * c
+        jac[:n, n] = gx
+        try:
+            step = np.linalg.solve(jac, f)
+        except np.linalg.LinAlgError:
+            return None
+        if not np.all(np.isfinite(step)):
+            return None
+        a -= step[:n]
+        delta -= float(step[n])
+        if abs(step[n]) <= _STEP_TOL and np.max(np.abs(step[:n])) <= _STEP_TOL * amplitude:
+            return a, delta, it
+    return None
+
+
+def _on_branch(a: np.ndarray, branch: str) -> bool:
+    """Whether ``x > 0`` on ``[0, pi]`` (branch 0) or ``[0, pi)`` (branch 1/4), sampled.
+
+    A zero of ``x`` on a periodic orbit cannot appear or vanish along a continuous family
+    of orbits (it would need ``x = x' = 0``, i.e. ``x == 0``), so the orbits continued
+    from the linear ones (``ce_0 > 0``; ``cos(t/2)``-like, one zero at ``t = pi``) keep
+    this sign pattern; a Newton step that lands on another family breaks it.
+    """
+    n = len(a)
+    t = np.linspace(0.0, math.pi, 8 * n + 1)
+    if branch == "1/4":
+        t = t[:-1]
+    return bool(np.all(np.cos(np.outer(t, _frequencies(branch, n))) @ a > 0))
+
+
+def _resize(a: np.ndarray, n: int) -> np.ndarray:
+    out = np.zeros(n)
+    m = min(n, len(a))
+    out[:m] = a[:m]
+    return out
+
+
+def _solve(eps: float, amplitude: float, branch: str, truncation: int | None,
+           a: np.ndarray, delta: float, step: float) -> tuple[np.ndarray, float, int]:
+    """Converged ``(a, delta, iterations)`` at ``len(a)`` modes, by continuation if needed."""
+    out = _newton(eps, amplitude, branch, truncation, a, delta)
+    if out is not None and _on_branch(out[0], branch):
+        return out
+    # continuation in the amplitude from the linear orbit, delta extrapolated in amp**2
+    n = len(a)
+    steps = max(2, math.ceil(amplitude / step))
+    amps = np.linspace(amplitude / steps, amplitude, steps)
+    a, lin = _linear_start(eps, branch, n, float(amps[0]))
+    prev_a2, prev_d, delta, total = 0.0, lin, lin, 0
+    for amp in amps:
+        out = _newton(eps, float(amp), branch, truncation, a * (amp / a.sum()), delta)
+        if out is None:
+            raise ConvergenceError(
+                f"Fourier collocation for the {branch} transition orbit (eps={eps}, x(0)="
+                f"{amplitude:g}, {n} modes) did not converge at x(0) = {amp:.6g} (Newton, "
+                f"{_MAXITER} steps, continuation in x(0) by {step:g}); no transition orbit "
+                f"found along this path")
+        a, d_amp, it = out
+        if not _on_branch(a, branch):
+            raise ConvergenceError(
+                f"Fourier collocation for the {branch} transition orbit (eps={eps}, x(0)="
+                f"{amplitude:g}) left the branch at x(0) = {amp:.6g}: the orbit gained a "
+                f"zero in [0, pi), which no continuous family of orbits does")
+        total += it
+        a2 = float(amp) ** 2
+        slope = (d_amp - prev_d) / (a2 - prev_a2)
+        nxt = min(amplitude, float(amp) + amplitude / steps)
+        prev_a2, prev_d = a2, d_amp
+        delta = d_amp + slope * (nxt * nxt - a2)
+    return a, prev_d, total
+
+
+def fourier_transition(eps: float, amplitude: float, branch: str = "0",
+                       truncation: int | None = 3, start: FourierOrbit | None = None,
+                       step: float = 0.1) -> FourierOrbit:
+    """Transition value and orbit with ``x(0) = amplitude`` by Fourier collocation.
+
+    Parameters
+    ----------
+    eps : float
+        Excitation amplitude (negative: the upper ``1/4`` side, see
+        :mod:`~gfrf.periodic.equation`).
+    amplitude : float
+        ``x(0) > 0`` (``x'(0) = 0``).
+    branch : {"0", "1/4"}
+        Which transition curve.
+    truncation : int or None
+        3 for eq (4), None for eq (3).
+    start : FourierOrbit, optional
+        Newton start (e.g. the neighbour on a curve); default the linear orbit.
+    step : float
+        Amplitude step of the continuation used when Newton fails from the start.
+
+    Returns
+    -------
+    FourierOrbit
+
+    Raises
+    ------
+    ArgumentError
+        Non-positive or non-finite amplitude, or non-finite ``eps``.
+    ConvergenceError
+        No convergence, or the coefficients still not decayed at :data:`MAX_MODES` modes.
+
+    Examples
+    --------
+    >>> from scipy.special import mathieu_a
+    >>> orbit = fourier_transition(0.3, 1e-6, "0")
+    >>> abs(orbit.delta - mathieu_a(0, 0.6) / 4) < 1e-12
+    True
+    """
+    b = parse_branch(branch)
+    if not (math.isfinite(amplitude) and amplitude > 0):
+        raise ArgumentError(f"amplitude must be positive, got {amplitude}")
+    if not math.isfinite(eps):
+        raise ArgumentError(f"eps must be finite, got {eps}")
+    n = _FIRST_MODES if start is None else max(_FIRST_MODES, start.modes)
+    if start is None:
+        a, delta = _linear_start(eps, b, n, amplitude)
+    else:
+        a, delta = _resize(start.coefficients, n), start.delta
+        a *= amplitude / a.sum()
+    total = 0
+    while True:
+        a, delta, it = _solve(eps, amplitude, b, truncation, a, delta, step)
+        total += it
+        scale = float(np.max(np.abs(a)))
+        tail = float(np.max(np.abs(a[-(n // 4):]))) / scale
+        if tail <= _TAIL_TOL:
+            return FourierOrbit(float(eps), float(delta), float(amplitude), b, truncation,
+                                a, total, tail)
+        if 2 * n > MAX_MODES:
+            raise ConvergenceError(
+                f"the {b} transition orbit (eps={eps}, x(0)={amplitude:g}) needs more than "
+                f"{MAX_MODES} Fourier modes (tail {tail:.1e} of the largest coefficient)")
+        n *= 2
+        a = _resize(a, n)
