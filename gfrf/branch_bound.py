@@ -13,18 +13,11 @@ the sup is enclosed directly (angular frequencies in rad/s throughout):
   is below half the best value found (or stops decreasing: a factor s^2 H1 of
   relative degree 0, as in theta^2 theta'', does not decay, and the bracket then
   keeps the smallest tail bound met as its floor).
-* **Boxes.**  Inside, each box gets a second-order Taylor enclosure: for every
-  quantity of the straight-line recursion (the code of
-  :func:`gfrf.compiled.kernel_source`, evaluated with :class:`_Taylor` numbers) the
-  value and gradient at the box centre plus certified bounds, over the whole box, of
-  |q|, |dq/dw_i| and |d^2 q / dw_i dw_j|.  Products follow Leibniz's rule; each
-  1/A(j sigma_B) factor gets the exact extrema over the interval of sigma_B of |A|,
-  |A'| and |2 A'^2 - A A''| (from the precomputed stationary points of those moduli),
-  so coarse boxes straddling a resonance are bounded by the resonance peak, not by
-  infinity.  The box bound is max over the box vertices of |H(c) + grad H(c) . d|
-  (the affine part is convex in d) plus (1/2) sum_ij M_ij r_i r_j: the overestimate
-  is second order in the box size, so a relative gap of 1e-6 needs boxes of relative
-  size ~1e-3 only around the maximiser.
+* **Boxes.**  Inside, each box gets the enclosure of :mod:`gfrf.enclosure`: a
+  third-order Taylor enclosure of the straight-line recursion (the code of
+  :func:`gfrf.compiled.kernel_source`), whose tightest bound comes from the exact
+  quadratic model of |H_n|^2 at the box centre, so the overestimate is third order in
+  the box size.
 * **Search.**  Only a fundamental domain is searched: w_1 >= .. >= w_n for the
   symmetric kernel (|H_n| is invariant under permutations) and w_1 + .. + w_n >= 0
   (H_n(-w) = conj H_n(w)).  The boxes with the largest bounds are bisected (the
@@ -33,13 +26,8 @@ the sup is enclosed directly (angular frequencies in rad/s throughout):
   best centre is polished by Nelder-Mead.
 
 Soundness.  The tail's one-dimensional sups are proven (Arb, :class:`gfrf.exact.SupBeyond`);
-the extrema of |A|, |A'| and |2 A'^2 - A A''| over an interval use critical points
-isolated exactly (Arb) and endpoint values widened by an a-priori Horner error bound,
-so a cluster of lightly damped poles cannot shrink them.  The Taylor arithmetic itself
-runs in double precision without outward rounding, and a box centre's value is used only
-where |A| there is accurate to 1e-8 relative (elsewhere the box keeps its magnitude
-bounds): the upper bound is certified in floating point (``proof = "float"``), not
-proven.  Continuous-time models only.
+the box enclosures are certified in floating point (see :mod:`gfrf.enclosure`), so the
+upper bound is ``proof = "float"``, not proven.  Continuous-time models only.
 
 Examples
 --------
@@ -61,6 +49,7 @@ import numpy as np
 import sympy as sp
 
 from gfrf.compiled import _Printer, kernel_source
+from gfrf.enclosure import InverseA, enclose
 from gfrf.errors import ArgumentError
 from gfrf.kernels import GFRFGenerator, generator
 from gfrf.majorant import linear_polynomials, majorant
@@ -69,7 +58,7 @@ from gfrf.simplex import nelder_mead
 from gfrf.tail import tail_bound
 
 __all__ = ["BranchBoundResult", "branch_and_bound", "box_bounds", "MAX_ORDER",
-           "MAX_BOXES"]
+           "MAX_BOXES", "BOX_LIMIT"]
 
 #: Highest kernel order searched (the enclosure costs 2^n vertices and n^2 Hessian bounds).
 MAX_ORDER = 5
@@ -78,6 +67,8 @@ BATCH = 2048
 #: Default budget of box evaluations of :func:`branch_and_bound` (about 10 s at order 5
 #: on a 2-core 2026 machine; :func:`gfrf.norms.kernel_norm` passes its own budget).
 MAX_BOXES = 200_000
+#: Most boxes any search may be given (bounds the cost of every input: about 10 min).
+BOX_LIMIT = 20_000_000
 #: Nelder-Mead polishings of a new best box centre per search.
 MAX_POLISHES = 20
 
@@ -112,213 +103,6 @@ class BranchBoundResult:
     boxes: int
     width: float
     tail: float
-
-
-# -- polynomials of sigma (real) -----------------------------------------------------
-#: Relative error of |A(j sigma)| (a-priori Horner bound) above which a box centre's
-#: value and slope are not used (the box keeps its magnitude bounds only).
-_POINT_RTOL = 1e-8
-
-
-def _cmul(a: tuple[Any, Any], b: tuple[Any, Any]) -> tuple[Any, Any]:
-    """Product of complex polynomials given as (real part, imaginary part) fmpq_polys."""
-    return a[0] * b[0] - a[1] * b[1], a[0] * b[1] + a[1] * b[0]
-
-
-class _Modulus:
-    """Bounds of |p(sigma)| over intervals, p a complex polynomial of real sigma given
-    exactly by its real and imaginary parts (fmpq_polys).
-
-    The critical points of |p|^2 are the real roots of its derivative, isolated
-    rigorously (FLINT/Arb) once, and |p| is enclosed on their balls; the endpoint
-    values are double-precision Horner evaluations widened by the a-priori error bound
-    gamma * sum |c_k| |sigma|^k.  So ``extrema`` is a sound (min, max) even for a cluster
-    of lightly damped poles, where float roots of d|p|^2 can be off by 1e-4.
-    """
-
-    def __init__(self, re: Any, im: Any) -> None:
-        from flint import arb_poly
-
-        from gfrf.exact import _PREC, _down, _precision, _real_roots, _up
-
-        degree = max(re.degree(), im.degree(), 0)
-        re_c = [float(c) for c in re.coeffs()] + [0.0] * (degree + 1 - len(re.coeffs()))
-        im_c = [float(c) for c in im.coeffs()] + [0.0] * (degree + 1 - len(im.coeffs()))
-        self.coef = (np.array(re_c) + 1j * np.array(im_c))[::-1]  # highest first
-        self.abs_coef = np.abs(self.coef)
-        self.gamma = (4 * degree + 8) * 2.0 ** -53
-        squared = re * re + im * im
-        slope = squared.derivative()
-        lo, hi, small, large = [], [], [], []
-        if slope.degree() >= 1:
-            with _precision(_PREC):
-                sq = arb_poly([c for c in squared.coeffs()])
-                for x, _ in _real_roots(slope):
-                    value = sq(x)
-                    lo.append(_down(x))
-                    hi.append(_up(x))
-                    small.append(math.sqrt(max(_down(value), 0.0)))
-                    large.append(math.sqrt(_up(value)) * (1 + 2.0 ** -52))
-        self.crit_lo, self.crit_hi = np.array(lo), np.array(hi)
-        self.crit_min, self.crit_max = np.array(small), np.array(large)
-
-    def __call__(self, sigma: np.ndarray) -> np.ndarray:
-        return np.polyval(self.coef, sigma)
-
-    def error(self, sigma: np.ndarray) -> np.ndarray:
-        """A-priori bound on the error of the double-precision value at sigma."""
-        return self.gamma * np.polyval(self.abs_coef, np.abs(sigma))
-
-    def extrema(self, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(lower bound of min, upper bound of max) of |p| over [lo, hi] (vectorised)."""
-        a, b = np.abs(self(lo)), np.abs(self(hi))
-        ea, eb = self.error(lo), self.error(hi)
-        small = np.maximum(np.minimum(a - ea, b - eb), 0.0)
-        large = np.maximum(a + ea, b + eb)
-        if self.crit_lo.size:
-            inside = (self.crit_lo <= hi[:, None]) & (self.crit_hi >= lo[:, None])
-            small = np.minimum(small, np.where(inside, self.crit_min, np.inf).min(axis=1))
-            large = np.maximum(large, np.where(inside, self.crit_max, -np.inf).max(axis=1))
-        return small, large
-
-
-class _InverseA:
-    """r(sigma) = 1 / A(j sigma) with its derivatives and their bounds on intervals.
-
-    A(j sigma), its sigma-derivatives and 2 A'^2 - A A'' are formed exactly from the
-    float coefficients (highest power first) and bounded by :class:`_Modulus`.
-    """
-
-    def __init__(self, den: np.ndarray) -> None:
-        from flint import fmpq, fmpq_poly
-
-        from gfrf.exact import fractions
-
-        low = [fmpq(c.numerator, c.denominator) for c in reversed(fractions(den))]
-        unit = [(1, 0), (0, 1), (-1, 0), (0, -1)]  # j^k
-        a = (fmpq_poly([c * unit[k % 4][0] for k, c in enumerate(low)]),
-             fmpq_poly([c * unit[k % 4][1] for k, c in enumerate(low)]))
-        da = (a[0].derivative(), a[1].derivative())
-        dda = (da[0].derivative(), da[1].derivative())
-        sq, prod = _cmul(da, da), _cmul(a, dda)
-        self.a, self.da = _Modulus(*a), _Modulus(*da)
-        self.second = _Modulus(2 * sq[0] - prod[0], 2 * sq[1] - prod[1])
-
-    def point(self, sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """r and dr/dsigma at points (NaN where |A| is not accurate to _POINT_RTOL)."""
-        a = self.a(sigma)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            bad = self.a.error(sigma) > _POINT_RTOL * np.abs(a)
-            value, slope = 1.0 / a, -self.da(sigma) / (a * a)
-        return np.where(bad, np.nan, value), np.where(bad, np.nan, slope)
-
-    def bounds(self, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, ...]:
-        """Sups over [lo, hi] of |r|, |r'| and |r''| = |2 a'^2 - a a''| / |a|^3."""
-        a_min, _ = self.a.extrema(lo, hi)
-        _, da_max = self.da.extrema(lo, hi)
-        _, second_max = self.second.extrema(lo, hi)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            inv = np.where(a_min > 0, 1.0 / a_min, np.inf)
-            return inv, _safe(da_max * inv * inv), _safe(second_max * inv ** 3)
-
-
-def _safe(x: np.ndarray) -> np.ndarray:
-    """NaN (0 * inf) becomes inf: an undetermined bound is no bound."""
-    return np.where(np.isnan(x), np.inf, x)
-
-
-# -- second-order Taylor enclosures --------------------------------------------------
-class _Context:
-    """Box centres c and half-widths r, shape (N, n)."""
-
-    def __init__(self, centre: np.ndarray, radius: np.ndarray, inverse: _InverseA) -> None:
-        self.c, self.r, self.inverse = centre, radius, inverse
-
-    def variable(self, i: int) -> _Taylor:
-        """x_i = j w_i."""
-        size, n = self.c.shape
-        g = np.zeros((size, n), dtype=complex)
-        g[:, i] = 1j
-        mg = np.zeros((size, n))
-        mg[:, i] = 1.0
-        return _Taylor(1j * self.c[:, i], g, np.abs(self.c[:, i]) + self.r[:, i], mg,
-                       np.zeros((size, n, n)), self)
-
-    def inv_a(self, block: tuple[int, ...]) -> _Taylor:
-        """1 / A(j sigma_B), sigma_B = sum of the block's w_i."""
-        idx = list(block)
-        sigma, rho = self.c[:, idx].sum(axis=1), self.r[:, idx].sum(axis=1)
-        value, slope = self.inverse.point(sigma)
-        m0, m1, m2 = self.inverse.bounds(sigma - rho, sigma + rho)
-        size, n = self.c.shape
-        mask = np.zeros(n)
-        mask[idx] = 1.0
-        return _Taylor(value, slope[:, None] * mask, m0, m1[:, None] * mask,
-                       _safe(m2[:, None, None] * np.outer(mask, mask)), self).tighten()
-
-
-class _Taylor:
-    """Value and gradient at the centres, bounds of |q|, |dq| and |d^2 q| on the boxes."""
-
-    __slots__ = ("v", "g", "mv", "mg", "mh", "ctx")
-
-    def __init__(self, v: np.ndarray, g: np.ndarray, mv: np.ndarray, mg: np.ndarray,
-                 mh: np.ndarray, ctx: _Context) -> None:
-        self.v, self.g, self.mv, self.mg, self.mh, self.ctx = v, g, mv, mg, mh, ctx
-
-    def tighten(self) -> _Taylor:
-        """Intersect the propagated bounds with the Taylor-form bounds of |q| and |dq|."""
-        r = self.ctx.r
-        with np.errstate(invalid="ignore"):
-            mhr = _safe(np.einsum("kij,kj->ki", self.mh, r))
-            self.mg = np.minimum(self.mg, np.abs(self.g) + mhr)
-            form = np.abs(self.v) + np.sum(np.abs(self.g) * r + 0.5 * r * mhr, axis=1)
-        self.mv = np.minimum(self.mv, _safe(form))
-        return self
-
-    def _scaled(self, c: complex) -> _Taylor:
-        a = abs(c)
-        return _Taylor(c * self.v, c * self.g, a * self.mv, a * self.mg, a * self.mh, self.ctx)
-
-    def __neg__(self) -> _Taylor:
-        return self._scaled(-1.0)
-
-    def __add__(self, other: Any) -> _Taylor:
-        if not isinstance(other, _Taylor):
-            return _Taylor(self.v + other, self.g, self.mv + abs(other), self.mg, self.mh,
-                           self.ctx)
-        return _Taylor(self.v + other.v, self.g + other.g, self.mv + other.mv,
-                       self.mg + other.mg, self.mh + other.mh, self.ctx).tighten()
-
-    __radd__ = __add__
-
-    def __sub__(self, other: Any) -> _Taylor:
-        return self + (-other)
-
-    def __rsub__(self, other: Any) -> _Taylor:
-        return (-self) + other
-
-    def __mul__(self, other: Any) -> _Taylor:
-        if not isinstance(other, _Taylor):
-            return self._scaled(complex(other))
-        a, b = self, other
-        outer = a.mg[:, :, None] * b.mg[:, None, :]
-        with np.errstate(invalid="ignore"):
-            mh = (a.mh * b.mv[:, None, None] + outer + outer.transpose(0, 2, 1)
-                  + a.mv[:, None, None] * b.mh)
-            mg = a.mg * b.mv[:, None] + a.mv[:, None] * b.mg
-        return _Taylor(a.v * b.v, a.g * b.v[:, None] + a.v[:, None] * b.g, a.mv * b.mv,
-                       _safe(mg), _safe(mh), self.ctx).tighten()
-
-    __rmul__ = __mul__
-
-    def __pow__(self, k: int) -> _Taylor:
-        if not (isinstance(k, int) and k >= 1):
-            raise ArgumentError(f"only positive integer powers are enclosed, got {k!r}")
-        result = self
-        for _ in range(k - 1):
-            result = result * self
-        return result
 
 
 def _taylor_source(gen: GFRFGenerator, n: int, symmetric: bool) -> str:
@@ -392,23 +176,14 @@ def box_bounds(model: Model, n: int, lo: np.ndarray, hi: np.ndarray, symmetric: 
     if model.is_discrete:
         raise ArgumentError("the branch-and-bound handles continuous-time models only")
     _, den = linear_polynomials(model)
-    return _box_bounds(_compiled(generator(model), n, symmetric)[0], _InverseA(den),
-                       np.asarray(lo, float), np.asarray(hi, float))
+    return enclose(_compiled(generator(model), n, symmetric)[0], _inverse(tuple(den.tolist())),
+                   np.asarray(lo, float), np.asarray(hi, float))
 
 
-def _box_bounds(taylor: Callable[..., Any], inverse: _InverseA, lo: np.ndarray,
-                hi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    centre, radius = 0.5 * (lo + hi), 0.5 * (hi - lo)
-    ctx = _Context(centre, radius, inverse)
-    n = centre.shape[1]
-    h = taylor([ctx.variable(i) for i in range(n)], ctx.inv_a)
-    signs = np.array(np.meshgrid(*([[-1.0, 1.0]] * n), indexing="ij")).reshape(n, -1)
-    with np.errstate(invalid="ignore"):
-        vertex = np.abs(h.v[:, None] + (h.g * radius) @ signs).max(axis=1)
-        mhr = _safe(np.einsum("kij,kj->ki", h.mh, radius))
-        bound = np.minimum(h.mv, _safe(vertex + 0.5 * np.sum(radius * mhr, axis=1)))
-        width = radius * (np.abs(h.g) + mhr)
-    return bound, h.v, np.argmax(np.where(np.isnan(width), np.inf, width), axis=1)
+@lru_cache(maxsize=16)
+def _inverse(den: tuple[float, ...]) -> InverseA:
+    """:class:`gfrf.enclosure.InverseA` of a denominator, built once per model."""
+    return InverseA(np.array(den))
 
 
 # -- search ----------------------------------------------------------------------------
@@ -465,12 +240,14 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
         raise ArgumentError("the branch-and-bound handles continuous-time models only")
     if not 2 <= n <= MAX_ORDER:
         raise ArgumentError(f"branch-and-bound order must be in 2..{MAX_ORDER}, got {n}")
-    if isinstance(max_boxes, bool) or not isinstance(max_boxes, int) or max_boxes < 1:
-        raise ArgumentError(f"max_boxes must be a positive integer, got {max_boxes!r}")
+    if (isinstance(max_boxes, bool) or not isinstance(max_boxes, int)
+            or not 1 <= max_boxes <= BOX_LIMIT):
+        raise ArgumentError(f"max_boxes must be an integer in [1, {BOX_LIMIT}], got "
+                            f"{max_boxes!r}")
     gen = generator(model)
     taylor, point = _compiled(gen, n, symmetric)
     _, den = linear_polynomials(model)
-    inverse = _InverseA(den)
+    inverse = _inverse(tuple(den.tolist()))
     best_x = np.zeros(n) if argmax is None else np.array(argmax, dtype=float)
     best = max(lower, abs(point(*best_x)))
     maj = majorant(model)
@@ -488,7 +265,7 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
         return BranchBoundResult(best, max(ceiling, best), tuple(float(x) for x in best_x),
                                  False, 0, width, tail)
     lo, hi = -width * np.ones((1, n)), width * np.ones((1, n))
-    bound, value, split = _box_bounds(taylor, inverse, lo, hi)
+    bound, value, split = enclose(taylor, inverse, lo, hi)
     boxes, pruned, polishes = 1, 0.0, 0
     while True:
         threshold = max(best / (1.0 - tol), tail)  # upper >= tail whatever the boxes give
@@ -510,7 +287,7 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
         c_lo, c_hi = np.vstack([p_lo, right_lo]), np.vstack([left_hi, p_hi])
         inside = _in_domain(c_lo, c_hi, True) if symmetric else _in_domain(c_lo, c_hi, False)
         c_lo, c_hi = c_lo[inside], c_hi[inside]
-        c_bound, c_value, c_split = _box_bounds(taylor, inverse, c_lo, c_hi)
+        c_bound, c_value, c_split = enclose(taylor, inverse, c_lo, c_hi)
         boxes += c_lo.shape[0]
         magnitude = np.abs(c_value)
         magnitude[~np.isfinite(magnitude)] = 0.0

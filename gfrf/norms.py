@@ -58,7 +58,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from gfrf._results import markdown_table, short_repr
-from gfrf.branch_bound import MAX_ORDER, branch_and_bound
+from gfrf.branch_bound import BOX_LIMIT, MAX_ORDER, branch_and_bound
 from gfrf.errors import ArgumentError
 from gfrf.exact import PoleReport, format_roots, poles
 from gfrf.kernels import kernel
@@ -335,6 +335,10 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
     if searches is not None and (isinstance(searches, bool) or not isinstance(searches, int)
                                  or searches < 0):
         raise ArgumentError(f"searches must be a non-negative integer, got {searches!r}")
+    if (isinstance(max_boxes, bool) or not isinstance(max_boxes, int)
+            or not 0 <= max_boxes <= BOX_LIMIT):
+        raise ArgumentError(f"max_boxes must be an integer in [0, {BOX_LIMIT}], got "
+                            f"{max_boxes!r}")
     check_proof(proof)
     k = kernel(model, n, symmetric)
     if n == 1:

@@ -82,6 +82,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_model_argument(n)
     n.add_argument("--order", type=int, required=True, help="kernel order n >= 1")
     n.add_argument("--tol", type=float, default=1e-6, help="target relative gap (default 1e-6)")
+    n.add_argument("--max-boxes", type=int, default=None, metavar="N",
+                   help="work budget of the branch-and-bound, in boxes evaluated (default "
+                        "20000; 0 skips it; at most 20000000): the bracket depends on it, "
+                        "never on time")
     n.add_argument("--asymmetric", action="store_true",
                    help="norm of the asymmetric kernel of the recursion (default symmetric)")
     n.add_argument("--cross-check", action="store_true",
@@ -127,10 +131,11 @@ def _check_order(order: int) -> None:
 def _norm(args: argparse.Namespace) -> int:
     _check_order(args.order)
     mf = resolve_model(args)
-    from gfrf.norms import kernel_norm
+    from gfrf.norms import BOX_BUDGET, kernel_norm
 
-    b = kernel_norm(mf.plant, args.order, not args.asymmetric, args.tol, proof=args.proof,
-                    cross_check=args.cross_check)
+    budget = BOX_BUDGET if args.max_boxes is None else args.max_boxes
+    b = kernel_norm(mf.plant, args.order, not args.asymmetric, args.tol, max_boxes=budget,
+                    proof=args.proof, cross_check=args.cross_check)
     kind = "symmetric" if not args.asymmetric else "asymmetric"
     lines = [f"{mf.name}: {kind} kernel, angular frequencies in rad/s, proof level "
              f"{args.proof}", _bound_line(b),

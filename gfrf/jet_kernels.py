@@ -1,0 +1,86 @@
+"""Fused numba loops of the :class:`gfrf.enclosure.Jet` arithmetic (sum and product).
+
+One pass over a batch of boxes per operation instead of a dozen numpy temporaries:
+the same formulas as the numpy path of :mod:`gfrf.enclosure` (values, gradients and
+Hessians at the centres, Leibniz's rule for the bounds D_0..D_3, then the Taylor-form
+tightening), 10-20x faster per box.  Model-independent, so compiled once per
+installation (numba ``cache=True``) and never per model.  Imported only when numba is
+installed (the ``fast`` extra).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__ = ["jet_add", "jet_mul"]
+
+
+@njit(cache=True, inline="always")
+def _abs(z):  # noqa: ANN001, ANN202 - numba kernel
+    return np.sqrt(z.real * z.real + z.imag * z.imag)
+
+
+@njit(cache=True, inline="always")
+def _tighten(k, v, g, h, d, r):  # noqa: ANN001, ANN202 - numba kernel
+    n = r.shape[1]
+    first = 0.0
+    second = 0.0
+    for i in range(n):
+        first += _abs(g[k, i]) * r[k, i]
+        second += _abs(h[k, i, i]) * r[k, i] * r[k, i]
+        for j in range(i + 1, n):
+            second += 2.0 * _abs(h[k, i, j]) * r[k, i] * r[k, j]
+    d3 = d[k, 3]
+    forms = (abs(v[k]) + first + 0.5 * second + d3 / 6.0, first + second + 0.5 * d3,
+             second + d3)
+    for m in range(3):
+        if forms[m] < d[k, m]:  # NaN forms keep the propagated bound
+            d[k, m] = forms[m]
+        if d[k, m] != d[k, m]:
+            d[k, m] = np.inf
+
+
+@njit(cache=True)
+def jet_add(av, ag, ah, ad, bv, bg, bh, bd, r):  # noqa: ANN001, ANN201 - numba kernel
+    """Sum of two jets, tightened (arrays of shape (N,), (N, n), (N, n, n), (N, 4))."""
+    size, n = r.shape
+    v = av + bv
+    g = ag + bg
+    h = ah + bh
+    d = ad + bd
+    for k in range(size):
+        _tighten(k, v, g, h, d, r)
+    return v, g, h, d
+
+
+@njit(cache=True)
+def jet_mul(av, ag, ah, ad, bv, bg, bh, bd, r):  # noqa: ANN001, ANN201 - numba kernel
+    """Product of two jets by Leibniz's rule, tightened."""
+    size, n = r.shape
+    v = np.empty(size, np.complex128)
+    g = np.empty((size, n), np.complex128)
+    h = np.empty((size, n, n), np.complex128)
+    d = np.empty((size, 4))
+    for k in range(size):
+        a0, b0 = av[k], bv[k]
+        v[k] = a0 * b0
+        for i in range(n):
+            g[k, i] = ag[k, i] * b0 + a0 * bg[k, i]
+        for i in range(n):
+            for j in range(i, n):
+                value = (ah[k, i, j] * b0 + ag[k, i] * bg[k, j] + ag[k, j] * bg[k, i]
+                         + a0 * bh[k, i, j])
+                h[k, i, j] = value
+                h[k, j, i] = value
+        x0, x1, x2, x3 = ad[k, 0], ad[k, 1], ad[k, 2], ad[k, 3]
+        y0, y1, y2, y3 = bd[k, 0], bd[k, 1], bd[k, 2], bd[k, 3]
+        d[k, 0] = x0 * y0
+        d[k, 1] = x1 * y0 + x0 * y1
+        d[k, 2] = x2 * y0 + 2.0 * x1 * y1 + x0 * y2
+        d[k, 3] = x3 * y0 + 3.0 * x2 * y1 + 3.0 * x1 * y2 + x0 * y3
+        for m in range(4):
+            if d[k, m] != d[k, m]:
+                d[k, m] = np.inf
+        _tighten(k, v, g, h, d, r)
+    return v, g, h, d
