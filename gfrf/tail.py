@@ -1,18 +1,63 @@
 """Certified bound of |H_n(j w_1 .. j w_n)| where some |w_i| exceeds a width W (rad/s).
 
-The tail of the branch-and-bound of :mod:`gfrf.branch_bound`: outside the box
-|w_i| <= W a recursion on the majorant bounds |H_n|.  Either the block sum sigma
-satisfies |sigma| >= alpha W, and the top factor sigma^l / A(j sigma) is bounded by its
-exact sup over |sigma| >= alpha W, or two coordinates exceed (1 - alpha) W / (m-1) and
-(unless both are input slots) one of them sits in a lower-order factor, bounded
-recursively (best alpha of a few); H1 factors use their exact sup over |w| >= V.
-The one-dimensional sups are proven (Arb, :class:`gfrf.exact.SupBeyond`).
+The tail of the branch-and-bound of :mod:`gfrf.branch_bound`.  Notation: sigma_B is the
+frequency sum of a block B of coordinates, A the linear output polynomial, and for a
+derivative power l (0 at the top, l_i for an output factor D(y, l_i) of a term)
+
+    M_{m,l} >= sup over R^m of |sigma^l H_m|      (the majorant, :mod:`gfrf.majorant`),
+    K_l = sup over R of |x^l / A(j x)|,    G_l(V) = sup over |x| >= V of |x^l / A(j x)|.
+
+The recursion H_m = -P_m / A(sigma) writes P_m, for every term of weight |c| with p
+output factors and q input factors (u, whose modulus is 1 on the axis), as a sum over
+compositions m - q = m_1 + .. + m_p of products of the p *slot* factors
+sigma_{B_i}^{l_i} H_{m_i}(B_i) and the q input slots (one coordinate each).  The
+asymmetric kernel uses contiguous blocks, the symmetric one averages over ordered set
+partitions with weights summing to one per composition; every bound below holds for
+each block assignment, hence for both kernels.  Two quantities are bounded for each
+order m >= 1, power l and threshold V > 0:
+
+    T_1(m, l, V) >= |sigma^l H_m|  wherever some |w_i| >= V,
+    T_2(m, l, V) >= |sigma^l H_m|  wherever two distinct |w_i|, |w_j| >= V   (m >= 2).
+
+**Order one.**  T_1(1, l, V) = sup over |x| >= V of |x^l H1(j x)|, proven (Arb,
+:class:`gfrf.exact.SupBeyond`).  A block of one coordinate cannot hold two.
+
+**One large coordinate** (|w_i| >= W).  For a split 0 < alpha < 1 (best of a few):
+
+* |sigma| >= alpha W: |sigma^l / A(sigma)| <= G_l(alpha W), and P_m <= N_1(m, W), where
+  N_1 is the numerator bound with the coordinate w_i placed in one slot: for each
+  composition the largest, over the slots, of T_1(m_k, l_k, W) times the other slots'
+  M (an input slot contributes 1).
+* |sigma| < alpha W: the other coordinates sum to sigma - w_i, of modulus above
+  (1 - alpha) W, so a second coordinate has |w_j| > V = (1 - alpha) W / (m - 1).
+  |sigma^l / A| <= K_l and P_m <= N_2(m, W, V), the numerator bound with the two large
+  coordinates placed: in two different output slots a, b (T_1(m_a, l_a, W) times
+  T_1(m_b, l_b, V), or the reverse, times the other slots' M), in the same output slot
+  k (T_2(m_k, l_k, V) times the others' M), in an output slot and an input slot
+  (T_1 of the output slot times the others' M), or in two input slots (the product of
+  all M, when q >= 2).
+
+  T_1(m, l, W) = min(M_{m,l}, min over alpha of max(G_l(alpha W) N_1, K_l N_2)).
+
+**Two large coordinates** (|w_i|, |w_j| >= V): T_2(m, l, V) = min(M_{m,l}, K_l N_2(m, V, V)).
+
+Why this decays.  The previous recursion bounded the near case |sigma| < alpha W with
+ONE slot's tail times every other slot's global sup; when that slot is a factor
+s^2 H1 of relative degree 0 (the cart-pole's theta^2 theta''), nothing decays and the
+tail bound had a floor (0.041 for the cart-pole's H5, above ||H5|| = 0.0111).  With
+both large coordinates placed, the product holds two tails (or a block holding two
+large coordinates, recursively), and a slot power l >= 2 appears at most once per
+term in the bundled models, so one factor always decays.  The top factor has l = 0
+(G_0 decays whenever A has degree >= 2).  Nothing in the bound assumes decay: a
+factor that does not decay (an input slot, relative degree 0 or 1 of H1 or of
+s^l/A, a term u^2) enters with its exact sup beyond V or its global sup, so the bound
+stays sound, only less small.  Products and sums are formed in double precision from
+proven sups (relative rounding ~1e-15, as in :meth:`gfrf.majorant.Majorant.coefficients`).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from functools import cache, lru_cache
 
 import numpy as np
@@ -51,6 +96,11 @@ def _beyond(num: tuple[float, ...], den: tuple[float, ...]) -> _Beyond:
     return _Beyond(np.array(num), np.array(den))
 
 
+def _prod(values: list[float]) -> float:
+    """Product with 0 * inf = 0 (a structurally absent factor stays absent)."""
+    return 0.0 if 0.0 in values else math.prod(values)
+
+
 def tail_bound(model: Model, n: int, width: float, maj: Majorant | None = None) -> float:
     """Certified bound of |H_n| where some |w_i| > ``width`` (rad/s).
 
@@ -70,8 +120,11 @@ def tail_bound(model: Model, n: int, width: float, maj: Majorant | None = None) 
     Returns
     -------
     float
+        ``inf`` when the majorant is not finite.
     """
     maj = majorant(model) if maj is None else maj
+    if not maj.finite:
+        return math.inf
     num, den = linear_polynomials(model)
     full = maj.coefficients(n)
     idx = {ell: i for i, ell in enumerate(maj.powers)}
@@ -79,37 +132,68 @@ def tail_bound(model: Model, n: int, width: float, maj: Majorant | None = None) 
     def m(order: int, ell: int) -> float:
         return float(full[order, idx[ell]])
 
-    def numerator(order: int, part: Callable[[int, int], float] | None) -> float:
-        """Sum of the terms' bounds; ``part`` bounds the factor holding a large w."""
-        total = 0.0
-        for t in maj.terms:
-            p = len(t.y_orders)
-            for sizes in compositions(order - t.q, p) if p or order == t.q else []:
-                factors = [m(s, ell) for s, ell in zip(sizes, t.y_orders, strict=True)]
-                if part is None:
-                    best = math.prod(factors)
-                else:
-                    best = math.prod(factors) if t.q >= 2 else 0.0
-                    for k, (s, ell) in enumerate(zip(sizes, t.y_orders, strict=True)):
-                        others = math.prod(factors[:k] + factors[k + 1:])
-                        best = max(best, part(s, ell) * others if others else 0.0)
-                total += t.weight * best if best else 0.0
-        return total
+    # (weight, q, output slots (size, power)) of every term and composition of each order
+    layouts: dict[int, list[tuple[float, int, tuple[tuple[int, int], ...]]]] = {}
+    for order in range(2, n + 1):
+        layouts[order] = [
+            (t.weight, t.q, tuple(zip(sizes, t.y_orders, strict=True)))
+            for t in maj.terms if t.weight
+            for sizes in (compositions(order - t.q, len(t.y_orders))
+                          if t.y_orders or order == t.q else ())]
 
     key = tuple(den.tolist())
     linear = {ell: _beyond((*num.tolist(), *[0.0] * ell), key) for ell in maj.powers}
     gain = {ell: _beyond((1.0, *[0.0] * ell), key) for ell in maj.powers}
-    whole = {order: numerator(order, None) for order in range(2, n + 1)}
+
+    def n1(order: int, w: float) -> float:
+        """Numerator bound with one coordinate |w_i| >= w placed in some slot."""
+        total = 0.0
+        for weight, q, slots in layouts[order]:
+            sups = [m(s, ell) for s, ell in slots]
+            best = _prod(sups) if q else 0.0
+            for k, (s, ell) in enumerate(slots):
+                best = max(best, _prod([one(s, ell, w), *sups[:k], *sups[k + 1:]]))
+            total += weight * best
+        return total
+
+    def n2(order: int, w: float, v: float) -> float:
+        """Numerator bound with |w_i| >= w and |w_j| >= v (i != j) placed in slots."""
+        total = 0.0
+        for weight, q, slots in layouts[order]:
+            sups = [m(s, ell) for s, ell in slots]
+            best = _prod(sups) if q >= 2 else 0.0
+            for a, (sa, la) in enumerate(slots):
+                rest = sups[:a] + sups[a + 1:]
+                if q:  # the other large coordinate in an input slot
+                    best = max(best, _prod([one(sa, la, v), *rest]))
+                if sa >= 2:  # both in this slot's block
+                    best = max(best, _prod([two(sa, la, v), *rest]))
+                for b, (sb, lb) in enumerate(slots):
+                    if b != a:
+                        others = [x for k, x in enumerate(sups) if k not in (a, b)]
+                        best = max(best, _prod([one(sa, la, w), one(sb, lb, v), *others]))
+            total += weight * best
+        return total
 
     @cache
-    def tail(order: int, ell: int, w: float) -> float:
+    def one(order: int, ell: int, w: float) -> float:
+        """T_1: bound of |sigma^ell H_order| where some |w_i| >= w."""
         if order == 1:
-            return linear[ell].sup(w)
-        best = math.inf
+            return min(m(1, ell), linear[ell].sup(w))
+        best = m(order, ell)
+        if best == 0.0:
+            return 0.0
+        far = n1(order, w)
         for alpha in _ALPHAS:
             v = (1 - alpha) * w / (order - 1)
-            near = maj.gains[ell] * numerator(order, lambda s, e, v=v: tail(s, e, v))
-            best = min(best, max(gain[ell].sup(alpha * w) * whole[order], near))
+            near = maj.gains[ell] * n2(order, w, v)
+            best = min(best, max(gain[ell].sup(alpha * w) * far, near))
         return best
 
-    return tail(n, 0, float(width))
+    @cache
+    def two(order: int, ell: int, v: float) -> float:
+        """T_2: bound of |sigma^ell H_order| where two distinct |w_i|, |w_j| >= v."""
+        best = m(order, ell)
+        return 0.0 if best == 0.0 else min(best, maj.gains[ell] * n2(order, v, v))
+
+    return one(n, 0, float(width))
