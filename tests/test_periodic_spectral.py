@@ -142,3 +142,12 @@ def test_refusals():
     # eq (4) beyond g's zero at sqrt(6): no 1/4-branch orbit is reached from the linear one
     with pytest.raises(ConvergenceError, match="x\\(0\\)"):
         fourier_transition(0.2, 2.8, "1/4")
+
+
+def test_module_example_runs():
+    import doctest
+
+    import gfrf.periodic.spectral as spectral
+
+    result = doctest.testmod(spectral)
+    assert result.attempted > 0 and result.failed == 0

@@ -11,6 +11,8 @@ Modules, one idea each:
 * :mod:`~gfrf.periodic.equation` -- parameters, physical mapping, model file;
 * :mod:`~gfrf.periodic.floquet` -- monodromy, Floquet multipliers, Mathieu curves;
 * :mod:`~gfrf.periodic.shooting` -- exact nonlinear orbits and transition values;
+* :mod:`~gfrf.periodic.spectral` -- transition orbits by Fourier collocation (the fast
+  exact path behind :func:`transition_delta`, checked by shooting);
 * :mod:`~gfrf.periodic.fourier` -- cosine-series arithmetic on coefficient arrays;
 * :mod:`~gfrf.periodic.perturbation`, :mod:`~gfrf.periodic.homotopy`,
   :mod:`~gfrf.periodic.energy`, :mod:`~gfrf.periodic.averaging` -- the four methods;

@@ -34,7 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from gfrf.errors import ArgumentError, ConvergenceError
-from gfrf.periodic.equation import branch_period, nonlinearity, parse_branch
+from gfrf.periodic.equation import nonlinearity, parse_branch
 
 __all__ = ["MAX_MODES", "FourierOrbit", "fourier_transition"]
 
@@ -82,11 +82,6 @@ class FourierOrbit:
     def modes(self) -> int:
         """Number of cosine modes."""
         return len(self.coefficients)
-
-    @property
-    def period(self) -> float:
-        """Period in ``t``."""
-        return branch_period(self.branch)
 
     def evaluate(self, t: np.ndarray) -> np.ndarray:
         """Return ``x(t)`` at the times ``t`` (any order, any sign)."""
@@ -248,9 +243,11 @@ def fourier_transition(eps: float, amplitude: float, branch: str = "0",
     Examples
     --------
     >>> from scipy.special import mathieu_a
-    >>> orbit = fourier_transition(0.3, 1e-6, "0")
-    >>> abs(orbit.delta - mathieu_a(0, 0.6) / 4) < 1e-12
+    >>> orbit = fourier_transition(0.3, 1e-6, "0")  # small x(0): the linear (Mathieu) value
+    >>> bool(abs(orbit.delta - mathieu_a(0, 0.6) / 4) < 1e-12)
     True
+    >>> orbit.modes, round(fourier_transition(0.3, 0.5, "1/4").delta, 10)
+    (16, 0.0992144701)
     """
     b = parse_branch(branch)
     if not (math.isfinite(amplitude) and amplitude > 0):
