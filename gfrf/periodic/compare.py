@@ -15,8 +15,9 @@ derivation allows it: averaging with Bessel-function averages, perturbation on t
 ``|x| <= 1.5``), exact with ``sin`` itself; the energy method is tied to eq (4)
 (:mod:`~gfrf.periodic.energy`).  Errors are ``|delta_method - delta_exact|`` and the maximum of
 ``|x_method(t) - x_exact(t)|`` over one period (401 samples), where the exact orbit
-is the Newton-shooting orbit of eq (4) (of eq (3) with ``equation=3``) with the same
-``x(0)`` (or the same ``delta``).
+is the orbit of eq (4) (of eq (3) with ``equation=3``) with the same ``x(0)`` (Fourier
+collocation checked by shooting, :func:`~gfrf.periodic.shooting.transition_delta`) or
+the same ``delta`` (Newton shooting on ``x(0)``).
 """
 
 from __future__ import annotations
