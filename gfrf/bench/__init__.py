@@ -32,6 +32,7 @@ SECTION_MODULES: tuple[str, ...] = (
     "gfrf.bench.kernels",
     "gfrf.bench.simulation",
     "gfrf.bench.norms",
+    "gfrf.bench.brackets",
     "gfrf.bench.proof",
     "gfrf.bench.periodic",
     "gfrf.bench.sweep",

@@ -1,0 +1,93 @@
+"""Tests of gfrf.enclosure: sound, third-order box bounds of |H_n| near a sharp peak."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import gfrf.enclosure as enclosure
+from gfrf.branch_bound import box_bounds
+from gfrf.compiled import HAVE_NUMBA
+from gfrf.kernels import kernel
+from gfrf.model import parse_model
+from gfrf.modelfile import load_model
+from gfrf.norms import kernel_norm
+
+PENDULUM = "models/hanging_pendulum.toml"
+MIXED = "D(y,2) + 0.3*D(y) + 1.5*y + 0.4*y**2 - 0.2*y**3 + 0.1*y*u = u"
+
+
+@pytest.fixture(scope="module")
+def peak() -> tuple[object, np.ndarray, float]:
+    """The pendulum's H5 and a maximiser found by the local search (lower end)."""
+    m = load_model(PENDULUM).plant
+    b = kernel_norm(m, 5, max_boxes=0, proof="float")
+    return m, np.array(b.argmax), b.lower
+
+
+@pytest.mark.parametrize("width", [1e-2, 3e-3, 1e-3, 3e-4, 1e-4])
+def test_bounds_hold_on_boxes_around_the_peak(peak, width: float) -> None:
+    m, x, _ = peak
+    rng = np.random.default_rng(11)
+    centres = x + rng.uniform(-width, width, (40, 5))
+    lo, hi = centres - width / 2, centres + width / 2
+    bound, _, _ = box_bounds(m, 5, lo, hi)
+    k = kernel(m, 5)
+    for j in range(40):
+        points = lo[j] + rng.uniform(0, 1, (400, 5)) * (hi[j] - lo[j])
+        points[:32] = np.where(rng.uniform(size=(32, 5)) < 0.5, lo[j], hi[j])  # corners
+        assert np.abs(k(*points.T)).max() <= bound[j] * (1 + 1e-12)
+
+
+def test_overestimate_is_third_order_at_the_peak(peak) -> None:
+    # bound / |H(centre)| - 1 for a box centred on the maximiser: a second-order
+    # enclosure shrinks it 100x per 10x in width, a third-order one 1000x
+    m, x, best = peak
+    excess = []
+    for width in (1e-3, 1e-4):
+        bound, value, _ = box_bounds(m, 5, (x - width / 2)[None], (x + width / 2)[None])
+        assert abs(value[0]) == pytest.approx(best, rel=1e-12)
+        excess.append(bound[0] / best - 1)
+    assert 0 < excess[1] < excess[0] / 500
+    assert excess[1] < 1e-4
+
+
+@pytest.mark.skipif(not HAVE_NUMBA, reason="numba not installed")
+@pytest.mark.parametrize(("text", "n"), [(MIXED, 3), (PENDULUM, 5)])
+def test_fused_loops_match_the_numpy_arithmetic(text: str, n: int) -> None:
+    m = load_model(text).plant if text.endswith(".toml") else parse_model(text)
+    rng = np.random.default_rng(4)
+    centre = rng.uniform(-2, 2, (200, n))
+    half = 10.0 ** rng.uniform(-4, 0, (200, 1)) * rng.uniform(0.2, 1.0, (200, n))
+    fused = box_bounds(m, n, centre - half, centre + half)
+    saved = enclosure._FUSED
+    try:
+        enclosure._FUSED = False
+        plain = box_bounds(m, n, centre - half, centre + half)
+    finally:
+        enclosure._FUSED = saved
+    np.testing.assert_allclose(fused[0], plain[0], rtol=1e-12)
+    np.testing.assert_allclose(fused[1], plain[1], rtol=1e-12)
+
+
+@pytest.mark.slow
+def test_cartpole_h5_bracket_closes_to_1e3() -> None:
+    # issue 15 section 2: relative gap <= 1e-3 for ||H5|| of the cart-pole plant
+    m = load_model("models/cartpole.toml").plant
+    b = kernel_norm(m, 5, tol=1e-3, max_boxes=2_000_000)
+    assert b.gap <= 1e-3
+    k = kernel(m, 5)
+    sample = np.random.default_rng(9).uniform(-20, 20, (5, 200000))
+    assert np.abs(k(*sample)).max() <= b.upper
+    assert abs(k(*b.argmax)) == pytest.approx(b.lower, rel=1e-12)
+
+
+@pytest.mark.slow
+def test_pendulum_h5_bracket_closes_to_1e3(peak) -> None:
+    m, x, best = peak
+    b = kernel_norm(m, 5, tol=1e-3, max_boxes=2_000_000)
+    assert b.gap <= 1e-3 and b.upper_proof == "float" and b.lower_proof == "interval"
+    assert b.lower >= best * (1 - 1e-12)
+    k = kernel(m, 5)
+    near = x + np.random.default_rng(8).uniform(-0.05, 0.05, (200000, 5))
+    assert np.abs(k(*near.T)).max() <= b.upper
