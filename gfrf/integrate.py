@@ -10,13 +10,14 @@ modules form no import cycle (simulation -> fastsim -> integrate).
 
 from __future__ import annotations
 
+import functools
 import math
+import types
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from gfrf._results import short_repr, simulation_figure, simulation_markdown
 from gfrf.signals import InputSignal
@@ -33,6 +34,13 @@ SCIPY_METHODS = {"rk45": "RK45", "dop853": "DOP853", "radau": "Radau", "lsoda": 
 #: pure-Python right-hand side.  Raise it with ``max_evaluations`` (CLI
 #: ``--max-evaluations``) for longer horizons.
 MAX_RHS_EVALUATIONS = 1_000_000
+
+
+#: The ``math`` names of generated sources, as numpy ufuncs (for whole trajectories).
+_NUMPY_MATH = types.SimpleNamespace(
+    **{name: getattr(np, name) for name in ("sin", "cos", "tan", "exp", "log", "sqrt", "tanh",
+                                            "sinh", "cosh", "arctan", "pi", "e")},
+    atan=np.arctan, copysign=np.copysign, fabs=np.fabs)
 
 
 @dataclass(frozen=True)
@@ -55,6 +63,12 @@ class OdeSystem:
         Eigenvalues (1/s) of the Jacobian at z = 0, v = 0.
     discrete : bool
         True for a NARX model (then ``source`` is the recursion ``y[k] = ...``).
+    state_names, input_names : tuple of str
+        Names the generated code gives the states and the inputs (continuous models).
+    rhs_body : tuple of str
+        The right-hand side as statements in those names ending in ``return [...]``
+        (continuous models; empty for NARX), completed by :func:`integrate_scipy` into
+        one function of (t, z) with the input's expression.
     """
 
     n_states: int
@@ -67,7 +81,10 @@ class OdeSystem:
     discrete: bool = False
     sample_time: float | None = None
     notes: tuple[str, ...] = ()
-    _functions: dict[str, Callable[..., Any]] = field(default_factory=dict, repr=False,
+    state_names: tuple[str, ...] = ()
+    input_names: tuple[str, ...] = ()
+    rhs_body: tuple[str, ...] = ()
+    _functions: dict[str, Any] = field(default_factory=dict, repr=False,
                                                       compare=False)
 
     @property
@@ -86,11 +103,24 @@ class OdeSystem:
 
     def function(self, name: str) -> Callable[..., Any]:
         """The compiled pure-Python function ``rhs`` or ``plant_input`` of :attr:`source`."""
-        if not self._functions:
+        if name not in self._functions:
             namespace: dict[str, Any] = {"math": math}
             exec(compile(self.source, f"<gfrf rhs {self.label}>", "exec"), namespace)  # noqa: S102
             self._functions.update({k: namespace[k] for k in ("rhs", "plant_input")})
         return self._functions[name]
+
+    def vector_function(self, name: str) -> Callable[..., Any]:
+        """``rhs`` or ``plant_input`` of :attr:`source` run on arrays (one column a sample).
+
+        The same generated source, with its ``math`` functions taken from numpy
+        (:data:`_NUMPY_MATH`); a function numpy lacks raises ``AttributeError`` when called.
+        """
+        key = f"{name}[numpy]"
+        if key not in self._functions:
+            namespace: dict[str, Any] = {"math": _NUMPY_MATH}
+            exec(compile(self.source, f"<gfrf rhs {self.label}>", "exec"), namespace)  # noqa: S102
+            self._functions.update({f"{k}[numpy]": namespace[k] for k in ("rhs", "plant_input")})
+        return self._functions[key]
 
 
 @dataclass
@@ -181,77 +211,226 @@ def input_values(signal: InputSignal, n_inputs: int, t: np.ndarray) -> np.ndarra
 
 
 def plant_input(system: OdeSystem, states: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """The plant input u along a trajectory (evaluates ``plant_input`` of the source)."""
+    """The plant input u along a trajectory (evaluates ``plant_input`` of the source).
+
+    The source is run once on whole rows (its ``math`` functions taken from numpy, see
+    :meth:`OdeSystem.vector_function`); a source that does not run on arrays is run
+    sample by sample.
+    """
+    n = states.shape[1]
+    try:
+        rhs, pin = system.vector_function("rhs"), system.vector_function("plant_input")
+        out = np.empty((system.n_states, n))
+        with np.errstate(all="ignore"):
+            rhs(states, v, out)
+            return np.broadcast_to(np.asarray(pin(states, v, out), dtype=float), (n,)).copy()
+    except (AttributeError, TypeError, ValueError):  # e.g. a conditional on a sample
+        pass
     rhs, pin = system.function("rhs"), system.function("plant_input")
-    out = np.empty(system.n_states)
-    u = np.empty(states.shape[1])
-    for i in range(states.shape[1]):
-        rhs(states[:, i], v[:, i], out)
-        u[i] = pin(states[:, i], v[:, i], out)
+    dz = np.empty(system.n_states)
+    u = np.empty(n)
+    for i in range(n):
+        rhs(states[:, i], v[:, i], dz)
+        u[i] = pin(states[:, i], v[:, i], dz)
     return u
+
+
+#: sympy functions whose ``math`` printing agrees with numpy's on floats (or raises,
+#: and the evaluation then falls back to numpy), see :func:`_input_code`.
+_MATH_FUNCTIONS = ("sin", "cos", "tan", "exp", "log", "tanh", "Abs", "sign", "Heaviside")
+#: Time argument of the generated right-hand side (no model or input name starts with _).
+_TIME = "_t"
+
+
+@functools.lru_cache(maxsize=256)
+def _input_code(expr: Any, k: int) -> str | None:
+    """Python (``math``) code of the k-th derivative of ``expr`` in the time ``_t``, or None.
+
+    Only for expressions built from :data:`_MATH_FUNCTIONS` and powers with exponent an
+    integer or +-1/2 (printed as ``math.sqrt``): a Python float power of a negative base
+    with another fractional exponent is complex, where numpy gives nan.  The expression
+    comes from the whitelisting parser of :mod:`gfrf.signals`; sympy prints it.
+    """
+    import sympy as sp
+
+    from gfrf.signals import T
+
+    current = sp.diff(expr, T, k) if k else expr
+    allowed = tuple(getattr(sp, name) for name in _MATH_FUNCTIONS)
+    if any(not isinstance(f, allowed) for f in current.atoms(sp.Function)):
+        return None
+    if any(not (p.exp.is_Integer or p.exp in (sp.S.Half, -sp.S.Half))
+           for p in current.atoms(sp.Pow)):
+        return None
+    return str(sp.pycode(current.xreplace({T: sp.Symbol(_TIME, real=True)})))
+
+
+def _fused_rhs(system: OdeSystem, signal: InputSignal,
+               slow: Callable[[float, np.ndarray], np.ndarray]
+               ) -> Callable[[float, np.ndarray], list[float] | np.ndarray] | None:
+    """The right-hand side and the input as one generated function ``f(t, z)``, or None.
+
+    One Python frame per evaluation, states unpacked as Python floats, the input
+    evaluated by ``math`` (:func:`_input_code`): cheaper than a hand-written
+    ``f(t, y)`` that works on numpy scalars.  An arithmetic or domain error (``log``
+    of a negative number, an overflow, a division by zero) sends that evaluation to
+    ``slow`` (numpy scalars: inf/nan as before).  None for a CSV input, an input
+    outside :data:`_MATH_FUNCTIONS`, or a system without :attr:`OdeSystem.rhs_body`.
+    The last function made is kept on the system, for the same input text only (then
+    its ``slow``, from an input of the same expression, is equivalent).
+    """
+    if not system.rhs_body or signal.expr is None:
+        return None
+    codes = [_input_code(signal.expr, k) for k in range(system.n_inputs)]
+    if any(code is None for code in codes):
+        return None
+    cached = system._functions.get("fused")
+    if cached is not None and cached[0] == codes:  # the same input on the same system
+        return cached[1]  # type: ignore[no-any-return]
+    lines = [f"def f({_TIME}, _z):", "    try:"]
+    if system.state_names:
+        lines.append(f"        {', '.join(system.state_names)}, = _z.tolist()")
+    lines += [f"        {name} = {code}"
+              for name, code in zip(system.input_names, codes, strict=True)]
+    lines += [f"        {line}" for line in system.rhs_body]
+    lines += ["    except (ArithmeticError, ValueError):", f"        return _slow({_TIME}, _z)"]
+    namespace: dict[str, Any] = {"math": math, "_slow": slow}
+    exec(compile("\n".join(lines) + "\n", f"<gfrf rhs {system.label}>", "exec"),  # noqa: S102
+         namespace)
+    system._functions["fused"] = (codes, namespace["f"])  # one entry: a sweep changes it
+    return namespace["f"]  # type: ignore[no-any-return]
+
+
+def _dense_values(pieces: list[tuple[int, int, Any]], t_eval: np.ndarray) -> np.ndarray:
+    """States (n, N) at ``t_eval[:N]`` from the steps' dense outputs, all at once.
+
+    ``pieces`` are consecutive ``(i, j, dense)``: ``dense(t_eval[i:j])`` for each
+    accepted step.  scipy's RK45 and DOP853 interpolants (classes ``RkDenseOutput``,
+    ``Dop853DenseOutput``) are evaluated here for every sample in one numpy pass by
+    their own formulas (the per-step calls cost ~10 us each); any other interpolant
+    (Radau, LSODA) is called per step.
+    """
+    dense = [d for _, _, d in pieces]
+    t = t_eval[:pieces[-1][1]]
+    kinds = {type(d).__name__ for d in dense}
+    if kinds in ({"RkDenseOutput"}, {"Dop853DenseOutput"}):
+        step = np.repeat(np.arange(len(pieces)), [j - i for i, j, _ in pieces])
+        h = np.array([d.h for d in dense])[step]
+        x = (t - np.array([d.t_old for d in dense])[step]) / h
+        y_old = np.array([d.y_old for d in dense])[step].T
+        if kinds == {"RkDenseOutput"}:  # y_old + h * Q @ (x, x^2, ...)
+            q = np.array([d.Q for d in dense])[step]  # (N, n, order + 1)
+            p = np.cumprod(np.tile(x, (q.shape[2], 1)), axis=0)
+            y = h * np.einsum("snk,ks->ns", q, p)
+        else:  # Dop853DenseOutput: nested products in x and 1 - x
+            f = np.array([d.F for d in dense])[step]  # (N, 7, n)
+            y = np.zeros_like(y_old)
+            for k in range(f.shape[1]):
+                y += f[:, f.shape[1] - 1 - k, :].T
+                y *= x if k % 2 == 0 else 1 - x
+        return y + y_old  # type: ignore[no-any-return]
+    return np.hstack([d(t_eval[i:j]) for i, j, d in pieces])
 
 
 def integrate_scipy(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end: float,
            t_eval: np.ndarray, method: str, rtol: float, atol: float,
            blowup: float, max_evaluations: int = MAX_RHS_EVALUATIONS) -> SimulationResult:
-    """``solve_ivp``, stopped by a terminal event at blow-up or when the budget is spent.
+    """A scipy ``OdeSolver`` stepped to t_end, stopped at blow-up or when the budget is spent.
 
-    The budget is checked after each accepted step (the overrun is at most one step's
-    evaluations); the run then ends at that step's time with status ``"failed"``.
+    The solver (``RK45``, ``DOP853``, ``Radau``, ``LSODA``) is stepped here as
+    ``solve_ivp`` steps it, with its dense output evaluated at the ``t_eval`` times each
+    step covers, but without ``solve_ivp``'s event machinery: after each accepted step
+    |y| is compared with ``blowup`` (a crossing, or a non-finite state, is located by
+    ``brentq`` on the step's dense output, as ``solve_ivp`` locates a terminal event)
+    and the evaluation count with ``max_evaluations`` (the overrun is at most one
+    step's evaluations; the run then ends at that step's time with status
+    ``"failed"``).  The right-hand side is :func:`_fused_rhs` where it applies (else the
+    source's ``rhs`` on numpy scalars with the input's numpy callables); the evaluations
+    counted are the solver's (``nfev``, and for Radau also its finite-difference
+    Jacobian's).
     """
+    import scipy.integrate as si
+
+    n, n_in = system.n_states, system.n_inputs
     rhs = system.function("rhs")
-    funcs = [signal.derivative(k) for k in range(system.n_inputs)]
-    count = [0]
-    cut: list[float] = []  # time of the step after which the budget was spent
+    exact = [signal.derivative(k) for k in range(n_in)]
 
-    def f(t: float, z: np.ndarray) -> np.ndarray:
-        count[0] += 1
-        v = [float(g(t)) for g in funcs]
-        out = np.empty(system.n_states)
+    def slow(t: float, z: np.ndarray) -> np.ndarray:
+        res = np.empty(n)
         try:
-            rhs(z, v, out)
+            rhs(z, [float(g(t)) for g in exact], res)
         except ZeroDivisionError:
-            out[:] = np.nan
-        return out
+            res[:] = np.nan
+        return res
 
-    def escape(t: float, z: np.ndarray) -> float:
-        return blowup - abs(z[0]) if np.all(np.isfinite(z)) else -1.0
+    f = _fused_rhs(system, signal, slow) or slow
+    calls = 0
+    radau = method == "radau"  # its finite-difference Jacobian bypasses the solver's count
 
-    def budget(t: float, z: np.ndarray) -> float:
-        # Called by solve_ivp after each accepted step at its time t (and, once cut,
-        # by the root search between the last two steps): zero at the cut time.
-        if not cut and count[0] >= max_evaluations:
-            cut.append(t)
-        return cut[0] - t if cut else 1.0
+    def counted(t: float, z: np.ndarray) -> list[float] | np.ndarray:
+        nonlocal calls
+        calls += 1
+        return f(t, z)
 
-    escape.terminal = True  # type: ignore[attr-defined]
-    budget.terminal = True  # type: ignore[attr-defined]
+    def evaluations() -> int:
+        return calls if radau else int(solver.nfev)
+
+    def escape(z: list[float]) -> float:  # solve_ivp's event function, on floats
+        return blowup - abs(z[0]) if all(map(math.isfinite, z)) else -1.0
+
+    pieces: list[tuple[int, int, Any]] = []  # (first, end) of t_eval per dense output
+    status, blow_t, cut = "ok", None, None
+    message = "The solver successfully reached the end of the integration interval."
+    times_out = t_eval.tolist()
     with np.errstate(all="ignore"):
-        sol = solve_ivp(f, (0.0, t_end), z0, method=SCIPY_METHODS[method], t_eval=t_eval,
-                        rtol=rtol, atol=atol, events=[escape, budget])
-    # A run that fails before its first output time returns an empty list.
-    states = np.asarray(sol.y, dtype=float).reshape(z0.size, -1)
-    times = np.asarray(sol.t, dtype=float)
+        solver = getattr(si, SCIPY_METHODS[method])(counted if radau else f, 0.0, z0, t_end,
+                                                    rtol=rtol, atol=atol)
+        g_old = escape(z0.tolist())
+        i, next_out = 0, times_out[0]
+        while solver.status == "running":
+            step_message = solver.step()
+            if solver.status == "failed":
+                status, message = "failed", step_message or "the solver failed"
+                break
+            t = solver.t
+            sol = None
+            g_new = escape(solver.y.tolist())
+            if (g_old <= 0 <= g_new) or (g_new <= 0 <= g_old):  # a sign change, as solve_ivp
+                from scipy.optimize import brentq
+                sol = solver.dense_output()
+                eps = 4 * np.finfo(float).eps
+                t = brentq(lambda s, sol=sol: escape(sol(s).tolist()), solver.t_old, t,
+                           xtol=eps, rtol=eps)
+                status, blow_t = "blowup", float(t)
+                message = f"|y| reached {blowup:g} at t = {blow_t:.6g} s"
+            g_old = g_new
+            if t >= next_out:  # output times in (t_old, t], from the step's dense output
+                j = int(np.searchsorted(t_eval, t, side="right"))
+                pieces.append((i, j, solver.dense_output() if sol is None else sol))
+                i = j
+                next_out = times_out[i] if i < len(times_out) else math.inf
+            if status == "blowup":
+                break
+            if evaluations() >= max_evaluations and solver.status == "running":
+                cut, status = t, "failed"
+                message = (f"stopped at t = {cut:.6g} s of {t_end:g} s: {evaluations()} "
+                           f"right-hand-side evaluations reached the work budget "
+                           f"{budget_name(max_evaluations)} = {max_evaluations}")
+                break
+    # A run that fails before its first output time has no samples.
+    times = t_eval[:pieces[-1][1]] if pieces else np.zeros(0)
+    states = _dense_values(pieces, t_eval) if pieces else np.zeros((n, 0))
     finite = np.all(np.isfinite(states), axis=0)
-    status, blow_t, message = "ok", None, sol.message
-    if sol.t_events[0].size:
-        status, blow_t = "blowup", float(sol.t_events[0][0])
-        message = f"|y| reached {blowup:g} at t = {blow_t:.6g} s"
-    elif sol.t_events[1].size:
-        status = "failed"
-        message = (f"stopped at t = {cut[0]:.6g} s of {t_end:g} s: {count[0]} right-hand-"
-                   f"side evaluations reached the work budget "
-                   f"{budget_name(max_evaluations)} = {max_evaluations}")
-    elif not finite.all() or sol.status < 0:
+    if blow_t is None and cut is None and (not finite.all() or status == "failed"):
         first = int(np.argmin(finite)) if not finite.all() else states.shape[1]
         states = states[:, :first]
         blow_t = float(times[first]) if first < times.size else float(times[-1]) \
             if times.size else 0.0
+        message = f"the integration failed near t = {blow_t:.6g} s: {message}"
         status = "blowup" if not finite.all() else "failed"
-        message = f"the integration failed near t = {blow_t:.6g} s: {sol.message}"
-    t = times[:states.shape[1]]
-    v = input_values(signal, system.n_inputs, t)
-    u = plant_input(system, states, v) if t.size else np.zeros(0)
-    return SimulationResult(t=t, y=states[0] if states.size else np.zeros(0), u=u,
+    t_out = times[:states.shape[1]]
+    v = input_values(signal, n_in, t_out)
+    u = plant_input(system, states, v) if t_out.size else np.zeros(0)
+    return SimulationResult(t=t_out, y=states[0] if states.size else np.zeros(0), u=u,
                             states=states, status=status, method=method,
-                            blowup_time=blow_t, message=message, nfev=count[0])
+                            blowup_time=blow_t, message=message, nfev=evaluations())

@@ -75,10 +75,32 @@ from gfrf.modelfile import Controller, ModelFile
 from gfrf.signals import InputSignal, T, parse_input, zero_input
 
 __all__ = ["OdeSystem", "SimulationResult", "build_system", "simulate", "METHODS",
-           "MAX_RHS_EVALUATIONS"]
+           "MAX_RHS_EVALUATIONS", "AUTO_RK45_RTOL", "auto_method"]
 
-#: Integration methods: scipy's RK45, DOP853, Radau, LSODA, and the numba fast path.
-METHODS = ("rk45", "dop853", "radau", "lsoda", "fast")
+#: Integration methods: ``"auto"`` (:func:`auto_method`), scipy's RK45, DOP853, Radau,
+#: LSODA, and the numba fast path.
+METHODS = ("auto", "rk45", "dop853", "radau", "lsoda", "fast")
+#: ``method="auto"`` takes RK45 at rtol >= this, DOP853 below (:func:`auto_method`).
+AUTO_RK45_RTOL = 1e-4
+
+
+def auto_method(rtol: float) -> str:
+    """The scipy method ``method="auto"`` runs at relative tolerance ``rtol``.
+
+    ``"rk45"`` (Dormand-Prince 5(4)) when ``rtol >= 1e-4`` (:data:`AUTO_RK45_RTOL`),
+    ``"dop853"`` (order 8) below.  Decided by ``rtol`` alone, never by timing.  The
+    rule is what ``gfrf bench`` measures on the bundled models (pendulums, Duffing,
+    cart-pole loops; ``reports/speed-vs-error.md``): DOP853 takes fewer steps at any
+    rtol below 1e-4, but at 1e-4 and looser RK45 is as fast or faster, and on the
+    cart-pole loop, whose fast closed-loop pole (-24 1/s) limits the step of an
+    explicit method, DOP853 is slower there.
+
+    Examples
+    --------
+    >>> auto_method(1e-3), auto_method(1e-4), auto_method(1e-8)
+    ('rk45', 'rk45', 'dop853')
+    """
+    return "rk45" if rtol >= AUTO_RK45_RTOL else "dop853"
 def _solve_for(expr: sp.Expr, top: sp.Symbol, what: str) -> sp.Expr:
     coefficient = sp.diff(expr, top)
     if coefficient == 0:
@@ -213,19 +235,26 @@ def _polynomial_loop(expr: sp.Expr, model: Model, ctrl: Controller, equation: st
 
 
 def _source(z: list[sp.Symbol], v: list[sp.Symbol], rates: list[sp.Expr],
-            plant_u: sp.Expr, dz: list[sp.Symbol]) -> str:
-    """Python source of rhs(z, v, out) and plant_input(z, v, dz), cse-optimised."""
+            plant_u: sp.Expr, dz: list[sp.Symbol]) -> tuple[str, tuple[str, ...]]:
+    """Python source of rhs(z, v, out) and plant_input(z, v, dz), cse-optimised.
+
+    Also the body of the same right-hand side as statements that end in ``return [...]``
+    (states and inputs bound by name), which :func:`gfrf.integrate.integrate_scipy`
+    completes with the input's expression into one function of (t, z).
+    """
     lines = ["def rhs(z, v, out):"]
     unpack = [f"    {s.name} = z[{i}]" for i, s in enumerate(z)]
     unpack += [f"    {s.name} = v[{i}]" for i, s in enumerate(v)]
     subs, reduced = sp.cse(rates, symbols=sp.numbered_symbols("_c"))
+    common = [f"{name} = {sp.pycode(expr)}" for name, expr in subs]
     lines += unpack
-    lines += [f"    {name} = {sp.pycode(expr)}" for name, expr in subs]
+    lines += [f"    {line}" for line in common]
     lines += [f"    out[{i}] = {sp.pycode(expr)}" for i, expr in enumerate(reduced)]
     lines += ["", "", "def plant_input(z, v, dz):"]
     lines += unpack + [f"    {s.name} = dz[{i}]" for i, s in enumerate(dz)]
     lines.append(f"    return {sp.pycode(plant_u)}")
-    return "\n".join(lines) + "\n"
+    body = (*common, f"return [{', '.join(sp.pycode(expr) for expr in reduced)}]")
+    return "\n".join(lines) + "\n", body
 
 
 def build_system(source: ModelFile | Model, *, closed_loop: bool = False,
@@ -301,10 +330,11 @@ def build_system(source: ModelFile | Model, *, closed_loop: bool = False,
     plant_u = plant_u.xreplace({y_atom(n): dz[n - 1]})
     jac = sp.Matrix(rates).jacobian(z).subs({s: 0 for s in z + inputs})
     eig = np.linalg.eigvals(np.array(jac.evalf(), dtype=float)) if z else np.zeros(0)
-    system = OdeSystem(n_states=len(z), order=n, n_inputs=len(inputs),
-                       source=_source(z, inputs, rates, plant_u, dz), linear_eigenvalues=eig,
-                       label=label, closed_loop=closed_loop, notes=tuple(notes))
-    return system
+    source, body = _source(z, inputs, rates, plant_u, dz)
+    return OdeSystem(n_states=len(z), order=n, n_inputs=len(inputs), source=source,
+                     linear_eigenvalues=eig, label=label, closed_loop=closed_loop,
+                     notes=tuple(notes), state_names=tuple(s.name for s in z),
+                     input_names=tuple(s.name for s in inputs), rhs_body=body)
 
 
 def _narx_system(model: Model, expr: sp.Expr, y_orders: list[int], u_orders: list[int],
@@ -316,7 +346,7 @@ def _narx_system(model: Model, expr: sp.Expr, y_orders: list[int], u_orders: lis
     inputs = [model.atom(model.input, k) for k in range(max(u_orders) + 1)]
     jac = sp.Matrix([now] + z[:-1]).jacobian(z).subs({s: 0 for s in z + inputs})
     eig = np.linalg.eigvals(np.array(jac.evalf(), dtype=float)) if z else np.zeros(0)
-    src = _source(z, inputs, [now], inputs[0], [])
+    src, _ = _source(z, inputs, [now], inputs[0], [])
     return OdeSystem(n_states=len(z), order=lags, n_inputs=len(inputs), source=src,
                      linear_eigenvalues=eig, label=label, discrete=True,
                      sample_time=model.sample_time)
@@ -343,7 +373,7 @@ def _narx_loop(model: Model, expr: sp.Expr, ctrl: Controller, equation: str,
     step = ([y_now] + z[:a - 1] if a else []) + ([w_now] + z[a:-1] if b else [])
     jac = sp.Matrix(step).jacobian(z).subs({s: 0 for s in z + r})
     eig = np.linalg.eigvals(np.array(jac.evalf(), dtype=float)) if z else np.zeros(0)
-    src = _source(z, r, [y_now, w_now], r[0] + ctrl.feedback * _w(0), [y_atom(0), _w(0)])
+    src, _ = _source(z, r, [y_now, w_now], r[0] + ctrl.feedback * _w(0), [y_atom(0), _w(0)])
     return OdeSystem(n_states=len(z), order=a, n_inputs=len(r), source=src,
                      linear_eigenvalues=eig, label=label, closed_loop=True, discrete=True,
                      sample_time=model.sample_time)
@@ -373,7 +403,7 @@ def _initial(system: OdeSystem, initial: Any) -> np.ndarray:
 
 def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | None = None,  # noqa: A002
              *, t_end: float, closed_loop: bool = False, equation: str = "physical",
-             initial: Any = None, method: str = "dop853", rtol: float = 1e-8,
+             initial: Any = None, method: str = "auto", rtol: float = 1e-8,
              atol: float = 1e-10, t_eval: np.ndarray | None = None, n_out: int = 2001,
              blowup: float = 1e6, dt: float | None = None,
              max_evaluations: int = MAX_RHS_EVALUATIONS) -> SimulationResult:
@@ -392,11 +422,13 @@ def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | N
         See :func:`build_system`.
     initial : sequence of float, optional
         y(0), y'(0), ... (radians, rad/s for the pendulums); NARX: y[-1], y[-2], ...
-    method : {"dop853", "rk45", "radau", "lsoda", "fast"}
-        scipy ``solve_ivp`` method, or the numba fixed-step RK4 of :mod:`gfrf.fastsim`.
-        The default DOP853 is scipy's method for the tight default ``rtol``: on the
-        bundled models it is faster than plain ``solve_ivp`` RK45 at the same tolerance
-        (``reports/speed-vs-error.md``).
+    method : {"auto", "rk45", "dop853", "radau", "lsoda", "fast"}
+        scipy ``solve_ivp`` method (stepped by :func:`gfrf.integrate.integrate_scipy`),
+        or the numba fixed-step RK4 of :mod:`gfrf.fastsim`.  The default ``"auto"`` is
+        RK45 at ``rtol >= 1e-4`` and DOP853 below (:func:`auto_method`; so DOP853 at the
+        default rtol); the result's ``method`` names the one run.  On the bundled models
+        it takes less time than plain ``solve_ivp`` RK45 on a hand-written ``f(t, y)``
+        at the same rtol, at every rtol from 1e-3 to 1e-10 (``reports/speed-vs-error.md``).
     rtol, atol : float
         Tolerances of ``solve_ivp`` (> 0).  The fast path uses them only when ``dt``
         is not given, to choose its step by step doubling.
@@ -428,6 +460,8 @@ def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | N
                             f"{max_evaluations!r}")
     if method not in METHODS:
         raise ArgumentError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    if method == "auto":
+        method = auto_method(rtol)
     system = source if isinstance(source, OdeSystem) else build_system(
         source, closed_loop=closed_loop, equation=equation)
     z0 = _initial(system, initial)

@@ -36,7 +36,7 @@ __all__ = ["register", "METHODS"]
 
 #: Same as :data:`gfrf.simulation.METHODS` (kept here so that building the parser does not
 #: import scipy/sympy; a test asserts equality).
-METHODS: tuple[str, ...] = ("rk45", "dop853", "radau", "lsoda", "fast")
+METHODS: tuple[str, ...] = ("auto", "rk45", "dop853", "radau", "lsoda", "fast")
 
 
 #: Most output samples a simulation may return (8 bytes each per state: 10^6 is ~50 MB).
@@ -60,9 +60,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                      help="simulate the truncated polynomial model, not the physical equation")
     sim.add_argument("--initial", default=None, metavar="Y0,DY0,...",
                      help="initial output and derivatives (NARX: past outputs)")
-    sim.add_argument("--method", choices=METHODS, default="dop853",
-                     help="integrator (default dop853: scipy's choice for the tight default "
-                          "rtol; fast = numba fixed-step RK4)")
+    sim.add_argument("--method", choices=METHODS, default="auto",
+                     help="integrator (default auto: rk45 at --rtol >= 1e-4, dop853 below; "
+                          "fast = numba fixed-step RK4)")
     sim.add_argument("--rtol", type=float, default=1e-8, help="relative tolerance (> 0)")
     sim.add_argument("--atol", type=float, default=1e-10, help="absolute tolerance (> 0)")
     sim.add_argument("--dt", type=float, default=None,
