@@ -43,6 +43,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -203,44 +204,64 @@ class _Boxes:
 
     def __init__(self, centre: np.ndarray, radius: np.ndarray, inverse: InverseA) -> None:
         self.c, self.r, self.inverse = centre, radius, inverse
+        self._radii: dict[tuple[int, ...], np.ndarray] = {}
+
+    def radii(self, names: tuple[int, ...]) -> np.ndarray:
+        """Half-widths of the coordinates ``names`` (contiguous (N, m) array)."""
+        if names not in self._radii:
+            self._radii[names] = np.ascontiguousarray(self.r[:, list(names)])
+        return self._radii[names]
 
     def variable(self, i: int) -> Jet:
         """x_i = j w_i."""
-        size, n = self.c.shape
-        g = np.zeros((size, n), dtype=complex)
-        g[:, i] = 1j
+        size = self.c.shape[0]
         d = np.zeros((size, 4))
         d[:, 0] = np.abs(self.c[:, i]) + self.r[:, i]
         d[:, 1] = self.r[:, i]
-        return Jet(1j * self.c[:, i], g, np.zeros((size, n, n), dtype=complex), d, self)
+        return Jet(1j * self.c[:, i], np.full((size, 1), 1j), np.zeros((size, 1, 1), complex),
+                   d, (i,), self)
 
     def inv_a(self, block: tuple[int, ...]) -> Jet:
         """1 / A(j sigma_B), sigma_B = sum of the block's w_i."""
-        idx = list(block)
+        names = tuple(sorted(block))
+        idx = list(names)
         sigma, rho = self.c[:, idx].sum(axis=1), self.r[:, idx].sum(axis=1)
         value, slope, curve = self.inverse.point(sigma)
         sups = self.inverse.bounds(sigma - rho, sigma + rho)
-        n = self.c.shape[1]
-        mask = np.zeros(n)
-        mask[idx] = 1.0
+        m = len(names)
         with np.errstate(invalid="ignore", over="ignore"):
             d = _safe(sups * rho[:, None] ** np.arange(4))
-        return Jet(value, slope[:, None] * mask, curve[:, None, None] * np.outer(mask, mask),
-                   d, self).tighten()
+        return Jet(value, np.repeat(slope[:, None], m, axis=1),
+                   np.repeat(np.repeat(curve[:, None, None], m, axis=1), m, axis=2),
+                   d, names, self).tighten()
+
+
+@lru_cache(maxsize=4096)
+def _union(a: tuple[int, ...], b: tuple[int, ...]
+           ) -> tuple[tuple[int, ...], np.ndarray, np.ndarray]:
+    """Sorted union of two coordinate sets and the positions of each in it."""
+    names = tuple(sorted(set(a) | set(b)))
+    where = {x: i for i, x in enumerate(names)}
+    return (names, np.array([where[x] for x in a], dtype=np.int64),
+            np.array([where[x] for x in b], dtype=np.int64))
 
 
 class Jet:
-    """Value, gradient and Hessian at box centres; derivative-majorant bounds D_0..D_3."""
+    """Value, gradient and Hessian at box centres; derivative-majorant bounds D_0..D_3.
 
-    __slots__ = ("v", "g", "h", "d", "boxes")
+    ``g`` and ``h`` hold the derivatives with respect to the coordinates ``names`` only
+    (the others are zero), so products of low-order factors stay small.
+    """
+
+    __slots__ = ("v", "g", "h", "d", "names", "boxes")
 
     def __init__(self, v: np.ndarray, g: np.ndarray, h: np.ndarray, d: np.ndarray,
-                 boxes: _Boxes) -> None:
-        self.v, self.g, self.h, self.d, self.boxes = v, g, h, d, boxes
+                 names: tuple[int, ...], boxes: _Boxes) -> None:
+        self.v, self.g, self.h, self.d, self.names, self.boxes = v, g, h, d, names, boxes
 
     def forms(self) -> tuple[np.ndarray, np.ndarray]:
         """(sum |g_i| r_i, sum |h_ij| r_i r_j) at the centres (NaN where unknown)."""
-        r = self.boxes.r
+        r = self.boxes.radii(self.names)
         first = np.sum(np.abs(self.g) * r, axis=1)
         second = np.einsum("kij,ki,kj->k", np.abs(self.h), r, r)
         return first, second
@@ -255,8 +276,21 @@ class Jet:
         self.d[:, :3] = np.fmin(self.d[:, :3], forms)
         return self
 
+    def embedded(self, names: tuple[int, ...]) -> Jet:
+        """The same jet with derivatives over the (larger, sorted) coordinate set ``names``."""
+        if names == self.names:
+            return self
+        where = _union(names, self.names)[2]
+        size, m = self.g.shape[0], len(names)
+        g = np.zeros((size, m), complex)
+        h = np.zeros((size, m, m), complex)
+        g[:, where] = self.g
+        h[:, where[:, None], where[None, :]] = self.h
+        return Jet(self.v, g, h, self.d, names, self.boxes)
+
     def _scaled(self, c: complex) -> Jet:
-        return Jet(c * self.v, c * self.g, c * self.h, abs(c) * self.d, self.boxes)
+        return Jet(c * self.v, c * self.g, c * self.h, abs(c) * self.d, self.names,
+                   self.boxes)
 
     def __neg__(self) -> Jet:
         return self._scaled(-1.0)
@@ -265,13 +299,15 @@ class Jet:
         if not isinstance(other, Jet):
             d = self.d.copy()
             d[:, 0] += abs(other)
-            return Jet(self.v + other, self.g, self.h, d, self.boxes)
+            return Jet(self.v + other, self.g, self.h, d, self.names, self.boxes)
+        names, ia, ib = _union(self.names, other.names)
         fused = _fused()
         if fused is not None:
-            return Jet(*fused.jet_add(self.v, self.g, self.h, self.d, other.v, other.g,
-                                      other.h, other.d, self.boxes.r), self.boxes)
-        return Jet(self.v + other.v, self.g + other.g, self.h + other.h, self.d + other.d,
-                   self.boxes).tighten()
+            return Jet(*fused.jet_add(self.v, self.g, self.h, self.d, ia, other.v, other.g,
+                                      other.h, other.d, ib, self.boxes.radii(names)),
+                       names, self.boxes)
+        a, b = self.embedded(names), other.embedded(names)
+        return Jet(a.v + b.v, a.g + b.g, a.h + b.h, a.d + b.d, names, self.boxes).tighten()
 
     __radd__ = __add__
 
@@ -284,11 +320,13 @@ class Jet:
     def __mul__(self, other: Any) -> Jet:
         if not isinstance(other, Jet):
             return self._scaled(complex(other))
-        a, b = self, other
+        names, ia, ib = _union(self.names, other.names)
         fused = _fused()
         if fused is not None:
-            return Jet(*fused.jet_mul(a.v, a.g, a.h, a.d, b.v, b.g, b.h, b.d, a.boxes.r),
-                       self.boxes)
+            return Jet(*fused.jet_mul(self.v, self.g, self.h, self.d, ia, other.v, other.g,
+                                      other.h, other.d, ib, self.boxes.radii(names)),
+                       names, self.boxes)
+        a, b = self.embedded(names), other.embedded(names)
         outer = a.g[:, :, None] * b.g[:, None, :]
         h = (a.h * b.v[:, None, None] + outer + outer.transpose(0, 2, 1)
              + a.v[:, None, None] * b.h)
@@ -296,7 +334,7 @@ class Jet:
         with np.errstate(invalid="ignore", over="ignore"):
             for k, row in enumerate(_BINOMIAL):
                 d[:, k] = sum(c * a.d[:, i] * b.d[:, k - i] for i, c in enumerate(row))
-        return Jet(a.v * b.v, a.g * b.v[:, None] + a.v[:, None] * b.g, h, _safe(d),
+        return Jet(a.v * b.v, a.g * b.v[:, None] + a.v[:, None] * b.g, h, _safe(d), names,
                    self.boxes).tighten()
 
     __rmul__ = __mul__
@@ -370,6 +408,11 @@ def enclose(kernel_code: Callable[..., Any], inverse: InverseA, lo: np.ndarray,
     boxes = _Boxes(centre, radius, inverse)
     n = centre.shape[1]
     h = kernel_code([boxes.variable(i) for i in range(n)], boxes.inv_a)
+    if not isinstance(h, Jet):  # a constant kernel
+        h = Jet(np.full(centre.shape[0], complex(h)), np.zeros((centre.shape[0], 0), complex),
+                np.zeros((centre.shape[0], 0, 0), complex),
+                np.tile([abs(complex(h)), 0.0, 0.0, 0.0], (centre.shape[0], 1)), (), boxes)
+    h = h.embedded(tuple(range(n)))
     signs = np.array(np.meshgrid(*([[-1.0, 1.0]] * n), indexing="ij")).reshape(n, -1)
     _, second = h.forms()
     with np.errstate(invalid="ignore", over="ignore"):

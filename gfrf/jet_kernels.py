@@ -42,45 +42,62 @@ def _tighten(k, v, g, h, d, r):  # noqa: ANN001, ANN202 - numba kernel
 
 
 @njit(cache=True)
-def jet_add(av, ag, ah, ad, bv, bg, bh, bd, r):  # noqa: ANN001, ANN201 - numba kernel
-    """Sum of two jets, tightened (arrays of shape (N,), (N, n), (N, n, n), (N, 4))."""
-    size, n = r.shape
+def jet_add(av, ag, ah, ad, ia, bv, bg, bh, bd, ib, r):  # noqa: ANN001, ANN201 - numba kernel
+    """Sum of two jets, tightened.
+
+    ``ag``/``ah`` are derivatives over a's coordinates, placed at positions ``ia`` of the
+    union whose half-widths are ``r`` (N, m); likewise b.
+    """
+    size, m = r.shape
     v = av + bv
-    g = ag + bg
-    h = ah + bh
+    g = np.zeros((size, m), np.complex128)
+    h = np.zeros((size, m, m), np.complex128)
     d = ad + bd
     for k in range(size):
+        for p in range(ia.size):
+            g[k, ia[p]] += ag[k, p]
+            for q in range(ia.size):
+                h[k, ia[p], ia[q]] += ah[k, p, q]
+        for p in range(ib.size):
+            g[k, ib[p]] += bg[k, p]
+            for q in range(ib.size):
+                h[k, ib[p], ib[q]] += bh[k, p, q]
         _tighten(k, v, g, h, d, r)
     return v, g, h, d
 
 
 @njit(cache=True)
-def jet_mul(av, ag, ah, ad, bv, bg, bh, bd, r):  # noqa: ANN001, ANN201 - numba kernel
-    """Product of two jets by Leibniz's rule, tightened."""
-    size, n = r.shape
+def jet_mul(av, ag, ah, ad, ia, bv, bg, bh, bd, ib, r):  # noqa: ANN001, ANN201 - numba kernel
+    """Product of two jets by Leibniz's rule, tightened (coordinates as in jet_add)."""
+    size, m = r.shape
     v = np.empty(size, np.complex128)
-    g = np.empty((size, n), np.complex128)
-    h = np.empty((size, n, n), np.complex128)
+    g = np.zeros((size, m), np.complex128)
+    h = np.zeros((size, m, m), np.complex128)
     d = np.empty((size, 4))
     for k in range(size):
         a0, b0 = av[k], bv[k]
         v[k] = a0 * b0
-        for i in range(n):
-            g[k, i] = ag[k, i] * b0 + a0 * bg[k, i]
-        for i in range(n):
-            for j in range(i, n):
-                value = (ah[k, i, j] * b0 + ag[k, i] * bg[k, j] + ag[k, j] * bg[k, i]
-                         + a0 * bh[k, i, j])
-                h[k, i, j] = value
-                h[k, j, i] = value
+        for p in range(ia.size):
+            g[k, ia[p]] += ag[k, p] * b0
+            for q in range(ia.size):
+                h[k, ia[p], ia[q]] += ah[k, p, q] * b0
+        for p in range(ib.size):
+            g[k, ib[p]] += a0 * bg[k, p]
+            for q in range(ib.size):
+                h[k, ib[p], ib[q]] += a0 * bh[k, p, q]
+        for p in range(ia.size):
+            for q in range(ib.size):
+                cross = ag[k, p] * bg[k, q]
+                h[k, ia[p], ib[q]] += cross
+                h[k, ib[q], ia[p]] += cross
         x0, x1, x2, x3 = ad[k, 0], ad[k, 1], ad[k, 2], ad[k, 3]
         y0, y1, y2, y3 = bd[k, 0], bd[k, 1], bd[k, 2], bd[k, 3]
         d[k, 0] = x0 * y0
         d[k, 1] = x1 * y0 + x0 * y1
         d[k, 2] = x2 * y0 + 2.0 * x1 * y1 + x0 * y2
         d[k, 3] = x3 * y0 + 3.0 * x2 * y1 + 3.0 * x1 * y2 + x0 * y3
-        for m in range(4):
-            if d[k, m] != d[k, m]:
-                d[k, m] = np.inf
+        for j in range(4):
+            if d[k, j] != d[k, j]:
+                d[k, j] = np.inf
         _tighten(k, v, g, h, d, r)
     return v, g, h, d

@@ -310,9 +310,13 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
     tol : float, optional
         Target relative gap; more local searches are run while the gap exceeds it.
     max_boxes : int, optional
-        Budget of the branch-and-bound (boxes evaluated), used when the majorant
-        leaves a gap above ``tol`` (continuous model, n <= 5); 0 skips it (the
-        majorant's upper end and the local search only).
+        Budget of the branch-and-bound (boxes evaluated, at most
+        :data:`gfrf.branch_bound.BOX_LIMIT`), used when the majorant leaves a gap above
+        ``tol`` (continuous model, n <= 5); 0 skips it (the majorant's upper end and the
+        local search only).  The search stops on this work count or on ``tol``, never on
+        time.  Measured on a 2-core 2026 machine (``gfrf bench``, section "Tight
+        brackets"): ||H5|| of the hanging pendulum closes to ``tol = 1e-3`` in about
+        5e5 boxes (~20 s on one core), of the cart-pole plant in about 6e4.
     proof : {"interval", "float", "none"}
         ``"interval"`` (default): the majorant's upper end in ball arithmetic on proven
         sups (``upper_proof = "interval"``) and the witness |H_n(argmax)| in ball
