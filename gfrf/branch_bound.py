@@ -67,6 +67,9 @@ BATCH = 2048
 #: Default budget of box evaluations of :func:`branch_and_bound` (about 10 s at order 5
 #: on a 2-core 2026 machine; :func:`gfrf.norms.kernel_norm` passes its own budget).
 MAX_BOXES = 200_000
+#: Budget from which the fused numba loops are used (when installed): below it their
+#: one-off import and cache load (~0.5-1 s) costs more than they save (~27 us per box).
+COMPILED_FROM = 100_000
 #: Most boxes any search may be given (bounds the cost of every input: about 10 min).
 BOX_LIMIT = 20_000_000
 #: Nelder-Mead polishings of a new best box centre per search.
@@ -149,8 +152,8 @@ def _compiled(gen: GFRFGenerator, n: int, symmetric: bool) -> tuple[Callable[...
     return namespace["taylor_kernel"], namespace["point_kernel"]
 
 
-def box_bounds(model: Model, n: int, lo: np.ndarray, hi: np.ndarray, symmetric: bool = True
-               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def box_bounds(model: Model, n: int, lo: np.ndarray, hi: np.ndarray, symmetric: bool = True,
+               compiled: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Certified bounds of |H_n| on boxes, with the centre values.
 
     Parameters
@@ -163,6 +166,8 @@ def box_bounds(model: Model, n: int, lo: np.ndarray, hi: np.ndarray, symmetric: 
         Box corners, angular frequencies in rad/s.
     symmetric : bool, optional
         Symmetric (default) or asymmetric kernel.
+    compiled : bool, optional
+        The fused numba loops instead of numpy (see :func:`gfrf.enclosure.enclose`).
 
     Returns
     -------
@@ -177,7 +182,7 @@ def box_bounds(model: Model, n: int, lo: np.ndarray, hi: np.ndarray, symmetric: 
         raise ArgumentError("the branch-and-bound handles continuous-time models only")
     _, den = linear_polynomials(model)
     return enclose(_compiled(generator(model), n, symmetric)[0], _inverse(tuple(den.tolist())),
-                   np.asarray(lo, float), np.asarray(hi, float))
+                   np.asarray(lo, float), np.asarray(hi, float), compiled)
 
 
 @lru_cache(maxsize=16)
@@ -265,7 +270,8 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
         return BranchBoundResult(best, max(ceiling, best), tuple(float(x) for x in best_x),
                                  False, 0, width, tail)
     lo, hi = -width * np.ones((1, n)), width * np.ones((1, n))
-    bound, value, split = enclose(taylor, inverse, lo, hi)
+    compiled = max_boxes >= COMPILED_FROM
+    bound, value, split = enclose(taylor, inverse, lo, hi, compiled)
     boxes, pruned, polishes = 1, 0.0, 0
     while True:
         threshold = max(best / (1.0 - tol), tail)  # upper >= tail whatever the boxes give
@@ -287,7 +293,7 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
         c_lo, c_hi = np.vstack([p_lo, right_lo]), np.vstack([left_hi, p_hi])
         inside = _in_domain(c_lo, c_hi, True) if symmetric else _in_domain(c_lo, c_hi, False)
         c_lo, c_hi = c_lo[inside], c_hi[inside]
-        c_bound, c_value, c_split = enclose(taylor, inverse, c_lo, c_hi)
+        c_bound, c_value, c_split = enclose(taylor, inverse, c_lo, c_hi, compiled)
         boxes += c_lo.shape[0]
         magnitude = np.abs(c_value)
         magnitude[~np.isfinite(magnitude)] = 0.0

@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import gfrf.enclosure as enclosure
 from gfrf.branch_bound import box_bounds
 from gfrf.compiled import HAVE_NUMBA
 from gfrf.kernels import kernel
@@ -59,13 +58,8 @@ def test_fused_loops_match_the_numpy_arithmetic(text: str, n: int) -> None:
     rng = np.random.default_rng(4)
     centre = rng.uniform(-2, 2, (200, n))
     half = 10.0 ** rng.uniform(-4, 0, (200, 1)) * rng.uniform(0.2, 1.0, (200, n))
-    fused = box_bounds(m, n, centre - half, centre + half)
-    saved = enclosure._FUSED
-    try:
-        enclosure._FUSED = False
-        plain = box_bounds(m, n, centre - half, centre + half)
-    finally:
-        enclosure._FUSED = saved
+    fused = box_bounds(m, n, centre - half, centre + half, compiled=True)
+    plain = box_bounds(m, n, centre - half, centre + half)
     np.testing.assert_allclose(fused[0], plain[0], rtol=1e-12)
     np.testing.assert_allclose(fused[1], plain[1], rtol=1e-12)
 
