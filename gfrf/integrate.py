@@ -237,7 +237,8 @@ def plant_input(system: OdeSystem, states: np.ndarray, v: np.ndarray) -> np.ndar
 
 #: sympy functions whose ``math`` printing agrees with numpy's on floats (or raises,
 #: and the evaluation then falls back to numpy), see :func:`_input_code`.
-_MATH_FUNCTIONS = ("sin", "cos", "tan", "exp", "log", "tanh", "Abs", "sign", "Heaviside")
+_MATH_FUNCTIONS = ("sin", "cos", "tan", "sinh", "cosh", "tanh", "atan", "exp", "log", "Abs",
+                   "sign", "Heaviside")
 #: Time argument of the generated right-hand side (no model or input name starts with _).
 _TIME = "_t"
 

@@ -5,12 +5,17 @@ The hanging pendulum (rho = 0.8) as its polynomial ODE ``theta'' + 0.05 theta' +
 over 200 s, 2001 output samples.  Baseline: what a user writes without gfrf, the ODE
 typed by hand as a Python function ``f(t, y)`` with the forcing a function of t, given
 to ``scipy.integrate.solve_ivp`` with RK45, DOP853 and LSODA over a sweep of rtol (atol
-= 1e-3 rtol).  gfrf: its default path (``simulate``: DOP853 on the generated system, rtol
-1e-8, atol 1e-10) swept over the same tolerances, and its fast path (compiled
-fixed-step RK4) swept over the step.  Error: max |theta - theta_ref| on the samples
-against DOP853 at rtol 1e-13 (atol 1e-15) on the hand-written ODE.  A speed-up at equal
-error divides a method's time by the fast path's (or gfrf default's) time interpolated
-log-log at the same error.  All in one run, best of three; numba compile or cache load
+= 1e-3 rtol).  gfrf: its default path (``simulate`` with ``method="auto"``: RK45 at rtol
+>= 1e-4, DOP853 below, on the generated system) swept over the same tolerances (atol =
+1e-3 rtol; the default rtol is 1e-8), and its fast path (compiled fixed-step RK4) swept
+over the step.  The default path is also compared with plain RK45 on two more bundled
+models, each typed by hand from its equation: the cart-pole (physical equation, eqs
+(8)-(9)) in closed loop with its eq (15) controller, theta(0) = 0.2618 rad, reference
+``0.02*sin(t)``, 100 s; and the Duffing oscillator, ``u = 0.5*sin(1.3*t)``, 200 s.
+Error: max |y - y_ref| on the samples against DOP853 at rtol 1e-13 (atol 1e-15) on the
+hand-written ODE.  A speed-up at equal error divides a method's time by the fast
+path's (or gfrf default's) time interpolated log-log at the same error.  All in one
+run, best of three (gfrf and plain solve_ivp alternating); numba compile or cache load
 is excluded and reported.
 """
 
@@ -29,7 +34,7 @@ from gfrf._atomic import atomic_path
 from gfrf.bench import BenchSection, best_of, figure_dir, load_note
 from gfrf.modelfile import load_model
 from gfrf.signals import parse_input
-from gfrf.simulation import build_system, simulate
+from gfrf.simulation import auto_method, build_system, simulate
 
 __all__ = ["run", "measure"]
 
@@ -37,8 +42,9 @@ _INPUT = "0.05*sin(1.565*t)"
 _T_END = 200.0
 _DAMPING, _STIFFNESS = 0.05, 2.45
 _CUBIC = _STIFFNESS / 6.0
-_DEFAULT_RTOL = 1e-8  # gfrf.simulation's default (atol 1e-10)
+_DEFAULT_RTOL = 1e-8  # gfrf.simulation's default
 _PLAIN = ("RK45", "DOP853", "LSODA")
+_DEFAULT = "gfrf default (auto)"
 
 Curve = list[tuple[float, float, float]]  # (setting, seconds, error)
 
@@ -49,10 +55,77 @@ def _by_hand(t: float, y: np.ndarray) -> list[float]:
     return [y[1], u - _DAMPING * y[1] - _STIFFNESS * y[0] + _CUBIC * y[0] ** 3]
 
 
-def _plain(method: str, rtol: float, atol: float, t_eval: np.ndarray) -> np.ndarray:
-    sol = solve_ivp(_by_hand, (0.0, _T_END), [0.0, 0.0], method=method, rtol=rtol, atol=atol,
-                    t_eval=t_eval)
+# Cart-pole (models/cartpole.toml): ((M+m) 4/3 - m cos^2) th'' - (M+m) g/L sin th
+# + m th'^2 sin cos + cos u / L = 0 with u = r - (a th'' + b th' + c th), solved for th''.
+_M, _m, _L, _g = 0.145, 0.03, 0.125, 9.8
+_A, _B, _C = 15.6, 379.3, 0.1331
+
+
+def _cartpole_by_hand(t: float, y: np.ndarray) -> list[float]:
+    """The cart-pole loop as a user types it from eqs (8)-(9) and (15)."""
+    r = 0.02 * math.sin(t)
+    co, si = math.cos(y[0]), math.sin(y[0])
+    lead = (_M + _m) * 4 / 3 - _m * co ** 2 - _A * co / _L
+    rest = (_M + _m) * _g / _L * si - _m * y[1] ** 2 * si * co \
+        - co * (r - _B * y[1] - _C * y[0]) / _L
+    return [y[1], rest / lead]
+
+
+def _duffing_by_hand(t: float, y: np.ndarray) -> list[float]:
+    """The Duffing oscillator of models/duffing.toml as a user types it."""
+    u = 0.5 * math.sin(1.3 * t)
+    return [y[1], u - 0.2 * y[1] - y[0] - 0.5 * y[0] ** 3]
+
+
+#: Further bundled models for the default path against plain RK45: (label, file,
+#: closed loop, hand-written f, input, initial state, t_end in s).
+_MODELS = (
+    ("cart-pole loop", "cartpole.toml", True, _cartpole_by_hand, "0.02*sin(t)",
+     (0.2618, 0.0), 100.0),
+    ("Duffing", "duffing.toml", False, _duffing_by_hand, "0.5*sin(1.3*t)", (0.0, 0.0), 200.0),
+)
+
+
+def _plain(method: str, rtol: float, atol: float, t_eval: np.ndarray, f: Any = _by_hand,
+           y0: tuple[float, ...] = (0.0, 0.0)) -> np.ndarray:
+    sol = solve_ivp(f, (0.0, float(t_eval[-1])), list(y0), method=method, rtol=rtol,
+                    atol=atol, t_eval=t_eval)
     return sol.y[0]
+
+
+def _paired(calls: dict[str, Any], repeat: int) -> dict[str, tuple[float, Any]]:
+    """Best wall time of each call over ``repeat`` rounds, the calls alternating in a round
+    (so a change of machine load reaches all alike), and its last result."""
+    best = {name: (math.inf, None) for name in calls}
+    for _ in range(repeat):
+        for name, call in calls.items():
+            sec, out = best_of(call, 1)
+            best[name] = (min(best[name][0], sec), out)
+    return best
+
+
+def _default_vs_rk45(rtols: list[float], repeat: int) -> dict[str, dict[str, Curve]]:
+    """Per model of :data:`_MODELS`: curves of gfrf's default path and plain RK45."""
+    return {label: _model_curves(file, loop, f, text, y0, t_end, rtols, repeat)
+            for label, file, loop, f, text, y0, t_end in _MODELS}
+
+
+def _model_curves(file: str, loop: bool, f: Any, text: str, y0: tuple[float, ...],
+                  t_end: float, rtols: list[float], repeat: int) -> dict[str, Curve]:
+    root = Path(__file__).resolve().parents[2]
+    system = build_system(load_model(root / "models" / file), closed_loop=loop)
+    signal = parse_input(text)
+    t_eval = np.linspace(0.0, t_end, 2001)
+    ref = _plain("DOP853", 1e-13, 1e-15, t_eval, f, y0)
+    curves: dict[str, Curve] = {"default": [], "plain": []}
+    for rtol in rtols:
+        runs = _paired({
+            "default": lambda r=rtol: simulate(system, signal, t_end=t_end, t_eval=t_eval,
+                                               initial=list(y0), rtol=r, atol=r * 1e-3).y,
+            "plain": lambda r=rtol: _plain("RK45", r, r * 1e-3, t_eval, f, y0)}, repeat)
+        for name, (sec, y) in runs.items():
+            curves[name].append((rtol, sec, float(np.max(np.abs(y - ref)))))
+    return curves
 
 
 def measure(quick: bool) -> dict[str, Any]:
@@ -74,25 +147,25 @@ def measure(quick: bool) -> dict[str, Any]:
     def err(y: np.ndarray) -> float:
         return float(np.max(np.abs(y - ref)))
 
-    curves: dict[str, Curve] = {"gfrf fast RK4": [], "gfrf default (DOP853)": []}
+    curves: dict[str, Curve] = {"gfrf fast RK4": [], _DEFAULT: []}
     for dt in steps:
         sec, res = best_of(lambda dt=dt: simulate(system, signal, method="fast", dt=dt,
                                                 **common), repeat)
         curves["gfrf fast RK4"].append((dt, sec, err(res.y)))
-    for rtol in rtols:
-        atol = 1e-10 if rtol == _DEFAULT_RTOL else rtol * 1e-3
-        sec, res = best_of(lambda r=rtol, a=atol: simulate(system, signal, rtol=r, atol=a,
-                                                         **common), repeat)
-        curves["gfrf default (DOP853)"].append((rtol, sec, err(res.y)))
     for method in _PLAIN:
         curves[f"solve_ivp {method}"] = []
-        for rtol in rtols:
-            sec, y = best_of(lambda m=method, r=rtol: _plain(m, r, r * 1e-3, t_eval), repeat)
-            curves[f"solve_ivp {method}"].append((rtol, sec, err(y)))
+    for rtol in rtols:
+        calls = {_DEFAULT: lambda r=rtol: simulate(system, signal, rtol=r, atol=r * 1e-3,
+                                                   **common).y}
+        calls.update({f"solve_ivp {m}": lambda m=m, r=rtol: _plain(m, r, r * 1e-3, t_eval)
+                      for m in _PLAIN})
+        for name, (sec, y) in _paired(calls, repeat).items():
+            curves[name].append((rtol, sec, err(y)))
     auto_sec, auto = best_of(lambda: simulate(system, signal, method="fast", **common), repeat)
     return {"curves": curves, "compile_time": compile_time, "reference_time": t_ref,
             "fast_auto": (auto_sec, err(auto.y),
-                          next((n for n in auto.notes if n.startswith("step doubling")), ""))}
+                          next((n for n in auto.notes if n.startswith("step doubling")), "")),
+            "models": _default_vs_rk45(rtols, repeat)}
 
 
 def _time_at(error: float, curve: Curve) -> float | None:
@@ -136,12 +209,19 @@ def _span(values: list[float]) -> str:
     return f"{fmt(min(values))}x to {fmt(max(values))}x"
 
 
+def _ratios(default: Curve, plain: Curve) -> tuple[list[float], list[float]]:
+    """gfrf default time over plain RK45 time: at the same rtol, and at plain's errors."""
+    same = [g[1] / q[1] for g, q in zip(default, plain, strict=True)]
+    equal = [t / sec for _, sec, e in plain if (t := _time_at(e, default))]
+    return same, equal
+
+
 def run(quick: bool) -> BenchSection:
     """The speed-vs-error section of ``gfrf bench`` (figure written to reports/)."""
     load = os.getloadavg()
     data = measure(quick)
     curves: dict[str, Curve] = data["curves"]
-    fast, default = curves["gfrf fast RK4"], curves["gfrf default (DOP853)"]
+    fast = curves["gfrf fast RK4"]
     rows: list[list[object]] = []
     for dt, sec, e in fast:
         rows.append(["gfrf fast RK4 (numba)", f"dt = {dt:g} s", f"{e:.2e}", f"{sec * 1e3:.2f}",
@@ -151,7 +231,6 @@ def run(quick: bool) -> BenchSection:
                  f"{auto_err:.2e}",
                  f"{auto_sec * 1e3:.2f}", "", ""])
     fast_ratio: dict[str, list[float]] = {}
-    default_ratio: list[float] = []
     for name, curve in curves.items():
         if name == "gfrf fast RK4":
             continue
@@ -160,30 +239,41 @@ def run(quick: bool) -> BenchSection:
             ratio = sec / t_fast if t_fast else None
             if ratio:
                 fast_ratio.setdefault(name, []).append(ratio)
-            t_default = _time_at(e, default) if name != "gfrf default (DOP853)" else None
-            if t_default and name == "solve_ivp RK45":
-                default_ratio.append(t_default / sec)
-            mark = " (gfrf's default)" if name.startswith("gfrf") and rtol == _DEFAULT_RTOL \
-                else ""
-            rows.append([name, f"rtol = {rtol:g}{mark}", f"{e:.2e}", f"{sec * 1e3:.2f}",
+            rows.append([name, _setting(name, rtol), f"{e:.2e}", f"{sec * 1e3:.2f}",
                          f"{t_fast * 1e3:.3g}" if t_fast else "n/a",
                          f"{ratio:.3g}x" if ratio else "outside fast range"])
-    same_tol = [g[1] / p[1] for g, p in zip(default, curves["solve_ivp RK45"], strict=True)]
+    compared = {"hanging pendulum": _ratios(curves[_DEFAULT], curves["solve_ivp RK45"])}
+    for label, model in data["models"].items():
+        compared[label] = _ratios(model["default"], model["plain"])
+        for name, key in ((_DEFAULT, "default"), ("solve_ivp RK45", "plain")):
+            for rtol, sec, e in model[key]:
+                rows.append([f"{label}: {name}", _setting(name, rtol), f"{e:.2e}",
+                             f"{sec * 1e3:.2f}", "", ""])
     out_dir = figure_dir()
     figure = "speed-vs-error-simulation.png"
     _figure(curves, out_dir / figure)
     notes = ["Fast path ahead of each method at equal error (range over its tolerances): "
              + "; ".join(f"{name} {_span(fast_ratio.get(name, []))}"
                          for name in curves if name != "gfrf fast RK4") + ".",
-             f"gfrf's default path against plain solve_ivp RK45 on the hand-written ODE: "
-             f"{_span(same_tol)} its time at the same rtol, {_span(default_ratio)} at equal "
-             f"error (above 1x: gfrf's wrapper is slower).",
+             "gfrf's default path (method auto) against plain solve_ivp RK45 on the "
+             "hand-written ODE, its time as a multiple of plain RK45's at the same rtol | "
+             "at equal error (below 1x: gfrf is faster): "
+             + "; ".join(f"{label} {_span(same)} | {_span(equal)}"
+                         for label, (same, equal) in compared.items()) + ".",
              f"numba compile / cache load of the fast path (excluded from the timings): "
              f"{data['compile_time']:.2f} s; reference run {data['reference_time']:.2f} s.",
              load_note(load)]
     return BenchSection(
         title="Simulation: gfrf fast and default paths vs plain solve_ivp (hanging pendulum)",
         intro=" ".join(__doc__.split("\n\n", 1)[1].split()),
-        columns=["method", "setting", "max error (rad)", "time (ms)",
+        columns=["method", "setting", "max error (rad; Duffing: y)", "time (ms)",
                  "fast time at equal error (ms)", "fast speed-up"],
         rows=rows, notes=notes, figures=[figure])
+
+
+def _setting(name: str, rtol: float) -> str:
+    """``rtol = ...``, for gfrf's default path with the method auto ran and the default."""
+    if name != _DEFAULT:
+        return f"rtol = {rtol:g}"
+    mark = ", the default rtol" if rtol == _DEFAULT_RTOL else ""
+    return f"rtol = {rtol:g} ({auto_method(rtol)}{mark})"
