@@ -97,11 +97,17 @@ def test_nonlinear_value_against_solve_ivp(branch, bracket, eps, trunc, g):
     assert delta == pytest.approx(_brentq_reference(eps, amp, branch, g, bracket), abs=1e-12)
 
 
-def test_newton_does_not_jump_to_another_family():
-    # sin(x), eps = -0.6, x(0) = 1.5: Newton from the linear orbit lands on an orbit with a
+@pytest.mark.parametrize("eps,amp,trunc,g,bracket", [
+    # sin(x), x(0) = 1.5: Newton straight from the linear orbit lands on an orbit with a
     # zero crossing (delta ~ 1.37); the branch-0 orbit (no zero) is near delta = 0.068
-    ref = _brentq_reference(-0.6, 1.5, "0", math.sin, (0.0, 0.2))
-    orbit = fourier_transition(-0.6, 1.5, "0", None)
+    (-0.6, 1.5, None, math.sin, (0.0, 0.2)),
+    # eq (4), eps = -2: straight from the linear orbit Newton lands on a positive orbit
+    # reaching x ~ 4 (delta ~ -1.92); continuation in x(0) stays near delta = -0.21
+    (-2.0, 0.3, 3, lambda x: x - x**3 / 6, (-0.5, 0.0)),
+])
+def test_continuation_stays_on_the_branch(eps, amp, trunc, g, bracket):
+    ref = _brentq_reference(eps, amp, "0", g, bracket)
+    orbit = fourier_transition(eps, amp, "0", trunc)
     assert orbit.delta == pytest.approx(ref, abs=1e-12)
     t = np.linspace(0.0, math.pi, 200)
     assert np.all(orbit.evaluate(t) > 0)

@@ -16,10 +16,12 @@ decay faster than geometrically and ``delta`` converges spectrally in ``n``: ``n
 doubled (from 16, at most :data:`MAX_MODES`) until the last quarter of the coefficients is
 below ``1e-15`` of the largest, a rule on the computed coefficients, never on time.
 
-The start is the linear orbit: the lowest eigenvalue of the same collocation operator
-with ``g(x) = x`` (Hill's method; it is the Mathieu value ``a_0(2 eps)/4`` resp.
-``b_1(2 eps)/4``), its eigenvector scaled to ``x(0) = amplitude``.  If Newton does not
-converge from there, the amplitude is walked up from a small one (continuation).
+The orbit is continued from the linear one, the lowest eigenpair of the same collocation
+operator with ``g(x) = x`` (Hill's method; the eigenvalue is the Mathieu value
+``a_0(2 eps)/4`` resp. ``b_1(2 eps)/4``), in ``x(0)`` by steps of at most 0.1 (as the
+shooting continuation did), or from a given neighbouring orbit (continuation in ``eps``
+along a curve).  Along a continuous family ``x`` keeps its sign pattern (no zero on
+``[0, pi]``, resp. one at ``t = pi``), which every accepted orbit is checked for.
 
 :func:`gfrf.periodic.shooting.transition_delta` checks every result by an independent
 integration (Fortran DOP853 at ``rtol = 1e-12``) of the initial value problem.
@@ -47,6 +49,12 @@ _STEP_TOL = 1e-9
 #: The last quarter of the coefficients must be below this fraction of the largest.
 _TAIL_TOL = 1e-15
 _MAXITER = 30
+#: During continuation the modes are doubled once the tail exceeds this.
+_GROW_TAIL = 1e-8
+#: Largest accepted Newton correction of a continuation step, relative to the orbit.
+_MAX_CORRECTION = 0.1
+#: The continuation step never falls below ``step / 2**_HALVINGS``.
+_HALVINGS = 6
 
 
 @dataclass(frozen=True)
@@ -166,6 +174,22 @@ def _on_branch(a: np.ndarray, branch: str) -> bool:
     return bool(np.all(np.cos(np.outer(t, _frequencies(branch, n))) @ a > 0))
 
 
+def _near(out: tuple[np.ndarray, float, int] | None, a: np.ndarray, delta: float,
+          branch: str) -> bool:
+    """Whether Newton converged from ``(a, delta)`` to a nearby orbit on the branch.
+
+    "Nearby": the correction is at most :data:`_MAX_CORRECTION` of the orbit's largest
+    coefficient (and of ``max(1, |delta|)``); a larger one means the predictor was poor and
+    Newton may have reached another family, so the step is refused.
+    """
+    if out is None:
+        return False
+    a_new, d_new, _ = out
+    return bool(np.max(np.abs(a_new - a)) <= _MAX_CORRECTION * np.max(np.abs(a_new))
+                and abs(d_new - delta) <= _MAX_CORRECTION * max(1.0, abs(d_new))
+                and _on_branch(a_new, branch))
+
+
 def _resize(a: np.ndarray, n: int) -> np.ndarray:
     out = np.zeros(n)
     m = min(n, len(a))
@@ -173,39 +197,52 @@ def _resize(a: np.ndarray, n: int) -> np.ndarray:
     return out
 
 
-def _solve(eps: float, amplitude: float, branch: str, truncation: int | None,
-           a: np.ndarray, delta: float, step: float) -> tuple[np.ndarray, float, int]:
-    """Converged ``(a, delta, iterations)`` at ``len(a)`` modes, by continuation if needed."""
-    out = _newton(eps, amplitude, branch, truncation, a, delta)
-    if out is not None and _on_branch(out[0], branch):
-        return out
-    # continuation in the amplitude from the linear orbit, delta extrapolated in amp**2
-    n = len(a)
-    steps = max(2, math.ceil(amplitude / step))
-    amps = np.linspace(amplitude / steps, amplitude, steps)
-    a, lin = _linear_start(eps, branch, n, float(amps[0]))
-    prev_a2, prev_d, delta, total = 0.0, lin, lin, 0
-    for amp in amps:
-        out = _newton(eps, float(amp), branch, truncation, a * (amp / a.sum()), delta)
-        if out is None:
-            raise ConvergenceError(
-                f"Fourier collocation for the {branch} transition orbit (eps={eps}, x(0)="
-                f"{amplitude:g}, {n} modes) did not converge at x(0) = {amp:.6g} (Newton, "
-                f"{_MAXITER} steps, continuation in x(0) by {step:g}); no transition orbit "
-                f"found along this path")
-        a, d_amp, it = out
-        if not _on_branch(a, branch):
-            raise ConvergenceError(
-                f"Fourier collocation for the {branch} transition orbit (eps={eps}, x(0)="
-                f"{amplitude:g}) left the branch at x(0) = {amp:.6g}: the orbit gained a "
-                f"zero in [0, pi), which no continuous family of orbits does")
+def _continue(eps: float, amplitude: float, branch: str, truncation: int | None,
+              step: float) -> tuple[np.ndarray, float, int]:
+    """Continuation in ``x(0)`` from the linear orbit, in steps of at most ``step``.
+
+    The shape ``a / x(0)`` and ``delta`` are extrapolated linearly in ``x(0)**2`` from the
+    last two orbits (the linear one first); a step where Newton fails or corrects the
+    prediction by more than :data:`_MAX_CORRECTION` is halved (never below
+    ``step / 2**_HALVINGS``), the modes are doubled when the tail grows, and every
+    accepted orbit must keep the branch's sign pattern.
+    """
+    n = _FIRST_MODES
+    shape, lin = _linear_start(eps, branch, n, 1.0)
+    prev = (0.0, shape, lin)  # (x(0)**2, a / x(0), delta)
+    cur = prev
+    h = min(step, amplitude)
+    min_h = h / 2**_HALVINGS
+    done, total = 0.0, 0
+    while done < amplitude:
+        nxt = min(amplitude, done + h)
+        if cur is prev:
+            guess_shape, guess_d = cur[1], cur[2]
+        else:
+            w = (nxt * nxt - cur[0]) / (cur[0] - prev[0])
+            guess_shape, guess_d = cur[1] + w * (cur[1] - prev[1]), cur[2] + w * (cur[2] - prev[2])
+        guess = nxt * guess_shape / guess_shape.sum()
+        out = _newton(eps, nxt, branch, truncation, guess, guess_d)
+        if not _near(out, guess, guess_d, branch):
+            if h <= min_h:
+                why = "did not converge" if out is None else "jumped off the branch"
+                raise ConvergenceError(
+                    f"Fourier collocation for the {branch} transition orbit (eps={eps}, x(0)="
+                    f"{amplitude:g}) {why} at x(0) = {nxt:.6g} (Newton, {_MAXITER} steps, "
+                    f"{n} modes, continuation in x(0) down to steps of {h:.3g}); no "
+                    f"transition orbit found along this path")
+            h /= 2
+            continue
+        a, d_new, it = out
         total += it
-        a2 = float(amp) ** 2
-        slope = (d_amp - prev_d) / (a2 - prev_a2)
-        nxt = min(amplitude, float(amp) + amplitude / steps)
-        prev_a2, prev_d = a2, d_amp
-        delta = d_amp + slope * (nxt * nxt - a2)
-    return a, prev_d, total
+        prev, cur = cur, (nxt * nxt, a / nxt, d_new)
+        done, h = nxt, min(step, 2 * h)
+        if np.max(np.abs(a[-(n // 4):])) > _GROW_TAIL * np.max(np.abs(a)) \
+                and 2 * n <= MAX_MODES:
+            n *= 2
+            prev = (prev[0], _resize(prev[1], n), prev[2])
+            cur = (cur[0], _resize(cur[1], n), cur[2])
+    return cur[1] * amplitude, cur[2], total
 
 
 def fourier_transition(eps: float, amplitude: float, branch: str = "0",
@@ -225,9 +262,10 @@ def fourier_transition(eps: float, amplitude: float, branch: str = "0",
     truncation : int or None
         3 for eq (4), None for eq (3).
     start : FourierOrbit, optional
-        Newton start (e.g. the neighbour on a curve); default the linear orbit.
+        Newton start (e.g. the neighbour on a curve); without it, or if Newton fails
+        from it, continuation in ``x(0)`` from the linear orbit.
     step : float
-        Amplitude step of the continuation used when Newton fails from the start.
+        Largest amplitude step of that continuation.
 
     Returns
     -------
@@ -254,18 +292,18 @@ def fourier_transition(eps: float, amplitude: float, branch: str = "0",
         raise ArgumentError(f"amplitude must be positive, got {amplitude}")
     if not math.isfinite(eps):
         raise ArgumentError(f"eps must be finite, got {eps}")
-    n = _FIRST_MODES if start is None else max(_FIRST_MODES, start.modes)
-    if start is None:
-        a, delta = _linear_start(eps, b, n, amplitude)
-    else:
-        a, delta = _resize(start.coefficients, n), start.delta
+    out = None
+    if start is not None:
+        a = _resize(start.coefficients, max(_FIRST_MODES, start.modes))
         a *= amplitude / a.sum()
-    total = 0
+        out = _newton(eps, amplitude, b, truncation, a, start.delta)
+        if not _near(out, a, start.delta, b):
+            out = None
+    a, delta, total = out if out is not None else _continue(eps, amplitude, b, truncation,
+                                                            step)
     while True:
-        a, delta, it = _solve(eps, amplitude, b, truncation, a, delta, step)
-        total += it
-        scale = float(np.max(np.abs(a)))
-        tail = float(np.max(np.abs(a[-(n // 4):]))) / scale
+        n = len(a)
+        tail = float(np.max(np.abs(a[-(n // 4):]))) / float(np.max(np.abs(a)))
         if tail <= _TAIL_TOL:
             return FourierOrbit(float(eps), float(delta), float(amplitude), b, truncation,
                                 a, total, tail)
@@ -273,5 +311,10 @@ def fourier_transition(eps: float, amplitude: float, branch: str = "0",
             raise ConvergenceError(
                 f"the {b} transition orbit (eps={eps}, x(0)={amplitude:g}) needs more than "
                 f"{MAX_MODES} Fourier modes (tail {tail:.1e} of the largest coefficient)")
-        n *= 2
-        a = _resize(a, n)
+        out = _newton(eps, amplitude, b, truncation, _resize(a, 2 * n), delta)
+        if out is None:
+            raise ConvergenceError(
+                f"Fourier collocation for the {b} transition orbit (eps={eps}, x(0)="
+                f"{amplitude:g}) did not converge at {2 * n} modes from the {n}-mode orbit")
+        a, delta, it = out
+        total += it
