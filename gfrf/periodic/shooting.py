@@ -256,10 +256,10 @@ def transition_delta(eps: float, amplitude: float, branch: str = "0",
                      tol: float = 1e-10) -> PeriodicOrbit:
     """Exact nonlinear transition orbit with ``x(0) = amplitude`` and its ``delta``.
 
-    Fourier collocation (:func:`~gfrf.periodic.spectral.fourier_transition`, from the
-    linear orbit; continuation in the amplitude by ``step`` if Newton fails from there),
-    checked by integrating the initial value problem to ``t = pi``: if the relative
-    shooting residual exceeds ``tol``, shooting Newton refines ``delta`` to ``tol``.
+    Fourier collocation (:func:`~gfrf.periodic.spectral.fourier_transition`, continued
+    from the linear orbit in the amplitude by steps of at most ``step``), checked by
+    integrating the initial value problem to ``t = pi``: if the relative shooting residual
+    exceeds ``tol``, shooting Newton refines ``delta`` to ``tol``.
 
     Raises
     ------
