@@ -4,15 +4,10 @@ The recursive majorant of :mod:`gfrf.majorant` bounds |H_n| by multiplying sup-n
 of factors; it is loose wherever terms cancel or resonances cannot coincide.  Here
 the sup is enclosed directly (angular frequencies in rad/s throughout):
 
-* **Tail.**  Outside the box |w_i| <= W (some |w_i| > W) a recursion on the majorant
-  bounds |H_n|: either the block sum sigma satisfies |sigma| >= alpha W, and the top
-  factor sigma^l / A(j sigma) is bounded by its exact sup over |sigma| >= alpha W, or
-  two coordinates exceed (1 - alpha) W / (m-1) and (unless both are input slots) one
-  of them sits in a lower-order factor, bounded recursively (best alpha of a few);
-  H1 factors use their exact sup over |w| >= V.  W is doubled until this tail bound
-  is below half the best value found (or stops decreasing: a factor s^2 H1 of
-  relative degree 0, as in theta^2 theta'', does not decay, and the bracket then
-  keeps the smallest tail bound met as its floor).
+* **Tail.**  Outside the box |w_i| <= W (some |w_i| > W), the proven tail bound of
+  :mod:`gfrf.tail` (a recursion on the majorant that places the large coordinates in
+  the factors of each term).  W is doubled until it is below half the best value found
+  (or stops decreasing: the bracket then keeps the smallest tail bound met as its floor).
 * **Boxes.**  Inside, each box gets the enclosure of :mod:`gfrf.enclosure`: a
   third-order Taylor enclosure of the straight-line recursion (the code of
   :func:`gfrf.compiled.kernel_source`), whose tightest bound comes from the exact
