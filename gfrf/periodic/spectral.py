@@ -226,7 +226,7 @@ def _continue(eps: float, amplitude: float, branch: str, truncation: int | None,
         if not _near(out, guess, guess_d, branch):
             if h <= min_h:
                 why = ("did not converge" if out is None else
-                       "left the branch or moved more than 10 % in one step")
+                       f"left the branch or moved more than {_MAX_CORRECTION:.0%} in one step")
                 raise ConvergenceError(
                     f"Fourier collocation for the {branch} transition orbit (eps={eps}, x(0)="
                     f"{amplitude:g}) {why} at x(0) = {nxt:.6g} (Newton, {_MAXITER} steps, "
