@@ -167,11 +167,18 @@ def _on_branch(a: np.ndarray, branch: str) -> bool:
     from the linear ones (``ce_0 > 0``; ``cos(t/2)``-like, one zero at ``t = pi``) keep
     this sign pattern; a Newton step that lands on another family breaks it.
     """
-    n = len(a)
+    return bool(np.all(_samples(branch, len(a)) @ a > 0))
+
+
+@functools.lru_cache(maxsize=16)
+def _samples(branch: str, n: int) -> np.ndarray:
+    """``cos(w_k t)`` at ``8 n + 1`` equispaced ``t`` in ``[0, pi]`` (``[0, pi)`` for 1/4)."""
     t = np.linspace(0.0, math.pi, 8 * n + 1)
     if branch == "1/4":
         t = t[:-1]
-    return bool(np.all(np.cos(np.outer(t, _frequencies(branch, n))) @ a > 0))
+    out = np.cos(np.outer(t, _frequencies(branch, n)))
+    out.flags.writeable = False
+    return out
 
 
 def _near(out: tuple[np.ndarray, float, int] | None, a: np.ndarray, delta: float,
