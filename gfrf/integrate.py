@@ -1,8 +1,9 @@
 """The integrators' common ground: a model in state form, a run's result, the scipy path.
 
 :func:`gfrf.simulation.build_system` generates an :class:`OdeSystem` (the right-hand
-side as Python source) from a model; :func:`integrate_scipy` runs it with scipy's
-``solve_ivp`` under a work budget of right-hand-side evaluations, and
+side as Python source) from a model; :func:`integrate_scipy` steps one of scipy's
+``solve_ivp`` solvers on it (the right-hand side and the input fused into one generated
+function) under a work budget of right-hand-side evaluations, and
 :mod:`gfrf.fastsim` runs the same source compiled with numba.  Both return a
 :class:`SimulationResult`.  This module imports neither of them, so the simulation
 modules form no import cycle (simulation -> fastsim -> integrate).

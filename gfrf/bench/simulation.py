@@ -206,7 +206,8 @@ def _span(values: list[float]) -> str:
     def fmt(v: float) -> str:
         return f"{v:.0f}" if v >= 10 else f"{v:.2g}"
 
-    return f"{fmt(min(values))}x to {fmt(max(values))}x"
+    low, high = fmt(min(values)), fmt(max(values))
+    return f"{low}x" if low == high else f"{low}x to {high}x"
 
 
 def _ratios(default: Curve, plain: Curve) -> tuple[list[float], list[float]]:
