@@ -303,17 +303,21 @@ def _fused_rhs(system: OdeSystem, signal: InputSignal,
     return namespace["f"]  # type: ignore[no-any-return]
 
 
+#: Dense outputs evaluated together (a batch holds ~0.5 kB per step of a small system).
+_DENSE_BATCH = 4096
+
+
 def _dense_values(pieces: list[tuple[int, int, Any]], t_eval: np.ndarray) -> np.ndarray:
-    """States (n, N) at ``t_eval[:N]`` from the steps' dense outputs, all at once.
+    """States at ``t_eval[i0:N]`` from the steps' dense outputs, all at once.
 
     ``pieces`` are consecutive ``(i, j, dense)``: ``dense(t_eval[i:j])`` for each
-    accepted step.  scipy's RK45 and DOP853 interpolants (classes ``RkDenseOutput``,
-    ``Dop853DenseOutput``) are evaluated here for every sample in one numpy pass by
-    their own formulas (the per-step calls cost ~10 us each); any other interpolant
-    (Radau, LSODA) is called per step.
+    accepted step, i0 the first i and N the last j.  scipy's RK45 and DOP853
+    interpolants (classes ``RkDenseOutput``, ``Dop853DenseOutput``) are evaluated here
+    for every sample in one numpy pass by their own formulas (the per-step calls cost
+    ~10 us each); any other interpolant (Radau, LSODA) is called per step.
     """
     dense = [d for _, _, d in pieces]
-    t = t_eval[:pieces[-1][1]]
+    t = t_eval[pieces[0][0]:pieces[-1][1]]
     kinds = {type(d).__name__ for d in dense}
     if kinds in ({"RkDenseOutput"}, {"Dop853DenseOutput"}):
         step = np.repeat(np.arange(len(pieces)), [j - i for i, j, _ in pieces])
@@ -381,6 +385,7 @@ def integrate_scipy(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_en
         return blowup - abs(z[0]) if all(map(math.isfinite, z)) else -1.0
 
     pieces: list[tuple[int, int, Any]] = []  # (first, end) of t_eval per dense output
+    values: list[np.ndarray] = []  # states at the samples of earlier batches of pieces
     status, blow_t, cut = "ok", None, None
     message = "The solver successfully reached the end of the integration interval."
     times_out = t_eval.tolist()
@@ -409,6 +414,9 @@ def integrate_scipy(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_en
             if t >= next_out:  # output times in (t_old, t], from the step's dense output
                 j = int(np.searchsorted(t_eval, t, side="right"))
                 pieces.append((i, j, solver.dense_output() if sol is None else sol))
+                if len(pieces) == _DENSE_BATCH:  # bounded memory on long runs
+                    values.append(_dense_values(pieces, t_eval))
+                    pieces = []
                 i = j
                 next_out = times_out[i] if i < len(times_out) else math.inf
             if status == "blowup":
@@ -420,8 +428,10 @@ def integrate_scipy(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_en
                            f"{budget_name(max_evaluations)} = {max_evaluations}")
                 break
     # A run that fails before its first output time has no samples.
-    times = t_eval[:pieces[-1][1]] if pieces else np.zeros(0)
-    states = _dense_values(pieces, t_eval) if pieces else np.zeros((n, 0))
+    if pieces:
+        values.append(_dense_values(pieces, t_eval))
+    states = np.hstack(values) if values else np.zeros((n, 0))
+    times = t_eval[:states.shape[1]]
     finite = np.all(np.isfinite(states), axis=0)
     if blow_t is None and cut is None and (not finite.all() or status == "failed"):
         first = int(np.argmin(finite)) if not finite.all() else states.shape[1]

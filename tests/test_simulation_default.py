@@ -176,3 +176,16 @@ def test_closed_loop_plant_input_by_hand():
         / ((big_m + m) * 4 / 3 - m * co ** 2 - a * co / length)
     assert res.status == "ok"
     assert np.allclose(res.u, r - (a * acc + b * om + c * th), rtol=1e-9, atol=1e-9)
+
+
+@pytest.mark.parametrize("method", ["rk45", "dop853"])
+def test_dense_output_batches_join_exactly(method, monkeypatch):
+    # The samples do not depend on how many steps' interpolants are evaluated together.
+    import gfrf.integrate as integrate
+
+    system = build_system(load_model("models/duffing.toml"))
+    whole = simulate(system, "0.5*sin(1.3*t)", t_end=50.0, method=method, rtol=1e-7)
+    monkeypatch.setattr(integrate, "_DENSE_BATCH", 5)
+    batched = simulate(system, "0.5*sin(1.3*t)", t_end=50.0, method=method, rtol=1e-7)
+    assert whole.t.size == batched.t.size == 2001
+    assert np.array_equal(whole.states, batched.states)
