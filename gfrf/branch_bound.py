@@ -149,7 +149,7 @@ def _compiled(gen: GFRFGenerator, n: int, symmetric: bool) -> tuple[Callable[...
 
 def box_bounds(model: Model, n: int, lo: np.ndarray, hi: np.ndarray, symmetric: bool = True,
                compiled: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Certified bounds of |H_n| on boxes, with the centre values.
+    """Certified bounds of |H_n| on boxes, with |H_n| at the centres.
 
     Parameters
     ----------
@@ -168,8 +168,8 @@ def box_bounds(model: Model, n: int, lo: np.ndarray, hi: np.ndarray, symmetric: 
     -------
     bound : numpy.ndarray, shape (N,)
         sup of |H_n| over each box is at most ``bound``.
-    centre_value : numpy.ndarray of complex, shape (N,)
-        H_n at the box centres.
+    centre_modulus : numpy.ndarray, shape (N,)
+        |H_n| at the box centres.
     split : numpy.ndarray of int, shape (N,)
         Coordinate whose bisection most reduces the enclosure width.
     """
@@ -177,7 +177,13 @@ def box_bounds(model: Model, n: int, lo: np.ndarray, hi: np.ndarray, symmetric: 
         raise ArgumentError("the branch-and-bound handles continuous-time models only")
     _, den = linear_polynomials(model)
     return enclose(_compiled(generator(model), n, symmetric)[0], _inverse(tuple(den.tolist())),
-                   np.asarray(lo, float), np.asarray(hi, float), compiled)
+                   np.asarray(lo, float), np.asarray(hi, float), compiled,
+                   _input_free(model))
+
+
+def _input_free(model: Model) -> bool:
+    """No input in a nonlinear term: every term of H_n holds each H1(w_i) once."""
+    return not any(t.q for t in majorant(model).terms)
 
 
 @lru_cache(maxsize=16)
@@ -265,8 +271,8 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
         return BranchBoundResult(best, max(ceiling, best), tuple(float(x) for x in best_x),
                                  False, 0, width, tail)
     lo, hi = -width * np.ones((1, n)), width * np.ones((1, n))
-    compiled = max_boxes >= COMPILED_FROM
-    bound, value, split = enclose(taylor, inverse, lo, hi, compiled)
+    compiled, leaves = max_boxes >= COMPILED_FROM, _input_free(model)
+    bound, value, split = enclose(taylor, inverse, lo, hi, compiled, leaves)
     boxes, pruned, polishes = 1, 0.0, 0
     while True:
         threshold = max(best / (1.0 - tol), tail)  # upper >= tail whatever the boxes give
@@ -288,9 +294,9 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
         c_lo, c_hi = np.vstack([p_lo, right_lo]), np.vstack([left_hi, p_hi])
         inside = _in_domain(c_lo, c_hi, True) if symmetric else _in_domain(c_lo, c_hi, False)
         c_lo, c_hi = c_lo[inside], c_hi[inside]
-        c_bound, c_value, c_split = enclose(taylor, inverse, c_lo, c_hi, compiled)
+        c_bound, c_value, c_split = enclose(taylor, inverse, c_lo, c_hi, compiled, leaves)
         boxes += c_lo.shape[0]
-        magnitude = np.abs(c_value)
+        magnitude = c_value.copy()
         magnitude[~np.isfinite(magnitude)] = 0.0
         if magnitude.size and magnitude.max() > best:
             k = int(np.argmax(magnitude))

@@ -147,6 +147,19 @@ class InverseA:
         self.second = _Modulus(2 * sq[0] - prod[0], 2 * sq[1] - prod[1])
         self.third = _Modulus(6 * cube[0] - 6 * mixed[0] + last[0],
                               6 * cube[1] - 6 * mixed[1] + last[1])
+        # m = 1/|a| = q^(-1/2) with q = |a|^2 and its derivatives q1, q2, q3:
+        # m1 = -q1 / (2 q^(3/2)), m2 = (3 q1^2 - 2 q q2) / (4 q^(5/2)),
+        # m3 = (-15 q1^3 + 18 q q1 q2 - 4 q^2 q3) / (8 q^(7/2))
+        q = a[0] * a[0] + a[1] * a[1]
+        q1 = q.derivative()
+        q2 = q1.derivative()
+        q3 = q2.derivative()
+        zero = fmpq_poly([])
+        self.mod_slopes = [_Modulus(q1, zero), _Modulus(3 * q1 * q1 - 2 * q * q2, zero),
+                           _Modulus(-15 * q1 * q1 * q1 + 18 * q * q1 * q2 - 4 * q * q * q3,
+                                    zero)]
+        self.q_coef = [np.array([float(c) for c in p.coeffs()][::-1] or [0.0])
+                       for p in (q1, q2)]
 
     def point(self, sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """r, r' and r'' at points (NaN where |a| is not accurate to _POINT_RTOL)."""
@@ -158,6 +171,29 @@ class InverseA:
             curve = (2 * da * da - a * dda) * value ** 3
         return (np.where(bad, np.nan, value), np.where(bad, np.nan, slope),
                 np.where(bad, np.nan, curve))
+
+    def modulus_point(self, sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """m = 1/|a|, m1 and m2 (its first two derivatives) at points (NaN where |a| is
+        not accurate)."""
+        a = self.a(sigma)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            bad = self.a.error(sigma) > _POINT_RTOL * np.abs(a)
+            q = (a * np.conj(a)).real
+            q1, q2 = (np.polyval(c, sigma) for c in self.q_coef)
+            m = 1.0 / np.sqrt(q)
+            slope = -0.5 * q1 * m ** 3
+            curve = (3 * q1 * q1 - 2 * q * q2) * m ** 5 / 4
+        return (np.where(bad, np.nan, m), np.where(bad, np.nan, slope),
+                np.where(bad, np.nan, curve))
+
+    def modulus_bounds(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        """Sups over [lo, hi] of |m| and of its first three derivatives, shape (N, 4)."""
+        a_min, _ = self.a.extrema(lo, hi)
+        sups = [modulus.extrema(lo, hi)[1] for modulus in self.mod_slopes]
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            inv = np.where(a_min > 0, 1.0 / a_min, np.inf)
+            return _safe(np.stack([inv, sups[0] * inv ** 3 / 2, sups[1] * inv ** 5 / 4,
+                                   sups[2] * inv ** 7 / 8], axis=1))
 
     def bounds(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         """Sups over [lo, hi] of |r|, |r'|, |r''|, |r'''|, shape (N, 4)."""
@@ -212,6 +248,27 @@ class _Boxes:
         d[:, 1] = self.r[:, i]
         return Jet(1j * self.c[:, i], np.full((size, 1), 1j), np.zeros((size, 1, 1), complex),
                    d, (i,), self)
+
+    def modulus(self, block: tuple[int, ...]) -> Jet:
+        """1/|A(j sigma_B)|, sigma_B = sum of the block's w_i (a real jet).
+
+        Valid in place of 1/A(j sigma_B) where that factor is common to every term of
+        H_n: the top block (H_n = -P_n / A(j(w_1 + .. + w_n))) always, and the
+        one-coordinate blocks when the model has no input in a nonlinear term.  |H_n|
+        is unchanged and the jets lose the fast phase rotation of those resonant
+        factors, so their derivative bounds shrink.
+        """
+        names = tuple(sorted(block))
+        idx = list(names)
+        sigma, rho = self.c[:, idx].sum(axis=1), self.r[:, idx].sum(axis=1)
+        value, slope, curve = self.inverse.modulus_point(sigma)
+        sups = self.inverse.modulus_bounds(sigma - rho, sigma + rho)
+        m = len(names)
+        with np.errstate(invalid="ignore", over="ignore"):
+            d = _safe(sups * rho[:, None] ** np.arange(4))
+        return Jet(value.astype(complex), np.repeat(slope.astype(complex)[:, None], m, axis=1),
+                   np.repeat(np.repeat(curve.astype(complex)[:, None, None], m, axis=1), m,
+                             axis=2), d, names, self).tighten()
 
     def inv_a(self, block: tuple[int, ...]) -> Jet:
         """1 / A(j sigma_B), sigma_B = sum of the block's w_i."""
@@ -375,9 +432,9 @@ def _modulus_bound(h: Jet) -> np.ndarray:
 
 
 def enclose(kernel_code: Callable[..., Any], inverse: InverseA, lo: np.ndarray,
-            hi: np.ndarray, compiled: bool = False
+            hi: np.ndarray, compiled: bool = False, modulus_leaves: bool = False
             ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Bounds of |H_n| on boxes [lo, hi] (rows), the centre values and a split axis.
+    """Bounds of |H_n| on boxes [lo, hi] (rows), |H_n| at the centres and a split axis.
 
     Parameters
     ----------
@@ -393,20 +450,30 @@ def enclose(kernel_code: Callable[..., Any], inverse: InverseA, lo: np.ndarray,
         pendulum's H5 on a 2-core 2026 machine) after a one-off cost: the numba import
         and cache load, ~0.5-1 s per process, and a compile of ~9 s once per
         installation.  The bounds agree with the numpy path to rounding.
+    modulus_leaves : bool, optional
+        Evaluate the one-coordinate factors 1/A(j w_i) by their moduli, as the top
+        factor 1/A(j(w_1 + .. + w_n)) always is (:meth:`_Boxes.modulus`).  Only valid
+        when every term of H_n holds each of them once, i.e. the model has no input in a
+        nonlinear term.  The centre values carry |H_n|, with another phase.
 
     Returns
     -------
     bound : numpy.ndarray, shape (N,)
         sup over each box of |H_n| is at most ``bound``.
-    centre_value : numpy.ndarray of complex, shape (N,)
-        H_n at the box centres (NaN where the centre's 1/A is not accurate).
+    centre_modulus : numpy.ndarray, shape (N,)
+        |H_n| at the box centres (NaN where the centre's 1/A is not accurate).
     split : numpy.ndarray of int, shape (N,)
         The coordinate whose bisection most reduces the enclosure width.
     """
     centre, radius = 0.5 * (lo + hi), 0.5 * (hi - lo)
     boxes = _Boxes(centre, radius, inverse, _fused_kernels() if compiled else None)
     n = centre.shape[1]
-    h = kernel_code([boxes.variable(i) for i in range(n)], boxes.inv_a)
+
+    def factor(block: tuple[int, ...]) -> Jet:
+        common = len(block) == n or (modulus_leaves and len(block) == 1)
+        return boxes.modulus(block) if common else boxes.inv_a(block)
+
+    h = kernel_code([boxes.variable(i) for i in range(n)], factor)
     if not isinstance(h, Jet):  # a constant kernel
         h = Jet(np.full(centre.shape[0], complex(h)), np.zeros((centre.shape[0], 0), complex),
                 np.zeros((centre.shape[0], 0, 0), complex),
@@ -419,4 +486,4 @@ def enclose(kernel_code: Callable[..., Any], inverse: InverseA, lo: np.ndarray,
         affine = _safe(vertex + 0.5 * second + h.d[:, 3] / 6)
         bound = np.minimum(np.minimum(h.d[:, 0], affine), _modulus_bound(h))
         width = radius * (np.abs(h.g) + np.einsum("kij,kj->ki", np.abs(h.h), radius))
-    return bound, h.v, np.argmax(np.where(np.isnan(width), np.inf, width), axis=1)
+    return bound, np.abs(h.v), np.argmax(np.where(np.isnan(width), np.inf, width), axis=1)

@@ -85,3 +85,56 @@ def test_pendulum_h5_bracket_closes_to_1e3(peak) -> None:
     k = kernel(m, 5)
     near = x + np.random.default_rng(8).uniform(-0.05, 0.05, (200000, 5))
     assert np.abs(k(*near.T)).max() <= b.upper
+
+
+CLUSTER = [1.0, 0.15, 2.0251, 0.151005, 1.0201]  # (s^2 + 0.05 s + 1)(s^2 + 0.1 s + 1.0201)
+
+
+@pytest.mark.parametrize("k", [0, 1, 2, 3])
+def test_modulus_derivative_bounds_hold(k: int) -> None:
+    # sup over an interval of |d^k/dw^k 1/|A(j w)|| against 30-digit mpmath derivatives
+    import mpmath as mp
+
+    from gfrf.enclosure import InverseA
+
+    inverse = InverseA(np.array(CLUSTER))
+    mp.mp.dps = 30
+
+    def m(w: mp.mpf) -> mp.mpf:
+        s = 1j * w
+        return 1 / abs(sum(c * s ** (len(CLUSTER) - 1 - i) for i, c in enumerate(CLUSTER)))
+
+    for lo, hi in ((0.9, 1.1), (0.97, 0.99), (-2.0, 3.0), (5.0, 6.0)):
+        bound = inverse.modulus_bounds(np.array([lo]), np.array([hi]))[0, k]
+        grid = [mp.mpf(lo) + (mp.mpf(hi) - lo) * i / 400 for i in range(401)]
+        sup = max(abs(mp.diff(m, w, k)) for w in grid)
+        assert float(sup) <= bound * (1 + 1e-9)
+
+
+def test_modulus_point_values_match_mpmath() -> None:
+    import mpmath as mp
+
+    from gfrf.enclosure import InverseA
+
+    inverse = InverseA(np.array(CLUSTER))
+    mp.mp.dps = 30
+
+    def m(w: mp.mpf) -> mp.mpf:
+        s = 1j * w
+        return 1 / abs(sum(c * s ** (len(CLUSTER) - 1 - i) for i, c in enumerate(CLUSTER)))
+
+    points = np.array([-1.3, 0.2, 0.98, 1.0, 2.5])
+    values = inverse.modulus_point(points)
+    for k in range(3):
+        ref = np.array([float(mp.diff(m, mp.mpf(w), k)) for w in points])
+        np.testing.assert_allclose(values[k], ref, rtol=1e-10, atol=1e-12 * np.abs(ref).max())
+
+
+@pytest.mark.parametrize(("text", "free"), [
+    (PENDULUM, True), ("models/duffing.toml", True), (MIXED, False),
+    ("models/cartpole.toml", False)])
+def test_modulus_leaves_only_without_input_in_nonlinear_terms(text: str, free: bool) -> None:
+    from gfrf.branch_bound import _input_free
+
+    m = load_model(text).plant if text.endswith(".toml") else parse_model(text)
+    assert _input_free(m) is free
