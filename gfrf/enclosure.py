@@ -30,7 +30,13 @@ A box's bound is the least of three valid bounds:
 The third bound is what closes gaps: near a resonance peak the phase of H_n turns
 quickly while |H_n| is stationary, so bounds on the complex derivatives grossly
 overstate how much |H_n| can grow, but the quadratic model of |H_n|^2 carries the
-cancellation exactly and only a third-order remainder is bounded by magnitudes.
+cancellation exactly and only a third-order remainder is bounded by magnitudes.  To
+shrink that remainder too, factors common to every term of H_n are replaced by their
+moduli, which leaves |H_n| unchanged: the top factor 1/A(j(w_1 + .. + w_n)) always, and
+each H1(w_i) leaf when no input enters a nonlinear term (then every term holds each
+leaf once).  Those real factors are stationary at their resonance, so their derivative
+bounds are second order where the complex ones are first order (for the pendulum's H5
+the branch-and-bound needs 5x fewer boxes).
 
 Soundness.  The extrema of |A| and its derivatives' numerators use critical points
 isolated exactly (Arb) and endpoint values widened by an a-priori Horner error bound.
