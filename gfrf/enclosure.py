@@ -56,9 +56,11 @@ import numpy as np
 
 __all__ = ["InverseA", "Jet", "enclose"]
 
-#: Relative error of |A(j sigma)| (a-priori Horner bound) above which a box centre's
-#: values are not used (the box keeps its magnitude bounds only).
-_POINT_RTOL = 1e-8
+#: Relative error of a centre's 1/A and its Taylor terms (a-priori Horner bounds plus the
+#: rounding of the block sum) above which the centre's values are not used (the box keeps
+#: its magnitude bounds only).  Below it the box bound is inflated by 8x the sum of the
+#: factors' errors, so a centre trusted to 1e-5 costs at most ~1e-4 of the bound.
+_POINT_RTOL = 1e-5
 #: Relative margin of negative definiteness required before the unconstrained maximum
 #: of the quadratic model of |H|^2 is used (rounding of the Hessian is far below it).
 _DEFINITE_MARGIN = 1e-9
@@ -150,6 +152,7 @@ class InverseA:
         sq, prod = _cmul(da, da), _cmul(a, dda)
         cube, mixed, last = _cmul(sq, da), _cmul(prod, da), _cmul(_cmul(a, a), ddda)
         self.a, self.da, self.dda = _Modulus(*a), _Modulus(*da), _Modulus(*dda)
+        self.ddda = _Modulus(*ddda)
         self.second = _Modulus(2 * sq[0] - prod[0], 2 * sq[1] - prod[1])
         self.third = _Modulus(6 * cube[0] - 6 * mixed[0] + last[0],
                               6 * cube[1] - 6 * mixed[1] + last[1])
@@ -167,23 +170,39 @@ class InverseA:
         self.q_coef = [np.array([float(c) for c in p.coeffs()][::-1] or [0.0])
                        for p in (q1, q2)]
 
-    def point(self, sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """r, r' and r'' at points (NaN where |a| is not accurate to _POINT_RTOL)."""
+    def centre_error(self, sigma: np.ndarray, slack: np.ndarray, rho: np.ndarray
+                     ) -> np.ndarray:
+        """Relative error of 1/a and of its Taylor terms r' rho, r'' rho^2 at sigma.
+
+        ``slack`` bounds the rounding of sigma itself; the Horner errors of a, a', a''
+        and the moves of a, a', a'' over ``slack`` are divided by |a|.
+        """
+        a = np.abs(self.a(sigma))
+        moved = (np.abs(self.da(sigma)) + np.abs(self.dda(sigma)) * rho
+                 + np.abs(self.ddda(sigma)) * rho * rho) * slack
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return (self.a.error(sigma) + self.da.error(sigma) * rho
+                    + self.dda.error(sigma) * rho * rho + moved) / a
+
+    def point(self, sigma: np.ndarray, error: np.ndarray
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """r, r' and r'' at points (NaN where ``error`` exceeds _POINT_RTOL)."""
         a, da, dda = self.a(sigma), self.da(sigma), self.dda(sigma)
         with np.errstate(divide="ignore", invalid="ignore"):
-            bad = self.a.error(sigma) > _POINT_RTOL * np.abs(a)
+            bad = ~(error <= _POINT_RTOL)
             value = 1.0 / a
             slope = -da * value * value
             curve = (2 * da * da - a * dda) * value ** 3
         return (np.where(bad, np.nan, value), np.where(bad, np.nan, slope),
                 np.where(bad, np.nan, curve))
 
-    def modulus_point(self, sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """m = 1/|a|, m1 and m2 (its first two derivatives) at points (NaN where |a| is
-        not accurate)."""
+    def modulus_point(self, sigma: np.ndarray, error: np.ndarray
+                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """m = 1/|a|, m1 and m2 (its first two derivatives) at points (NaN where
+        ``error`` exceeds _POINT_RTOL)."""
         a = self.a(sigma)
         with np.errstate(divide="ignore", invalid="ignore"):
-            bad = self.a.error(sigma) > _POINT_RTOL * np.abs(a)
+            bad = ~(error <= _POINT_RTOL)
             q = (a * np.conj(a)).real
             q1, q2 = (np.polyval(c, sigma) for c in self.q_coef)
             m = 1.0 / np.sqrt(q)
@@ -239,6 +258,19 @@ class _Boxes:
                  fused: Any = None) -> None:
         self.c, self.r, self.inverse, self.fused = centre, radius, inverse, fused
         self._radii: dict[tuple[int, ...], np.ndarray] = {}
+        self.error = np.zeros(centre.shape[0])  # sum of the factors' relative errors
+
+    def block(self, names: tuple[int, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(sigma, rho, error) of a block: the rounded sum of its centres, a half-width
+        that covers the rounding of that sum, and the centre's relative error."""
+        idx = list(names)
+        m = len(idx)
+        sigma = self.c[:, idx].sum(axis=1)
+        slack = (m + 1) * 2.0 ** -52 * (np.abs(self.c[:, idx]).sum(axis=1) + np.abs(sigma))
+        rho = self.r[:, idx].sum(axis=1) * (1 + (m + 1) * 2.0 ** -52) + slack
+        error = self.inverse.centre_error(sigma, slack, rho)
+        self.error += np.where(error <= _POINT_RTOL, error, 0.0)
+        return sigma, rho, error
 
     def radii(self, names: tuple[int, ...]) -> np.ndarray:
         """Half-widths of the coordinates ``names`` (contiguous (N, m) array)."""
@@ -265,9 +297,8 @@ class _Boxes:
         factors, so their derivative bounds shrink.
         """
         names = tuple(sorted(block))
-        idx = list(names)
-        sigma, rho = self.c[:, idx].sum(axis=1), self.r[:, idx].sum(axis=1)
-        value, slope, curve = self.inverse.modulus_point(sigma)
+        sigma, rho, error = self.block(names)
+        value, slope, curve = self.inverse.modulus_point(sigma, error)
         sups = self.inverse.modulus_bounds(sigma - rho, sigma + rho)
         m = len(names)
         with np.errstate(invalid="ignore", over="ignore"):
@@ -279,9 +310,8 @@ class _Boxes:
     def inv_a(self, block: tuple[int, ...]) -> Jet:
         """1 / A(j sigma_B), sigma_B = sum of the block's w_i."""
         names = tuple(sorted(block))
-        idx = list(names)
-        sigma, rho = self.c[:, idx].sum(axis=1), self.r[:, idx].sum(axis=1)
-        value, slope, curve = self.inverse.point(sigma)
+        sigma, rho, error = self.block(names)
+        value, slope, curve = self.inverse.point(sigma, error)
         sups = self.inverse.bounds(sigma - rho, sigma + rho)
         m = len(names)
         with np.errstate(invalid="ignore", over="ignore"):
@@ -471,13 +501,32 @@ def enclose(kernel_code: Callable[..., Any], inverse: InverseA, lo: np.ndarray,
     split : numpy.ndarray of int, shape (N,)
         The coordinate whose bisection most reduces the enclosure width.
     """
-    centre, radius = 0.5 * (lo + hi), 0.5 * (hi - lo)
-    boxes = _Boxes(centre, radius, inverse, _fused_kernels() if compiled else None)
+    centre = 0.5 * (lo + hi)
+    radius = np.nextafter(np.maximum(hi - centre, centre - lo), np.inf)  # covers [lo, hi]
+    fused = _fused_kernels() if compiled else None
+    n = centre.shape[1]
+    bound, modulus, split = _evaluate(kernel_code, _Boxes(centre, radius, inverse, fused),
+                                      lambda block: False)
+    if n >= 2:  # the common factors by their moduli: far better for moderate damping,
+        # worse where the interval of a sum is wide against a tiny damping: keep the least
+        common = (lambda block: len(block) in (1, n)) if modulus_leaves else (
+            lambda block: len(block) == n)
+        other, _, other_split = _evaluate(kernel_code, _Boxes(centre, radius, inverse, fused),
+                                          common)
+        split = np.where(other < bound, other_split, split)
+        bound = np.minimum(bound, other)
+    return bound, modulus, split
+
+
+def _evaluate(kernel_code: Callable[..., Any], boxes: _Boxes,
+              common: Callable[[tuple[int, ...]], bool]
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(bound, |H_n| at the centres, split axis) with the blocks ``common`` by moduli."""
+    centre, radius = boxes.c, boxes.r
     n = centre.shape[1]
 
     def factor(block: tuple[int, ...]) -> Jet:
-        common = len(block) == n or (modulus_leaves and len(block) == 1)
-        return boxes.modulus(block) if common else boxes.inv_a(block)
+        return boxes.modulus(block) if common(block) else boxes.inv_a(block)
 
     h = kernel_code([boxes.variable(i) for i in range(n)], factor)
     if not isinstance(h, Jet):  # a constant kernel
@@ -491,5 +540,8 @@ def enclose(kernel_code: Callable[..., Any], inverse: InverseA, lo: np.ndarray,
         vertex = np.abs(h.v[:, None] + (h.g * radius) @ signs).max(axis=1)
         affine = _safe(vertex + 0.5 * second + h.d[:, 3] / 6)
         bound = np.minimum(np.minimum(h.d[:, 0], affine), _modulus_bound(h))
+        # centre values accepted with a relative error up to _POINT_RTOL per factor
+        bound = bound * (1 + 8 * boxes.error)
         width = radius * (np.abs(h.g) + np.einsum("kij,kj->ki", np.abs(h.h), radius))
-    return bound, np.abs(h.v), np.argmax(np.where(np.isnan(width), np.inf, width), axis=1)
+    width = np.where(np.isnan(width).any(axis=1, keepdims=True), radius, width)
+    return bound, np.abs(h.v), np.argmax(width, axis=1)

@@ -124,7 +124,7 @@ def test_modulus_point_values_match_mpmath() -> None:
         return 1 / abs(sum(c * s ** (len(CLUSTER) - 1 - i) for i, c in enumerate(CLUSTER)))
 
     points = np.array([-1.3, 0.2, 0.98, 1.0, 2.5])
-    values = inverse.modulus_point(points)
+    values = inverse.modulus_point(points, inverse.centre_error(points, 0 * points, 0 * points))
     for k in range(3):
         ref = np.array([float(mp.diff(m, mp.mpf(w), k)) for w in points])
         np.testing.assert_allclose(values[k], ref, rtol=1e-10, atol=1e-12 * np.abs(ref).max())

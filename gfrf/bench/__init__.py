@@ -24,7 +24,7 @@ from tqdm import tqdm
 from gfrf._atomic import atomic_write_text
 
 __all__ = ["BenchSection", "SECTION_MODULES", "best_of", "figure_dir", "load_note",
-           "machine_description", "run_all", "write_report"]
+           "machine_description", "run_all", "write_report", "gfrf_command"]
 
 #: Modules that each define ``run(quick: bool) -> BenchSection``.
 SECTION_MODULES: tuple[str, ...] = (
@@ -38,6 +38,17 @@ SECTION_MODULES: tuple[str, ...] = (
     "gfrf.bench.sweep",
     "gfrf.identify.bench",
 )
+
+
+def gfrf_command(args: list[str]) -> list[str]:
+    """The console script a user runs (or the same entry point through ``-c``)."""
+    import sys
+
+    script = Path(sys.executable).with_name("gfrf")
+    if script.exists():
+        return [str(script), *args]
+    return [sys.executable, "-c", "import sys; from gfrf.cli import main; sys.exit(main())",
+            *args]
 
 
 @dataclass

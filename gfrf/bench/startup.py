@@ -21,7 +21,7 @@ import sys
 import time
 from pathlib import Path
 
-from gfrf.bench import BenchSection, load_note
+from gfrf.bench import BenchSection, gfrf_command, load_note
 
 __all__ = ["run"]
 
@@ -58,15 +58,6 @@ print(json.dumps(sorted(m for m in {_HEAVY!r} if m in sys.modules)))
 """
 
 
-def _gfrf(args: list[str]) -> list[str]:
-    """The console script a user runs (or the same entry point through ``-c``)."""
-    script = Path(sys.executable).with_name("gfrf")
-    if script.exists():
-        return [str(script), *args]
-    return [sys.executable, "-c", "import sys; from gfrf.cli import main; sys.exit(main())",
-            *args]
-
-
 def _wall(cmd: list[str], repeat: int) -> tuple[float, float]:
     """Best and median wall time (s) of ``cmd`` in fresh processes."""
     times = []
@@ -97,15 +88,15 @@ def run(quick: bool) -> BenchSection:
     load = os.getloadavg()
     repeat = 2 if quick else 7
     py = sys.executable
-    subprocess.run(_gfrf(_SIMULATE), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+    subprocess.run(gfrf_command(_SIMULATE), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                    check=True, cwd=_ROOT)  # fills the compile cache: not timed
     timed = {
         "numpy": _wall([py, "-c", "import numpy"], repeat),
         "sympy": _wall([py, "-c", "import sympy"], repeat),
         "control": _wall([py, "-c", "import control"], repeat),
-        "help": _wall(_gfrf(["--help"]), repeat),
-        "norm": _wall(_gfrf(["norm", _MODEL, "--order", "3"]), repeat),
-        "simulate": _wall(_gfrf(_SIMULATE), repeat),
+        "help": _wall(gfrf_command(["--help"]), repeat),
+        "norm": _wall(gfrf_command(["norm", _MODEL, "--order", "3"]), repeat),
+        "simulate": _wall(gfrf_command(_SIMULATE), repeat),
     }
     firsts, walls = [], []
     for _ in range(repeat):
