@@ -35,6 +35,7 @@ True
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
@@ -175,9 +176,14 @@ def box_bounds(model: Model, n: int, lo: np.ndarray, hi: np.ndarray, symmetric: 
     """
     if model.is_discrete:
         raise ArgumentError("the branch-and-bound handles continuous-time models only")
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    if lo.ndim != 2 or lo.shape != hi.shape or lo.shape[1] != n:
+        raise ArgumentError(f"lo and hi must both have shape (N, {n})")
+    if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and np.all(lo <= hi)):
+        raise ArgumentError("box corners must be finite with lo <= hi (rad/s)")
     _, den = linear_polynomials(model)
     return enclose(_compiled(generator(model), n, symmetric)[0], _inverse(tuple(den.tolist())),
-                   np.asarray(lo, float), np.asarray(hi, float), compiled,
+                   lo, hi, compiled,
                    _input_free(model))
 
 
@@ -246,7 +252,7 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
         raise ArgumentError("the branch-and-bound handles continuous-time models only")
     if not 2 <= n <= MAX_ORDER:
         raise ArgumentError(f"branch-and-bound order must be in 2..{MAX_ORDER}, got {n}")
-    if (isinstance(max_boxes, bool) or not isinstance(max_boxes, int)
+    if (isinstance(max_boxes, bool) or not isinstance(max_boxes, numbers.Integral)
             or not 1 <= max_boxes <= BOX_LIMIT):
         raise ArgumentError(f"max_boxes must be an integer in [1, {BOX_LIMIT}], got "
                             f"{max_boxes!r}")

@@ -51,6 +51,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import numbers
 import warnings
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -339,10 +340,11 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
     if searches is not None and (isinstance(searches, bool) or not isinstance(searches, int)
                                  or searches < 0):
         raise ArgumentError(f"searches must be a non-negative integer, got {searches!r}")
-    if (isinstance(max_boxes, bool) or not isinstance(max_boxes, int)
+    if (isinstance(max_boxes, bool) or not isinstance(max_boxes, numbers.Integral)
             or not 0 <= max_boxes <= BOX_LIMIT):
         raise ArgumentError(f"max_boxes must be an integer in [0, {BOX_LIMIT}], got "
                             f"{max_boxes!r}")
+    max_boxes = int(max_boxes)
     check_proof(proof)
     k = kernel(model, n, symmetric)
     if n == 1:

@@ -108,8 +108,10 @@ def test_keyboard_interrupt_in_any_command_is_exit_130_one_line(
 
 
 def test_sigint_during_a_simulation(tmp_path: Path) -> None:
-    proc = subprocess.Popen([*GFRF, "simulate", str(DUFFING), "--t-end", "1e6", "--input",
-                             "0.1*sin(t)", "--csv", str(tmp_path / "trace.csv")],
+    # a run far longer than the wait (1e8 evaluations take minutes), so the signal lands
+    proc = subprocess.Popen([*GFRF, "simulate", str(DUFFING), "--t-end", "1e8", "--input",
+                             "0.1*sin(t)", "--max-evaluations", "100000000", "--csv",
+                             str(tmp_path / "trace.csv")],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=ROOT)
     time.sleep(4.0)
     proc.send_signal(signal.SIGINT)

@@ -138,3 +138,21 @@ def test_modulus_leaves_only_without_input_in_nonlinear_terms(text: str, free: b
 
     m = load_model(text).plant if text.endswith(".toml") else parse_model(text)
     assert _input_free(m) is free
+
+
+def test_box_corners_must_be_finite_and_ordered() -> None:
+    from gfrf.errors import ArgumentError
+
+    m = parse_model(MIXED)
+    for lo, hi in (([[np.nan, 0.0, 0.0]], [[1.0, 1.0, 1.0]]),
+                   ([[0.0, 0.0, 0.0]], [[np.inf, 1.0, 1.0]]),
+                   ([[1.0, 0.0, 0.0]], [[0.0, 1.0, 1.0]]),
+                   ([[0.0, 0.0]], [[1.0, 1.0]])):
+        with pytest.raises(ArgumentError):
+            box_bounds(m, 3, np.array(lo), np.array(hi))
+
+
+def test_budget_accepts_numpy_integers() -> None:
+    m = parse_model(MIXED)
+    assert kernel_norm(m, 3, max_boxes=np.int64(2000)).upper == kernel_norm(
+        m, 3, max_boxes=2000).upper

@@ -131,9 +131,12 @@ def _check_order(order: int) -> None:
 def _norm(args: argparse.Namespace) -> int:
     _check_order(args.order)
     mf = resolve_model(args)
+    from gfrf.branch_bound import BOX_LIMIT
     from gfrf.norms import BOX_BUDGET, kernel_norm
 
     budget = BOX_BUDGET if args.max_boxes is None else args.max_boxes
+    if not 0 <= budget <= BOX_LIMIT:
+        raise ArgumentError(f"--max-boxes must be between 0 and {BOX_LIMIT}, got {budget}")
     b = kernel_norm(mf.plant, args.order, not args.asymmetric, args.tol, max_boxes=budget,
                     proof=args.proof, cross_check=args.cross_check)
     kind = "symmetric" if not args.asymmetric else "asymmetric"
