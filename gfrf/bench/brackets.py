@@ -61,7 +61,7 @@ def run(quick: bool) -> BenchSection:
                      f"gap <= {goal:g} in < {seconds:g} s", "yes" if met else "no"])
     notes = [f"The branch-and-bound runs for orders n <= {MAX_ORDER}; above, the upper end is "
              "the recursive majorant. A trial at n = 7 (pendulum, tol 1e-2, measured once on "
-             "2026-11-23, not in this run) lowered the gap only from 0.71 to 0.25 in 3e6 boxes "
+             "2026-11-23, not in this run) lowered the gap only from 0.87 to 0.25 in 3e6 boxes "
              "(768 s CPU), so it is not run.",
              "The lower end is proven (witness in ball arithmetic); the branch-and-bound's "
              "upper end is certified in floating point (upper proof 'float').",
