@@ -296,23 +296,20 @@ class _Boxes:
         is unchanged and the jets lose the fast phase rotation of those resonant
         factors, so their derivative bounds shrink.
         """
-        names = tuple(sorted(block))
-        sigma, rho, error = self.block(names)
-        value, slope, curve = self.inverse.modulus_point(sigma, error)
-        sups = self.inverse.modulus_bounds(sigma - rho, sigma + rho)
-        m = len(names)
-        with np.errstate(invalid="ignore", over="ignore"):
-            d = _safe(sups * rho[:, None] ** np.arange(4))
-        return Jet(value.astype(complex), np.repeat(slope.astype(complex)[:, None], m, axis=1),
-                   np.repeat(np.repeat(curve.astype(complex)[:, None, None], m, axis=1), m,
-                             axis=2), d, names, self).tighten()
+        return self._factor(block, self.inverse.modulus_point, self.inverse.modulus_bounds)
 
     def inv_a(self, block: tuple[int, ...]) -> Jet:
         """1 / A(j sigma_B), sigma_B = sum of the block's w_i."""
+        return self._factor(block, self.inverse.point, self.inverse.bounds)
+
+    def _factor(self, block: tuple[int, ...], point: Callable[..., tuple[np.ndarray, ...]],
+                bounds: Callable[..., np.ndarray]) -> Jet:
+        """Jet of f(sigma_B) from its value and two derivatives at the centre (``point``)
+        and the sups of |f| and of its first three derivatives over the interval of sigma_B."""
         names = tuple(sorted(block))
         sigma, rho, error = self.block(names)
-        value, slope, curve = self.inverse.point(sigma, error)
-        sups = self.inverse.bounds(sigma - rho, sigma + rho)
+        value, slope, curve = (np.asarray(x, complex) for x in point(sigma, error))
+        sups = bounds(sigma - rho, sigma + rho)
         m = len(names)
         with np.errstate(invalid="ignore", over="ignore"):
             d = _safe(sups * rho[:, None] ** np.arange(4))
