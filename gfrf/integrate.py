@@ -390,12 +390,30 @@ def integrate_scipy(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_en
     message = "The solver successfully reached the end of the integration interval."
     times_out = t_eval.tolist()
     with np.errstate(all="ignore"):
+        # |y(0)| at or above the threshold is a blow-up at 0 (a sign change of the escape
+        # function would otherwise be reported where |y| comes back below it); scipy's
+        # first-step choice turns a non-finite f(0, z0) into a NaN step that its step
+        # loop retries forever: both stop before any step.
+        start, calls0 = None, 0
+        if escape(z0.tolist()) <= 0:
+            start = f"|y(0)| = {abs(z0[0]):g} is at or above the blow-up threshold {blowup:g}"
+        elif not np.all(np.isfinite(np.asarray(f(0.0, z0), dtype=float))):
+            start = ("the right-hand side is not finite at t = 0 s (the initial state is "
+                     "outside the model's domain)")
+            calls0 = 1
+        if start is not None:
+            return SimulationResult(
+                t=np.zeros(0), y=np.zeros(0), u=np.zeros(0), states=np.zeros((n, 0)),
+                status="blowup", method=method, blowup_time=0.0, message=start, nfev=calls0)
         solver = getattr(si, SCIPY_METHODS[method])(counted if radau else f, 0.0, z0, t_end,
                                                     rtol=rtol, atol=atol)
         g_old = escape(z0.tolist())
         i, next_out = 0, times_out[0]
         while solver.status == "running":
-            step_message = solver.step()
+            try:
+                step_message = solver.step()
+            except ValueError as exc:  # Radau's LU of a non-finite Jacobian
+                solver.status, step_message = "failed", f"the solver failed: {exc}"
             if solver.status == "failed":
                 status, message = "failed", step_message or "the solver failed"
                 break
@@ -406,8 +424,12 @@ def integrate_scipy(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_en
                 from scipy.optimize import brentq
                 sol = solver.dense_output()
                 eps = 4 * np.finfo(float).eps
-                t = brentq(lambda s, sol=sol: escape(sol(s).tolist()), solver.t_old, t,
-                           xtol=eps, rtol=eps)
+                a, b = escape(sol(solver.t_old).tolist()), escape(sol(t).tolist())
+                if (a <= 0 <= b) or (b <= 0 <= a):
+                    t = brentq(lambda s, sol=sol: escape(sol(s).tolist()), solver.t_old, t,
+                               xtol=eps, rtol=eps)
+                else:  # an interpolant not finite at t_old (LSODA): the last finite state
+                    t = solver.t_old
                 status, blow_t = "blowup", float(t)
                 message = f"|y| reached {blowup:g} at t = {blow_t:.6g} s"
             g_old = g_new
@@ -440,6 +462,8 @@ def integrate_scipy(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_en
             if times.size else 0.0
         message = f"the integration failed near t = {blow_t:.6g} s: {message}"
         status = "blowup" if not finite.all() else "failed"
+    finite = np.all(np.isfinite(states), axis=0)  # an interpolant's NaN never printed
+    states = states[:, :int(np.argmin(finite)) if not finite.all() else states.shape[1]]
     t_out = times[:states.shape[1]]
     v = input_values(signal, n_in, t_out)
     u = plant_input(system, states, v) if t_out.size else np.zeros(0)

@@ -253,7 +253,14 @@ def _source(z: list[sp.Symbol], v: list[sp.Symbol], rates: list[sp.Expr],
     lines += ["", "", "def plant_input(z, v, dz):"]
     lines += unpack + [f"    {s.name} = dz[{i}]" for i, s in enumerate(dz)]
     lines.append(f"    return {sp.pycode(plant_u)}")
-    body = (*common, f"return [{', '.join(sp.pycode(expr) for expr in reduced)}]")
+    # A Python float power of a negative base with a fractional exponent other than
+    # +-1/2 (printed as math.sqrt, which raises) is complex where numpy gives nan: such a
+    # right-hand side is left to the numpy-scalar ``rhs`` (no fused body).
+    fused = all(p.exp.is_Integer or p.exp in (sp.S.Half, -sp.S.Half)
+                for expr in [*rates, *(e for _, e in subs), *reduced]
+                for p in sp.sympify(expr).atoms(sp.Pow))
+    body = (*common, f"return [{', '.join(sp.pycode(expr) for expr in reduced)}]") \
+        if fused else ()
     return "\n".join(lines) + "\n", body
 
 
