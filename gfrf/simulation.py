@@ -490,8 +490,11 @@ def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | N
                 or t_eval[0] < 0 or t_eval[-1] > t_end:
             raise ArgumentError("t_eval must be increasing times within [0, t_end]")
     for k in range(system.n_inputs if not system.discrete else 1):
-        with np.errstate(all="ignore"):
-            value = float(signal.derivative(k)(0.0))
+        try:
+            with np.errstate(all="ignore"):
+                value = float(signal.derivative(k)(0.0))
+        except OverflowError:  # an exact integer of the text beyond a float, e.g. 99**150
+            value = math.inf
         if not math.isfinite(value):
             raise ArgumentError(f"the input{' derivative ' + str(k) if k else ''} is not "
                                 f"finite at t = 0 s: u(t) = {signal.text[:80]}")

@@ -344,7 +344,8 @@ def test_cli_text_output_is_byte_identical(capsys):
                                    ["--max-evaluations", "0"], ["--t-end", "inf"],
                                    ["--input", "__import__('os')"], ["--input", "t.real"],
                                    ["--input", "csv:/nonexistent.csv"],
-                                   ["--initial", "nan"]])
+                                   ["--initial", "nan"],
+                                   ["--input", "99999999999999999999999999999999999999**15*t"]])
 def test_cli_bad_values_exit_2_one_line(capsys, extra):
     argv = ["simulate", str(MODELS / "duffing.toml"), "--t-end", "1", *extra]
     try:
