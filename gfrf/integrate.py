@@ -320,22 +320,31 @@ def _dense_values(pieces: list[tuple[int, int, Any]], t_eval: np.ndarray) -> np.
     t = t_eval[pieces[0][0]:pieces[-1][1]]
     kinds = {type(d).__name__ for d in dense}
     if kinds in ({"RkDenseOutput"}, {"Dop853DenseOutput"}):
-        step = np.repeat(np.arange(len(pieces)), [j - i for i, j, _ in pieces])
-        h = np.array([d.h for d in dense])[step]
-        x = (t - np.array([d.t_old for d in dense])[step]) / h
-        y_old = np.array([d.y_old for d in dense])[step].T
-        if kinds == {"RkDenseOutput"}:  # y_old + h * Q @ (x, x^2, ...)
-            q = np.array([d.Q for d in dense])[step]  # (N, n, order + 1)
-            p = np.cumprod(np.tile(x, (q.shape[2], 1)), axis=0)
-            y = h * np.einsum("snk,ks->ns", q, p)
-        else:  # Dop853DenseOutput: nested products in x and 1 - x
-            f = np.array([d.F for d in dense])[step]  # (N, 7, n)
-            y = np.zeros_like(y_old)
-            for k in range(f.shape[1]):
-                y += f[:, f.shape[1] - 1 - k, :].T
-                y *= x if k % 2 == 0 else 1 - x
-        return y + y_old  # type: ignore[no-any-return]
+        try:
+            return _batched(pieces, dense, t, kinds)
+        except AttributeError:  # another scipy's private attributes: the public calls
+            pass
     return np.hstack([d(t_eval[i:j]) for i, j, d in pieces])
+
+
+def _batched(pieces: list[tuple[int, int, Any]], dense: list[Any], t: np.ndarray,
+             kinds: set[str]) -> np.ndarray:
+    """:func:`_dense_values` of RK45 or DOP853 steps from the interpolants' attributes."""
+    step = np.repeat(np.arange(len(pieces)), [j - i for i, j, _ in pieces])
+    h = np.array([d.h for d in dense])[step]
+    x = (t - np.array([d.t_old for d in dense])[step]) / h
+    y_old = np.array([d.y_old for d in dense])[step].T
+    if kinds == {"RkDenseOutput"}:  # y_old + h * Q @ (x, x^2, ...)
+        q = np.array([d.Q for d in dense])[step]  # (N, n, order + 1)
+        p = np.cumprod(np.tile(x, (q.shape[2], 1)), axis=0)
+        y = h * np.einsum("snk,ks->ns", q, p)
+    else:  # Dop853DenseOutput: nested products in x and 1 - x
+        f = np.array([d.F for d in dense])[step]  # (N, 7, n)
+        y = np.zeros_like(y_old)
+        for k in range(f.shape[1]):
+            y += f[:, f.shape[1] - 1 - k, :].T
+            y *= x if k % 2 == 0 else 1 - x
+    return y + y_old  # type: ignore[no-any-return]
 
 
 def integrate_scipy(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end: float,

@@ -366,3 +366,30 @@ def test_cli_csv_input_matches_expression(capsys, tmp_path):
     a = _quiet_simulate(mf, f"csv:{path}", t_end=3.0, n_out=31)
     b = _quiet_simulate(mf, "0.2*sin(t)", t_end=3.0, n_out=31)
     assert np.max(np.abs(a.y - b.y)) < 1e-8
+
+
+def test_dense_values_fall_back_when_scipy_attributes_change():
+    """An interpolant of the batched classes without the private attributes read (another
+    scipy) is called per step instead of raising AttributeError."""
+    from scipy.integrate import RK45
+
+    solver = RK45(lambda t, y: [y[1], -y[0]], 0.0, np.array([1.0, 0.0]), 2.0, rtol=1e-8,
+                 atol=1e-12)
+    pieces, t_eval, i = [], np.linspace(0, 2, 41), 0
+    while solver.status == "running":
+        solver.step()
+        j = int(np.searchsorted(t_eval, solver.t, side="right"))
+        pieces.append((i, j, solver.dense_output()))
+        i = j
+
+    class RkDenseOutput:  # same name, public call only
+        def __init__(self, inner):
+            self._inner = inner
+
+        def __call__(self, t):
+            return self._inner(t)
+
+    bare = [(i, j, RkDenseOutput(d)) for i, j, d in pieces]
+    got = integrate._dense_values(bare, t_eval)
+    assert np.max(np.abs(got - integrate._dense_values(pieces, t_eval))) < 1e-14
+    assert np.max(np.abs(got[0] - np.cos(t_eval))) < 1e-7
