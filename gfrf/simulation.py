@@ -257,8 +257,7 @@ def _source(z: list[sp.Symbol], v: list[sp.Symbol], rates: list[sp.Expr],
     # +-1/2 (printed as math.sqrt, which raises) is complex where numpy gives nan: such a
     # right-hand side is left to the numpy-scalar ``rhs`` (no fused body).
     fused = all(p.exp.is_Integer or p.exp in (sp.S.Half, -sp.S.Half)
-                for expr in [*rates, *(e for _, e in subs), *reduced]
-                for p in sp.sympify(expr).atoms(sp.Pow))
+                for p in sp.Tuple(*rates, *(e for _, e in subs), *reduced).atoms(sp.Pow))
     body = (*common, f"return [{', '.join(sp.pycode(expr) for expr in reduced)}]") \
         if fused else ()
     return "\n".join(lines) + "\n", body
