@@ -54,7 +54,7 @@ from gfrf.simplex import nelder_mead
 from gfrf.tail import tail_bound
 
 __all__ = ["BranchBoundResult", "branch_and_bound", "box_bounds", "MAX_ORDER",
-           "MAX_BOXES", "BOX_LIMIT"]
+           "MAX_BOXES", "BOX_LIMIT", "check_budget"]
 
 #: Highest kernel order searched (the enclosure costs 2^n vertices and n^2 Hessian bounds).
 MAX_ORDER = 5
@@ -64,7 +64,7 @@ BATCH = 2048
 #: on a 2-core 2026 machine; :func:`gfrf.norms.kernel_norm` passes its own budget).
 MAX_BOXES = 200_000
 #: Budget from which the fused numba loops are used (when installed): below it their
-#: one-off import and cache load (~0.5-1 s) costs more than they save (~27 us per box).
+#: one-off import and cache load (~0.5-1 s) costs more than they save (~33 us per box).
 COMPILED_FROM = 100_000
 #: Most boxes any search may be given (bounds the cost of every input: about 10 min).
 BOX_LIMIT = 20_000_000
@@ -192,6 +192,15 @@ def _input_free(model: Model) -> bool:
     return not any(t.q for t in majorant(model).terms)
 
 
+def check_budget(max_boxes: object, least: int) -> int:
+    """``max_boxes`` as an int in [least, BOX_LIMIT] (any integer type), else ArgumentError."""
+    if (isinstance(max_boxes, bool) or not isinstance(max_boxes, numbers.Integral)
+            or not least <= max_boxes <= BOX_LIMIT):
+        raise ArgumentError(f"max_boxes must be an integer in [{least}, {BOX_LIMIT}], got "
+                            f"{max_boxes!r}")
+    return int(max_boxes)
+
+
 @lru_cache(maxsize=16)
 def _inverse(den: tuple[float, ...]) -> InverseA:
     """:class:`gfrf.enclosure.InverseA` of a denominator, built once per model."""
@@ -252,10 +261,7 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
         raise ArgumentError("the branch-and-bound handles continuous-time models only")
     if not 2 <= n <= MAX_ORDER:
         raise ArgumentError(f"branch-and-bound order must be in 2..{MAX_ORDER}, got {n}")
-    if (isinstance(max_boxes, bool) or not isinstance(max_boxes, numbers.Integral)
-            or not 1 <= max_boxes <= BOX_LIMIT):
-        raise ArgumentError(f"max_boxes must be an integer in [1, {BOX_LIMIT}], got "
-                            f"{max_boxes!r}")
+    max_boxes = check_budget(max_boxes, 1)
     gen = generator(model)
     taylor, point = _compiled(gen, n, symmetric)
     _, den = linear_polynomials(model)

@@ -479,9 +479,9 @@ def enclose(kernel_code: Callable[..., Any], inverse: InverseA, lo: np.ndarray,
         Box corners (rad/s).
     compiled : bool, optional
         Use the fused numba loops of :mod:`gfrf.jet_kernels` (when numba is installed):
-        about 2x less time per box than numpy (27 against 54 us per box for the
-        pendulum's H5 on a 2-core 2026 machine) after a one-off cost: the numba import
-        and cache load, ~0.5-1 s per process, and a compile of ~9 s once per
+        about 2x less time per box than numpy (40 against 73 us per box for the
+        pendulum's H5 on a 2-core 2026 machine, one core) after a one-off cost: the
+        numba import and cache load, ~0.5-1 s per process, and a compile of ~9 s once per
         installation.  The bounds agree with the numpy path to rounding.
     modulus_leaves : bool, optional
         Evaluate the one-coordinate factors 1/A(j w_i) by their moduli, as the top
