@@ -209,11 +209,19 @@ def _inverse(den: tuple[float, ...]) -> InverseA:
 
 # -- search ----------------------------------------------------------------------------
 def _in_domain(lo: np.ndarray, hi: np.ndarray, symmetric: bool) -> np.ndarray:
-    """Boxes meeting {sum w >= 0} and, symmetric, {w_1 >= w_2 >= .. >= w_n}."""
+    """Boxes that may meet the open domain {sum w > 0} and, symmetric, {w_1 > .. > w_n}.
+
+    The tests are necessary conditions for a box to hold a point of that open set (a
+    point x with lo <= x <= hi, x_1 > .. > x_n has hi_i >= x_i > x_j >= lo_j for i < j),
+    so no such point is dropped; the kept boxes form a closed set, hence cover its
+    closure {w_1 >= .. >= w_n, sum w >= 0} too.  A box meeting only a face of that
+    closure (e.g. [a, b] x [b, c] with b < c, where w_1 = w_2 = b) is dropped: its
+    points lie in the mirrored box as well.
+    """
     if not symmetric:
-        return hi.sum(axis=1) >= 0
-    greedy = np.minimum.accumulate(hi, axis=1)
-    return np.all(greedy >= lo, axis=1) & (greedy.sum(axis=1) >= 0)
+        return hi.sum(axis=1) > 0
+    greedy = np.minimum.accumulate(hi, axis=1)  # the componentwise largest sorted point
+    return np.all(greedy[:, :-1] > lo[:, 1:], axis=1) & (greedy.sum(axis=1) > 0)
 
 
 def _polish(point: Callable[..., complex], x0: np.ndarray, scale: float

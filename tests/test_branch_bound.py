@@ -187,3 +187,26 @@ def test_box_modulus_bounds_are_sound_on_a_pole_cluster() -> None:
     sigma = np.array([0.9999990000005, 2.0])
     value, _, _ = inverse.point(sigma, inverse.centre_error(sigma, np.zeros(2), np.zeros(2)))
     assert np.isnan(value[0]) and np.isfinite(value[1])
+
+
+def test_domain_keeps_interior_boxes_and_drops_face_only_boxes() -> None:
+    from gfrf.branch_bound import _in_domain
+
+    rng = np.random.default_rng(3)
+    n = 4
+    lo = rng.uniform(-2, 2, (4000, n))
+    hi = lo + rng.uniform(0.01, 1.5, (4000, n))
+    kept = _in_domain(lo, hi, True)
+    # a box holding a random point of the open domain (sorted, positive sum) is kept
+    for k in range(lo.shape[0]):
+        points = np.sort(rng.uniform(lo[k], hi[k], (200, n)), axis=1)[:, ::-1]
+        strict = np.all(np.diff(points, axis=1) < 0, axis=1) & (points.sum(axis=1) > 0)
+        inside = np.all((points >= lo[k]) & (points <= hi[k]), axis=1)
+        if np.any(strict & inside):
+            assert kept[k]
+    # [a, b] x [b, c]: only the face w_1 = w_2 = b is sorted, so it is dropped, and its
+    # mirror [b, c] x [a, b] (wholly sorted) is kept
+    face = _in_domain(np.array([[0.0, 1.0]]), np.array([[1.0, 2.0]]), True)
+    mirror = _in_domain(np.array([[1.0, 0.0]]), np.array([[2.0, 1.0]]), True)
+    assert not face[0] and mirror[0]
+    assert not _in_domain(np.array([[-2.0, -1.0]]), np.array([[0.0, 0.0]]), False)[0]
