@@ -241,7 +241,8 @@ def _polish(point: Callable[..., complex], x0: np.ndarray, scale: float
 
 def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float = 0.0,
                      argmax: tuple[float, ...] | None = None, tol: float = 1e-6,
-                     max_boxes: int = MAX_BOXES) -> BranchBoundResult:
+                     max_boxes: int = MAX_BOXES, progress: bool | None = False
+                     ) -> BranchBoundResult:
     """Certified bracket of ||H_n||_inf over R^n (angular frequencies in rad/s).
 
     Parameters
@@ -260,6 +261,9 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
         Budget of box evaluations; the search stops at the first batch that reaches
         it and returns the honest bracket with ``converged = False``.  The result
         depends on the model, ``n``, ``tol`` and this budget only, never on time.
+    progress : bool or None, optional
+        tqdm progress bar of the boxes spent against the budget, with the current gap
+        (on stderr); None shows it on a terminal only.  Default False.
 
     Returns
     -------
@@ -294,42 +298,49 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
     compiled, leaves = max_boxes >= COMPILED_FROM, _input_free(model)
     bound, value, split = enclose(taylor, inverse, lo, hi, compiled, leaves)
     boxes, pruned, polishes = 1, 0.0, 0
-    while True:
-        threshold = max(best / (1.0 - tol), tail)  # upper >= tail whatever the boxes give
-        keep = bound > threshold
-        pruned = max(pruned, float(np.max(bound[~keep], initial=0.0)))
-        lo, hi, bound, split = lo[keep], hi[keep], bound[keep], split[keep]
-        upper = max(tail, pruned, float(np.max(bound, initial=0.0)))
-        if not bound.size or boxes >= max_boxes:
-            break
-        take = np.argsort(bound)[::-1][:BATCH]
-        rest = np.ones(bound.size, bool)
-        rest[take] = False
-        p_lo, p_hi, p_split = lo[take], hi[take], split[take]
-        rows = np.arange(take.size)
-        mid = 0.5 * (p_lo[rows, p_split] + p_hi[rows, p_split])
-        left_hi, right_lo = p_hi.copy(), p_lo.copy()
-        left_hi[rows, p_split] = mid
-        right_lo[rows, p_split] = mid
-        c_lo, c_hi = np.vstack([p_lo, right_lo]), np.vstack([left_hi, p_hi])
-        inside = _in_domain(c_lo, c_hi, True) if symmetric else _in_domain(c_lo, c_hi, False)
-        c_lo, c_hi = c_lo[inside], c_hi[inside]
-        c_bound, c_value, c_split = enclose(taylor, inverse, c_lo, c_hi, compiled, leaves)
-        boxes += c_lo.shape[0]
-        magnitude = c_value.copy()
-        magnitude[~np.isfinite(magnitude)] = 0.0
-        if magnitude.size and magnitude.max() > best:
-            k = int(np.argmax(magnitude))
-            centre = 0.5 * (c_lo[k] + c_hi[k])
-            if magnitude[k] > best * (1 + tol) and polishes < MAX_POLISHES:
-                polishes += 1
-                x, polished = _polish(point, centre, float(np.max(c_hi[k] - c_lo[k])))
-                if polished > magnitude[k]:
-                    centre, magnitude[k] = x, polished
-            best, best_x = float(magnitude[k]), centre
-        lo, hi = np.vstack([lo[rest], c_lo]), np.vstack([hi[rest], c_hi])
-        bound = np.concatenate([bound[rest], c_bound])
-        split = np.concatenate([split[rest], c_split])
+    from tqdm import tqdm
+
+    bar = tqdm(total=max_boxes, initial=1, unit="box", desc=f"||H{n}|| bracket", leave=False,
+               disable=None if progress is None else not progress)
+    with bar:
+        while True:
+            threshold = max(best / (1.0 - tol), tail)  # upper >= tail whatever the boxes give
+            keep = bound > threshold
+            pruned = max(pruned, float(np.max(bound[~keep], initial=0.0)))
+            lo, hi, bound, split = lo[keep], hi[keep], bound[keep], split[keep]
+            upper = max(tail, pruned, float(np.max(bound, initial=0.0)))
+            bar.set_postfix_str(f"gap {1 - best / upper if upper > 0 else 0.0:.2e}", refresh=False)
+            if not bound.size or boxes >= max_boxes:
+                break
+            take = np.argsort(bound)[::-1][:BATCH]
+            rest = np.ones(bound.size, bool)
+            rest[take] = False
+            p_lo, p_hi, p_split = lo[take], hi[take], split[take]
+            rows = np.arange(take.size)
+            mid = 0.5 * (p_lo[rows, p_split] + p_hi[rows, p_split])
+            left_hi, right_lo = p_hi.copy(), p_lo.copy()
+            left_hi[rows, p_split] = mid
+            right_lo[rows, p_split] = mid
+            c_lo, c_hi = np.vstack([p_lo, right_lo]), np.vstack([left_hi, p_hi])
+            inside = _in_domain(c_lo, c_hi, symmetric)
+            c_lo, c_hi = c_lo[inside], c_hi[inside]
+            c_bound, c_value, c_split = enclose(taylor, inverse, c_lo, c_hi, compiled, leaves)
+            boxes += c_lo.shape[0]
+            bar.update(c_lo.shape[0])
+            magnitude = c_value.copy()
+            magnitude[~np.isfinite(magnitude)] = 0.0
+            if magnitude.size and magnitude.max() > best:
+                k = int(np.argmax(magnitude))
+                centre = 0.5 * (c_lo[k] + c_hi[k])
+                if magnitude[k] > best * (1 + tol) and polishes < MAX_POLISHES:
+                    polishes += 1
+                    x, polished = _polish(point, centre, float(np.max(c_hi[k] - c_lo[k])))
+                    if polished > magnitude[k]:
+                        centre, magnitude[k] = x, polished
+                best, best_x = float(magnitude[k]), centre
+            lo, hi = np.vstack([lo[rest], c_lo]), np.vstack([hi[rest], c_hi])
+            bound = np.concatenate([bound[rest], c_bound])
+            split = np.concatenate([split[rest], c_split])
     upper = max(min(upper, ceiling), best)
     return BranchBoundResult(best, upper, tuple(float(x) for x in best_x),
                              upper - best <= tol * upper, boxes, width, tail)

@@ -297,7 +297,8 @@ def _start_points(freqs: list[float], n: int) -> np.ndarray:
 
 def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
                 max_boxes: int = BOX_BUDGET, proof: str = "interval",
-                cross_check: bool = False, searches: int | None = None) -> Bound:
+                cross_check: bool = False, searches: int | None = None,
+                progress: bool | None = False) -> Bound:
     """Bracket ||H_n||_inf over R^n (rad/s): certified upper, best-found lower bound.
 
     Parameters
@@ -329,6 +330,9 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
     searches : int, optional
         Most local searches of the lower bound (default: up to 12 for n <= 4 and 2
         above, stopping once the gap is below ``tol``); fewer searches only lower it.
+    progress : bool or None, optional
+        Progress bar of the branch-and-bound (see :func:`gfrf.branch_bound.branch_and_bound`);
+        None shows it on a terminal only.  Default False.
 
     Returns
     -------
@@ -372,7 +376,8 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
     if (max_boxes != 0 and upper - lower > tol * upper and math.isfinite(upper)
             and not model.is_discrete
             and n <= MAX_ORDER and proof != "none"):
-        bb = branch_and_bound(model, n, symmetric, lower, argmax, tol, max_boxes=max_boxes)
+        bb = branch_and_bound(model, n, symmetric, lower, argmax, tol, max_boxes=max_boxes,
+                              progress=progress)
         if bb.lower > lower:
             lower, argmax = bb.lower, bb.argmax
         if bb.upper < upper:

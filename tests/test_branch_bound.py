@@ -210,3 +210,13 @@ def test_domain_keeps_interior_boxes_and_drops_face_only_boxes() -> None:
     mirror = _in_domain(np.array([[1.0, 0.0]]), np.array([[2.0, 1.0]]), True)
     assert not face[0] and mirror[0]
     assert not _in_domain(np.array([[-2.0, -1.0]]), np.array([[0.0, 0.0]]), False)[0]
+
+
+def test_progress_bar_reports_boxes_and_changes_nothing(capsys: pytest.CaptureFixture) -> None:
+    m = parse_model(QUADRATIC)
+    quiet = branch_and_bound(m, 2, max_boxes=3000)
+    assert capsys.readouterr().err == ""
+    shown = branch_and_bound(m, 2, max_boxes=3000, progress=True)
+    err = capsys.readouterr().err
+    assert "||H2|| bracket" in err and "box" in err
+    assert shown == quiet

@@ -138,7 +138,7 @@ def _norm(args: argparse.Namespace) -> int:
     if not 0 <= budget <= BOX_LIMIT:
         raise ArgumentError(f"--max-boxes must be between 0 and {BOX_LIMIT}, got {budget}")
     b = kernel_norm(mf.plant, args.order, not args.asymmetric, args.tol, max_boxes=budget,
-                    proof=args.proof, cross_check=args.cross_check)
+                    proof=args.proof, cross_check=args.cross_check, progress=None)
     kind = "symmetric" if not args.asymmetric else "asymmetric"
     lines = [f"{mf.name}: {kind} kernel, angular frequencies in rad/s, proof level "
              f"{args.proof}", _bound_line(b),
