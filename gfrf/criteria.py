@@ -276,7 +276,7 @@ def _norms_and_series(model: Model, maj: Majorant, order: int, amplitude: float,
     norms, rows = [], []
     for n in range(1, order + 1):
         bound = (None if level == "none" else
-                 kernel_norm(model, n, proof=maj.proof) if level == "tight" else
+                 kernel_norm(model, n, proof=maj.proof, progress=None) if level == "tight" else
                  kernel_norm(model, n, proof=maj.proof, max_boxes=0, searches=FAST_SEARCHES))
         if bound is not None:
             norms.append(bound)
