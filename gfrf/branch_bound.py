@@ -63,9 +63,11 @@ BATCH = 2048
 #: Default budget of box evaluations of :func:`branch_and_bound` (about 10 s at order 5
 #: on a 2-core 2026 machine; :func:`gfrf.norms.kernel_norm` passes its own budget).
 MAX_BOXES = 200_000
-#: Budget from which the fused numba loops are used (when installed): below it their
-#: one-off import and cache load (~0.5-1 s) costs more than they save (~33 us per box).
-COMPILED_FROM = 100_000
+#: Boxes evaluated after which a search continues with the fused numba loops (when
+#: installed): their one-off import and cache load (~0.5 s) is then repaid by the ~50-250
+#: us per box they save (pendulum and cart-pole H5), and a search that ends sooner (most
+#: at orders <= 3) never imports numba.  A count of work, so the switch is deterministic.
+COMPILED_FROM = 5_000
 #: Most boxes any search may be given (bounds the cost of every input: about 10 min).
 BOX_LIMIT = 20_000_000
 #: Nelder-Mead polishings of a new best box centre per search.
@@ -295,8 +297,8 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
         return BranchBoundResult(best, max(ceiling, best), tuple(float(x) for x in best_x),
                                  False, 0, width, tail)
     lo, hi = -width * np.ones((1, n)), width * np.ones((1, n))
-    compiled, leaves = max_boxes >= COMPILED_FROM, _input_free(model)
-    bound, value, split = enclose(taylor, inverse, lo, hi, compiled, leaves)
+    leaves = _input_free(model)
+    bound, value, split = enclose(taylor, inverse, lo, hi, False, leaves)
     boxes, pruned, polishes = 1, 0.0, 0
     from tqdm import tqdm
 
@@ -324,7 +326,8 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
             c_lo, c_hi = np.vstack([p_lo, right_lo]), np.vstack([left_hi, p_hi])
             inside = _in_domain(c_lo, c_hi, symmetric)
             c_lo, c_hi = c_lo[inside], c_hi[inside]
-            c_bound, c_value, c_split = enclose(taylor, inverse, c_lo, c_hi, compiled, leaves)
+            c_bound, c_value, c_split = enclose(taylor, inverse, c_lo, c_hi,
+                                                boxes >= COMPILED_FROM, leaves)
             boxes += c_lo.shape[0]
             bar.update(c_lo.shape[0])
             magnitude = c_value.copy()

@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import hashlib
 import importlib.util
+import math
 import os
 import sys
 import time
@@ -65,17 +66,25 @@ BLOWUP_AGREEMENT = 0.01
 BLOWUP_RESOLUTION = 1e-12
 #: Halvings of the automatic step at most (with MAX_STEPS, bounds the work of a run).
 _MAX_DOUBLINGS = 64
+#: Largest grid (steps over [0, t_end]) that is halved: finer steps than t_end / 2**52
+#: are below the resolution of a double (and step counts stay far from int64 overflow).
+_MAX_GRID = 2**52
 #: h |lambda| of the first automatic step (RK4 is stable up to about 2.8).
 _CFL = 0.5
+#: The input at a segment's ends is taken this fraction of its step inside the segment
+#: (one-sided limits at a breakpoint; far above the rounding of a breakpoint's time, and
+#: its effect, one stage of two steps per breakpoint moved by 1e-6 h, is O(1e-6 h^2)).
+_ONE_SIDED = 1e-6
 
 _DECORATOR = '@njit(cache=True, error_model="numpy")\n'
 _RK4 = '''
 
 @njit(cache=True, error_model="numpy")
-def rk4(z0, h, nsteps, V, blowup):
+def rk4(z0, seg_n, seg_h, V, VL, steps, blowup):
     n = z0.size
-    Z = np.empty((nsteps + 1, n))
-    F = np.empty((nsteps + 1, n))
+    Z = np.empty((steps + 1, n))
+    F = np.empty((steps + 1, n))
+    FL = np.empty((seg_n.size, n))
     k1 = np.empty(n)
     k2 = np.empty(n)
     k3 = np.empty(n)
@@ -83,7 +92,12 @@ def rk4(z0, h, nsteps, V, blowup):
     tmp = np.empty(n)
     z = z0.copy()
     Z[0] = z
-    for i in range(nsteps):
+    s = 0
+    k = 0
+    done = steps
+    for i in range(steps):
+        h = seg_h[s]
+        last = k == seg_n[s] - 1
         rhs(z, V[2 * i], k1)
         F[i] = k1
         for j in range(n):
@@ -94,17 +108,26 @@ def rk4(z0, h, nsteps, V, blowup):
         rhs(tmp, V[2 * i + 1], k3)
         for j in range(n):
             tmp[j] = z[j] + h * k3[j]
-        rhs(tmp, V[2 * i + 2], k4)
+        if last:
+            rhs(tmp, VL[s], k4)
+        else:
+            rhs(tmp, V[2 * i + 2], k4)
         for j in range(n):
             z[j] = z[j] + h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j])
         Z[i + 1] = z
+        if last:
+            rhs(z, VL[s], k1)
+            FL[s] = k1
+            s += 1
+            k = 0
+        else:
+            k += 1
         if not abs(z[0]) < blowup:
-            rhs(z, V[2 * i + 2], k1)
-            F[i + 1] = k1
-            return Z[:i + 2], F[:i + 2], i + 1
-    rhs(z, V[2 * nsteps], k1)
-    F[nsteps] = k1
-    return Z, F, nsteps
+            done = i + 1
+            break
+    rhs(Z[done], V[2 * done], k1)
+    F[done] = k1
+    return Z[:done + 1], F[:done + 1], FL, done
 
 
 @njit(cache=True, error_model="numpy")
@@ -137,8 +160,9 @@ def compile_system(system: OdeSystem) -> tuple[ModuleType, float]:
     Returns
     -------
     module : ModuleType
-        With ``rk4(z0, h, nsteps, V, blowup) -> (Z, F, steps_done)`` and
-        ``plant_inputs(Z, V) -> U`` (the plant input u at each row of states and inputs).
+        With ``rk4(z0, seg_n, seg_h, V, VL, steps, blowup) -> (Z, F, FL, steps_done)``
+        (see :func:`_run`) and ``plant_inputs(Z, V) -> U`` (the plant input u at each
+        row of states and inputs).
     seconds : float
         Wall time of this load, including numba compilation on a cold cache.
     """
@@ -158,10 +182,76 @@ def compile_system(system: OdeSystem) -> tuple[ModuleType, float]:
     sys.modules[path.stem] = module  # numba's cache pickles refer to the module by name
     spec.loader.exec_module(module)  # type: ignore[union-attr]
     z = np.zeros(system.n_states)
-    module.rk4(z, 0.1, 1, np.zeros((3, system.n_inputs)), 1.0)  # trigger compile / load
+    module.rk4(z, np.ones(1, dtype=np.int64), np.full(1, 0.1), np.zeros((3, system.n_inputs)),
+               np.zeros((1, system.n_inputs)), 1, 1.0)  # trigger compile / load
     module.plant_inputs(np.zeros((1, system.n_states)), np.zeros((1, system.n_inputs)))
     _MODULES[digest] = module
     return module, time.perf_counter() - start
+
+
+@dataclass(frozen=True)
+class _Grid:
+    """RK4 steps: segment j of ``[edges[j], edges[j+1]]`` has ``n[j]`` steps of ``h[j]``.
+
+    The segment edges are 0, the input's breakpoints and t_end, so every breakpoint is
+    a step boundary.
+    """
+
+    edges: np.ndarray  # (m + 1,) seconds
+    n: np.ndarray  # (m,) steps per segment (int64)
+    h: np.ndarray  # (m,) step of each segment, seconds
+
+    @classmethod
+    def cover(cls, edges: np.ndarray, step: float) -> _Grid:
+        """Each segment in the fewest equal steps of at most ``step`` (at least one)."""
+        lengths = np.diff(edges)
+        n = np.maximum(1, np.ceil(lengths / step - 1e-9)).astype(np.int64)
+        return cls(edges, n, lengths / n)
+
+    def halved(self) -> _Grid:
+        """The same segments with twice the steps."""
+        return _Grid(self.edges, 2 * self.n, self.h / 2)
+
+    @property
+    def steps(self) -> int:
+        """Total number of steps."""
+        return int(self.n.sum())
+
+    @property
+    def max_step(self) -> float:
+        """Largest step in seconds."""
+        return float(self.h.max())
+
+    def locate(self, i: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(segment, index in the segment, time) of step boundaries ``i`` (0..steps)."""
+        first = np.concatenate(([0], np.cumsum(self.n)))
+        seg = np.minimum(np.searchsorted(first, i, side="right") - 1, self.n.size - 1)
+        k = i - first[seg]
+        return seg, k, self.edges[seg] + k * self.h[seg]
+
+    def inputs(self, signal: InputSignal, n_inputs: int, steps: int
+               ) -> tuple[np.ndarray, np.ndarray]:
+        """Input rows of the first ``steps`` steps: ``V`` at the step boundaries and half
+        steps (2 steps + 1 rows), ``VL`` at each segment end from the left.
+
+        A segment's first boundary is taken just inside it (right limit, also at t = 0),
+        its end from the left, :data:`_ONE_SIDED` of the step away: a breakpoint's jump
+        never enters a step from outside.
+        """
+        grid = np.empty(2 * steps + 1)
+        done = 0
+        for a, n, h in zip(self.edges[:-1], self.n, self.h, strict=True):
+            if done == steps:
+                break
+            take = min(int(n), steps - done)
+            rows = grid[2 * done:2 * (done + take)]
+            rows[:] = a + np.arange(2 * take) * (0.5 * h)
+            rows[0] = a + _ONE_SIDED * h
+            done += take
+        grid[-1] = self.locate(np.array([steps]))[2][0]
+        V = input_values(signal, n_inputs, grid).T
+        VL = input_values(signal, n_inputs, self.edges[1:] - _ONE_SIDED * self.h).T
+        return np.ascontiguousarray(V), np.ascontiguousarray(VL)
 
 
 @dataclass(frozen=True)
@@ -170,40 +260,54 @@ class _Run:
 
     y: np.ndarray  # states at the kept output times, shape (n_states, k)
     steps: int  # steps taken
-    h: float
+    h: float  # largest step
     blown: bool  # |y| reached the threshold (or the state became non-finite)
+    stop: float | None = None  # time of the last step taken; None: steps * h
 
     @property
     def t_stop(self) -> float:
         """Time of the last step taken (the blow-up time when ``blown``)."""
-        return self.steps * self.h
+        return self.steps * self.h if self.stop is None else self.stop
 
 
 def _run(module: ModuleType, system: OdeSystem, signal: InputSignal, z0: np.ndarray,
-         t_end: float, nsteps: int, t_eval: np.ndarray, blowup: float,
-         limit: int | None = None) -> _Run:
-    """``nsteps`` steps of t_end / nsteps, or only the first ``limit`` of them."""
-    h = t_end / nsteps
-    steps = nsteps if limit is None else min(nsteps, limit)
-    grid = np.arange(2 * steps + 1) * (0.5 * h)
-    if steps == nsteps:
-        grid[-1] = t_end
-    V = np.ascontiguousarray(input_values(signal, system.n_inputs, grid).T)
-    Z, F, done = module.rk4(np.array(z0, dtype=float), h, steps, V, blowup)
+         grid: _Grid, t_eval: np.ndarray, blowup: float, limit: int | None = None) -> _Run:
+    """The steps of ``grid``, or only the first ``limit`` of them.
+
+    Outputs by cubic Hermite interpolation in the step holding each time, with the
+    derivative at a segment end taken from the left (the state is continuous at a
+    breakpoint, its derivative need not be).
+    """
+    total = grid.steps
+    steps = total if limit is None else min(total, limit)
+    V, VL = grid.inputs(signal, system.n_inputs, steps)
+    Z, F, FL, done = module.rk4(np.array(z0, dtype=float), grid.n, grid.h, V, VL, steps,
+                                blowup)
     blown = not abs(Z[done, 0]) < blowup
-    last_good = (done - 1 if blown else done) * h
-    keep = t_eval <= last_good + 1e-12 * t_end
-    te = t_eval[keep]
-    idx = np.minimum((te / h).astype(np.int64), max(done - 1, 0))
-    s = (te - idx * h) / h
+    last_good = grid.locate(np.array([done - 1 if blown else done]))[2][0]
+    t_end = float(grid.edges[-1])
+    te = t_eval[t_eval <= last_good + 1e-12 * t_end]
+    # the step holding each output time (a time on a breakpoint: the step after it)
+    seg = np.minimum(np.searchsorted(grid.edges, te, side="right") - 1, grid.n.size - 1)
+    k = np.minimum(np.floor((te - grid.edges[seg]) / grid.h[seg]).astype(np.int64),
+                   grid.n[seg] - 1)
+    first = np.concatenate(([0], np.cumsum(grid.n)))
+    idx = np.minimum(first[seg] + np.maximum(k, 0), done - 1)
+    seg, k, t0 = grid.locate(idx)
+    h = grid.h[seg][:, None]
+    end = F[idx + 1]
+    ends = k == grid.n[seg] - 1  # last step of its segment: derivative from the left
+    end[ends] = FL[seg[ends]]
+    s = (te - t0) / grid.h[seg]
     with np.errstate(invalid="ignore", over="ignore"):
         h00, h10 = 2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s
         h01, h11 = -2 * s**3 + 3 * s**2, s**3 - s**2
         Y = (h00[:, None] * Z[idx] + h10[:, None] * h * F[idx] + h01[:, None] * Z[idx + 1]
-             + h11[:, None] * h * F[idx + 1]) if done else Z[:1]
-    if done:  # at a step time exactly, the step's own state (no 0 * inf from the next)
-        Y = np.where((s == 0)[:, None], Z[idx], Y)
-    return _Run(Y.T, int(done), h, bool(blown))
+             + h11[:, None] * h * end)
+    # at a step time exactly, the step's own state (no 0 * inf from the next)
+    Y = np.where((s == 0)[:, None], Z[idx], Y)
+    t_stop = grid.locate(np.array([done]))[2][0]
+    return _Run(Y.T, int(done), grid.max_step, bool(blown), float(t_stop))
 
 
 def _fastest_rate(system: OdeSystem, signal: InputSignal, z0: np.ndarray) -> float:
@@ -249,12 +353,23 @@ def _agree(coarse: _Run, fine: _Run, finished: bool, rtol: float, atol: float,
     gap = abs(fine.t_stop - coarse.t_stop)
     if fine.blown and gap > max(BLOWUP_AGREEMENT * fine.t_stop, BLOWUP_RESOLUTION * t_end):
         return False
-    k = min(coarse.y.shape[1], fine.y.shape[1])  # outputs both runs reached
-    if not k:
+    if not min(coarse.y.shape[1], fine.y.shape[1]):
         return fine.blown
+    diff, _, scale = _difference(coarse, fine)
+    return bool(diff <= rtol * scale + atol)
+
+
+def _difference(coarse: _Run, fine: _Run) -> tuple[float, int, float]:
+    """(max |y_fine - y_coarse|, index of that output, max |y_fine|) on the outputs both
+    runs reached (nan when a difference is not finite)."""
+    k = min(coarse.y.shape[1], fine.y.shape[1])
+    if not k:
+        return math.nan, 0, math.nan
     with np.errstate(invalid="ignore"):
-        diff = float(np.max(np.abs(fine.y[0, :k] - coarse.y[0, :k])))
-        return bool(diff <= rtol * float(np.max(np.abs(fine.y[0, :k]))) + atol)
+        gaps = np.abs(fine.y[0, :k] - coarse.y[0, :k])
+        at = int(np.argmax(gaps)) if np.all(np.isfinite(gaps)) else int(np.argmin(
+            np.isfinite(gaps)))
+        return float(gaps[at]), at, float(np.max(np.abs(fine.y[0, :k])))
 
 
 def simulate_fast(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end: float,
@@ -296,47 +411,57 @@ def simulate_fast(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end:
     module, load_time = compile_system(system)
     notes = [f"numba compile/cache load took {load_time:.3g} s"] if load_time else []
     rate = _fastest_rate(system, signal, z0)
+    breaks = signal.breakpoints(t_end)
+    edges = np.concatenate(([0.0], np.zeros(0) if breaks is None else breaks, [t_end]))
+    if breaks is not None and breaks.size:
+        notes.append(f"{breaks.size} input breakpoint(s) in (0, {t_end:g}) s put on step "
+                     f"boundaries")
     if dt is not None:
         if not (np.isfinite(dt) and dt > 0):
             raise ArgumentError(f"dt must be a positive number of seconds, got {dt!r}")
-        nsteps = max(1, int(np.ceil(t_end / dt - 1e-9)))
-        if nsteps > MAX_STEPS:
-            raise ArgumentError(f"dt = {dt:g} s needs {nsteps} steps, above {MAX_STEPS}")
-        run = _run(module, system, signal, z0, t_end, nsteps, t_eval, blowup)
-        if t_end / nsteps * rate > 2.5:
+        grid = _Grid.cover(edges, dt)
+        if grid.steps > MAX_STEPS:
+            raise ArgumentError(f"dt = {dt:g} s needs {grid.steps} steps, above {MAX_STEPS}")
+        run = _run(module, system, signal, z0, grid, t_eval, blowup)
+        if grid.max_step * rate > 2.5:
             notes.append(f"dt = {dt:g} s is beyond RK4's stability limit for the time scale "
                          f"1/{rate:.4g} s of the model: a blow-up may be numerical")
         accepted = True
+        unmet = ""
     else:
-        nsteps = max(256, int(np.ceil(t_end * rate / _CFL)))
-        if 2 * nsteps > MAX_STEPS:
+        grid = _Grid.cover(edges, t_end / max(256, int(np.ceil(t_end * rate / _CFL))))
+        if 2 * grid.steps > MAX_STEPS:
             raise ArgumentError(f"t_end = {t_end:g} s spans {t_end * rate:.3g} time scales "
                                 f"of the model: the automatic step needs more than MAX_STEPS "
                                 f"= {MAX_STEPS} RK4 steps; use a scipy method")
-        run = _run(module, system, signal, z0, t_end, nsteps, t_eval, blowup)
-        accepted = False
+        run = _run(module, system, signal, z0, grid, t_eval, blowup)
+        accepted, unmet = False, ""
         for _ in range(_MAX_DOUBLINGS):
-            # after a blow-up the finer run only needs to go a little past it
-            limit = 2 * run.steps + 16 if run.blown else 2 * nsteps
-            if min(limit, 2 * nsteps) > MAX_STEPS:
+            if grid.steps > _MAX_GRID:
                 break
-            fine = _run(module, system, signal, z0, t_end, 2 * nsteps, t_eval, blowup, limit)
-            if not fine.blown and fine.steps < 2 * nsteps:  # survived: run it to t_end
-                if 2 * nsteps > MAX_STEPS:
+            finer = grid.halved()
+            # after a blow-up the finer run only needs to go a little past it
+            limit = 2 * run.steps + 16 if run.blown else finer.steps
+            if min(limit, finer.steps) > MAX_STEPS:
+                break
+            fine = _run(module, system, signal, z0, finer, t_eval, blowup, limit)
+            if not fine.blown and fine.steps < finer.steps:  # survived: run it to t_end
+                if finer.steps > MAX_STEPS:
                     break
-                fine = _run(module, system, signal, z0, t_end, 2 * nsteps, t_eval, blowup)
-            nsteps *= 2
-            accepted = _agree(run, fine, fine.steps == nsteps, rtol, atol, t_end)
-            run = fine
+                fine = _run(module, system, signal, z0, finer, t_eval, blowup)
+            grid = finer
+            accepted = _agree(run, fine, fine.steps == grid.steps, rtol, atol, t_end)
+            run, coarse = fine, run
             if accepted:
                 break
-        if not accepted:
-            notes.append(f"step doubling stopped at {nsteps} steps before reaching "
-                         f"rtol={rtol:g}")
-        notes.append(f"step doubling chose dt = {t_end / nsteps:.4g} s ({nsteps} steps)")
+            unmet = _unmet(coarse, fine, t_eval, grid, rtol, atol)
+        notes.append(f"step doubling chose dt = {grid.max_step:.4g} s ({grid.steps} steps)")
     Y = run.y
     t = t_eval[:Y.shape[1]]
-    status, blow_t, message = "ok", None, f"RK4, {nsteps} fixed steps of {t_end / nsteps:.4g} s"
+    status, blow_t = "ok", None
+    message = (f"RK4, {grid.steps} fixed steps of {grid.max_step:.4g} s" if grid.n.size == 1
+               else f"RK4, {grid.steps} fixed steps of at most {grid.max_step:.4g} s, "
+                    f"{grid.n.size} segments between input breakpoints")
     if run.blown:
         status, blow_t = ("blowup", run.t_stop) if accepted else ("failed", None)
         message = (f"|y| reached {blowup:g} (or became non-finite) at t = {run.t_stop:.6g} s"
@@ -346,8 +471,24 @@ def simulate_fast(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end:
                    f"{MAX_STEPS}: not reported as a blow-up")
         finite = np.all(np.isfinite(Y), axis=0)
         Y, t = Y[:, finite], t[finite]
+    elif not accepted:
+        status, message = "failed", unmet or (
+            f"step doubling could not halve the first step of {grid.max_step:.4g} s "
+            f"({grid.steps} steps) within MAX_STEPS = {MAX_STEPS}: rtol={rtol:g} not met")
     v = input_values(signal, system.n_inputs, t)
     u = module.plant_inputs(np.ascontiguousarray(Y.T), np.ascontiguousarray(v.T))
     return SimulationResult(t=t, y=Y[0], u=u, states=Y, status=status, method="fast",
                             blowup_time=blow_t, message=message, nfev=4 * run.steps,
                             notes=notes, compile_time=load_time)
+
+
+def _unmet(coarse: _Run, fine: _Run, t_eval: np.ndarray, grid: _Grid, rtol: float,
+           atol: float) -> str:
+    """The failure message of step doubling that stops at ``fine`` (tolerance not met)."""
+    diff, at, scale = _difference(coarse, fine)
+    reason = (f"still differ by {diff:.3g} at t = {t_eval[at]:.6g} s, above "
+              f"rtol*max|y| + atol = {rtol * scale + atol:.3g}" if math.isfinite(diff) else
+              f"do not both reach t_end with finite outputs (first at t = {t_eval[at]:.6g} s)")
+    return (f"tolerance rtol={rtol:g}, atol={atol:g} not met: step doubling stopped at "
+            f"{grid.steps} steps of at most {grid.max_step:.4g} s (MAX_STEPS = {MAX_STEPS}); "
+            f"the runs of {coarse.steps} and {fine.steps} steps {reason}")

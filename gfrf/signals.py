@@ -9,6 +9,10 @@ abs, sign, step, Heaviside; constants ``pi`` and ``E``.  Derivatives for models 
 ending in ``.csv`` with columns ``t,u`` (optional header); it is interpolated by a
 cubic spline (derivatives from the spline) and held constant outside its time range.
 
+:meth:`InputSignal.breakpoints` lists the times where u or one of its derivatives may
+be non-smooth (a step, a kink, a CSV sample), so that a fixed-step integrator can put
+them on step boundaries (:mod:`gfrf.fastsim`).
+
 A text input that is a plain sum ``sum_k A_k cos(w_k t + phi_k)`` (sin allowed) also
 exposes its :attr:`InputSignal.tones`, which the Volterra prediction uses.
 
@@ -36,13 +40,21 @@ from scipy.interpolate import CubicSpline
 from gfrf.errors import ArgumentError, ModelError
 from gfrf.expr import SIGNAL_FUNCTIONS, UnknownNames, parse_expression, quote
 
-__all__ = ["InputSignal", "parse_input", "zero_input", "tones_input", "T"]
+__all__ = ["InputSignal", "parse_input", "zero_input", "tones_input", "T", "MAX_BREAKPOINTS"]
 
 #: The time symbol of input expressions (seconds).
 T = sp.Symbol("t", real=True)
 
 _NUMPY_MODULES = [{"Heaviside": lambda x, _h0=1.0: np.heaviside(x, 1.0),
                    "DiracDelta": lambda x: np.zeros_like(np.asarray(x, dtype=float))}, "numpy"]
+
+#: Most breakpoints :meth:`InputSignal.breakpoints` reports (more: None, unknown).
+MAX_BREAKPOINTS = 100_000
+#: Functions of the input grammar that are smooth wherever they are finite.
+_SMOOTH = (sp.sin, sp.cos, sp.tan, sp.sinh, sp.cosh, sp.tanh, sp.atan, sp.exp, sp.log)
+#: Functions that jump, or whose derivative jumps, where their argument crosses zero
+#: (DiracDelta: in the derivatives of a step).
+_NON_SMOOTH = (sp.Heaviside, sp.sign, sp.Abs, sp.DiracDelta)
 
 #: A tone (amplitude, angular frequency in rad/s, phase in rad) of A*cos(w*t + phi).
 Tone = tuple[float, float, float]
@@ -62,6 +74,10 @@ class InputSignal:
     max_derivative: int
     tones: tuple[Tone, ...] | None
     _funcs: tuple[Callable[[Any], Any], ...] = field(repr=False, compare=False)
+    #: Candidate breakpoints of a signal without expression (e.g. CSV sample times),
+    #: as a function of t_end; None: unknown.
+    _breaks: Callable[[float], np.ndarray] | None = field(default=None, repr=False,
+                                                          compare=False)
 
     def __call__(self, t: Any) -> np.ndarray:
         """Value of u at time(s) ``t`` in seconds."""
@@ -82,6 +98,49 @@ class InputSignal:
             return np.broadcast_to(np.asarray(f(t_arr), dtype=float), t_arr.shape).copy()
 
         return value
+
+    def breakpoints(self, t_end: float) -> np.ndarray | None:
+        """Times in (0, t_end) s where u or a derivative of u may be non-smooth.
+
+        For a text input: the zeros of the arguments of ``step``/``Heaviside``,
+        ``sign``, ``abs`` and of the bases of fractional powers (``sqrt``), found exactly
+        for arguments polynomial in t (real roots of the polynomial) and for
+        ``A*sin(w*t + p)``, ``A*cos(w*t + p)`` (a square wave ``sign(sin(w*t))``).
+        The other functions of the grammar are smooth where finite (their poles are not
+        breakpoints: there u is infinite).  For a CSV input: its sample times (the
+        spline's knots and the ends of its time range).
+
+        Parameters
+        ----------
+        t_end : float
+            End of the time range in seconds.
+
+        Returns
+        -------
+        numpy.ndarray or None
+            Sorted, distinct times strictly inside (0, t_end); None when they are not
+            known: an argument of another form (``step(t**2 + sin(t))``), a signal
+            built from a plain function, or more than :data:`MAX_BREAKPOINTS` of them.
+
+        Examples
+        --------
+        >>> parse_input("step(t - 1) - step(2*t - 10)").breakpoints(10.0).tolist()
+        [1.0, 5.0]
+        >>> parse_input("0.1*sin(1.2*t)").breakpoints(10.0).tolist()
+        []
+        >>> parse_input("step(t - sin(t) - 1)").breakpoints(10.0) is None
+        True
+        """
+        if self._breaks is not None:
+            times: np.ndarray | None = np.asarray(self._breaks(t_end), dtype=float)
+        elif self.expr is not None:
+            times = _expr_breakpoints(self.expr, t_end)
+        else:
+            return None
+        if times is None:
+            return None
+        times = np.unique(times[np.isfinite(times) & (times > 0) & (times < t_end)])
+        return times if times.size <= MAX_BREAKPOINTS else None
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready description."""
@@ -209,4 +268,58 @@ def _csv_input(path_text: str, max_derivative: int) -> InputSignal:
         return f
 
     return InputSignal(f"csv:{path_text}", None, max_derivative, None,
-                       tuple(make(k) for k in range(max_derivative + 1)))
+                       tuple(make(k) for k in range(max_derivative + 1)),
+                       _breaks=lambda t_end: t)
+
+
+def _expr_breakpoints(expr: sp.Expr, t_end: float) -> np.ndarray | None:
+    """Zeros in [0, t_end] of the arguments of the non-smooth parts of ``expr``, or None."""
+    arguments = []
+    for f in expr.atoms(sp.Function):
+        if isinstance(f, _NON_SMOOTH):
+            arguments.append(f.args[0])
+        elif not isinstance(f, _SMOOTH):
+            return None
+    for p in expr.atoms(sp.Pow):  # sqrt(b), b**0.3: not smooth where b = 0
+        fractional = not (p.exp.is_number and float(p.exp).is_integer())
+        if fractional and T in p.base.free_symbols and not p.base.is_positive:
+            arguments.append(p.base)
+    times = [np.zeros(0)]
+    for argument in arguments:
+        zeros = _zeros(argument, t_end)
+        if zeros is None:
+            return None
+        times.append(zeros)
+    return np.concatenate(times)
+
+
+def _zeros(argument: sp.Expr, t_end: float) -> np.ndarray | None:
+    """Real zeros of ``argument`` in t (those in [0, t_end] at least), or None if unknown.
+
+    Exact for a polynomial in t (real roots of its coefficients as exact rationals) and
+    for ``A*sin(w*t + p)``/``A*cos(w*t + p)``; None for any other form, or for more
+    than :data:`MAX_BREAKPOINTS` zeros in [0, t_end].
+    """
+    if argument.free_symbols - {T}:
+        return None
+    if argument.is_polynomial(T):
+        coefficients = [sp.Rational(c.evalf(30)) for c in sp.Poly(argument, T).all_coeffs()]
+        if len(coefficients) == 2:  # linear: one exact division
+            return np.array([float(-coefficients[1] / coefficients[0])])
+        if len(coefficients) < 2:
+            return np.zeros(0)
+        return np.array([float(r.evalf(20)) for r in
+                         sp.Poly(coefficients, T, domain="QQ").real_roots(multiple=True)])
+    _, wave = argument.as_independent(T, as_Add=False)
+    if not isinstance(wave, (sp.sin, sp.cos)) or not wave.args[0].is_polynomial(T):
+        return None
+    phase = sp.Poly(wave.args[0], T)
+    if phase.degree() != 1:
+        return None
+    w, p = (float(c) for c in phase.all_coeffs())
+    # w t + p = k pi + shift, shift = 0 (sin) or pi/2 (cos), over t in [0, t_end]
+    shift = 0.0 if isinstance(wave, sp.sin) else math.pi / 2
+    lo, hi = sorted((p - shift, w * t_end + p - shift))
+    k = np.arange(math.ceil(lo / math.pi), math.floor(hi / math.pi) + 1) \
+        if (hi - lo) / math.pi <= MAX_BREAKPOINTS else None
+    return None if k is None else (k * math.pi + shift - p) / w
