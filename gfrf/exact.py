@@ -540,14 +540,24 @@ def _refused(why: str, cancelled: tuple[complex, ...]) -> ExactSup:
 
 
 @lru_cache(maxsize=1024)
-def _sup_continuous(num: tuple[Fraction, ...], den: tuple[Fraction, ...],
-                    method: str = "interval") -> ExactSup:
+def _reduced(num: tuple[Fraction, ...], den: tuple[Fraction, ...]
+             ) -> tuple[Any, Any, tuple[complex, ...]] | ExactSup:
+    """(numerator, denominator, cancelled roots) in lowest terms, or the sup 0 of a zero
+    numerator; ZeroDivisionError for a zero denominator."""
     if den[0] == 0:
         raise ZeroDivisionError("denominator polynomial is zero")
     n, d = _qpoly(num), _qpoly(den)
     if n.degree() < 0:
         return ExactSup(0.0, 0.0, 0.0, 0.0)
-    n, d, cancelled = _strip_common(n, d)
+    return _strip_common(n, d)
+
+
+def _sup_continuous(num: tuple[Fraction, ...], den: tuple[Fraction, ...],
+                    method: str = "interval") -> ExactSup:
+    reduced = _reduced(num, den)
+    if isinstance(reduced, ExactSup):
+        return reduced
+    n, d, cancelled = reduced
     if n.degree() > d.degree():
         return ExactSup(math.inf, math.inf, math.inf, math.inf,
                         f"improper: numerator degree {n.degree()} > denominator degree "
@@ -680,14 +690,10 @@ def _sup_discrete(num: tuple[Fraction, ...], den: tuple[Fraction, ...],
                   method: str = "interval") -> ExactSup:
     """As :func:`discrete_sup_abs` with highest-power-of-q-first Fractions; omega in rad/sample
     (inf stands for w T = pi)."""
-    if den[0] == 0:
-        raise ZeroDivisionError("denominator polynomial is zero")
-    n, d = _qpoly(num), _qpoly(den)
-    if n.degree() < 0:
-        return ExactSup(0.0, 0.0, 0.0, 0.0)
-    n, d, cancelled = _strip_common(n, d)
-    if n.degree() < 0:
-        return ExactSup(0.0, 0.0, 0.0, 0.0, cancelled=cancelled)
+    reduced = _reduced(num, den)
+    if isinstance(reduced, ExactSup):
+        return reduced
+    n, d, cancelled = reduced
     if d(-1) == 0:
         return ExactSup(math.inf, math.inf, math.inf, math.inf,
                         "pole on the unit circle at z = -1 (exact test)", cancelled)
