@@ -68,6 +68,10 @@ MAX_KERNEL_ORDER = 12
 MAX_RECURSION_WORK = 2_000_000
 #: Terms per lambdified chunk of a recursion numerator (Python's compiler nests sums).
 _CHUNK = 500
+#: Points per slice of a numeric evaluation: the recursion's temporaries (a few per term)
+#: then stay in cache instead of each being a fresh multi-megabyte allocation (4-5x the
+#: rate at 10^6 points for the cart-pole's H3 and H5).
+_SLICE = 16_384
 
 
 @dataclass(frozen=True)
@@ -282,6 +286,19 @@ class GFRFGenerator:
         shape = np.broadcast_shapes(*(np.shape(w) for w in omegas))
         if not self.structurally_nonzero(n):
             return np.zeros(shape, dtype=np.complex128)
+        size = math.prod(shape)
+        if size <= _SLICE:
+            return self._evaluate(n, omegas, symmetric, shape)
+        flat = [np.broadcast_to(w, shape).reshape(-1) for w in omegas]
+        out = np.empty(size, dtype=np.complex128)
+        for start in range(0, size, _SLICE):
+            part = [w[start:start + _SLICE] for w in flat]
+            out[start:start + _SLICE] = self._evaluate(n, part, symmetric, part[0].shape)
+        return out.reshape(shape)
+
+    def _evaluate(self, n: int, omegas: list[np.ndarray], symmetric: bool,
+                  shape: tuple[int, ...]) -> np.ndarray:
+        """:meth:`evaluate` on one slice (``shape``: the broadcast shape)."""
         xs = self._to_variables(omegas)
         memo: dict[tuple[int, ...], np.ndarray] = {}
 

@@ -162,3 +162,18 @@ def test_models_differing_only_in_a_coefficient_do_not_share_kernels():
     assert a != b
     assert complex(kernel(a, 1)(1.0)) == pytest.approx(1 / 0.2j)
     assert complex(kernel(b, 1)(1.0)) == pytest.approx(1 / 0.4j)
+
+
+def test_large_broadcast_evaluation_is_sliced_consistently() -> None:
+    """Beyond one slice (16,384 points) the values equal the row-by-row ones, with the
+    broadcast shape kept (a grid of 240 x 300 frequencies)."""
+    from gfrf.modelfile import load_model
+
+    m = load_model("models/cartpole.toml").plant
+    k3 = kernel(m, 3)
+    w1 = np.linspace(-7.0, 7.0, 240)[:, None]
+    w2 = np.linspace(-5.0, 6.0, 300)[None, :]
+    grid = k3(w1, w2, 0.7)
+    assert grid.shape == (240, 300)
+    rows = np.array([k3(np.full(300, w), w2[0], 0.7) for w in w1[:, 0]])
+    assert np.array_equal(grid, rows)
