@@ -471,7 +471,8 @@ def simulate_fast(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end:
             if accepted:
                 break
             unmet = _unmet(coarse, fine, t_eval, grid, rtol, atol)
-        notes.append(f"step doubling chose dt = {grid.max_step:.4g} s ({grid.steps} steps)")
+        notes.append(f"step doubling {'chose' if accepted else 'ended at'} dt = "
+                     f"{grid.max_step:.4g} s ({grid.steps} steps)")
     Y = run.y
     t = t_eval[:Y.shape[1]]
     status, blow_t = "ok", None
