@@ -180,7 +180,8 @@ def random_input(size: float, seed: int = 0, hold: float = 0.5,
 
     ``knots`` uniform random values, ``hold`` s apart, linearly joined and repeated
     with period ``knots * hold``, scaled so that the spectrum size is exactly
-    ``size``; hence max |u| <= size.  The same seed gives the same signal.
+    ``size``; hence max |u| <= size.  The same seed gives the same signal.  Its kinks,
+    the multiples of ``hold``, are its breakpoints (:meth:`InputSignal.breakpoints`).
     """
     if not (size > 0 and hold > 0 and knots >= 2):
         raise ArgumentError("size and hold must be positive and knots >= 2")
@@ -192,7 +193,8 @@ def random_input(size: float, seed: int = 0, hold: float = 0.5,
     def f(t: Any) -> np.ndarray:
         return np.interp(t, times, values, period=knots * hold)
 
-    return InputSignal(f"random(r={size:g}, seed={seed})", None, 0, None, (f,))
+    return InputSignal(f"random(r={size:g}, seed={seed})", None, 0, None, (f,),
+                       _breaks=lambda t_end: np.arange(1, int(t_end / hold) + 1) * hold)
 
 
 def _amplitudes(v: Verdict, scale: float | None,
