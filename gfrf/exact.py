@@ -539,7 +539,6 @@ def _refused(why: str, cancelled: tuple[complex, ...]) -> ExactSup:
                     "(proof='interval') encloses it", cancelled)
 
 
-@lru_cache(maxsize=1024)
 def _reduced(num: tuple[Fraction, ...], den: tuple[Fraction, ...]
              ) -> tuple[Any, Any, tuple[complex, ...]] | ExactSup:
     """(numerator, denominator, cancelled roots) in lowest terms, or the sup 0 of a zero
@@ -552,6 +551,7 @@ def _reduced(num: tuple[Fraction, ...], den: tuple[Fraction, ...]
     return _strip_common(n, d)
 
 
+@lru_cache(maxsize=1024)
 def _sup_continuous(num: tuple[Fraction, ...], den: tuple[Fraction, ...],
                     method: str = "interval") -> ExactSup:
     reduced = _reduced(num, den)

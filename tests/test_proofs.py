@@ -168,3 +168,18 @@ def test_bench_section_proof_levels() -> None:
     radius = 2 / (3 * beta * (3 * (9.8 / 24) * beta) ** 0.5)
     hanging = next(row for row in section.rows if row[:2] == ["hanging_pendulum", "r*"])
     assert float(hanging[7]) == pytest.approx(radius, rel=1e-8)
+
+
+def test_exact_sups_are_memoised_and_clearable() -> None:
+    from gfrf import exact
+
+    exact.clear_caches()
+    first = exact.sup_abs([1.0], [1.0, 0.1, 2.0])
+    again = exact.sup_abs([1.0], [1.0, 0.1, 2.0])
+    assert again == first
+    assert exact._sup_continuous.cache_info().hits >= 1
+    exact.discrete_sup_abs([1.0], [1.0, -0.5])
+    exact.discrete_sup_abs([1.0], [1.0, -0.5])
+    assert exact._sup_discrete.cache_info().hits >= 1
+    exact.clear_caches()
+    assert exact._sup_continuous.cache_info().currsize == 0
