@@ -178,8 +178,8 @@ def test_exact_sups_are_memoised_and_clearable() -> None:
     again = exact.sup_abs([1.0], [1.0, 0.1, 2.0])
     assert again == first
     assert exact._sup_continuous.cache_info().hits >= 1
-    exact.discrete_sup_abs([1.0], [1.0, -0.5])
-    exact.discrete_sup_abs([1.0], [1.0, -0.5])
+    exact.discrete_sup_abs([1.0], [1.0, -0.5], 0.1)
+    exact.discrete_sup_abs([1.0], [1.0, -0.5], 0.1)
     assert exact._sup_discrete.cache_info().hits >= 1
     exact.clear_caches()
     assert exact._sup_continuous.cache_info().currsize == 0
