@@ -326,10 +326,13 @@ def executor(scheduler: str = "local", workers: int | None = None
                             "pip install 'gfrf[dask]'") from None
     if scheduler == "processes":
         n = workers or os.cpu_count() or 1
-        # silence_logs: dask's shutdown warnings (Ctrl-C, workers killed) are not ours
-        with LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                          dashboard_address=None, silence_logs=logging.ERROR) as cluster, \
-                Client(cluster) as client:
+        # silence_logs: dask's own log lines (on Ctrl-C the nanny and the workers log
+        # ERRORs for the connections torn down) are not gfrf's output; a point's error
+        # reaches the sweep through its future.  The preload makes workers ignore Ctrl-C.
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                               dashboard_address=None, silence_logs=logging.CRITICAL,
+                               preload=["gfrf._dask_worker"])
+        with cluster, Client(cluster) as client:
             yield client.get_executor(), n
         return
     _probe(scheduler, SCHEDULER_TIMEOUT)
