@@ -34,6 +34,7 @@ True
 
 from __future__ import annotations
 
+import itertools
 import math
 import numbers
 from collections.abc import Callable
@@ -241,6 +242,36 @@ def _polish(point: Callable[..., complex], x0: np.ndarray, scale: float
     return res.x, abs(point(*res.x))
 
 
+#: Most points of the resonance grid evaluated for a start without ``argmax``.
+MAX_STARTS = 4096
+
+
+def _modulus(point: Callable[..., complex], x: np.ndarray) -> float:
+    """|H_n(x)|, 0 where it is not a finite number."""
+    with np.errstate(all="ignore"):
+        value = abs(complex(point(*x)))
+    return value if math.isfinite(value) else 0.0
+
+
+def _resonance_start(point: Callable[..., complex], poles: np.ndarray, n: int) -> np.ndarray:
+    """The best point of the grid {0, +-|Im p|}^n of the linear poles p (the most lightly
+    damped first, at most :data:`MAX_STARTS` points): a start whose |H_n| lets the tail
+    width W stop doubling (from 0, where |H_n| may vanish, it never would)."""
+    damping = sorted((abs(p.real) / abs(p), abs(p.imag)) for p in poles if abs(p.imag) > 0)
+    axis = [0.0]
+    for _, w in damping:
+        if (len(axis) + 2) ** n > MAX_STARTS:
+            break
+        if all(abs(w - a) > 1e-12 * (1 + w) for a in axis):
+            axis += [w, -w]
+    best, best_x = -1.0, np.zeros(n)
+    for x in itertools.product(axis, repeat=n):
+        value = _modulus(point, np.array(x))
+        if value > best:
+            best, best_x = value, np.array(x)
+    return best_x
+
+
 def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float = 0.0,
                      argmax: tuple[float, ...] | None = None, tol: float = 1e-6,
                      max_boxes: int = MAX_BOXES, progress: bool | None = False
@@ -280,10 +311,11 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
     taylor, point = _compiled(gen, n, symmetric)
     _, den = linear_polynomials(model)
     inverse = _inverse(tuple(den.tolist()))
-    best_x = np.zeros(n) if argmax is None else np.array(argmax, dtype=float)
-    best = max(lower, abs(point(*best_x)))
-    maj = majorant(model)
     poles = np.roots(den) if den.size > 1 else np.zeros(1)
+    best_x = (_resonance_start(point, poles, n) if argmax is None
+              else np.array(argmax, dtype=float))
+    best = max(lower, _modulus(point, best_x))
+    maj = majorant(model)
     width = 2.0 * (1.0 + float(np.max(np.abs(poles))))
     tails = [(width, tail_bound(model, n, width, maj))]
     while tails[-1][1] > 0.5 * best and len(tails) < 60 and not (

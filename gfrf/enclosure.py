@@ -116,11 +116,16 @@ class _Modulus:
         return self.gamma * np.polyval(self.abs_coef, np.abs(sigma))
 
     def extrema(self, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(lower bound of min, upper bound of max) of |p| over [lo, hi] (vectorised)."""
-        a, b = np.abs(self(lo)), np.abs(self(hi))
-        ea, eb = self.error(lo), self.error(hi)
-        small = np.maximum(np.minimum(a - ea, b - eb), 0.0)
-        large = np.maximum(a + ea, b + eb)
+        """(lower bound of min, upper bound of max) of |p| over [lo, hi] (vectorised).
+
+        Where a value overflows, the min bound is NaN (read as "no bound" by the callers,
+        whose ``min > 0`` tests then fail) and the max bound inf.
+        """
+        with np.errstate(over="ignore", invalid="ignore"):
+            a, b = np.abs(self(lo)), np.abs(self(hi))
+            ea, eb = self.error(lo), self.error(hi)
+            small = np.maximum(np.minimum(a - ea, b - eb), 0.0)
+            large = np.maximum(a + ea, b + eb)
         if self.crit_lo.size:
             inside = (self.crit_lo <= hi[:, None]) & (self.crit_hi >= lo[:, None])
             small = np.minimum(small, np.where(inside, self.crit_min, np.inf).min(axis=1))

@@ -316,7 +316,7 @@ class GFRFGenerator:
                     memo[block] = -numerator / np.polyval(self._denominator, combined)
             return memo[block]
 
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             result = value(tuple(range(n)))
         return np.broadcast_to(np.asarray(result, dtype=np.complex128), shape).copy()
 

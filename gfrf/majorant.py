@@ -258,7 +258,7 @@ def _product_coefficient(series: list[np.ndarray], n: int) -> float:
             if acc[k] == 0.0:
                 continue
             tail = s[: n + 1 - k]
-            with np.errstate(invalid="ignore"):
+            with np.errstate(invalid="ignore", over="ignore"):  # inf: no bound
                 finite = np.where(tail == 0.0, 0.0, acc[k] * tail)
             new[k:k + tail.size] += finite
         acc = new

@@ -51,6 +51,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import sys
 import warnings
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -360,6 +361,8 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
     maj = majorant(model, proof)
     upper = maj.proven_upper(n) if proof == "interval" else float(maj.coefficients(n)[n, 0])
     upper_proof = proof
+    if upper == 0.0:  # a float majorant of a nonzero kernel underflowed: use balls
+        upper, upper_proof = majorant(model, "interval").proven_upper(n), "interval"
     notes += list(maj.reasons)
     blowup = _axis_blowup(k, model, n)
     if blowup is not None:
@@ -372,28 +375,34 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
                "float": "recursive majorant in floating point (certified upper)",
                "none": "recursive majorant in floating point (estimate)"}[proof]
               + " + resonance-start Nelder-Mead (lower: "
-              + ("witness re-evaluated in ball arithmetic)" if proof == "interval"
+              + ("witness re-evaluated in ball arithmetic)" if proof != "none"
                  else "float witness)"))
-    if (max_boxes != 0 and upper - lower > tol * upper and math.isfinite(upper)
-            and not model.is_discrete
-            and n <= MAX_ORDER and proof != "none"):
-        bb = branch_and_bound(model, n, symmetric, lower, argmax, tol, max_boxes=max_boxes,
-                              progress=progress)
-        if bb.lower > lower:
-            lower, argmax = bb.lower, bb.argmax
-        if bb.upper < upper:
-            upper, upper_proof = bb.upper, "float"
-        notes.append(f"branch-and-bound: {bb.boxes} boxes; |H_{n}| <= "
-                     f"{bb.tail:.6g} where some |w_i| > {bb.width:.6g} rad/s (tail bound)")
-        method = (f"branch-and-bound, {bb.boxes} boxes in [-{bb.width:.4g}, {bb.width:.4g}]^{n} "
-                  "rad/s + majorant tail (certified upper); local search (lower)")
+    if (max_boxes != 0 and (upper == math.inf or upper - lower > tol * upper)
+            and not model.is_discrete and n <= MAX_ORDER and proof != "none"):
+        bb, skipped = _refine(model, n, symmetric, lower, argmax, tol, max_boxes, progress,
+                              upper)
+        if bb is None:
+            notes.append(skipped)
+        else:
+            if bb.lower > lower:
+                lower, argmax = bb.lower, bb.argmax
+            if bb.upper < upper * (1 - 4 * 2.0 ** -52):  # not a rounding of the majorant
+                upper, upper_proof = bb.upper, "float"
+            notes.append(f"branch-and-bound: {bb.boxes} boxes; |H_{n}| <= {bb.tail:.6g} "
+                         f"where some |w_i| > {bb.width:.6g} rad/s (tail bound)")
+            method = (f"branch-and-bound, {bb.boxes} boxes in [-{bb.width:.4g}, "
+                      f"{bb.width:.4g}]^{n} rad/s + majorant tail (certified upper); local "
+                      "search (lower)")
+    if upper == math.inf and not maj.reasons:  # no other note explains it
+        notes.append(f"the majorant of |H_{n}| overflows double precision (above "
+                     f"{sys.float_info.max:.3g}): no finite upper end")
     gap = 0.0 if upper == lower else (upper - lower) / upper
     if gap > tol:
         notes.append(f"relative gap {gap:.3g} > tol {tol:g}: the majorant is not attained "
                      "(terms of different sign or phase) and the branch-and-bound budget "
                      "did not close the gap; honest bracket")
     lower_proof = "none" if proof == "none" else "float"
-    if proof == "interval":
+    if proof != "none":  # a float |H_n| can be off where A(j w) cancels: prove the witness
         lower, lower_proof, note = _proven_witness(model, n, symmetric, lower, argmax)
         notes += [note] if note else []
     if lower > upper:  # only rounding of the float levels can do this
@@ -401,6 +410,27 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
     weakest = min(upper_proof, lower_proof, key=("none", "float", "interval").index)
     return Bound(lower, upper, argmax, maj.certified, method, n, symmetric, stable,
                  tuple(notes), proof=weakest, upper_proof=upper_proof, lower_proof=lower_proof)
+
+
+#: Range of the majorant within which the double-precision box enclosures of the
+#: branch-and-bound are trusted (beyond it their products underflow or overflow).
+_FLOAT_RANGE = (1e-280, 1e280)
+
+
+def _refine(model: Model, n: int, symmetric: bool, lower: float, argmax: tuple[float, ...],
+            tol: float, max_boxes: int, progress: bool | None, upper: float
+            ) -> tuple[Any, str]:
+    """(branch-and-bound result, "") or (None, why it was not run)."""
+    if math.isfinite(upper) and not _FLOAT_RANGE[0] < upper < _FLOAT_RANGE[1]:
+        return None, (f"branch-and-bound skipped: the majorant {upper:.3g} is outside "
+                      f"[{_FLOAT_RANGE[0]:g}, {_FLOAT_RANGE[1]:g}], where its double-"
+                      "precision enclosures would underflow or overflow")
+    try:
+        return branch_and_bound(model, n, symmetric, lower, argmax, tol,
+                                max_boxes=max_boxes, progress=progress), ""
+    except OverflowError:
+        return None, ("branch-and-bound skipped: the linear part's coefficients (and the "
+                      "derivatives of |A(j w)|^2) overflow double precision")
 
 
 def _proven_witness(model: Model, n: int, symmetric: bool, lower: float,
