@@ -29,7 +29,7 @@ Stability of A is decided exactly (Routh's test in rationals, :mod:`gfrf.exact`)
   frequencies, +-peak frequencies of |H1| and |1/A|}, plus points whose sum hits a
   resonance), taken up to permutation and global sign (the symmetric kernel is
   invariant under both in modulus), then polished by Nelder-Mead on log|H_n|.  At
-  ``proof = "interval"`` |H_n| is re-evaluated at that witness point in ball arithmetic
+  ``proof = "interval"`` and ``"float"`` |H_n| is re-evaluated at that witness point in ball arithmetic
   (:mod:`gfrf.witness`: exact binary coefficients and frequencies) and the lower end is
   the ball's lower end rounded down, proven to be attained to its digits
   (``lower_proof = "interval"``); a ball wider than 1e-10 relative keeps the float
@@ -324,7 +324,9 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
         ``"interval"`` (default): the majorant's upper end in ball arithmetic on proven
         sups (``upper_proof = "interval"``) and the witness |H_n(argmax)| in ball
         arithmetic (``lower_proof = "interval"``).
-        ``"float"``: the majorant in floating point on double-precision sups.
+        ``"float"``: the majorant in floating point on double-precision sups (one
+        that underflows to 0 is redone in balls); the witness still in ball arithmetic
+        (cheap, and a float |H_n| can be off where A(j w) cancels).
         ``"none"``: the float majorant and the local search only (no
         branch-and-bound), labelled estimates (``certified = False``).
     cross_check : bool, optional
