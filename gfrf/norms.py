@@ -29,8 +29,9 @@ Stability of A is decided exactly (Routh's test in rationals, :mod:`gfrf.exact`)
   frequencies, +-peak frequencies of |H1| and |1/A|}, plus points whose sum hits a
   resonance), taken up to permutation and global sign (the symmetric kernel is
   invariant under both in modulus), then polished by Nelder-Mead on log|H_n|.  At
-  ``proof = "interval"`` and ``"float"`` |H_n| is re-evaluated at that witness point in ball arithmetic
-  (:mod:`gfrf.witness`: exact binary coefficients and frequencies) and the lower end is
+  ``proof = "interval"`` and ``"float"`` |H_n| is re-evaluated at that witness point in
+  ball arithmetic (:mod:`gfrf.witness`: exact binary coefficients and frequencies) and
+  the lower end is
   the ball's lower end rounded down, proven to be attained to its digits
   (``lower_proof = "interval"``); a ball wider than 1e-10 relative keeps the float
   value, labelled ``"float"``.  An identically zero kernel (decided symbolically) is exact.
