@@ -69,6 +69,9 @@ MAX_BOXES = 200_000
 #: us per box they save (pendulum and cart-pole H5), and a search that ends sooner (most
 #: at orders <= 3) never imports numba.  A count of work, so the switch is deterministic.
 COMPILED_FROM = 5_000
+#: Budget from which the fused loops are used from the first box (a search given that
+#: much work is expected to need more than COMPILED_FROM boxes).
+COMPILED_BUDGET = 100_000
 #: Most boxes any search may be given (bounds the cost of every input: about 10 min).
 BOX_LIMIT = 20_000_000
 #: Nelder-Mead polishings of a new best box centre per search.
@@ -330,7 +333,8 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
                                  False, 0, width, tail)
     lo, hi = -width * np.ones((1, n)), width * np.ones((1, n))
     leaves = _input_free(model)
-    bound, value, split = enclose(taylor, inverse, lo, hi, False, leaves)
+    bound, value, split = enclose(taylor, inverse, lo, hi, max_boxes >= COMPILED_BUDGET,
+                                  leaves)
     boxes, pruned, polishes = 1, 0.0, 0
     from tqdm import tqdm
 
@@ -359,7 +363,8 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
             inside = _in_domain(c_lo, c_hi, symmetric)
             c_lo, c_hi = c_lo[inside], c_hi[inside]
             c_bound, c_value, c_split = enclose(taylor, inverse, c_lo, c_hi,
-                                                boxes >= COMPILED_FROM, leaves)
+                                                max_boxes >= COMPILED_BUDGET
+                                                or boxes >= COMPILED_FROM, leaves)
             boxes += c_lo.shape[0]
             bar.update(c_lo.shape[0])
             magnitude = c_value.copy()
