@@ -505,6 +505,9 @@ def _float_finish(num: Any, den: Any, cancelled: tuple[complex, ...]) -> ExactSu
     candidates = [0.0]
     if s.degree() >= 1:
         roots = np.roots([float(c) for c in reversed(s.coeffs())])
+        # only roots that may be stationary points at x = w^2 >= 0 matter (a double root
+        # at x = -1, as for q^2 / (1 - q/2), is no peak)
+        roots = roots[roots.real >= -_FLOAT_RTOL * (1 + np.abs(roots))]
         gaps = np.abs(roots[:, None] - roots[None, :])
         np.fill_diagonal(gaps, np.inf)
         if roots.size > 1 and np.any(gaps < _FLOAT_RTOL * (1 + np.abs(roots))[:, None]):
@@ -709,4 +712,4 @@ def _sup_discrete(num: tuple[Fraction, ...], den: tuple[Fraction, ...],
                         f"pole on the unit circle at z = {z:.6g} (exact test)", cancelled)
     res = _float_finish(nt, dt, ()) if method == "float" else _finish(nt, dt, ())
     w = math.inf if math.isinf(res.omega) else 2.0 * math.atan(res.omega)
-    return ExactSup(res.lower, res.upper, res.value, w, cancelled=cancelled)
+    return ExactSup(res.lower, res.upper, res.value, w, res.reason, cancelled)

@@ -11,6 +11,7 @@ precision cannot resolve the sup, and is asserted never to be finite and wrong.
 
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 
 import mpmath as mp
@@ -183,3 +184,23 @@ def test_exact_sups_are_memoised_and_clearable() -> None:
     assert exact._sup_discrete.cache_info().hits >= 1
     exact.clear_caches()
     assert exact._sup_continuous.cache_info().currsize == 0
+
+
+def test_float_discrete_sup_agrees_or_refuses_with_a_reason() -> None:
+    """q^2 / (1 - q/2): sup 2 at q = 1 (its |N/D|^2 has a harmless double stationary
+    point at x = -1, which once made the float path refuse without saying why); clustered
+    lightly damped poles: the float path equals the interval value or refuses, naming why."""
+    from gfrf import exact
+
+    assert exact.discrete_sup_abs([0, 0, 1], [1, -0.5], 1.0, "float").upper == 2.0
+    for gap in (1e-2, 1e-5, 1e-8):
+        theta1, theta2, radius = 0.3, 0.3 + gap, 0.999
+        first = [1.0, -2 * radius * np.cos(theta1), radius**2]
+        second = [1.0, -2 * radius * np.cos(theta2), radius**2]
+        den = np.convolve(first, second)
+        flt = exact.discrete_sup_abs([1.0], den, 0.1, "float")
+        ball = exact.discrete_sup_abs([1.0], den, 0.1, "interval")
+        if math.isinf(flt.upper):
+            assert flt.reason
+        else:
+            assert abs(flt.upper - ball.upper) <= 1e-9 * ball.upper
