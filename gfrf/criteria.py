@@ -326,6 +326,12 @@ def _radii(model: Model, lower: float, with_estimate: bool, proof: str) -> _Radi
     by it at every level."""
     if not with_estimate:
         return _Radii(None, "not computed (norms off)", None, lower)
+    pole = next((r for r in majorant(model).reasons
+                 if r.startswith("sup|s^0 H1| infinite: pole on the") and "exact test" in r),
+                None)
+    if pole is not None:  # ||H1|| = inf: the series diverges for every r > 0
+        return _Radii(0.0 if proof == "interval" else None,
+                      f"||H1|| = inf, {pole.split(': ', 1)[1]}", None, lower)
     from gfrf.static import radius_estimate, radius_upper
 
     bound = radius_upper(model)

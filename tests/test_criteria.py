@@ -249,3 +249,13 @@ def test_proof_none_never_stable_and_float_agrees() -> None:
     assert levels["none"].to_dict()["radius_proof"] == "none"
     with pytest.raises(ArgumentError, match="proof must be one of"):
         verdict(model, proof="certified")
+
+
+def test_axis_pole_proves_a_zero_series_radius_and_no_estimate_above_it() -> None:
+    """||H1|| = inf (undamped: poles +-j sqrt(2), exact test) makes sum ||H_n|| r^n diverge
+    for every r > 0: the proven upper bound of its radius is 0 and no estimate exceeds
+    it (an estimate of 6e-7 used to be printed)."""
+    v = theorem1(parse_model("D(y,2) + 2*y + y**3 = u"), order=3)
+    assert v.radius_upper == 0.0 and v.radius_estimate is None
+    damped = theorem1(parse_model("D(y,2) + 0.4*D(y) + 2*y + y**3 = u"), order=3)
+    assert damped.radius_estimate is not None and damped.radius_estimate > 0
