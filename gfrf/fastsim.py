@@ -217,7 +217,11 @@ class _Grid:
     def cover(cls, edges: np.ndarray, step: float) -> _Grid:
         """Each segment in the fewest equal steps of at most ``step`` (at least one)."""
         lengths = np.diff(edges)
-        n = np.maximum(1, np.ceil(lengths / step - 1e-9)).astype(np.int64)
+        # counted in floats and capped (a segment of 1e19 steps would wrap int64): any
+        # cap above MAX_STEPS makes the callers' step-count checks refuse the grid
+        with np.errstate(over="ignore", invalid="ignore"):
+            counts = np.ceil(lengths / step - 1e-9)
+        n = np.clip(np.nan_to_num(counts, nan=1.0), 1, 2 * MAX_STEPS + 1).astype(np.int64)
         return cls(edges, n, lengths / n)
 
     def halved(self) -> _Grid:
@@ -437,7 +441,8 @@ def simulate_fast(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end:
             raise ArgumentError(f"dt must be a positive number of seconds, got {dt!r}")
         grid = _Grid.cover(edges, dt)
         if grid.steps > MAX_STEPS:
-            raise ArgumentError(f"dt = {dt:g} s needs {grid.steps} steps, above {MAX_STEPS}")
+            raise ArgumentError(f"dt = {dt:g} s needs more than MAX_STEPS = {MAX_STEPS} steps "
+                                f"over t_end = {t_end:g} s")
         run = _run(module, system, signal, z0, grid, t_eval, blowup)
         if grid.max_step * rate > 2.5:
             notes.append(f"dt = {dt:g} s is beyond RK4's stability limit for the time scale "

@@ -45,8 +45,12 @@ __all__ = ["InputSignal", "parse_input", "zero_input", "tones_input", "T", "MAX_
 #: The time symbol of input expressions (seconds).
 T = sp.Symbol("t", real=True)
 
+#: DiracDelta(x) and its derivatives DiracDelta(x, k) evaluate to 0: the impulses of a
+#: requested derivative inside the run are refused (:meth:`InputSignal.impulses`), one at
+#: t = 0 is before the run starts.
 _NUMPY_MODULES = [{"Heaviside": lambda x, _h0=1.0: np.heaviside(x, 1.0),
-                   "DiracDelta": lambda x: np.zeros_like(np.asarray(x, dtype=float))}, "numpy"]
+                   "DiracDelta": lambda x, _k=0: np.zeros_like(np.asarray(x, dtype=float))},
+                  "numpy"]
 
 #: Most breakpoints :meth:`InputSignal.breakpoints` reports (more: None, unknown).
 MAX_BREAKPOINTS = 100_000
@@ -141,6 +145,45 @@ class InputSignal:
             return None
         times = np.unique(times[np.isfinite(times) & (times > 0) & (times < t_end)])
         return times if times.size <= MAX_BREAKPOINTS else None
+
+    def impulses(self, t_end: float) -> np.ndarray | None:
+        """Times in (0, t_end] s where a requested derivative of u is an impulse.
+
+        Where u jumps (``step(t - 1)``), u' holds a Dirac delta (u'' where u' jumps,
+        e.g. ``abs(t - 1)``); a model with D(u,k) terms would need it, and no integrator
+        represents it (numerically the delta is 0, so the jump would silently vanish).
+        Only the derivatives up to :attr:`max_derivative` count; t = 0 does not (the
+        run starts after a jump there).  CSV inputs are splines: none.
+
+        Returns
+        -------
+        numpy.ndarray or None
+            Sorted times; None when an impulse's time is not known in closed form.
+
+        Examples
+        --------
+        >>> parse_input("step(t - 1)", max_derivative=1).impulses(5.0).tolist()
+        [1.0]
+        >>> parse_input("abs(t - 1)", max_derivative=1).impulses(5.0).tolist()
+        []
+        """
+        if self.expr is None or self.max_derivative == 0:
+            return np.zeros(0)
+        times = [np.zeros(0)]
+        current = self.expr
+        for _ in range(self.max_derivative):
+            current = sp.expand(sp.diff(current, T))
+            for delta in current.atoms(sp.DiracDelta):
+                zeros = _zeros(delta.args[0], t_end)
+                if zeros is None:
+                    return None
+                weight = current.coeff(delta)  # (t - 1)*DiracDelta(t - 1) is no impulse
+                if len(delta.args) == 1 and weight.free_symbols <= {T} and not sp.expand(
+                        current - weight * delta).has(delta):
+                    zeros = np.array([x for x in zeros if weight.subs(T, x) != 0])
+                times.append(zeros)
+        found = np.concatenate(times)
+        return np.unique(found[np.isfinite(found) & (found > 0) & (found <= t_end)])
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready description."""

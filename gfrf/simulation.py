@@ -63,6 +63,7 @@ import numpy as np
 import sympy as sp
 
 from gfrf.errors import ArgumentError, ModelError
+from gfrf.expr import quote
 from gfrf.integrate import (
     MAX_RHS_EVALUATIONS,
     OdeSystem,
@@ -472,6 +473,7 @@ def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | N
         source, closed_loop=closed_loop, equation=equation)
     z0 = _initial(system, initial)
     signal = _signal(input, system)
+    _check_impulses(signal, t_end)
     _check_work(system, signal, t_end, max_evaluations)
     notes = list(system.notes)
     if system.linear_unstable:
@@ -570,6 +572,20 @@ def _signal(input_: str | InputSignal | None, system: OdeSystem) -> InputSignal:
                                 f"input with max_derivative={need}")
         return input_
     return parse_input(input_, max_derivative=need)
+
+
+def _check_impulses(signal: InputSignal, t_end: float) -> None:
+    """Refuse an input whose derivative needed by a D(u) term is an impulse in (0, t_end]."""
+    times = signal.impulses(t_end)
+    if times is None or times.size:
+        where = ("at a time that is not known in closed form" if times is None else
+                 f"at t = {', '.join(f'{x:.6g}' for x in times[:3])} s"
+                 + (f" (and {times.size - 3} more)" if times.size > 3 else ""))
+        raise ArgumentError(
+            f"the model uses derivatives of u up to order {signal.max_derivative}, and the "
+            f"input {quote(signal.text)} jumps (or its slope does) {where}: the derivative "
+            "there is an impulse (Dirac delta), which no integrator represents; use a "
+            "smooth input instead, e.g. 0.5*(1 + tanh((t-1)/0.01)) for step(t-1)")
 
 
 def _narx(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end: float,

@@ -144,3 +144,35 @@ def test_pole_in_the_input_is_not_ok():
     # u = 1/(t - 1) is infinite at 1 s: step doubling runs to MAX_STEPS (about 5 s)
     res = simulate(load_model(MODELS / "duffing.toml"), "1/(t-1)", t_end=3.0, method="fast")
     assert res.status == "failed" and "not met" in res.message
+
+
+@pytest.mark.parametrize(("text", "order", "refused"), [
+    ("step(t - 1)", 1, True), ("step(t - 1)", 2, True), ("(t - 1)*step(t - 1)", 1, False),
+    ("(t - 1)*step(t - 1)", 2, True), ("abs(t - 1)", 1, False), ("abs(t - 1)", 2, True),
+    ("step(t)", 2, False), ("step(t - 9)", 1, False), ("sign(sin(3*t))", 1, True)])
+def test_impulses_of_needed_input_derivatives_are_refused(text: str, order: int,
+                                                          refused: bool) -> None:
+    """A jump of u^(k-1) inside (0, t_end] makes u^(k) a Dirac delta, which the
+    integrators would drop silently (y = 0 for D(y) + y = D(u) under step(t - 1), where
+    the truth is exp(-(t - 1))); the simulation refuses it.  (t - 1)*step(t - 1) has a
+    continuous u, a jump at t = 0 precedes the run, one at 9 s lies beyond t_end = 3 s."""
+    from gfrf.errors import ArgumentError
+
+    equation = "D(y,2) + 0.4*D(y) + 2*y = " + ("D(u)" if order == 1 else "D(u,2)")
+    if refused:
+        with pytest.raises(ArgumentError, match="impulse"):
+            simulate(parse_model(equation), text, t_end=3.0, method="fast")
+    else:
+        assert simulate(parse_model(equation), text, t_end=3.0, method="fast").status == "ok"
+
+
+@pytest.mark.parametrize(("t_end", "dt"), [(1e19, None), (1e300, None), (1e10, 1e-9),
+                                           (2e10, 1e-9)])
+def test_astronomical_step_counts_are_refused(t_end: float, dt: float | None) -> None:
+    """A segment of more than 9.2e18 steps used to wrap int64 and crash (ValueError or
+    IndexError); now every such grid exceeds MAX_STEPS and is refused."""
+    from gfrf.errors import ArgumentError
+
+    with pytest.raises(ArgumentError, match="MAX_STEPS"):
+        simulate(parse_model("D(y,2) + 0.4*D(y) + 2*y = u"), "step(t - 1e10)" if t_end == 2e10
+                 else "step(t - 1)", t_end=t_end, method="fast", dt=dt)

@@ -10,6 +10,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import gfrf.simulation as simulation
+from gfrf.errors import ArgumentError
 from gfrf.integrate import SCIPY_METHODS, _fused_rhs
 from gfrf.model import parse_model
 from gfrf.modelfile import load_model
@@ -130,15 +131,20 @@ def test_fused_right_hand_side_matches_numpy(text):
         assert np.allclose(fused(t, z), numpy_path(t, z), rtol=1e-14, atol=1e-15), t
 
 
-def test_dirac_input_derivative_uses_numpy():
-    # D(u) of a step is a Dirac term, which has no math printing: the numpy path runs.
+def test_dirac_input_derivative_is_refused_and_smooth_inputs_are_exact():
+    # D(u) of a step is a Dirac term, which has no math printing (no fused rhs); no
+    # integrator represents the impulse (numpy maps it to 0, which once dropped the jump
+    # silently), so the run is refused, naming the time.  y' + y = u' + u has transfer 1:
+    # with a smooth step, y = u.
     system = build_system(parse_model("D(y) + y = D(u) + u"))
     signal = parse_input("step(t - 1)", max_derivative=1)
     assert _fused_rhs(system, signal, lambda t, z: z) is None
-    res = simulate(system, signal, t_end=3.0, rtol=1e-10, atol=1e-12)
-    # The numpy path drops the Dirac term (gfrf.signals maps DiracDelta to 0), so y
-    # solves y' + y = u: 1 - exp(-(t - 1)) after the step.
-    assert np.allclose(res.y, np.where(res.t >= 1, 1 - np.exp(-(res.t - 1)), 0), atol=1e-6)
+    with pytest.raises(ArgumentError, match=r"impulse.*|t = 1 s"):
+        simulate(system, signal, t_end=3.0, rtol=1e-10, atol=1e-12)
+    smooth = "0.5*(1 + tanh((t - 1)/0.05))"
+    res = simulate(system, smooth, t_end=3.0, rtol=1e-10, atol=1e-12)
+    u = 0.5 * (1 + np.tanh((res.t - 1) / 0.05))  # y(0) = 0 = u(0) to 4e-18
+    assert res.status == "ok" and np.allclose(res.y, u, atol=1e-7)
 
 
 def test_fused_right_hand_side_not_used_for_csv(tmp_path):
