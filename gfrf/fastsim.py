@@ -486,7 +486,17 @@ def simulate_fast(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end:
                     f"{grid.n.size} segments between input breakpoints")
     if run.blown:
         status, blow_t = ("blowup", run.t_stop) if accepted else ("failed", None)
-        message = (f"|y| reached {blowup:g} (or became non-finite) at t = {run.t_stop:.6g} s"
+        with np.errstate(all="ignore"):
+            near = np.linspace(max(0.0, run.t_stop - 2.0 * run.h), run.t_stop, 17)
+            u_stop = input_values(signal, system.n_inputs,
+                                  np.concatenate([np.linspace(0.0, run.t_stop, 257), near]))
+        bad_input = not np.all(np.isfinite(u_stop))
+        if bad_input:  # the state went non-finite because the input did: no blow-up
+            status, blow_t = "failed", None
+        message = (f"the input (or a derivative the model uses) is not finite before t = "
+                   f"{run.t_stop:.6g} s, so neither is the state: not a blow-up of the "
+                   "model" if bad_input else
+                   f"|y| reached {blowup:g} (or became non-finite) at t = {run.t_stop:.6g} s"
                    if accepted else
                    f"|y| reached {blowup:g} at t = {run.t_stop:.6g} s with the smallest step, "
                    f"but step doubling could not confirm the time within MAX_STEPS = "

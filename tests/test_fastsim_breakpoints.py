@@ -176,3 +176,15 @@ def test_astronomical_step_counts_are_refused(t_end: float, dt: float | None) ->
     with pytest.raises(ArgumentError, match="MAX_STEPS"):
         simulate(parse_model("D(y,2) + 0.4*D(y) + 2*y = u"), "step(t - 1e10)" if t_end == 2e10
                  else "step(t - 1)", t_end=t_end, method="fast", dt=dt)
+
+
+def test_non_finite_input_is_a_failure_not_a_blow_up() -> None:
+    """sqrt(1 - t) is NaN after 1 s while |y| < 0.3 before: the state turns NaN because
+    the input does, which used to be reported as a blow-up of the model at 1.0007 s."""
+    res = simulate(parse_model("D(y,2) + 0.4*D(y) + 2*y = u"), "sqrt(1 - t)", t_end=3.0,
+                   method="fast")
+    assert res.status == "failed" and res.blowup_time is None
+    assert "input" in res.message and np.all(np.abs(res.y) < 1.0)
+    grows = simulate(parse_model("D(y,2) + 0.4*D(y) + 2*y - y**3 = u"), "3*sin(t)",
+                     t_end=30.0, method="fast")
+    assert grows.status == "blowup" and grows.blowup_time is not None
