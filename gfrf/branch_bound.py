@@ -34,7 +34,6 @@ True
 
 from __future__ import annotations
 
-import itertools
 import math
 import numbers
 from collections.abc import Callable
@@ -52,6 +51,7 @@ from gfrf.kernels import GFRFGenerator, generator
 from gfrf.majorant import linear_polynomials, majorant
 from gfrf.model import Model
 from gfrf.simplex import nelder_mead
+from gfrf.starts import start_points
 from gfrf.tail import tail_bound
 
 __all__ = ["BranchBoundResult", "branch_and_bound", "box_bounds", "MAX_ORDER",
@@ -245,10 +245,6 @@ def _polish(point: Callable[..., complex], x0: np.ndarray, scale: float
     return res.x, abs(point(*res.x))
 
 
-#: Most points of the resonance grid evaluated for a start without ``argmax``.
-MAX_STARTS = 4096
-
-
 def _modulus(point: Callable[..., complex], x: np.ndarray) -> float:
     """|H_n(x)|, 0 where it is not a finite number."""
     with np.errstate(all="ignore"):
@@ -256,23 +252,15 @@ def _modulus(point: Callable[..., complex], x: np.ndarray) -> float:
     return value if math.isfinite(value) else 0.0
 
 
-def _resonance_start(point: Callable[..., complex], poles: np.ndarray, n: int) -> np.ndarray:
-    """The best point of the grid {0, +-|Im p|}^n of the linear poles p (the most lightly
-    damped first, at most :data:`MAX_STARTS` points): a start whose |H_n| lets the tail
-    width W stop doubling (from 0, where |H_n| may vanish, it never would)."""
-    damping = sorted((abs(p.real) / abs(p), abs(p.imag)) for p in poles if abs(p.imag) > 0)
-    axis = [0.0]
-    for _, w in damping:
-        if (len(axis) + 2) ** n > MAX_STARTS:
-            break
-        if all(abs(w - a) > 1e-12 * (1 + w) for a in axis):
-            axis += [w, -w]
-    best, best_x = -1.0, np.zeros(n)
-    for x in itertools.product(axis, repeat=n):
-        value = _modulus(point, np.array(x))
-        if value > best:
-            best, best_x = value, np.array(x)
-    return best_x
+def _resonance_start(point: Callable[..., Any], poles: np.ndarray, n: int) -> np.ndarray:
+    """The best of the start points (:func:`gfrf.starts.start_points`) built from the
+    poles' frequencies {0, |Im p|}: a start whose |H_n| lets the tail width W stop
+    doubling (from 0, where |H_n| may vanish, it never would)."""
+    starts = start_points({0.0, *(float(abs(p.imag)) for p in poles)}, n)
+    with np.errstate(all="ignore"):
+        values = np.abs(np.asarray(point(*starts.T), dtype=complex))
+    values[~np.isfinite(values)] = 0.0
+    return starts[int(np.argmax(values))]
 
 
 def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float = 0.0,

@@ -68,14 +68,13 @@ from gfrf.majorant import linear_polynomials, majorant
 from gfrf.model import Model
 from gfrf.rational import check_proof, discrete_rational_sup, rational_sup
 from gfrf.simplex import nelder_mead
+from gfrf.starts import start_points
 
 if TYPE_CHECKING:
     import control
 
 __all__ = ["Bound", "h1_norm", "kernel_norm", "linear_poles", "linear_stability"]
 
-#: Largest number of start points evaluated for the lower bound.
-MAX_STARTS = 4000
 #: Boxes the branch-and-bound may evaluate per kernel norm (order 5: about 2.5 s for the
 #: pendulum, 5 s for the cart-pole on a 2-core 2026 machine).
 BOX_BUDGET = 20_000
@@ -275,29 +274,6 @@ def _frequencies(model: Model, proof: str) -> tuple[list[float], float]:
     return rounded, scale
 
 
-def _start_points(freqs: list[float], n: int) -> np.ndarray:
-    """Multisets of +-resonances of size n, and size n-1 completed to hit a resonance."""
-    values = sorted({*freqs, *(-f for f in freqs)})
-    targets = [f for f in values if f != 0.0] or [0.0]
-    points = set()
-
-    def add(p: tuple[float, ...]) -> None:
-        p_sorted = tuple(sorted(p))
-        q_sorted = tuple(sorted(-x for x in p))
-        points.add(min(p_sorted, q_sorted))
-
-    for combo in itertools.combinations_with_replacement(values, n):
-        add(combo)
-        if len(points) > MAX_STARTS:
-            break
-    for combo in itertools.combinations_with_replacement(values, n - 1):
-        for t in targets:
-            add((*combo, t - sum(combo)))
-        if len(points) > 2 * MAX_STARTS:
-            break
-    return np.array(sorted(points))
-
-
 def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
                 max_boxes: int = BOX_BUDGET, proof: str = "interval",
                 cross_check: bool = False, searches: int | None = None,
@@ -486,7 +462,7 @@ def _search(k: Any, model: Model, n: int, symmetric: bool, upper: float,
             ) -> tuple[float, tuple[float, ...]]:
     """Best |H_n| from resonance start points, locally maximised."""
     freqs, scale = _frequencies(model, proof)
-    starts = _start_points(freqs, n)
+    starts = start_points(freqs, n)
     if not symmetric and n <= 4:
         starts = np.unique(np.array([p for s in starts for p in itertools.permutations(s)]),
                            axis=0)
