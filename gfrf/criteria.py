@@ -319,14 +319,15 @@ class _Radii:
         return out
 
 
-def _radii(model: Model, lower: float, with_estimate: bool, proof: str) -> _Radii:
+def _radii(model: Model, maj: Majorant, lower: float, with_estimate: bool,
+           proof: str) -> _Radii:
     """radius_upper and radius_estimate of ``model``'s norm series (both skipped for
-    margins and sweeps, ``with_estimate`` False).  The upper bound is reported at the
-    ``interval`` level only (it is proven in ball arithmetic); the estimate is clamped
-    by it at every level."""
+    margins and sweeps, ``with_estimate`` False); ``maj`` is its majorant.  The upper
+    bound is reported at the ``interval`` level only (it is proven in ball arithmetic);
+    the estimate is clamped by it at every level."""
     if not with_estimate:
         return _Radii(None, "not computed (norms off)", None, lower)
-    pole = next((r for r in majorant(model).reasons
+    pole = next((r for r in maj.reasons
                  if r.startswith("sup|s^0 H1| infinite: pole on the") and "exact test" in r),
                 None)
     if pole is not None:  # ||H1|| = inf: the series diverges for every r > 0
@@ -387,7 +388,7 @@ def theorem1(model: Model, order: int = 5, amplitude: float = 1.0,
     stable, bad = _stability_condition(model)
     rad = plant_radius(maj)
     norms, rows = _norms_and_series(model, maj, order, amplitude, level)
-    radii = _radii(model, rad.value if maj.certified else 0.0, level != "none", proof)
+    radii = _radii(model, maj, rad.value if maj.certified else 0.0, level != "none", proof)
     series = _series_condition("norm series sum ||H_n|| r^n converges", rad, amplitude,
                                maj.certified, radii.text())
     conditions = (proper, stable, series)
@@ -532,7 +533,7 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
                    "certified majorant M^c_n >= lambda_n")
     plant_rad = plant_radius(maj)
     norms, rows = _norms_and_series(plant, maj, order, amplitude, level)
-    radii = _radii(plant, plant_rad.value if maj.certified else 0.0, level != "none",
+    radii = _radii(plant, maj, plant_rad.value if maj.certified else 0.0, level != "none",
                    proof)
     exact = maj.certified and (cmaj is None or cmaj.certified)
     lam_up, rho1_up = loop.controller_norm_upper, loop.sensitivity_peak_upper
