@@ -382,17 +382,26 @@ class Jet:
     def __neg__(self) -> Jet:
         return self._scaled(-1.0)
 
+    def _fused(self, loop: str, other: Jet) -> tuple[tuple[int, ...], Jet | None]:
+        """(joint coordinates, the result of the fused numba ``loop`` of
+        :mod:`gfrf.jet_kernels`, or None without those loops)."""
+        names, ia, ib = _union(self.names, other.names)
+        fused = self.boxes.fused
+        if fused is None:
+            return names, None
+        return names, Jet(*getattr(fused, loop)(self.v, self.g, self.h, self.d, ia, other.v,
+                                                 other.g, other.h, other.d, ib,
+                                                 self.boxes.radii(names)),
+                          names, self.boxes)
+
     def __add__(self, other: Any) -> Jet:
         if not isinstance(other, Jet):
             d = self.d.copy()
             d[:, 0] += abs(other)
             return Jet(self.v + other, self.g, self.h, d, self.names, self.boxes)
-        names, ia, ib = _union(self.names, other.names)
-        fused = self.boxes.fused
+        names, fused = self._fused("jet_add", other)
         if fused is not None:
-            return Jet(*fused.jet_add(self.v, self.g, self.h, self.d, ia, other.v, other.g,
-                                      other.h, other.d, ib, self.boxes.radii(names)),
-                       names, self.boxes)
+            return fused
         a, b = self.embedded(names), other.embedded(names)
         return Jet(a.v + b.v, a.g + b.g, a.h + b.h, a.d + b.d, names, self.boxes).tighten()
 
@@ -407,12 +416,9 @@ class Jet:
     def __mul__(self, other: Any) -> Jet:
         if not isinstance(other, Jet):
             return self._scaled(complex(other))
-        names, ia, ib = _union(self.names, other.names)
-        fused = self.boxes.fused
+        names, fused = self._fused("jet_mul", other)
         if fused is not None:
-            return Jet(*fused.jet_mul(self.v, self.g, self.h, self.d, ia, other.v, other.g,
-                                      other.h, other.d, ib, self.boxes.radii(names)),
-                       names, self.boxes)
+            return fused
         a, b = self.embedded(names), other.embedded(names)
         outer = a.g[:, :, None] * b.g[:, None, :]
         h = (a.h * b.v[:, None, None] + outer + outer.transpose(0, 2, 1)

@@ -60,7 +60,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from gfrf._results import markdown_table, short_repr
-from gfrf.branch_bound import MAX_ORDER, branch_and_bound, check_budget
+from gfrf.branch_bound import MAX_ORDER, BranchBoundResult, branch_and_bound, check_budget
 from gfrf.errors import ArgumentError
 from gfrf.exact import PoleReport, format_roots, poles
 from gfrf.kernels import kernel
@@ -398,7 +398,7 @@ _FLOAT_RANGE = (1e-280, 1e280)
 
 def _refine(model: Model, n: int, symmetric: bool, lower: float, argmax: tuple[float, ...],
             tol: float, max_boxes: int, progress: bool | None, upper: float
-            ) -> tuple[Any, str]:
+            ) -> tuple[BranchBoundResult | None, str]:
     """(branch-and-bound result, "") or (None, why it was not run)."""
     if math.isfinite(upper) and not _FLOAT_RANGE[0] < upper < _FLOAT_RANGE[1]:
         return None, (f"branch-and-bound skipped: the majorant {upper:.3g} is outside "
