@@ -23,6 +23,26 @@ ROOT = Path(__file__).resolve().parent.parent
 MODELS = ROOT / "models"
 DUFFING = MODELS / "duffing.toml"
 GFRF = [str(Path(sys.executable).parent / "gfrf")]
+
+
+def _ctrl_c_reachable() -> None:
+    """Child set-up: SIGINT at its default action, as under a terminal.
+
+    A shell without job control starts background commands (CI's, say) with SIGINT
+    ignored, and children inherit that; Python then installs no KeyboardInterrupt
+    handler, so the child would rightly ignore the test's Ctrl-C and run on.
+    """
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+def _finish(proc: subprocess.Popen, timeout: float) -> tuple[bytes, bytes]:
+    """The child's output; killed (never left running) if it outlives ``timeout``."""
+    try:
+        return proc.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.communicate()
+        raise
 SWEEP_MODEL = """name = "damped"
 equation = "D(y,2) + c*D(y) + y + 0.5*y**3 = u"
 [parameters]
@@ -112,10 +132,11 @@ def test_sigint_during_a_simulation(tmp_path: Path) -> None:
     proc = subprocess.Popen([*GFRF, "simulate", str(DUFFING), "--t-end", "1e8", "--input",
                              "0.1*sin(t)", "--max-evaluations", "100000000", "--csv",
                              str(tmp_path / "trace.csv")],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=ROOT)
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=ROOT,
+                            preexec_fn=_ctrl_c_reachable)
     time.sleep(4.0)
     proc.send_signal(signal.SIGINT)
-    out, err = proc.communicate(timeout=30)
+    out, err = _finish(proc, timeout=30)
     assert proc.returncode == 130
     assert err.decode() == "gfrf: interrupted\n"
     assert list(tmp_path.iterdir()) == []
@@ -253,10 +274,10 @@ def test_ctrl_c_of_a_dask_process_sweep_is_one_line() -> None:
                              "rho=0.5:8:400", "--what", "bounded", "--t-end", "500",
                              "--scheduler", "processes", "--workers", "2"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=ROOT,
-                            start_new_session=True)
+                            start_new_session=True, preexec_fn=_ctrl_c_reachable)
     time.sleep(10.0)
     os.killpg(proc.pid, signal.SIGINT)  # as a terminal does: the whole process group
-    _, err = proc.communicate(timeout=60)
+    _, err = _finish(proc, timeout=60)
     assert proc.returncode == 130
     assert err.decode() == "gfrf: interrupted\n"
 

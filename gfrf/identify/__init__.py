@@ -58,6 +58,7 @@ from gfrf.modelfile import ModelFile, model_from_dict
 
 __all__ = ["Identification", "from_sysidentpy", "identify", "read_csv", "free_run",
            "model_file_text", "load_text", "narx_equation", "write_atomic", "candidate_count",
+           "same_terms", "SAME_TERMS_RTOL",
            "INSTALL_HINT", "MAX_CANDIDATES", "MAX_SAMPLES", "MIN_SAMPLES"]
 
 #: What to tell a user who lacks the optional dependency.
@@ -333,6 +334,25 @@ def free_run(model: Model, u: np.ndarray, y_initial: np.ndarray) -> tuple[np.nda
             return np.asarray(values), k
         values[k] = total
     return np.asarray(values), None
+
+
+#: Relative tolerance of :func:`same_terms`: least squares on another CPU (another BLAS
+#: summation order) moves a coefficient by a few ulps times the regressors' condition
+#: number; a change of data or settings moves it by far more.
+SAME_TERMS_RTOL = 1e-9
+
+
+def same_terms(a: Sequence[Term], b: Sequence[Term], rtol: float = SAME_TERMS_RTOL) -> bool:
+    """True if two identified models have the same monomials, in the same order, and
+    coefficients equal to ``rtol`` relative (the scale is each pair's larger modulus).
+
+    Exact equality would fail between machines: see :data:`SAME_TERMS_RTOL`.
+    """
+    return len(a) == len(b) and all(
+        (s.y_orders, s.u_orders) == (t.y_orders, t.u_orders)
+        and abs(s.coefficient - t.coefficient)
+        <= rtol * max(abs(s.coefficient), abs(t.coefficient))
+        for s, t in zip(a, b, strict=True))
 
 
 def _rrse(measured: np.ndarray, predicted: np.ndarray) -> float:

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from gfrf.criteria import Verdict, verdict
-from gfrf.identify import Identification, identify, read_csv, write_atomic
+from gfrf.identify import Identification, identify, read_csv, same_terms, write_atomic
 from gfrf.identify import example as ex
 from gfrf.kernels import kernel
 from gfrf.model import Model
@@ -75,7 +75,7 @@ def compare(models_dir: str | Path = ex.MODELS_DIR, quick: bool = False) -> Comp
     fit = identify(y, u, ex.SAMPLE_TIME)
     order = 3 if quick else 5
     return Comparison(true=true, identified=identified, fit=fit,
-                      file_matches_fit=fit.model.terms == identified.plant.terms,
+                      file_matches_fit=same_terms(fit.model.terms, identified.plant.terms),
                       errors=kernel_errors(identified.plant, true.plant),
                       verdict_true=verdict(true, order),
                       verdict_identified=verdict(identified, order))
