@@ -1,7 +1,7 @@
 """gfrf: stability of polynomial nonlinear systems from their generalized frequency responses.
 
 Angular frequency is in rad/s everywhere: ``H(w)`` evaluates the kernel at s = j*w
-(see :class:`gfrf.kernels.Kernel` for values at complex s).  The public API
+(see :class:`gfrf.kernels.recursion.Kernel` for values at complex s).  The public API
 (:data:`__all__`) is re-exported here and loaded on first use (so ``import gfrf``
 stays cheap); every function that takes a model takes a :class:`Model` or what
 :func:`load_model` returns (a :class:`ModelFile`, whose plant is used):
@@ -23,7 +23,7 @@ Time and frequency domain
     simulate, SimulationResult, build_system, predict, VolterraPrediction,
     to_nlsys (the plant or closed loop as a ``control.NonlinearIOSystem``)
 Sweeps
-    :mod:`gfrf.sweep` (``gfrf.sweep.sweep``), SweepResult
+    :mod:`gfrf.sweep.run` (``gfrf.sweep.run.sweep``), SweepResult
 Errors
     GfrfError and its subclasses ModelError, ArgumentError, ConvergenceError,
     InstabilityError
@@ -31,11 +31,16 @@ Errors
 Result objects have a short ``repr`` and a ``to_dict()`` that :func:`json.dumps`
 accepts; Verdict, Margin and SimulationResult show as Markdown tables in notebooks,
 and ``Verdict.plot()`` (norm series with r*) and ``SimulationResult.plot()`` (y and u
-against t) return a matplotlib Figure.  Modules: :mod:`gfrf.model`,
-:mod:`gfrf.modelfile`, :mod:`gfrf.kernels`, :mod:`gfrf.norms`, :mod:`gfrf.criteria`,
-:mod:`gfrf.loops`, :mod:`gfrf.simulation`, :mod:`gfrf.nlsys`,
-:mod:`gfrf.volterra`, :mod:`gfrf.sweep`, :mod:`gfrf.periodic` (the parametrically
-excited pendulum).
+against t) return a matplotlib Figure.
+
+The package is laid out as its pipeline, one subpackage per stage, each importing only
+the stages before it (``import-linter`` holds this in ``make test``):
+:mod:`gfrf.model` (text -> Model) -> :mod:`gfrf.kernels` (H1..Hn) -> :mod:`gfrf.bounds`
+(norms and majorants with their proofs) -> :mod:`gfrf.stability` (Theorems 1 and 2,
+verdicts) -> :mod:`gfrf.sim` (simulation, Volterra prediction, validation) ->
+:mod:`gfrf.papers`, :mod:`gfrf.sweep`, :mod:`gfrf.identify` -> :mod:`gfrf.report`,
+:mod:`gfrf.bench` -> :mod:`gfrf.cli`; :mod:`gfrf.periodic` (the parametrically excited
+pendulum) stands apart from the GFRF stack.
 """
 
 from __future__ import annotations
@@ -53,25 +58,26 @@ from gfrf.errors import (
 
 #: Public names re-exported as they are, and their modules.
 _LAZY = {
-    "Model": "gfrf.model", "parse_model": "gfrf.model",
-    "ModelFile": "gfrf.modelfile", "load_model": "gfrf.modelfile",
-    "Kernel": "gfrf.kernels",
-    "Bound": "gfrf.norms",
-    "Verdict": "gfrf.criteria", "Margin": "gfrf.criteria",
-    "parameter_margin": "gfrf.criteria",
-    "ClosedLoop": "gfrf.loops", "closed_loop": "gfrf.loops",
-    "SimulationResult": "gfrf.simulation", "build_system": "gfrf.simulation",
-    "simulate": "gfrf.simulation",
-    "VolterraPrediction": "gfrf.volterra",
-    "SweepResult": "gfrf.sweep",
+    "Model": "gfrf.model.equation", "parse_model": "gfrf.model.equation",
+    "ModelFile": "gfrf.model.modelfile", "load_model": "gfrf.model.modelfile",
+    "Kernel": "gfrf.kernels.recursion",
+    "Bound": "gfrf.bounds.norms",
+    "Verdict": "gfrf.stability.criteria", "Margin": "gfrf.stability.criteria",
+    "parameter_margin": "gfrf.stability.criteria",
+    "ClosedLoop": "gfrf.stability.loops", "closed_loop": "gfrf.stability.loops",
+    "SimulationResult": "gfrf.sim.simulation", "build_system": "gfrf.sim.simulation",
+    "simulate": "gfrf.sim.simulation",
+    "VolterraPrediction": "gfrf.sim.volterra",
+    "SweepResult": "gfrf.sweep.run",
     "from_sysidentpy": "gfrf.identify",
     "linear_part": "gfrf._api", "verdict": "gfrf._api",
-    "to_nlsys": "gfrf.nlsys",
+    "to_nlsys": "gfrf.sim.nlsys",
 }
 #: Functions of a plant model re-exported so that they also take a ModelFile.
 _PLANT = {
-    "kernel": "gfrf.kernels", "h1_norm": "gfrf.norms", "kernel_norm": "gfrf.norms",
-    "predict": "gfrf.volterra", "probe_kernel": "gfrf.probing",
+    "kernel": "gfrf.kernels.recursion", "h1_norm": "gfrf.bounds.norms",
+    "kernel_norm": "gfrf.bounds.norms",
+    "predict": "gfrf.sim.volterra", "probe_kernel": "gfrf.kernels.probing",
 }
 
 __all__ = [

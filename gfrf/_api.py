@@ -1,8 +1,8 @@
 """The notebook-facing functions of :mod:`gfrf` that add to the modules' own functions.
 
 Every function of the package API that analyses a plant accepts either a
-:class:`gfrf.model.Model` or what :func:`gfrf.load_model` returns (a
-:class:`gfrf.modelfile.ModelFile`, whose plant is then used); python-control
+:class:`gfrf.model.equation.Model` or what :func:`gfrf.load_model` returns (a
+:class:`gfrf.model.modelfile.ModelFile`, whose plant is then used); python-control
 interoperates both ways: :func:`linear_part` gives H1 as a
 ``control.TransferFunction`` and :func:`verdict` takes a python-control controller.
 """
@@ -15,34 +15,16 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from gfrf.errors import ArgumentError
+from gfrf.model.modelfile import as_plant
 
 if TYPE_CHECKING:
     import control
 
-    from gfrf.criteria import Verdict
-    from gfrf.model import Model
-    from gfrf.modelfile import ModelFile
+    from gfrf.model.equation import Model
+    from gfrf.model.modelfile import ModelFile
+    from gfrf.stability.criteria import Verdict
 
-__all__ = ["as_plant", "plant_function", "linear_part", "verdict"]
-
-
-def as_plant(model: Model | ModelFile) -> Model:
-    """The plant :class:`~gfrf.model.Model` of ``model`` (a Model, or a ModelFile's plant).
-
-    Raises
-    ------
-    ArgumentError
-        ``model`` is neither (a path string, say: load it with :func:`gfrf.load_model`).
-    """
-    from gfrf.model import Model
-    from gfrf.modelfile import ModelFile
-
-    if isinstance(model, ModelFile):
-        return model.plant
-    if isinstance(model, Model):
-        return model
-    raise ArgumentError(f"expected a Model (gfrf.parse_model) or a ModelFile "
-                        f"(gfrf.load_model), got {type(model).__name__}")
+__all__ = ["plant_function", "linear_part", "verdict"]
 
 
 def plant_function(module: str, name: str) -> Callable[..., Any]:
@@ -79,17 +61,17 @@ def linear_part(model: Model | ModelFile) -> control.TransferFunction:
     >>> [float(c) for c in h1.den[0][0]]
     [1.0, 0.2, 1.0]
     """
-    from gfrf.loops import linear_plant
+    from gfrf.stability.loops import linear_plant
 
     return linear_plant(as_plant(model))
 
 
 def _controller(controller: Any, feedback: int) -> Any:
-    """A :class:`gfrf.modelfile.Controller` from a SISO python-control system."""
+    """A :class:`gfrf.model.modelfile.Controller` from a SISO python-control system."""
     import control
     import numpy as np
 
-    from gfrf.modelfile import Controller
+    from gfrf.model.modelfile import Controller
 
     if isinstance(controller, control.StateSpace):
         controller = control.ss2tf(controller)
@@ -130,7 +112,7 @@ def verdict(model: Model | ModelFile, order: int = 5, amplitude: float = 1.0,
     feedback : {-1, 1}
         Sign of the feedback of ``controller`` (default negative).
     proof : {"interval", "float", "none"}
-        Level of proof (default ``"interval"``), see :func:`gfrf.criteria.theorem1`.
+        Level of proof (default ``"interval"``), see :func:`gfrf.stability.criteria.theorem1`.
 
     Returns
     -------
@@ -138,8 +120,8 @@ def verdict(model: Model | ModelFile, order: int = 5, amplitude: float = 1.0,
     """
     from dataclasses import replace
 
-    from gfrf.criteria import verdict as criteria_verdict
-    from gfrf.modelfile import ModelFile
+    from gfrf.model.modelfile import ModelFile
+    from gfrf.stability.criteria import verdict as criteria_verdict
 
     if controller is not None:
         base = model if isinstance(model, ModelFile) else ModelFile(as_plant(model))

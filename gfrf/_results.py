@@ -88,7 +88,7 @@ def new_figure(rows: int, columns: int, size: tuple[float, float]) -> tuple[Any,
 
 
 def verdict_markdown(verdict: Any) -> str:
-    """Markdown of a :class:`gfrf.criteria.Verdict`: r*, r and the bounds, the conditions,
+    """Markdown of a :class:`gfrf.stability.criteria.Verdict`: r*, r and the bounds, the conditions,
     the norm brackets."""
     kind = (f"certified, {verdict.radius_proof}" if verdict.radius_certified
             else "estimate, not certified")
@@ -140,7 +140,7 @@ def verdict_figure(verdict: Any) -> Any:
 
 
 def simulation_markdown(result: Any) -> str:
-    """Markdown of a :class:`gfrf.integrate.SimulationResult` (no wall time)."""
+    """Markdown of a :class:`gfrf.sim.integrate.SimulationResult` (no wall time)."""
     t_final = float(result.t[-1]) if result.t.size else 0.0
     y_final = float(result.y[-1]) if result.y.size else None
     return markdown_table(("status", "method", "t_final (s)", "samples", "max |y|",

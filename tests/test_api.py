@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 import gfrf
-from gfrf.modelfile import model_from_dict
+from gfrf.model.modelfile import model_from_dict
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 DUFFING = MODELS / "duffing.toml"
@@ -31,9 +31,9 @@ def h1_duffing(w: float) -> complex:
 
 def test_simulate_stays_a_function_after_the_simulation_module_is_imported() -> None:
     script = (
-        "import gfrf, gfrf.validation\n"  # imports the simulation module first
+        "import gfrf, gfrf.sim.validation\n"  # imports the simulation module first
         "r1 = gfrf.simulate(gfrf.parse_model('D(y) + y = u'), 'step(t)', t_end=1.0)\n"
-        "import gfrf.volterra, gfrf.report.analysis\n"
+        "import gfrf.sim.volterra, gfrf.report.analysis\n"
         "r2 = gfrf.simulate(gfrf.parse_model('D(y) + y = u'), 'step(t)', t_end=1.0)\n"
         "print(callable(gfrf.simulate), r1.y[-1] == r2.y[-1])\n")
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
@@ -118,7 +118,7 @@ def test_all_lists_the_public_api_and_help_shows_it() -> None:
 
 
 def _results() -> dict[str, object]:
-    from gfrf.sweep import parse_axis, sweep
+    from gfrf.sweep.run import parse_axis, sweep
 
     mf = gfrf.load_model(DUFFING)
     data = {"equation": "D(y,2) + c*D(y) + y + 0.5*y**3 = u", "parameters": {"c": 0.2}}
@@ -281,7 +281,7 @@ def test_markdown_of_the_results_shows_the_key_numbers() -> None:
     assert float(row[4]) == pytest.approx(1 - math.exp(-2.0), rel=1e-6)  # max |y| = y(2)
     assert float(row[5]) == pytest.approx(1 - math.exp(-2.0), rel=1e-6)
 
-    from gfrf.criteria import Margin
+    from gfrf.stability.criteria import Margin
 
     margin = Margin("rho", 0.25, "above", 1.0, 0.8, 1e-6)._repr_markdown_()
     assert "| rho | 0.25 | above the boundary | 0.8 | 1 |" in margin

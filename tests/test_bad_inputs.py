@@ -12,13 +12,13 @@ from pathlib import Path
 
 import pytest
 
+from gfrf.bounds.norms import kernel_norm
 from gfrf.cli import main
-from gfrf.criteria import parameter_margin, theorem1, theorem2
 from gfrf.errors import ArgumentError, ModelError
-from gfrf.kernels import kernel
-from gfrf.model import parse_model
-from gfrf.modelfile import load_model, model_from_dict
-from gfrf.norms import kernel_norm
+from gfrf.kernels.recursion import kernel
+from gfrf.model.equation import parse_model
+from gfrf.model.modelfile import load_model, model_from_dict
+from gfrf.stability.criteria import parameter_margin, theorem1, theorem2
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 PENDULUM = str(MODELS / "hanging_pendulum.toml")

@@ -1,4 +1,4 @@
-"""Tests of gfrf.branch_bound: soundness of the box and tail bounds, and closed gaps."""
+"""Tests of gfrf.bounds.branch_bound: soundness of the box and tail bounds, and closed gaps."""
 
 from __future__ import annotations
 
@@ -9,13 +9,13 @@ import pytest
 from mp_reference import mp_sup
 from scipy.optimize import minimize
 
-from gfrf.branch_bound import box_bounds, branch_and_bound
+from gfrf.bounds.branch_bound import box_bounds, branch_and_bound
+from gfrf.bounds.majorant import majorant
+from gfrf.bounds.tail import tail_bound
 from gfrf.errors import ArgumentError
-from gfrf.kernels import kernel
-from gfrf.majorant import majorant
-from gfrf.model import parse_model
-from gfrf.modelfile import load_model
-from gfrf.tail import tail_bound
+from gfrf.kernels.recursion import kernel
+from gfrf.model.equation import parse_model
+from gfrf.model.modelfile import load_model
 
 QUADRATIC = "D(y,2) + 0.2*D(y) + y + 0.4*y**2 = u"
 MIXED = "D(y,2) + 0.3*D(y) + 1.5*y + 0.4*y**2 - 0.2*y**3 + 0.1*y*u = u"
@@ -153,7 +153,7 @@ def mp_sup_beyond(num: list[float], den: list[float], v: float) -> float:
 def test_beyond_is_proven_on_a_pole_cluster(v: float) -> None:
     """(s^2 + 2e-6 s + 1)^3 with float coefficients: the old numpy-root tail gave 2.9e10
     where the sup is 1.25e17; the bound must be >= the 50-digit value and tight."""
-    from gfrf.tail import _Beyond
+    from gfrf.bounds.tail import _Beyond
 
     ref = mp_sup_beyond([1.0], CLUSTER_DEN, v)
     got = _Beyond(np.array([1.0]), np.array(CLUSTER_DEN)).sup(v)
@@ -164,7 +164,7 @@ def test_beyond_is_proven_on_a_pole_cluster(v: float) -> None:
 
 def test_beyond_with_numerator_power() -> None:
     """sup|s^2 / D| beyond v (the ell = 2 factors of the tail recursion)."""
-    from gfrf.tail import _Beyond
+    from gfrf.bounds.tail import _Beyond
 
     num = [1.0, 0.0, 0.0]
     beyond = _Beyond(np.array(num), np.array(CLUSTER_DEN))
@@ -176,7 +176,7 @@ def test_beyond_with_numerator_power() -> None:
 def test_box_modulus_bounds_are_sound_on_a_pole_cluster() -> None:
     """The box bounds' sup |1/A| over an interval holding the cluster is >= the 50-digit
     sup (float critical points of |A|^2 gave 1/3.4e-11 = 2.9e10 for 1.25e17)."""
-    from gfrf.enclosure import InverseA
+    from gfrf.bounds.enclosure import InverseA
 
     ref = mp_sup_beyond([1.0], CLUSTER_DEN, 0.0)  # sup over R of 1/|A|, attained near 1
     inverse = InverseA(np.array(CLUSTER_DEN))
@@ -190,7 +190,7 @@ def test_box_modulus_bounds_are_sound_on_a_pole_cluster() -> None:
 
 
 def test_domain_keeps_interior_boxes_and_drops_face_only_boxes() -> None:
-    from gfrf.branch_bound import _in_domain
+    from gfrf.bounds.branch_bound import _in_domain
 
     rng = np.random.default_rng(3)
     n = 4

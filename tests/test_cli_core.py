@@ -156,6 +156,6 @@ def test_warnings_still_reach_a_recorder(capsys):
 
 def test_cli_method_list_matches_the_simulator():
     from gfrf.cli.simulation import METHODS
-    from gfrf.simulation import METHODS as SIMULATOR_METHODS
+    from gfrf.sim.simulation import METHODS as SIMULATOR_METHODS
 
     assert METHODS == SIMULATOR_METHODS

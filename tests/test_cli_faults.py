@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-import gfrf.sweep
+import gfrf.sweep.run
 from gfrf._atomic import atomic_path, atomic_write_text
 from gfrf.cli import main
 from gfrf.cli._output import PLOT_SUFFIXES
@@ -174,8 +174,8 @@ def test_malformed_scheduler_is_exit_2_one_line(
 
 
 def test_scheduler_host_port_without_scheme_is_tcp() -> None:
-    assert gfrf.sweep.check_scheduler("127.0.0.1:8786") == "tcp://127.0.0.1:8786"
-    assert gfrf.sweep.check_scheduler("tcp://[::1]:8786") == "tcp://[::1]:8786"
+    assert gfrf.sweep.run.check_scheduler("127.0.0.1:8786") == "tcp://127.0.0.1:8786"
+    assert gfrf.sweep.run.check_scheduler("tcp://[::1]:8786") == "tcp://[::1]:8786"
 
 
 def test_listener_that_is_not_a_scheduler_times_out(
@@ -196,7 +196,7 @@ def test_listener_that_is_not_a_scheduler_times_out(
             pass
 
     threading.Thread(target=accept, daemon=True).start()
-    monkeypatch.setattr(gfrf.sweep, "SCHEDULER_TIMEOUT", 1.5)
+    monkeypatch.setattr(gfrf.sweep.run, "SCHEDULER_TIMEOUT", 1.5)
     port = server.getsockname()[1]
     try:
         start = time.perf_counter()
@@ -214,8 +214,8 @@ def test_listener_that_is_not_a_scheduler_times_out(
 
 
 def test_documented_scheduler_timeout_is_ten_seconds() -> None:
-    assert gfrf.sweep.SCHEDULER_TIMEOUT == 10.0
-    assert "SCHEDULER_TIMEOUT" in (gfrf.sweep.executor.__doc__ or "")
+    assert gfrf.sweep.run.SCHEDULER_TIMEOUT == 10.0
+    assert "SCHEDULER_TIMEOUT" in (gfrf.sweep.run.executor.__doc__ or "")
 
 
 # --- --plot suffix ---------------------------------------------------------------------------
@@ -246,16 +246,16 @@ def test_non_real_value_at_a_grid_point_is_that_rows_error(
         tmp_path: Path, capsys: pytest.CaptureFixture, monkeypatch: pytest.MonkeyPatch) -> None:
     import json
 
-    import gfrf.criteria
+    import gfrf.stability.criteria
 
-    real_verdict = gfrf.criteria.verdict
+    real_verdict = gfrf.stability.criteria.verdict
 
     def complex_below_zero(mf, *args, **kwargs):  # what a complex coefficient does downstream
         if mf.parameters["c"] < 0:
             raise TypeError("must be real number, not complex")
         return real_verdict(mf, *args, **kwargs)
 
-    monkeypatch.setattr(gfrf.criteria, "verdict", complex_below_zero)
+    monkeypatch.setattr(gfrf.stability.criteria, "verdict", complex_below_zero)
     model = tmp_path / "m.toml"
     model.write_text(SWEEP_MODEL, encoding="utf-8")
     code, out, err = run(capsys, "sweep", str(model), "--param", "c=-0.2:0.2:3", "--what",
@@ -290,9 +290,9 @@ def test_every_output_file_is_written_through_a_temporary_path() -> None:
     allowed = {
         "gfrf/_atomic.py",  # the helper itself
         "gfrf/identify/__init__.py",  # its own write_atomic (temporary file + os.replace)
-        "gfrf/identify/bench.py",  # benchmark input data in a temporary folder
-        "gfrf/volterra.py",  # figure_error_vs_amplitude: a library helper, no CLI use
-        "gfrf/fastsim.py",  # numba cache: temporary file + rename
+        "gfrf/bench/identify.py",  # benchmark input data in a temporary folder
+        "gfrf/sim/volterra.py",  # figure_error_vs_amplitude: a library helper, no CLI use
+        "gfrf/sim/fastsim.py",  # numba cache: temporary file + rename
     }
     pattern = re.compile(r"\.write_text\(|\.savefig\(|savetxt\(|write_table\(|"
                          r"open\([^)]*[\"']w|fdopen\(")

@@ -91,13 +91,13 @@ def test_order_above_kernel_limit_refused_before_work(
         command: str) -> None:
     # verdict --order 13 used to compute ||H1||..||H12|| for a minute before refusing
     from gfrf.cli import stability
-    from gfrf.kernels import MAX_KERNEL_ORDER
+    from gfrf.kernels.recursion import MAX_KERNEL_ORDER
 
     def no_work(*args: object, **kwargs: object) -> None:
         pytest.fail("computed before checking the order")
 
-    monkeypatch.setattr("gfrf.criteria.verdict", no_work)  # imported where used
-    monkeypatch.setattr("gfrf.norms.kernel_norm", no_work)
+    monkeypatch.setattr("gfrf.stability.criteria.verdict", no_work)  # imported where used
+    monkeypatch.setattr("gfrf.bounds.norms.kernel_norm", no_work)
     monkeypatch.setattr(stability, "resolve_model", no_work)
     code, out, err = run(capsys, command, "models/duffing.toml", "--order",
                          str(MAX_KERNEL_ORDER + 1))
@@ -139,10 +139,10 @@ def test_loop_pole_at_zero_never_prints_nan(capsys: pytest.CaptureFixture[str],
 
 
 def test_library_verdict_checks_order_first(monkeypatch: pytest.MonkeyPatch) -> None:
-    from gfrf import criteria
     from gfrf.errors import ArgumentError
-    from gfrf.kernels import MAX_KERNEL_ORDER
-    from gfrf.model import parse_model
+    from gfrf.kernels.recursion import MAX_KERNEL_ORDER
+    from gfrf.model.equation import parse_model
+    from gfrf.stability import criteria
 
     monkeypatch.setattr(criteria, "majorant", lambda *a: pytest.fail("computed first"))
     with pytest.raises(ArgumentError, match="MAX_KERNEL_ORDER"):

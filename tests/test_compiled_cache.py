@@ -16,7 +16,7 @@ pytest.importorskip("numba")
 MODEL = "D(y,2) + 0.2*D(y) + y + 0.5*y**3 + 0.3*y**2 = u"
 SCRIPT = f"""
 import gfrf
-from gfrf.kernels import kernel
+from gfrf.kernels.recursion import kernel
 k = kernel(gfrf.parse_model({MODEL!r}), 2)
 h1 = lambda w: 1 / (1 - w * w + 0.2j * w)
 # H2(w1, w2) = -0.3 H1(w1) H1(w2) H1(w1 + w2)

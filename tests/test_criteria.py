@@ -1,4 +1,4 @@
-"""Tests of gfrf.criteria (Theorems 1 and 2, r*, margins) and gfrf.paper_checks."""
+"""Tests of gfrf.stability.criteria (Theorems 1 and 2, r*, margins) and gfrf.papers.gfrf_paper."""
 
 from __future__ import annotations
 
@@ -7,7 +7,12 @@ import math
 import numpy as np
 import pytest
 
-from gfrf.criteria import (
+from gfrf.bounds.majorant import majorant
+from gfrf.errors import ArgumentError
+from gfrf.model.equation import parse_model
+from gfrf.model.modelfile import load_model, model_from_dict
+from gfrf.papers.gfrf_paper import paper_checks, printed_match
+from gfrf.stability.criteria import (
     parameter_margin,
     phi_series,
     theorem1,
@@ -15,11 +20,6 @@ from gfrf.criteria import (
     theta_series,
     verdict,
 )
-from gfrf.errors import ArgumentError
-from gfrf.majorant import majorant
-from gfrf.model import parse_model
-from gfrf.modelfile import load_model, model_from_dict
-from gfrf.paper_checks import paper_checks, printed_match
 
 C3 = 9.8 / (6 * 4.0)  # g / (6 L) of the hanging pendulum
 
@@ -182,7 +182,7 @@ def test_phi_series_by_hand() -> None:
 def test_verdict_of_a_bare_model_and_a_stiff_cubic_radius():
     # B = beta1 r + k sup|1/A| B^3 with sup|1/A| = beta1 (H1 = 1/A): the branch point of
     # r = (B - g B^3)/beta1, g = k beta1, is at B^2 = 1/(3g): r* = 2/(3 sqrt(3 g) beta1).
-    from gfrf.model import parse_model
+    from gfrf.model.equation import parse_model
 
     k, b = 1e6, 0.2
     beta1 = 1 / (b * math.sqrt(1 - b**2 / 4))
@@ -214,8 +214,8 @@ LAG_LOOP = {"equation": "D(y,2) + D(y) + 2*y + 0.3*y**3 = u",
 
 
 def test_theorem2_radius_is_proven_in_ball_arithmetic() -> None:
-    from gfrf.criteria import _loop_proves
-    from gfrf.loops import closed_loop
+    from gfrf.stability.criteria import _loop_proves
+    from gfrf.stability.loops import closed_loop
 
     mf = model_from_dict(LAG_LOOP)
     v = theorem2(mf, order=1, amplitude=0.01, with_norms=False)

@@ -3,8 +3,8 @@
 import math
 
 from gfrf.cli import main
-from gfrf.criteria import verdict
-from gfrf.modelfile import load_model
+from gfrf.model.modelfile import load_model
+from gfrf.stability.criteria import verdict
 
 
 def test_verdict_at_largest_amplitude_is_inconclusive_with_inf_terms():

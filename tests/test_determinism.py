@@ -16,8 +16,8 @@ from pathlib import Path
 
 import pytest
 
-from gfrf.branch_bound import branch_and_bound
-from gfrf.modelfile import load_model
+from gfrf.bounds.branch_bound import branch_and_bound
+from gfrf.model.modelfile import load_model
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -6,8 +6,9 @@ import importlib
 import pytest
 
 
-@pytest.mark.parametrize("name", ["gfrf", "gfrf.model", "gfrf.kernels", "gfrf.combinatorics",
-                                  "gfrf.template"])
+@pytest.mark.parametrize("name", ["gfrf", "gfrf.model.equation", "gfrf.kernels.recursion",
+                                  "gfrf.kernels.combinatorics",
+                                  "gfrf.model.template"])
 def test_module_examples(name):
     result = doctest.testmod(importlib.import_module(name), optionflags=doctest.ELLIPSIS)
     assert result.attempted > 0

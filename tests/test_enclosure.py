@@ -1,16 +1,16 @@
-"""Tests of gfrf.enclosure: sound, third-order box bounds of |H_n| near a sharp peak."""
+"""Tests of gfrf.bounds.enclosure: sound, third-order box bounds of |H_n| near a sharp peak."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from gfrf.branch_bound import box_bounds
-from gfrf.compiled import HAVE_NUMBA
-from gfrf.kernels import kernel
-from gfrf.model import parse_model
-from gfrf.modelfile import load_model
-from gfrf.norms import kernel_norm
+from gfrf.bounds.branch_bound import box_bounds
+from gfrf.bounds.norms import kernel_norm
+from gfrf.kernels.compiled import HAVE_NUMBA
+from gfrf.kernels.recursion import kernel
+from gfrf.model.equation import parse_model
+from gfrf.model.modelfile import load_model
 
 PENDULUM = "models/hanging_pendulum.toml"
 MIXED = "D(y,2) + 0.3*D(y) + 1.5*y + 0.4*y**2 - 0.2*y**3 + 0.1*y*u = u"
@@ -95,7 +95,7 @@ def test_modulus_derivative_bounds_hold(k: int) -> None:
     # sup over an interval of |d^k/dw^k 1/|A(j w)|| against 30-digit mpmath derivatives
     import mpmath as mp
 
-    from gfrf.enclosure import InverseA
+    from gfrf.bounds.enclosure import InverseA
 
     inverse = InverseA(np.array(CLUSTER))
     mp.mp.dps = 30
@@ -114,7 +114,7 @@ def test_modulus_derivative_bounds_hold(k: int) -> None:
 def test_modulus_point_values_match_mpmath() -> None:
     import mpmath as mp
 
-    from gfrf.enclosure import InverseA
+    from gfrf.bounds.enclosure import InverseA
 
     inverse = InverseA(np.array(CLUSTER))
     mp.mp.dps = 30
@@ -134,7 +134,7 @@ def test_modulus_point_values_match_mpmath() -> None:
     (PENDULUM, True), ("models/duffing.toml", True), (MIXED, False),
     ("models/cartpole.toml", False)])
 def test_modulus_leaves_only_without_input_in_nonlinear_terms(text: str, free: bool) -> None:
-    from gfrf.branch_bound import _input_free
+    from gfrf.bounds.branch_bound import _input_free
 
     m = load_model(text).plant if text.endswith(".toml") else parse_model(text)
     assert _input_free(m) is free

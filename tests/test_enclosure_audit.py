@@ -1,11 +1,12 @@
 """Adversarial audit of the box enclosures, the branch-and-bound and the tail bound.
 
-Attacks on gfrf.enclosure / gfrf.branch_bound (cf3945e, 76fb66a, 6cd8311) and gfrf.tail
+Attacks on gfrf.bounds.enclosure / gfrf.bounds.branch_bound (cf3945e, 76fb66a, 6cd8311) and
+gfrf.bounds.tail
 (1013b9c): lightly damped and clustered poles, unstable linear parts, relative degree 0
 factors, input terms, asymmetric kernels, tiny boxes, boxes far out, poles on the axis,
 and the ``gfrf norm --max-boxes`` command line.  References are independent: |H_n| in
 closed form evaluated by mpmath at 50 digits (models A(D) y + a2 y^2 + a3 y^3 = u), or
-dense samples of :func:`gfrf.kernels.kernel` away from ill-conditioned points.
+dense samples of :func:`gfrf.kernels.recursion.kernel` away from ill-conditioned points.
 
 The defects it found are fixed and their reproducers kept as tests: block sums of box
 centres rounded without widening the interval of sigma, centre values trusted beyond
@@ -23,13 +24,13 @@ import mpmath as mp
 import numpy as np
 import pytest
 
-from gfrf.branch_bound import box_bounds
+from gfrf.bounds.branch_bound import box_bounds
+from gfrf.bounds.majorant import majorant
+from gfrf.bounds.norms import kernel_norm
+from gfrf.bounds.tail import tail_bound
 from gfrf.cli import main
-from gfrf.kernels import kernel
-from gfrf.majorant import majorant
-from gfrf.model import parse_model
-from gfrf.norms import kernel_norm
-from gfrf.tail import tail_bound
+from gfrf.kernels.recursion import kernel
+from gfrf.model.equation import parse_model
 
 #: Relative slack for float evaluations of the reference samples (rounding only).
 SLACK = 1e-12

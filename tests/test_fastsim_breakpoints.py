@@ -11,10 +11,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from gfrf.model import parse_model
-from gfrf.modelfile import load_model
-from gfrf.signals import parse_input
-from gfrf.simulation import simulate
+from gfrf.model.equation import parse_model
+from gfrf.model.modelfile import load_model
+from gfrf.model.signals import parse_input
+from gfrf.sim.simulation import simulate
 
 pytest.importorskip("numba")
 
@@ -124,8 +124,8 @@ def test_breakpoints_unknown_are_none(text):
 
 def test_tolerance_not_met_is_failed(monkeypatch, capsys):
     # rtol = 1e-14 is out of reach of 4096 RK4 steps over 10 s: the run must say so
-    from gfrf import fastsim
     from gfrf.cli import main
+    from gfrf.sim import fastsim
 
     monkeypatch.setattr(fastsim, "MAX_STEPS", 4096)
     res = simulate(parse_model(OSCILLATOR), "0.1*sin(t)", t_end=10.0, method="fast",

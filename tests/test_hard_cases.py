@@ -1,7 +1,7 @@
 """Hard numeric cases: each result is checked against an independent high-precision value.
 
 The reference is either a closed form evaluated with mpmath at 40 digits, or harmonic
-probing (:func:`gfrf.probing.probe_kernel`, an algorithm sharing no code with the
+probing (:func:`gfrf.kernels.probing.probe_kernel`, an algorithm sharing no code with the
 recursion) run on mpmath numbers at 40 digits: the model's float coefficients and the
 frequencies are exact binary numbers, so the reference is the exact kernel value to
 ~1e-35.  Tolerances are stated per case from the conditioning of the quantity (double
@@ -16,11 +16,11 @@ import mpmath as mp
 import numpy as np
 import pytest
 
-from gfrf.criteria import theorem1
-from gfrf.kernels import kernel
-from gfrf.model import parse_model
-from gfrf.norms import h1_norm, kernel_norm, linear_stability
-from gfrf.probing import probe_kernel
+from gfrf.bounds.norms import h1_norm, kernel_norm, linear_stability
+from gfrf.kernels.probing import probe_kernel
+from gfrf.kernels.recursion import kernel
+from gfrf.model.equation import parse_model
+from gfrf.stability.criteria import theorem1
 
 mp.mp.dps = 40
 

@@ -29,9 +29,9 @@ from gfrf.identify import (
     write_atomic,
 )
 from gfrf.identify import example as ex
-from gfrf.kernels import kernel
-from gfrf.model import parse_model
-from gfrf.modelfile import load_model
+from gfrf.kernels.recursion import kernel
+from gfrf.model.equation import parse_model
+from gfrf.model.modelfile import load_model
 
 pytest.importorskip("sysidentpy")
 
@@ -487,7 +487,7 @@ def test_a_criterion_at_its_limit_is_noted():
 
 
 def test_report_kernel_errors_against_the_closed_form():
-    from gfrf.identify.report import kernel_errors
+    from gfrf.identify.example import kernel_errors
 
     other = dict(CROSS)
     other[((1,), ())] = 0.52
@@ -506,7 +506,7 @@ def test_report_kernel_errors_against_the_closed_form():
 
 @pytest.mark.slow
 def test_report_page_shows_both_models(tmp_path):
-    from gfrf.identify.report import PAGE, write
+    from gfrf.report.identified import PAGE, write
 
     page = write(tmp_path, quick=True)
     text = page.read_text(encoding="utf-8")
@@ -519,7 +519,7 @@ def test_report_page_shows_both_models(tmp_path):
 
 def test_same_terms_tolerates_ulps_and_nothing_more():
     """The 1-ulp BLAS difference seen on another CPU passes; a real change does not."""
-    from gfrf.model import Term
+    from gfrf.model.equation import Term
 
     a = [Term((1,), (), -0.4995686297675639, discrete=True), Term((), (1,), 0.25, discrete=True)]
     ulp = [Term((1,), (), -0.49956862976756367, discrete=True), a[1]]

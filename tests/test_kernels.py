@@ -1,4 +1,5 @@
-"""Tests of gfrf.kernels against closed forms derived by hand and against harmonic probing."""
+"""Tests of gfrf.kernels.recursion against closed forms derived by hand and against
+harmonic probing."""
 
 import itertools
 import math
@@ -8,9 +9,9 @@ import pytest
 import sympy as sp
 
 from gfrf.errors import ArgumentError
-from gfrf.kernels import kernel
-from gfrf.model import parse_model
-from gfrf.probing import probe_kernel
+from gfrf.kernels.probing import probe_kernel
+from gfrf.kernels.recursion import kernel
+from gfrf.model.equation import parse_model
 
 RNG = np.random.default_rng(20261122)
 
@@ -167,7 +168,7 @@ def test_models_differing_only_in_a_coefficient_do_not_share_kernels():
 def test_large_broadcast_evaluation_is_sliced_consistently() -> None:
     """Beyond one slice (16,384 points) the values equal the row-by-row ones, with the
     broadcast shape kept (a grid of 240 x 300 frequencies)."""
-    from gfrf.modelfile import load_model
+    from gfrf.model.modelfile import load_model
 
     m = load_model("models/cartpole.toml").plant
     k3 = kernel(m, 3)

@@ -1,4 +1,4 @@
-"""Tests of gfrf.loops: closed-loop polynomials derived by hand, sign conventions."""
+"""Tests of gfrf.stability.loops: closed-loop polynomials derived by hand, sign conventions."""
 
 from __future__ import annotations
 
@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from gfrf.errors import ArgumentError
-from gfrf.loops import closed_loop, controller_tf, linear_plant, with_lags
-from gfrf.modelfile import load_model, model_from_dict
-from gfrf.paper_checks import loop_sign_variants
+from gfrf.model.modelfile import load_model, model_from_dict
+from gfrf.papers.gfrf_paper import loop_sign_variants
+from gfrf.stability.loops import closed_loop, controller_tf, linear_plant, with_lags
 
 CARTPOLE = "models/cartpole_reduced.toml"
 
@@ -166,7 +166,7 @@ def test_cluster_loop_decided_exactly(gain: float, stable: bool) -> None:
 
 def test_cluster_loop_verdict_is_not_unstable() -> None:
     """Theorem 2 calls a loop unstable only on an exact right-half-plane pole."""
-    from gfrf.criteria import theorem2
+    from gfrf.stability.criteria import theorem2
 
     v = theorem2(model_from_dict(_cluster_loop(1e-20)), order=1, amplitude=1e-3)
     assert v.verdict != "unstable"

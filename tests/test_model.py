@@ -1,11 +1,12 @@
-"""Tests of gfrf.model: parsing, truncation and the bad-input catalogue of the core issue."""
+"""Tests of gfrf.model.equation: parsing, truncation and the bad-input catalogue of the
+core issue."""
 
 import math
 
 import pytest
 
 from gfrf.errors import ModelError
-from gfrf.model import parse_model
+from gfrf.model.equation import parse_model
 
 
 def _coefficients(model):

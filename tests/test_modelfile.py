@@ -1,11 +1,11 @@
-"""Tests of gfrf.modelfile: the bundled models, the minimal file, and file errors."""
+"""Tests of gfrf.model.modelfile: the bundled models, the minimal file, and file errors."""
 
 from pathlib import Path
 
 import pytest
 
 from gfrf.errors import ModelError
-from gfrf.modelfile import load_model
+from gfrf.model.modelfile import load_model
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 GFRF_MODELS = [p for p in sorted(MODELS.glob("*.toml")) if "kind = \"parametric\""

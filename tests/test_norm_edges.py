@@ -12,9 +12,9 @@ import mpmath as mp
 import numpy as np
 from test_branch_bound import true_quadratic_max
 
-from gfrf.branch_bound import branch_and_bound
-from gfrf.model import parse_model
-from gfrf.norms import kernel_norm
+from gfrf.bounds.branch_bound import branch_and_bound
+from gfrf.bounds.norms import kernel_norm
+from gfrf.model.equation import parse_model
 
 
 def test_resonance_at_1e39_rad_s_keeps_the_sound_bracket() -> None:

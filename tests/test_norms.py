@@ -1,4 +1,5 @@
-"""Tests of gfrf.norms, gfrf.majorant and gfrf.rational against hand-derived closed forms."""
+"""Tests of gfrf.bounds.norms, gfrf.bounds.majorant and gfrf.bounds.rational against
+hand-derived closed forms."""
 
 from __future__ import annotations
 
@@ -8,13 +9,13 @@ import mpmath
 import numpy as np
 import pytest
 
-import gfrf.majorant as majorant_module
+import gfrf.bounds.majorant as majorant_module
+from gfrf.bounds.majorant import majorant, radius
+from gfrf.bounds.norms import h1_norm, kernel_norm
 from gfrf.errors import ArgumentError
-from gfrf.kernels import kernel
-from gfrf.majorant import majorant, radius
-from gfrf.model import parse_model
-from gfrf.modelfile import load_model
-from gfrf.norms import h1_norm, kernel_norm
+from gfrf.kernels.recursion import kernel
+from gfrf.model.equation import parse_model
+from gfrf.model.modelfile import load_model
 
 C = 2.45
 

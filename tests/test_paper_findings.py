@@ -16,11 +16,8 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
 
-from gfrf.criteria import theta_series
-from gfrf.loops import with_lags
-from gfrf.modelfile import load_model
-from gfrf.paper_checks import alpha_variants, paper_checks, printed_match, theta_readings
-from gfrf.paper_checks_cartpole import (
+from gfrf.model.modelfile import load_model
+from gfrf.papers.cartpole import (
     inertia_reversal,
     lagged_loops,
     lagged_simulation,
@@ -28,7 +25,10 @@ from gfrf.paper_checks_cartpole import (
     sign_margin,
     theorem2_obstruction,
 )
-from gfrf.simulation import simulate
+from gfrf.papers.gfrf_paper import alpha_variants, paper_checks, printed_match, theta_readings
+from gfrf.sim.simulation import simulate
+from gfrf.stability.criteria import theta_series
+from gfrf.stability.loops import with_lags
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 REDUCED = MODELS / "cartpole_reduced.toml"
@@ -290,7 +290,7 @@ def test_paper_rows_quote_the_findings() -> None:
 
 
 def test_report_sections_quote_the_result_objects(alpha_rows) -> None:
-    from gfrf.paper_checks_cartpole import has_physical_equation
+    from gfrf.papers.cartpole import has_physical_equation
     from gfrf.report import paper_gfrf
     from gfrf.report._format import cell
 

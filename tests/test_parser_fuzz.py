@@ -14,7 +14,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from gfrf.errors import ModelError
-from gfrf.model import Model, parse_model
+from gfrf.model.equation import Model, parse_model
 
 TOKENS = ["y", "u", "D(", "D(y)", "D(u)", "D(y,2)", ",", ")", "(", "+", "-", "*", "**", "/",
           "=", "==", "0", "1", "2", "3", "9", "0.5", "1e308", "1e-308", "-1", "sin(", "cos(",

@@ -19,10 +19,10 @@ import numpy as np
 import pytest
 from mp_reference import mp_sup as reference_sup
 
-from gfrf.criteria import theorem1
-from gfrf.model import parse_model
-from gfrf.norms import kernel_norm
-from gfrf.rational import rational_sup
+from gfrf.bounds.norms import kernel_norm
+from gfrf.bounds.rational import rational_sup
+from gfrf.model.equation import parse_model
+from gfrf.stability.criteria import theorem1
 
 DIGITS = 60
 
@@ -172,7 +172,7 @@ def test_bench_section_proof_levels() -> None:
 
 
 def test_exact_sups_are_memoised_and_clearable() -> None:
-    from gfrf import exact
+    from gfrf.bounds import exact
 
     exact.clear_caches()
     first = exact.sup_abs([1.0], [1.0, 0.1, 2.0])
@@ -190,7 +190,7 @@ def test_float_discrete_sup_agrees_or_refuses_with_a_reason() -> None:
     """q^2 / (1 - q/2): sup 2 at q = 1 (its |N/D|^2 has a harmless double stationary
     point at x = -1, which once made the float path refuse without saying why); clustered
     lightly damped poles: the float path equals the interval value or refuses, naming why."""
-    from gfrf import exact
+    from gfrf.bounds import exact
 
     assert exact.discrete_sup_abs([0, 0, 1], [1, -0.5], 1.0, "float").upper == 2.0
     for gap in (1e-2, 1e-5, 1e-8):

@@ -3,8 +3,8 @@
 Models have a stable second-order linear part, a linear input part b0 u + b1 D(u),
 and one to four random nonlinear terms of every kind (pure output, cross, pure
 input) of degree 2 or 3 with derivative orders up to 2.  Their symmetric kernels
-from the recursion (:func:`gfrf.kernels.kernel`) must agree with harmonic probing
-(:func:`gfrf.probing.probe_kernel`, an independent algorithm) to 1e-10 relative, and
+from the recursion (:func:`gfrf.kernels.recursion.kernel`) must agree with harmonic probing
+(:func:`gfrf.kernels.probing.probe_kernel`, an independent algorithm) to 1e-10 relative, and
 be invariant under permutation of their arguments.
 """
 
@@ -16,9 +16,9 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gfrf.kernels import kernel
-from gfrf.model import parse_model
-from gfrf.probing import probe_kernel
+from gfrf.kernels.probing import probe_kernel
+from gfrf.kernels.recursion import kernel
+from gfrf.model.equation import parse_model
 
 SETTINGS = settings(max_examples=60, deadline=None)
 

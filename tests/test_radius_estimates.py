@@ -1,9 +1,9 @@
 """The three radii of issue 11 s2: proven lower r*, proven upper bound, labelled estimate.
 
-Every reference is independent of gfrf.static: closed-form branch points of the static
+Every reference is independent of gfrf.stability.static: closed-form branch points of the static
 maps, sympy series of the closed-form static branch, numpy roots of the critical
-points, direct evaluation of the symbolic kernels (gfrf.kernels) and the certified
-majorant (gfrf.majorant).
+points, direct evaluation of the symbolic kernels (gfrf.kernels.recursion) and the certified
+majorant (gfrf.bounds.majorant).
 """
 
 from __future__ import annotations
@@ -15,12 +15,12 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from gfrf.criteria import verdict
-from gfrf.kernels import kernel
-from gfrf.majorant import majorant
-from gfrf.model import parse_model
-from gfrf.modelfile import load_model
-from gfrf.static import fit_radius, radius_upper, resonant_lower_bounds, static_series
+from gfrf.bounds.majorant import majorant
+from gfrf.kernels.recursion import kernel
+from gfrf.model.equation import parse_model
+from gfrf.model.modelfile import load_model
+from gfrf.stability.criteria import verdict
+from gfrf.stability.static import fit_radius, radius_upper, resonant_lower_bounds, static_series
 
 NARX = "models/narx_example.toml"
 PENDULUM = "models/hanging_pendulum_damped.toml"
@@ -135,7 +135,7 @@ def test_resonant_lower_bounds_are_kernel_values_and_below_the_majorant() -> Non
         assert lower[n] <= maj.proven_upper(n) * (1 + 1e-12)
     # L_3 = |H3| at (w, w, -w) for some resonance w: at least the value at the |H1| peak
     k3 = kernel(plant, 3)
-    w_r = 1.5247950681976907  # argmax of |H1| (proven sup of gfrf.norms, rad/s)
+    w_r = 1.5247950681976907  # argmax of |H1| (proven sup of gfrf.bounds.norms, rad/s)
     assert lower[3] >= abs(complex(k3(w_r, w_r, -w_r))) * (1 - 1e-12)
     assert lower[3] <= abs(complex(k3(w_r, w_r, -w_r))) * 1.01
 
@@ -172,7 +172,7 @@ def test_page_headline_never_says_stable_on_an_estimate() -> None:
     assert "stable" not in verdict(model, 1, 0.1, False, "none").verdict
 
 
-@pytest.mark.parametrize("name", ["gfrf.static", "gfrf.criteria"])
+@pytest.mark.parametrize("name", ["gfrf.stability.static", "gfrf.stability.criteria"])
 def test_module_examples(name: str) -> None:
     import doctest
     import importlib
@@ -183,8 +183,9 @@ def test_module_examples(name: str) -> None:
 
 @pytest.mark.parametrize(("path", "w"), [(PENDULUM, 0.77), (NARX, 2.1), (CARTPOLE, 4.1)])
 def test_harmonic_values_are_symmetric_kernel_values(path: str, w: float) -> None:
-    """Y[k, l] / C(n, k) of the harmonic recursion is H_n(w x k, -w x l) of gfrf.kernels."""
-    from gfrf.static import _harmonic_coefficients
+    """Y[k, l] / C(n, k) of the harmonic recursion is H_n(w x k, -w x l) of
+    gfrf.kernels.recursion."""
+    from gfrf.stability.static import _harmonic_coefficients
 
     plant = load_model(path).plant
     y = _harmonic_coefficients(plant, w, 5)

@@ -7,12 +7,12 @@ from pathlib import Path
 import pytest
 
 from gfrf.cli import main
-from gfrf.criteria import parameter_margin
-from gfrf.paper_checks import coefficient_rows, paper_checks
+from gfrf.papers.gfrf_paper import coefficient_rows, paper_checks
 from gfrf.report import MODELS_DIR, bundled_models, paper_gfrf, write_reports
 from gfrf.report._format import cell, table
 from gfrf.report.analysis import analyse
 from gfrf.report.paper_gfrf import check_table
+from gfrf.stability.criteria import parameter_margin
 
 
 @pytest.fixture(scope="module")

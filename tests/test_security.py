@@ -6,7 +6,7 @@ Each case puts a payload into one text field (model equation, NARX equation,
 ``simulate``/``predict``, a sweep template) and asserts: a ``ModelError`` /
 ``ArgumentError`` (exit 2 with one ``gfrf: error:`` line from the CLI) whose message
 names the problem, within a bounded time, and that the sentinel file the payload
-would create does not exist.  A hypothesis fuzz of :mod:`gfrf.expr` closes the file.
+would create does not exist.  A hypothesis fuzz of :mod:`gfrf.model.expr` closes the file.
 """
 
 from __future__ import annotations
@@ -22,11 +22,11 @@ from hypothesis import strategies as st
 
 from gfrf.cli import main
 from gfrf.errors import GfrfError, ModelError
-from gfrf.expr import parse_expression
-from gfrf.model import parse_model
-from gfrf.modelfile import load_model, model_from_dict
-from gfrf.signals import parse_input
-from gfrf.template import model_template
+from gfrf.model.equation import parse_model
+from gfrf.model.expr import parse_expression
+from gfrf.model.modelfile import load_model, model_from_dict
+from gfrf.model.signals import parse_input
+from gfrf.model.template import model_template
 
 PACKAGE = Path(__file__).resolve().parent.parent / "gfrf"
 #: Seconds any refusal may take (the issue's bound is 5 s on this 2-core machine).
@@ -329,7 +329,7 @@ def test_sweep_template_of_parameter_chains_stays_cheap() -> None:
     data = {"equation": "D(y,2) + 0.2*D(y) + y + p3*y**3 = u",
             "parameters": {"a": 1.0, "b": 0.0, "p1": "(a+b)**15", "p2": "p1**15",
                            "p3": "p2**15"}}
-    from gfrf.template import TemplateUnsupported
+    from gfrf.model.template import TemplateUnsupported
 
     start = time.perf_counter()
     with pytest.raises(TemplateUnsupported, match="MAX_DEGREE"):

@@ -1,4 +1,4 @@
-"""Tests of gfrf.signals: parsing, derivatives, tones, CSV, bad input."""
+"""Tests of gfrf.model.signals: parsing, derivatives, tones, CSV, bad input."""
 
 import math
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from gfrf.errors import ArgumentError
-from gfrf.signals import parse_input, tones_input
+from gfrf.model.signals import parse_input, tones_input
 
 
 def test_sum_of_tones_value_and_tones():

@@ -1,4 +1,4 @@
-"""gfrf.simplex.nelder_mead against scipy's Nelder-Mead and closed-form minima."""
+"""gfrf.bounds.simplex.nelder_mead against scipy's Nelder-Mead and closed-form minima."""
 
 from __future__ import annotations
 
@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 from scipy.optimize import minimize, rosen
 
+from gfrf.bounds.simplex import nelder_mead
 from gfrf.errors import ArgumentError
-from gfrf.simplex import nelder_mead
 
 ROOT = Path(__file__).resolve().parents[1]
 TIGHT = {"xatol": 1e-12, "fatol": 1e-14}

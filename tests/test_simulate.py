@@ -1,4 +1,4 @@
-"""Tests of gfrf.simulation and gfrf.fastsim against closed forms and each other."""
+"""Tests of gfrf.sim.simulation and gfrf.sim.fastsim against closed forms and each other."""
 
 import math
 import re
@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from gfrf.errors import ArgumentError, ModelError
-from gfrf.model import parse_model
-from gfrf.modelfile import load_model
-from gfrf.simulation import build_system, simulate
+from gfrf.model.equation import parse_model
+from gfrf.model.modelfile import load_model
+from gfrf.sim.simulation import build_system, simulate
 
 MODELS = "models"
 
@@ -138,7 +138,7 @@ def test_closed_loop_without_controller():
 
 
 def _loop_file(equation, controller, **top):
-    from gfrf.modelfile import model_from_dict
+    from gfrf.model.modelfile import model_from_dict
     return model_from_dict({"equation": equation, "controller": controller, **top})
 
 
@@ -284,7 +284,7 @@ def test_fast_auto_step_confirms_a_true_blowup():
 
 
 def test_fast_agreement_rejects_runs_that_both_blew_up_at_once():
-    from gfrf.fastsim import _agree, _Run
+    from gfrf.sim.fastsim import _agree, _Run
 
     y = np.ones((2, 1))
     # coarse run: 256 steps of 7.8125 s, blew up at step 1; fine run at its step 1
@@ -302,7 +302,7 @@ def test_fast_immediate_blowup_is_resolved_cheaply():
     # u = 1e300 sin(t): |y| passes 1e6 within ~1e-98 s; HEAD reported t = h (any h) and
     # the first fix doubled to MAX_STEPS (9 s, 1 GB).  Now each finer run stops just past
     # the blow-up and the time is resolved to BLOWUP_RESOLUTION * t_end.
-    from gfrf.fastsim import BLOWUP_RESOLUTION
+    from gfrf.sim.fastsim import BLOWUP_RESOLUTION
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -334,7 +334,7 @@ def test_work_budget_stops_scipy_run_with_its_time(method):
 
 def test_default_budget_fits_a_long_accurate_run():
     # the largest bundled use (speed report): hanging pendulum, 200 s, RK45 at rtol 1e-10
-    from gfrf.integrate import MAX_RHS_EVALUATIONS
+    from gfrf.sim.integrate import MAX_RHS_EVALUATIONS
 
     res = simulate(load_model(f"{MODELS}/hanging_pendulum.toml"), "0.05*sin(1.565*t)",
                    t_end=200.0, rtol=1e-10, atol=1e-13)
@@ -384,7 +384,7 @@ def test_fast_plant_input_of_an_improper_loop_from_the_states():
 
 
 def test_fast_cache_file_that_differs_is_rewritten_not_run(tmp_path, monkeypatch):
-    from gfrf import fastsim
+    from gfrf.sim import fastsim
 
     monkeypatch.setenv("GFRF_CACHE_DIR", str(tmp_path))
     monkeypatch.setattr(fastsim, "_MODULES", {})

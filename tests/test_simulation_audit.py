@@ -19,13 +19,13 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from gfrf import integrate
 from gfrf.cli import main
 from gfrf.errors import ArgumentError
-from gfrf.model import parse_model
-from gfrf.modelfile import load_model
-from gfrf.signals import parse_input
-from gfrf.simulation import build_system, simulate
+from gfrf.model.equation import parse_model
+from gfrf.model.modelfile import load_model
+from gfrf.model.signals import parse_input
+from gfrf.sim import integrate
+from gfrf.sim.simulation import build_system, simulate
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 METHODS = ("rk45", "dop853", "lsoda", "radau")

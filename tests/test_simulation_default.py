@@ -9,13 +9,13 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-import gfrf.simulation as simulation
+import gfrf.sim.simulation as simulation
 from gfrf.errors import ArgumentError
-from gfrf.integrate import SCIPY_METHODS, _fused_rhs
-from gfrf.model import parse_model
-from gfrf.modelfile import load_model
-from gfrf.signals import parse_input
-from gfrf.simulation import AUTO_RK45_RTOL, auto_method, build_system, simulate
+from gfrf.model.equation import parse_model
+from gfrf.model.modelfile import load_model
+from gfrf.model.signals import parse_input
+from gfrf.sim.integrate import SCIPY_METHODS, _fused_rhs
+from gfrf.sim.simulation import AUTO_RK45_RTOL, auto_method, build_system, simulate
 
 RTOLS = [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10]
 # y'' + 2 z w y' + w^2 y = cos(W t), y(0) = y'(0) = 0
@@ -187,7 +187,7 @@ def test_closed_loop_plant_input_by_hand():
 @pytest.mark.parametrize("method", ["rk45", "dop853"])
 def test_dense_output_batches_join_exactly(method, monkeypatch):
     # The samples do not depend on how many steps' interpolants are evaluated together.
-    import gfrf.integrate as integrate
+    import gfrf.sim.integrate as integrate
 
     system = build_system(load_model("models/duffing.toml"))
     whole = simulate(system, "0.5*sin(1.3*t)", t_end=50.0, method=method, rtol=1e-7)

@@ -19,12 +19,12 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from gfrf.bounds.exact import hurwitz, poles, schur, sup_abs_beyond
+from gfrf.bounds.majorant import majorant, radius
+from gfrf.bounds.norms import h1_norm, kernel_norm
 from gfrf.cli import main
-from gfrf.criteria import verdict
-from gfrf.exact import hurwitz, poles, schur, sup_abs_beyond
-from gfrf.majorant import majorant, radius
-from gfrf.model import Model, parse_model
-from gfrf.norms import h1_norm, kernel_norm
+from gfrf.model.equation import Model, parse_model
+from gfrf.stability.criteria import verdict
 
 DPS = 50
 

@@ -14,13 +14,13 @@ import mpmath as mp
 import pytest
 
 from gfrf.cli import main
-from gfrf.criteria import parameter_margin, verdict
 from gfrf.errors import ArgumentError
-from gfrf.kernels import kernel
-from gfrf.model import parse_model
-from gfrf.modelfile import load_model
-from gfrf.sweep import grid, parse_axis, sweep
-from gfrf.template import model_template, rebuild
+from gfrf.kernels.recursion import kernel
+from gfrf.model.equation import parse_model
+from gfrf.model.modelfile import load_model
+from gfrf.model.template import model_template, rebuild
+from gfrf.stability.criteria import parameter_margin, verdict
+from gfrf.sweep.run import grid, parse_axis, sweep
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 PENDULUM = MODELS / "hanging_pendulum.toml"
@@ -164,14 +164,14 @@ def test_cli_parquet_round_trip(tmp_path: Path, capsys: pytest.CaptureFixture) -
     assert all(r["h1"] > 0 and r["M3"] > 0 for r in data)
 
 
-@pytest.mark.parametrize("name", ["gfrf.sweep", "gfrf.template"])
+@pytest.mark.parametrize("name", ["gfrf.sweep.run", "gfrf.model.template"])
 def test_module_examples(name: str) -> None:
     result = doctest.testmod(importlib.import_module(name), optionflags=doctest.ELLIPSIS)
     assert result.attempted > 0 and result.failed == 0
 
 
 def test_map_classes_and_dimension_limit(tmp_path: Path) -> None:
-    from gfrf.sweep_plot import plot_stability_map, point_class
+    from gfrf.sweep.plot import plot_stability_map, point_class
 
     assert point_class({"error": "bad", "linear_stable": True}) == "error"
     assert point_class({"error": "", "linear_stable": False, "verdict": "unstable"}) \
@@ -236,7 +236,7 @@ def test_polynomial_controller_template_matches_a_full_parse() -> None:
 def test_progress_moves_per_point_from_the_first(monkeypatch: pytest.MonkeyPatch) -> None:
     import tqdm as tqdm_module
 
-    import gfrf.criteria
+    import gfrf.stability.criteria
 
     reported: list[int] = []
     seen_at_call: list[int] = []
@@ -254,14 +254,14 @@ def test_progress_moves_per_point_from_the_first(monkeypatch: pytest.MonkeyPatch
         def update(self, n: int) -> None:
             reported.append(n)
 
-    real = gfrf.criteria.verdict
+    real = gfrf.stability.criteria.verdict
 
     def counting(*args: object, **kwargs: object) -> object:
         seen_at_call.append(sum(reported))
         return real(*args, **kwargs)
 
     monkeypatch.setattr(tqdm_module, "tqdm", Bar)
-    monkeypatch.setattr(gfrf.criteria, "verdict", counting)
+    monkeypatch.setattr(gfrf.stability.criteria, "verdict", counting)
     data = {"equation": "D(y,2) + c*D(y) + y + 0.5*y**3 = u", "parameters": {"c": 0.2}}
     sweep(data, [parse_axis("c=0.1:0.4:5")], what="radius", progress=True)
     assert reported == [1] * 5
@@ -269,8 +269,8 @@ def test_progress_moves_per_point_from_the_first(monkeypatch: pytest.MonkeyPatch
 
 
 def test_map_title_drops_the_file_value_of_a_swept_parameter() -> None:
-    from gfrf.sweep import Axis, SweepResult
-    from gfrf.sweep_plot import map_title
+    from gfrf.sweep.plot import map_title
+    from gfrf.sweep.run import Axis, SweepResult
 
     result = SweepResult((Axis("rho", (0.2, 1.0, 4.0)),), "verdict", 1.0, [], [], 0.0, 0.0,
                          "local")

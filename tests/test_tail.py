@@ -1,6 +1,7 @@
-"""Tests of gfrf.tail: the bound of |H_n| outside the box |w_i| <= W is sound and decays.
+"""Tests of gfrf.bounds.tail: the bound of |H_n| outside the box |w_i| <= W is sound and decays.
 
-References are independent of gfrf.kernels: harmonic probing (gfrf.probing) for the
+References are independent of gfrf.kernels.recursion: harmonic probing
+(gfrf.kernels.probing) for the
 symmetric kernel, a direct mpmath evaluation of the contiguous-block recursion for the
 asymmetric one, and closed forms (tests/mp_reference.py) for one-dimensional sups.  The
 compiled kernel only finds the adversarial points quickly; the values asserted against
@@ -19,14 +20,14 @@ import pytest
 from mp_reference import mp_sup
 from scipy.optimize import minimize
 
-from gfrf.branch_bound import branch_and_bound
-from gfrf.combinatorics import compositions
-from gfrf.kernels import kernel
-from gfrf.majorant import majorant
-from gfrf.model import Model, parse_model
-from gfrf.modelfile import load_model
-from gfrf.probing import probe_kernel
-from gfrf.tail import tail_bound
+from gfrf.bounds.branch_bound import branch_and_bound
+from gfrf.bounds.majorant import majorant
+from gfrf.bounds.tail import tail_bound
+from gfrf.kernels.combinatorics import compositions
+from gfrf.kernels.probing import probe_kernel
+from gfrf.kernels.recursion import kernel
+from gfrf.model.equation import Model, parse_model
+from gfrf.model.modelfile import load_model
 
 CARTPOLE = "models/cartpole.toml"
 MODELS = {

@@ -1,4 +1,5 @@
-"""Verdict-vs-simulation trials (radii from gfrf.criteria) and linear vs nonlinear loop."""
+"""Verdict-vs-simulation trials (radii from gfrf.stability.criteria) and linear vs
+nonlinear loop."""
 
 import json
 import math
@@ -10,9 +11,15 @@ import numpy as np
 import pytest
 
 from gfrf.cli import main
-from gfrf.criteria import verdict
-from gfrf.modelfile import load_model
-from gfrf.validation import linear_vs_nonlinear, random_input, resonance, spectrum_size, validate
+from gfrf.model.modelfile import load_model
+from gfrf.sim.validation import (
+    linear_vs_nonlinear,
+    random_input,
+    resonance,
+    spectrum_size,
+    validate,
+)
+from gfrf.stability.criteria import verdict
 
 MODELS = sorted(p for p in Path("models").glob("*.toml")
                 if tomllib.loads(p.read_text()).get("kind") != "parametric")
@@ -104,7 +111,7 @@ def test_cli_validate_exit_code_and_json(capsys):
 
 
 def test_polynomial_controller_loop_is_validated():
-    from gfrf.modelfile import model_from_dict
+    from gfrf.model.modelfile import model_from_dict
     mf = model_from_dict({"equation": "D(y,2) + 0.5*D(y) + 2*y + y**3 = u",
                           "controller": {"equation": "D(u) + 2*u = 3*y + 0.5*y**3"}})
     result = validate(mf, t_end=10.0)

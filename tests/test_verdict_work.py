@@ -15,11 +15,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import gfrf.norms
-from gfrf.criteria import DEFAULT_NORMS, NORM_LEVELS, theorem1, verdict
+import gfrf.bounds.norms
 from gfrf.errors import ArgumentError
-from gfrf.model import parse_model
-from gfrf.modelfile import load_model
+from gfrf.model.equation import parse_model
+from gfrf.model.modelfile import load_model
+from gfrf.stability.criteria import DEFAULT_NORMS, NORM_LEVELS, theorem1, verdict
 
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = sorted(p.name for p in (ROOT / "models").glob("*.toml")
@@ -81,8 +81,8 @@ def test_fast_h1_bracket_contains_the_closed_form() -> None:
 
 def test_fast_level_runs_no_branch_and_bound(monkeypatch: pytest.MonkeyPatch) -> None:
     calls = []
-    real = gfrf.norms.branch_and_bound
-    monkeypatch.setattr(gfrf.norms, "branch_and_bound",
+    real = gfrf.bounds.norms.branch_and_bound
+    monkeypatch.setattr(gfrf.bounds.norms, "branch_and_bound",
                         lambda *a, **k: calls.append(a) or real(*a, **k))
     mf = load_model(str(ROOT / "models" / "cartpole.toml"))
     fast = verdict(mf, 5, norms="fast")
@@ -106,8 +106,8 @@ def test_default_level_and_bad_levels() -> None:
 
 @pytest.mark.parametrize("name", ["duffing", "cartpole"])  # Theorems 1 and 2
 def test_a_verdict_does_not_import_python_control(name: str) -> None:
-    code = ("import sys; from gfrf.modelfile import load_model; "
-            "from gfrf.criteria import verdict; "
+    code = ("import sys; from gfrf.model.modelfile import load_model; "
+            "from gfrf.stability.criteria import verdict; "
             f"v = verdict(load_model('models/{name}.toml'), 5); "
             "print(v.theorem, 'control' in sys.modules, 'scipy.signal' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
@@ -117,7 +117,7 @@ def test_a_verdict_does_not_import_python_control(name: str) -> None:
 
 def test_radius_estimate_values_unchanged_by_the_matmul_product() -> None:
     # the truncated bivariate product against a direct double sum (exact reference)
-    from gfrf.static import _truncated_product
+    from gfrf.stability.static import _truncated_product
 
     rng = np.random.default_rng(3)
     n = 6

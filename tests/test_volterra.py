@@ -7,12 +7,12 @@ import re
 import numpy as np
 import pytest
 
-from gfrf import volterra
 from gfrf.errors import ArgumentError
-from gfrf.kernels import kernel
-from gfrf.model import parse_model
-from gfrf.modelfile import load_model
-from gfrf.volterra import (
+from gfrf.kernels.recursion import kernel
+from gfrf.model.equation import parse_model
+from gfrf.model.modelfile import load_model
+from gfrf.sim import volterra
+from gfrf.sim.volterra import (
     MAX_PRODUCTS,
     BeyondRadiusError,
     NoSteadyStateError,
@@ -208,8 +208,8 @@ def test_shooting_stops_on_its_work_budget():
     import time
 
     from gfrf.errors import ConvergenceError
-    from gfrf.simulation import build_system
-    from gfrf.volterra import steady_state
+    from gfrf.sim.simulation import build_system
+    from gfrf.sim.volterra import steady_state
 
     system = build_system(parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"))
     start = time.perf_counter()
@@ -220,8 +220,8 @@ def test_shooting_stops_on_its_work_budget():
 
 def test_predict_and_verdict_report_the_same_radius_and_proof() -> None:
     """One r* for the norm series: the prediction's is the verdict's, with its proof level."""
-    from gfrf.criteria import verdict
-    from gfrf.volterra import predict
+    from gfrf.sim.volterra import predict
+    from gfrf.stability.criteria import verdict
 
     model = parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u")
     v = verdict(model, 3, 0.01)

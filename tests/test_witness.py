@@ -14,11 +14,11 @@ from pathlib import Path
 import mpmath as mp
 import pytest
 
-from gfrf.kernels import kernel
-from gfrf.model import Model, parse_model
-from gfrf.modelfile import load_model
-from gfrf.norms import kernel_norm
-from gfrf.witness import kernel_ball, witness_bound
+from gfrf.bounds.norms import kernel_norm
+from gfrf.bounds.witness import kernel_ball, witness_bound
+from gfrf.kernels.recursion import kernel
+from gfrf.model.equation import Model, parse_model
+from gfrf.model.modelfile import load_model
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 BUNDLED = sorted(p for p in MODELS.glob("*.toml") if p.stem != "parametric_pendulum")
@@ -129,12 +129,12 @@ def test_cli_json_says_interval(capsys: pytest.CaptureFixture[str]) -> None:
 
 def test_wide_ball_keeps_the_float_value(monkeypatch: pytest.MonkeyPatch) -> None:
     """A witness ball wider than 1e-10 relative: the float value stays, labelled."""
-    import gfrf.witness
+    import gfrf.bounds.witness
 
     model = parse_model("D(y,2) + 0.05*D(y) + 2.45*y - 0.41*y**3 = u")
     proven = kernel_norm(model, 3)
-    monkeypatch.setattr(gfrf.witness, "witness_bound",
-                        lambda *a: gfrf.witness.WitnessBound(0.5, 2e4, 1.0, 512))
+    monkeypatch.setattr(gfrf.bounds.witness, "witness_bound",
+                        lambda *a: gfrf.bounds.witness.WitnessBound(0.5, 2e4, 1.0, 512))
     b = kernel_norm(model, 3)
     assert (b.lower_proof, b.proof, b.upper_proof) == ("float", "float", "interval")
     assert proven.lower <= b.lower <= proven.upper  # the float value, not the ball's end

@@ -36,7 +36,7 @@ SECTION_MODULES: tuple[str, ...] = (
     "gfrf.bench.proof",
     "gfrf.bench.periodic",
     "gfrf.bench.sweep",
-    "gfrf.identify.bench",
+    "gfrf.bench.identify",
 )
 
 

@@ -1,9 +1,9 @@
 """Tight brackets of ||H_n||: the branch-and-bound closing the gap at orders 5 and 7.
 
-:func:`gfrf.norms.kernel_norm` with a target relative gap and a box budget (the work
+:func:`gfrf.bounds.norms.kernel_norm` with a target relative gap and a box budget (the work
 that stops the search; never time): the certified upper end from the branch-and-bound
-of :mod:`gfrf.branch_bound` (third-order enclosures of :mod:`gfrf.enclosure`, tail of
-:mod:`gfrf.tail`), the lower end a witness re-evaluated in ball arithmetic.  Time is
+of :mod:`gfrf.bounds.branch_bound` (third-order enclosures of :mod:`gfrf.bounds.enclosure`, tail of
+:mod:`gfrf.bounds.tail`), the lower end a witness re-evaluated in ball arithmetic.  Time is
 CPU and wall time of a fresh ``gfrf norm ... --json`` process on one core (BLAS and
 numba thread pools set to 1), so imports, the symbolic recursion and the load of the
 fused numba loops from their cache are included.  The goal column is issue 15 section 2.
@@ -18,7 +18,7 @@ import subprocess
 import time
 
 from gfrf.bench import BenchSection, gfrf_command, load_note
-from gfrf.branch_bound import MAX_ORDER
+from gfrf.bounds.branch_bound import MAX_ORDER
 
 __all__ = ["run"]
 

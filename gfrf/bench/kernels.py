@@ -8,7 +8,7 @@ numba ufunc (compile time excluded, reported), against the baseline a user would
 really write: ``sympy.lambdify((s1, s2, s3), H3, "numpy", cse=True)`` of the same
 explicit rational function, called at s = j*omega (its set-up time reported
 separately).  All on the same points, best of three, in one run.  Error: max relative
-deviation from harmonic probing (:mod:`gfrf.probing`, an independent algorithm) on
+deviation from harmonic probing (:mod:`gfrf.kernels.probing`, an independent algorithm) on
 2000 of the points.
 """
 
@@ -22,9 +22,9 @@ import numpy as np
 import sympy as sp
 
 from gfrf.bench import BenchSection, best_of, load_note
-from gfrf.kernels import GFRFGenerator, kernel
-from gfrf.modelfile import load_model
-from gfrf.probing import probe_kernel
+from gfrf.kernels.probing import probe_kernel
+from gfrf.kernels.recursion import GFRFGenerator, kernel
+from gfrf.model.modelfile import load_model
 
 __all__ = ["run"]
 

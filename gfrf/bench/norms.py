@@ -1,6 +1,6 @@
 """Speed versus error of the GFRF norms: ||H3||, ||H5|| and ||H1|| of the rho = 0.8 pendulum.
 
-||Hn||: the certified bracket of :func:`gfrf.norms.kernel_norm` (first call including
+||Hn||: the certified bracket of :func:`gfrf.bounds.norms.kernel_norm` (first call including
 the symbolic recursion) against what a user would write for a global maximum of
 |Hn(j w)| over [-3, 3]^n rad/s on ``sympy.lambdify(..., cse=True)`` of the same
 explicit kernel: ``scipy.optimize.differential_evolution`` (seed 0, default tol,
@@ -10,7 +10,7 @@ kernel, which they take from gfrf.  ||H3|| is known in closed form, |c3| ||H1||^
 with ||H1|| = 1/(b sqrt(c - b^2/4)) (attained at (w_r, w_r, -w_r)); for ||H5|| the
 error is against the best value any method found.  Dense grids are kept for scale.
 
-||H1||: :func:`gfrf.norms.h1_norm` (proven enclosure of the stationary points) against
+||H1||: :func:`gfrf.bounds.norms.h1_norm` (proven enclosure of the stationary points) against
 python-control's ``control.norm(sys, p='inf')`` and a 10^5-point grid on [0, 3] rad/s.
 """
 
@@ -29,9 +29,9 @@ import numpy as np
 import sympy as sp
 
 from gfrf.bench import BenchSection, best_of, load_note
-from gfrf.kernels import kernel
-from gfrf.model import Model, parse_model
-from gfrf.norms import h1_norm, kernel_norm
+from gfrf.bounds.norms import h1_norm, kernel_norm
+from gfrf.kernels.recursion import kernel
+from gfrf.model.equation import Model, parse_model
 
 __all__ = ["run"]
 
@@ -181,7 +181,7 @@ def _h1_rows(model: Model, beta1: float) -> tuple[list[list[object]], list[str]]
                 if slycot else "NOT installed on this machine, so control.norm uses its "
                 "own bisection (tolerance 1e-6); the slycot timing is not measured here."),
              (f"gfrf's h1_norm still calls control.norm itself on every call, as a cross-check "
-              f"(gfrf/norms.py, kept in Bound.reference): about {t_pc * 1e3:.2g} ms (the "
+              f"(gfrf/bounds/norms.py, kept in Bound.reference): about {t_pc * 1e3:.2g} ms (the "
               f"control.norm row) of its {t_ours * 1e3:.2g} ms is that cross-check."
               if ours.reference is not None else
               "gfrf's h1_norm no longer runs a python-control cross-check on its hot path "

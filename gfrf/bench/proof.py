@@ -1,20 +1,20 @@
 """Cost of the levels of proof: ||H1||, ||H3|| and r* at ``none``, ``float``, ``interval``.
 
 For every bundled model with GFRFs the same quantity is computed at the three levels
-of :data:`gfrf.rational.PROOF_LEVELS` in one run, and the times are reported as
+of :data:`gfrf.bounds.rational.PROOF_LEVELS` in one run, and the times are reported as
 ratios to the float path.  Each time is the best of a few repeats of a *cold*
-computation: the memoised sups (:func:`gfrf.exact.clear_caches`) are forgotten before
+computation: the memoised sups (:func:`gfrf.bounds.exact.clear_caches`) are forgotten before
 every call, while the symbolic kernels (the same at every level) are built once
 beforehand.  Quantities:
 
-* ``sup |H1|``: :func:`gfrf.rational.rational_sup` alone (exact decisions, then Arb
+* ``sup |H1|``: :func:`gfrf.bounds.rational.rational_sup` alone (exact decisions, then Arb
   ball enclosure of the stationary points, or numpy roots and double evaluation);
-* ``||H1||``: :func:`gfrf.norms.h1_norm` as the CLI calls it (it also runs the
+* ``||H1||``: :func:`gfrf.bounds.norms.h1_norm` as the CLI calls it (it also runs the
   python-control cross-check at every level);
-* ``||H3||``: :func:`gfrf.norms.kernel_norm` (majorant, local search and, where the
+* ``||H3||``: :func:`gfrf.bounds.norms.kernel_norm` (majorant, local search and, where the
   majorant is not attained, the branch-and-bound, whose cost is the same at every
   level but ``none``);
-* ``r*``: :func:`gfrf.criteria.verdict` at order 1 without norm brackets (majorant,
+* ``r*``: :func:`gfrf.stability.criteria.verdict` at order 1 without norm brackets (majorant,
   radius and, at the interval level, the ball-arithmetic check of the supersolution;
   Theorem 2's loop radius for the cart-pole with lags).
 
@@ -40,12 +40,12 @@ LAGS = (0.01, 0.01, 0.01)
 
 def _cases() -> list[tuple[str, str, Callable[[str], Any], Callable[[Any], float]]]:
     """(model label, quantity, function of the level, value of its result)."""
-    from gfrf.criteria import verdict
-    from gfrf.loops import with_lags
-    from gfrf.majorant import linear_polynomials
-    from gfrf.modelfile import load_model
-    from gfrf.norms import h1_norm, kernel_norm
-    from gfrf.rational import discrete_rational_sup, rational_sup
+    from gfrf.bounds.majorant import linear_polynomials
+    from gfrf.bounds.norms import h1_norm, kernel_norm
+    from gfrf.bounds.rational import discrete_rational_sup, rational_sup
+    from gfrf.model.modelfile import load_model
+    from gfrf.stability.criteria import verdict
+    from gfrf.stability.loops import with_lags
 
     cases: list[tuple[str, str, Callable[[str], Any], Callable[[Any], float]]] = []
     for name in ("hanging_pendulum", "hanging_pendulum_damped", "duffing", "cartpole",
@@ -77,7 +77,7 @@ def _cases() -> list[tuple[str, str, Callable[[str], Any], Callable[[Any], float
 
 def run(quick: bool) -> BenchSection:
     """Time every case at every level; return the report section."""
-    from gfrf.exact import clear_caches
+    from gfrf.bounds.exact import clear_caches
 
     repeats = 2 if quick else 5
     rows: list[list[object]] = []

@@ -32,9 +32,9 @@ from scipy.integrate import solve_ivp
 
 from gfrf._atomic import atomic_path
 from gfrf.bench import BenchSection, best_of, figure_dir, load_note
-from gfrf.modelfile import load_model
-from gfrf.signals import parse_input
-from gfrf.simulation import auto_method, build_system, simulate
+from gfrf.model.modelfile import load_model
+from gfrf.model.signals import parse_input
+from gfrf.sim.simulation import auto_method, build_system, simulate
 
 __all__ = ["run", "measure"]
 
@@ -42,7 +42,7 @@ _INPUT = "0.05*sin(1.565*t)"
 _T_END = 200.0
 _DAMPING, _STIFFNESS = 0.05, 2.45
 _CUBIC = _STIFFNESS / 6.0
-_DEFAULT_RTOL = 1e-8  # gfrf.simulation's default
+_DEFAULT_RTOL = 1e-8  # gfrf.sim.simulation's default
 _PLAIN = ("RK45", "DOP853", "LSODA")
 _DEFAULT = "gfrf default (auto)"
 

@@ -36,9 +36,9 @@ _HELP_GOAL, _NORM_GOAL, _FIRST_FAST_GOAL = 3.0, 3.0, 0.5
 
 _FIRST_CALL = f"""
 import json, time
-from gfrf.modelfile import load_model
-from gfrf.signals import parse_input
-from gfrf.simulation import simulate
+from gfrf.model.modelfile import load_model
+from gfrf.model.signals import parse_input
+from gfrf.sim.simulation import simulate
 model, signal = load_model({_MODEL!r}), parse_input("0.05*sin(1.565*t)")
 start = time.perf_counter()
 result = simulate(model, signal, t_end=200.0, method="fast", dt=0.01)

@@ -25,12 +25,12 @@ from typing import Any
 import numpy as np
 
 from gfrf.bench import BenchSection, load_note
-from gfrf.criteria import verdict
-from gfrf.kernels import GFRFGenerator
-from gfrf.majorant import majorant, radius
-from gfrf.norms import h1_norm
-from gfrf.sweep import parse_axis, sweep
-from gfrf.template import model_template, rebuild
+from gfrf.bounds.majorant import majorant, radius
+from gfrf.bounds.norms import h1_norm
+from gfrf.kernels.recursion import GFRFGenerator
+from gfrf.model.template import model_template, rebuild
+from gfrf.stability.criteria import verdict
+from gfrf.sweep.run import parse_axis, sweep
 
 __all__ = ["run"]
 

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 from gfrf.errors import ModelError
 
 if TYPE_CHECKING:
-    from gfrf.modelfile import ModelFile
+    from gfrf.model.modelfile import ModelFile
 
 __all__ = ["add_model_argument", "resolve_model"]
 
@@ -32,7 +32,7 @@ def _is_file(text: str) -> bool:
 
 def resolve_model(args: argparse.Namespace) -> ModelFile:
     """Load ``args.model`` as a file if it names one (or ends in .toml), else parse it."""
-    from gfrf.modelfile import load_model, model_from_dict
+    from gfrf.model.modelfile import load_model, model_from_dict
 
     text = args.model
     if text.endswith(".toml") or ("=" not in text and _is_file(text)):

@@ -52,7 +52,7 @@ def _format(expr: sp.Expr, latex: bool) -> str:
 
 
 def _show(args: argparse.Namespace) -> int:
-    from gfrf.kernels import MAX_KERNEL_ORDER, kernel
+    from gfrf.kernels.recursion import MAX_KERNEL_ORDER, kernel
 
     mf = resolve_model(args)
     model = mf.plant
@@ -101,7 +101,7 @@ def _parse_omegas(text: str, order: int) -> list[float]:
 def _kernel(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from gfrf.kernels import kernel
+    from gfrf.kernels.recursion import kernel
 
     mf = resolve_model(args)
     k = kernel(mf.plant, args.order, not args.asymmetric)

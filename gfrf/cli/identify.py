@@ -71,7 +71,6 @@ def _check_out(out: str) -> Path:
 
 def _identify(args: argparse.Namespace) -> int:
     from gfrf.cli.stability import _verdict_text
-    from gfrf.criteria import verdict
     from gfrf.identify import (
         identify,
         load_text,
@@ -80,6 +79,7 @@ def _identify(args: argparse.Namespace) -> int:
         read_csv,
         write_atomic,
     )
+    from gfrf.stability.criteria import verdict
 
     out = _check_out(args.out) if args.out else None
     y, u = read_csv(args.data, args.output, args.input)

@@ -5,7 +5,7 @@ physical equation when the file has one, ``--polynomial`` for the truncated mode
 ``--closed-loop`` with the file's controller (the input is then the reference),
 ``--initial y0,dy0`` for initial conditions.  Exit code 0 when the run reaches
 t_end, 1 when it blows up or fails (one line ``FAILED: ...``, e.g. the work budget
-``--max-evaluations``, default :data:`gfrf.integrate.MAX_RHS_EVALUATIONS`, was spent:
+``--max-evaluations``, default :data:`gfrf.sim.integrate.MAX_RHS_EVALUATIONS`, was spent:
 it names the limit and the time reached), 2 for bad input (among them an input tone
 too fast for that budget over t_end).  ``gfrf predict MODEL --input TEXT
 --order N`` lists the steady-state harmonics of a sum of tones (rad/s); exit 1 (one
@@ -30,11 +30,11 @@ from gfrf.cli._output import add_json_flag, check_plot_path, emit
 from gfrf.errors import ArgumentError
 
 if TYPE_CHECKING:  # the numerical modules are imported where used: the parser stays cheap
-    from gfrf.integrate import SimulationResult
+    from gfrf.sim.integrate import SimulationResult
 
 __all__ = ["register", "METHODS"]
 
-#: Same as :data:`gfrf.simulation.METHODS` (kept here so that building the parser does not
+#: Same as :data:`gfrf.sim.simulation.METHODS` (kept here so that building the parser does not
 #: import scipy/sympy; a test asserts equality).
 METHODS: tuple[str, ...] = ("auto", "rk45", "dop853", "radau", "lsoda", "fast")
 
@@ -130,8 +130,8 @@ def _simulate(args: argparse.Namespace) -> int:
     import numpy as np
     from tqdm import tqdm
 
-    from gfrf.integrate import MAX_RHS_EVALUATIONS
-    from gfrf.simulation import simulate
+    from gfrf.sim.integrate import MAX_RHS_EVALUATIONS
+    from gfrf.sim.simulation import simulate
 
     check_plot_path(args.plot)
     mf = resolve_model(args)
@@ -193,8 +193,8 @@ def _plot(res: SimulationResult, path: str, title: str, output: str) -> None:
 def _predict(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from gfrf.signals import parse_input
-    from gfrf.volterra import PROOF_WORDS, BeyondRadiusError, NoSteadyStateError, predict
+    from gfrf.model.signals import parse_input
+    from gfrf.sim.volterra import PROOF_WORDS, BeyondRadiusError, NoSteadyStateError, predict
 
     mf = resolve_model(args)
     signal = parse_input(args.input)
@@ -220,7 +220,7 @@ def _predict(args: argparse.Namespace) -> int:
 
 
 def _validate(args: argparse.Namespace) -> int:
-    from gfrf.validation import validate
+    from gfrf.sim.validation import validate
 
     mf = resolve_model(args)
     with warnings.catch_warnings():

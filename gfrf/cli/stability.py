@@ -32,8 +32,8 @@ from gfrf.cli._output import add_json_flag, emit
 from gfrf.errors import ArgumentError
 
 if TYPE_CHECKING:  # imported where used: building the parser stays cheap
-    from gfrf.criteria import Verdict
-    from gfrf.norms import Bound
+    from gfrf.bounds.norms import Bound
+    from gfrf.stability.criteria import Verdict
 
 __all__ = ["register"]
 
@@ -121,7 +121,7 @@ def _bound_line(b: Bound) -> str:
 
 def _check_order(order: int) -> None:
     """Refuse an order outside 1..MAX_KERNEL_ORDER before any work."""
-    from gfrf.kernels import MAX_KERNEL_ORDER
+    from gfrf.kernels.recursion import MAX_KERNEL_ORDER
 
     if not 1 <= order <= MAX_KERNEL_ORDER:
         raise ArgumentError(f"--order must be between 1 and MAX_KERNEL_ORDER = "
@@ -131,8 +131,8 @@ def _check_order(order: int) -> None:
 def _norm(args: argparse.Namespace) -> int:
     _check_order(args.order)
     mf = resolve_model(args)
-    from gfrf.branch_bound import BOX_LIMIT
-    from gfrf.norms import BOX_BUDGET, kernel_norm
+    from gfrf.bounds.branch_bound import BOX_LIMIT
+    from gfrf.bounds.norms import BOX_BUDGET, kernel_norm
 
     budget = BOX_BUDGET if args.max_boxes is None else args.max_boxes
     if not 0 <= budget <= BOX_LIMIT:
@@ -185,7 +185,7 @@ def _verdict_text(name: str, v: Verdict, proof: str = "") -> list[str]:
 def _verdict(args: argparse.Namespace) -> int:
     _check_order(args.order)
     mf = resolve_model(args)
-    from gfrf.criteria import parameter_margin, verdict
+    from gfrf.stability.criteria import parameter_margin, verdict
 
     v = verdict(mf, args.order, args.amplitude, proof=args.proof, norms=args.norms)
     payload = {"model": mf.name, "proof_level": args.proof, "norms_level": args.norms,

@@ -2,7 +2,7 @@
 
 ``gfrf sweep MODEL --param NAME=START:STOP:N [--param ...] [--what verdict|radius|norm|
 bounded] [--scheduler local|processes|ADDRESS] [--out FILE.csv|.parquet] [--plot FILE.png]
-[--json]`` evaluates the quantity at every grid point (see :mod:`gfrf.sweep`), prints
+[--json]`` evaluates the quantity at every grid point (see :mod:`gfrf.sweep.run`), prints
 a summary (points per class, range of r*, throughput), writes the table and the
 stability map.  Exit code 0 when the sweep ran (whatever the verdicts), 2 on bad input.
 """
@@ -14,7 +14,7 @@ import math
 from collections import Counter
 
 from gfrf.cli._output import add_json_flag, check_plot_path, emit
-from gfrf.sweep import (
+from gfrf.sweep.run import (
     SCHEDULER_TIMEOUT,
     WHAT,
     SweepResult,
@@ -90,7 +90,7 @@ def _sweep(args: argparse.Namespace) -> int:
         check_output(args.out)
     check_plot_path(args.plot)
     check_scheduler(args.scheduler)
-    from gfrf.modelfile import load_model, read_table
+    from gfrf.model.modelfile import load_model, read_table
 
     mf = load_model(args.model)  # validates the file and gives its errors their names
     data = read_table(args.model)
@@ -102,7 +102,7 @@ def _sweep(args: argparse.Namespace) -> int:
     if args.out:
         lines.append(f"  table: {result.write(args.out)}")
     if args.plot:
-        from gfrf.sweep_plot import plot_stability_map
+        from gfrf.sweep.plot import plot_stability_map
 
         lines.append(f"  map: {plot_stability_map(result, args.plot, mf.name)}")
     emit(args, payload, "\n".join(lines))

@@ -1,7 +1,7 @@
 """From measured data to a gfrf model: polynomial NARX models identified with sysidentpy.
 
 :func:`from_sysidentpy` converts a fitted sysidentpy polynomial model into a gfrf
-:class:`~gfrf.model.Model` exactly: every regressor, lag and coefficient.  sysidentpy
+:class:`~gfrf.model.equation.Model` exactly: every regressor, lag and coefficient.  sysidentpy
 encodes a regressor as a row of integer codes, one per factor, ``0`` for an unused
 slot: ``1000 + n`` is the output ``y(k-n)``, ``2000 + n`` the (first) input ``u(k-n)``,
 ``3000 + n`` a second input; the row ``[2001, 1001, 0]`` is ``u(k-1)*y(k-1)`` and the
@@ -19,8 +19,8 @@ a model file that ``gfrf verdict`` and ``gfrf report`` read like any other.
 sysidentpy is the optional extra ``gfrf[identify]``; it is imported only inside
 :func:`identify`.  The converter itself needs nothing but the model's ``final_model``
 and ``theta`` arrays.  Sub-modules: :mod:`gfrf.identify.example` (the worked example's
-data generator), :mod:`gfrf.identify.report` (its report page),
-:mod:`gfrf.identify.bench` (identification timings).
+data generator), :mod:`gfrf.report.identified` (its report page),
+:mod:`gfrf.bench.identify` (identification timings).
 
 Examples
 --------
@@ -53,8 +53,8 @@ from typing import Any
 import numpy as np
 
 from gfrf.errors import ArgumentError, GfrfError, ModelError
-from gfrf.model import MAX_DEGREE, MAX_DERIVATIVE_ORDER, Model, Term
-from gfrf.modelfile import ModelFile, model_from_dict
+from gfrf.model.equation import MAX_DEGREE, MAX_DERIVATIVE_ORDER, Model, Term
+from gfrf.model.modelfile import ModelFile, model_from_dict
 
 __all__ = ["Identification", "from_sysidentpy", "identify", "read_csv", "free_run",
            "model_file_text", "load_text", "narx_equation", "write_atomic", "candidate_count",
@@ -237,7 +237,7 @@ def from_sysidentpy(model: Any, sample_time: float, output: str = "y",
     Model
         The discrete-time model ``y[k] - sum_i theta_i * regressor_i = 0``; its
         ``text`` is the equation with shortest round-trip coefficients, which
-        :func:`gfrf.model.parse_model` reads back to the same terms.
+        :func:`gfrf.model.equation.parse_model` reads back to the same terms.
 
     Raises
     ------

@@ -16,15 +16,17 @@ Regenerate with ``python -m gfrf.identify.example`` (same bytes on every run).
 from __future__ import annotations
 
 import argparse
+import math
 from pathlib import Path
 
 import numpy as np
 
 from gfrf.identify import free_run, identify, model_file_text, read_csv, write_atomic
-from gfrf.model import Model, parse_model
+from gfrf.kernels.recursion import kernel
+from gfrf.model.equation import Model, parse_model
 
 __all__ = ["TRUE_EQUATION", "SAMPLE_TIME", "SEED", "NOISE", "N_SAMPLES", "STEM",
-           "true_model", "generate", "write_example", "MODELS_DIR"]
+           "true_model", "generate", "write_example", "kernel_errors", "MODELS_DIR"]
 
 #: The model that generates the data (y = u = 0 is an equilibrium; poles |z| = 0.447).
 TRUE_EQUATION = ("y[k] = 0.6*y[k-1] - 0.2*y[k-2] + 0.5*u[k-1] + 0.3*u[k-2] "
@@ -62,6 +64,20 @@ def generate(n: int = N_SAMPLES, seed: int = SEED, noise: float = NOISE,
     if blowup is not None:
         raise RuntimeError(f"the example model blew up at sample {blowup}")
     return u, y + noise * rng.standard_normal(n), y
+
+
+def kernel_errors(identified: Model, true: Model, points: int = 400) -> dict[str, float]:
+    """Largest |H_id - H_true| / max |H_true| of H1 (0..pi/T) and H2 (grid on [-pi/T, pi/T]^2)."""
+    nyquist = math.pi / float(true.sample_time)  # type: ignore[arg-type]
+    w = np.linspace(0.0, nyquist, points)
+    out = {}
+    h1_true, h1_id = kernel(true, 1)(w), kernel(identified, 1)(w)
+    out["H1"] = float(np.max(np.abs(h1_id - h1_true)) / np.max(np.abs(h1_true)))
+    g = np.linspace(-nyquist, nyquist, int(math.sqrt(points * 40)))
+    w1, w2 = np.meshgrid(g, g)
+    h2_true, h2_id = kernel(true, 2)(w1, w2), kernel(identified, 2)(w1, w2)
+    out["H2"] = float(np.max(np.abs(h2_id - h2_true)) / np.max(np.abs(h2_true)))
+    return out
 
 
 def write_example(models_dir: str | Path = MODELS_DIR) -> list[Path]:

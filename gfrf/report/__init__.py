@@ -8,7 +8,7 @@ dates), into one folder:
 * ``paper-periodic.md`` through ``gfrf.report.periodic.write`` when that module exists;
 * ``models/<stem>.md`` (:mod:`gfrf.report.model_page`): one verdict page per bundled
   GFRF model file;
-* ``identified-example.md`` (:mod:`gfrf.identify.report`, with the ``identify`` extra):
+* ``identified-example.md`` (:mod:`gfrf.report.identified`, with the ``identify`` extra):
   a NARX model identified from data against the true model;
 * ``README.md``: an index of the above.
 

@@ -1,7 +1,7 @@
 """Figures of the reports: gain/phase of H1, slices of H3, time responses.
 
 All figures use matplotlib's Agg backend (set in :mod:`gfrf.report._format`) and
-evaluate the kernels of :mod:`gfrf.kernels` on fixed grids, so they are identical
+evaluate the kernels of :mod:`gfrf.kernels.recursion` on fixed grids, so they are identical
 from run to run.
 """
 
@@ -15,8 +15,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.colors import LogNorm
 
-from gfrf.kernels import kernel
-from gfrf.model import Model
+from gfrf.kernels.recursion import kernel
+from gfrf.model.equation import Model
 from gfrf.report._format import save_figure
 from gfrf.report.analysis import Response
 

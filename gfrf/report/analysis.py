@@ -1,11 +1,11 @@
 """Everything a report says about one model file, computed once per run.
 
 :func:`analyse` loads a model file and runs the verdict (Theorem 1 or 2, with norm
-brackets), the simulations of :func:`gfrf.validation.validate` around the margin r*,
+brackets), the simulations of :func:`gfrf.sim.validation.validate` around the margin r*,
 the time responses drawn in the figures, and for each ``[parameters]`` entry a scan of
 the verdict at r = 1 over a bracket around its value with, where the verdict turns
 ``stable`` above a boundary, the certified boundary of
-:func:`gfrf.criteria.parameter_margin`.  The result is cached per (path, quick),
+:func:`gfrf.stability.criteria.parameter_margin`.  The result is cached per (path, quick),
 so the per-model page and the paper page quote the same objects.
 
 The simulations use the polynomial (truncated) equation, the object the verdict
@@ -23,13 +23,13 @@ from pathlib import Path
 
 import numpy as np
 
-from gfrf.criteria import Margin, Verdict, parameter_margin, verdict
 from gfrf.errors import GfrfError
-from gfrf.integrate import SimulationResult
-from gfrf.modelfile import ModelFile, load_model
-from gfrf.simulation import build_system, simulate
-from gfrf.template import ModelTemplate, model_template
-from gfrf.validation import ValidationResult, resonance, validate
+from gfrf.model.modelfile import ModelFile, load_model
+from gfrf.model.template import ModelTemplate, model_template
+from gfrf.sim.integrate import SimulationResult
+from gfrf.sim.simulation import build_system, simulate
+from gfrf.sim.validation import ValidationResult, resonance, validate
+from gfrf.stability.criteria import Margin, Verdict, parameter_margin, verdict
 
 __all__ = ["MODELS_DIR", "MARGIN_OCTAVES", "ModelAnalysis", "ParameterScan", "Response",
            "analyse", "scan_parameter", "settings"]
@@ -67,7 +67,7 @@ class ParameterScan:
     stable : tuple of bool
         Whether the verdict at each grid value is ``stable`` (an invalid point is not).
     margin : Margin or None
-        The boundary of :func:`gfrf.criteria.parameter_margin`, when the verdict along
+        The boundary of :func:`gfrf.stability.criteria.parameter_margin`, when the verdict along
         the grid is monotone with ``stable`` above one boundary.
     note : str
         Why there is no margin (empty when there is one).
@@ -94,7 +94,7 @@ class ModelAnalysis:
         At the paper's amplitude r = 1, with norm brackets up to ``order``.
     order : int
     resonance : float
-        Peak of |H1| (rad/s) on the grid of :func:`gfrf.validation.resonance`.
+        Peak of |H1| (rad/s) on the grid of :func:`gfrf.sim.validation.resonance`.
     trial_scale : float
         The amplitude the trials are multiples of: r* when positive, else the
         uncertified root-test estimate (``trial_scale_certified`` False), else 0.
@@ -196,7 +196,7 @@ def scan_parameter(mf: ModelFile, template: ModelTemplate, name: str,
     name : str
         A key of the file's ``[parameters]``.
     tolerance : float
-        Relative bracket width of the :func:`gfrf.criteria.parameter_margin` bisection.
+        Relative bracket width of the :func:`gfrf.stability.criteria.parameter_margin` bisection.
 
     Returns
     -------

@@ -16,12 +16,12 @@ from pathlib import Path
 import sympy as sp
 
 from gfrf._atomic import atomic_write_text
-from gfrf.kernels import kernel
-from gfrf.norms import linear_poles
+from gfrf.bounds.norms import linear_poles
+from gfrf.kernels.recursion import kernel
 from gfrf.report._figures import frequency_scale, h1_figure, h3_slice_figure, response_figure
 from gfrf.report._format import cell, code, header, mark, num, table
 from gfrf.report.analysis import MARGIN_OCTAVES, ModelAnalysis, analyse
-from gfrf.validation import linear_vs_nonlinear
+from gfrf.sim.validation import linear_vs_nonlinear
 
 __all__ = ["write", "summary_lines", "command_path"]
 
@@ -203,7 +203,7 @@ def _margin_section(a: ModelAnalysis) -> list[str]:
            f"Verdict at r = 1 (Theorem {a.verdict.theorem}, majorant only) along each "
            f"parameter over the bracket {octaves}, the others at their file values; where "
            "the verdict changes once, that boundary is bisected by "
-           "`gfrf.criteria.parameter_margin` (certified).", ""]
+           "`gfrf.stability.criteria.parameter_margin` (certified).", ""]
     for s in a.margins:
         m = s.margin
         if m is None:
@@ -240,7 +240,7 @@ def _simulation_section(a: ModelAnalysis, out_dir: Path) -> list[str]:
         return out + ["No input trials: there is no positive radius to scale them.", ""]
     scale = ("r*" if a.trial_scale_certified else
              "the uncertified radius estimate (r* = 0)")
-    out += [f"Trials of `gfrf.validation.validate` at multiples of {scale} = "
+    out += [f"Trials of `gfrf.sim.validation.validate` at multiples of {scale} = "
             f"{num(a.trial_scale)} (and at the paper's r = 1); fixed seed 0, resonance "
             f"{num(val.resonance)} rad/s.", "",
             table(["input", "amplitude", "below scale", "bounded", "peak |y|", "blow-up time (s)"],

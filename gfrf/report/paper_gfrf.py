@@ -1,11 +1,11 @@
 """``paper-gfrf.md``: the GFRF stability paper (Cao & Cao, paper 001) number by number.
 
 Sections: the table of every printed number against ours (the rows of
-:func:`gfrf.paper_checks.paper_checks`, rendered cell by cell with
+:func:`gfrf.papers.gfrf_paper.paper_checks`, rendered cell by cell with
 :func:`gfrf.report._format.cell`, each with the command that reproduces it); the
 paper's figures 3-6 regenerated; Theorems 1 and 2 with our certified margin r* and
 the damping margin; and the simulations that confirm or refute the conclusions
-(:mod:`gfrf.validation`, through :func:`gfrf.report.analysis.analyse`).
+(:mod:`gfrf.sim.validation`, through :func:`gfrf.report.analysis.analyse`).
 
 The paper's values are quoted from the model files' ``[paper]`` tables and from
 ``paper_checks``; nothing else is typed in.
@@ -19,13 +19,10 @@ from typing import Any
 import numpy as np
 
 from gfrf._atomic import atomic_write_text
-from gfrf.criteria import parameter_margin
-from gfrf.kernels import kernel
-from gfrf.loops import closed_loop
-from gfrf.majorant import linear_polynomials
-from gfrf.modelfile import load_model
-from gfrf.paper_checks import AlphaRow, CheckRow, alpha_variants, paper_checks, theta_readings
-from gfrf.paper_checks_cartpole import (
+from gfrf.bounds.majorant import linear_polynomials
+from gfrf.kernels.recursion import kernel
+from gfrf.model.modelfile import load_model
+from gfrf.papers.cartpole import (
     LAG_TIME_CONSTANTS,
     has_physical_equation,
     inertia_reversal,
@@ -35,11 +32,14 @@ from gfrf.paper_checks_cartpole import (
     sign_margin,
     theorem2_obstruction,
 )
+from gfrf.papers.gfrf_paper import AlphaRow, CheckRow, alpha_variants, paper_checks, theta_readings
 from gfrf.report._figures import frequency_scale, h1_figure, h3_slice_figure
 from gfrf.report._format import cell, code, header, num, table
 from gfrf.report.analysis import MODELS_DIR, ModelAnalysis, analyse, settings
 from gfrf.report.model_page import command_path
-from gfrf.validation import resonance
+from gfrf.sim.validation import resonance
+from gfrf.stability.criteria import parameter_margin
+from gfrf.stability.loops import closed_loop
 
 __all__ = ["write", "check_table", "row_command", "simulation_table", "MODELS", "EQ2_MODELS",
            "CHECK_HEADERS", "SIMULATION_HEADERS"]
@@ -61,9 +61,9 @@ SIMULATION_HEADERS = ("model", "equation", "input", "amplitude r", "r / r*", "be
 CHECK_HEADERS = ("section", "quantity", "paper (printed)", "ours", "match", "reason",
                  "check")
 
-_ROWS = ("python -c \"from gfrf.paper_checks import paper_checks as p; "
+_ROWS = ("python -c \"from gfrf.papers.gfrf_paper import paper_checks as p; "
          "[print(r) for r in p('models')]\"")
-_COEFFICIENTS = ("python -c \"from gfrf.paper_checks import coefficient_rows as c; "
+_COEFFICIENTS = ("python -c \"from gfrf.papers.gfrf_paper import coefficient_rows as c; "
                  "[print(r) for r in c('models/cartpole.toml')]\"")
 
 
@@ -237,7 +237,7 @@ def _cartpole_section(quick: bool) -> tuple[list[str], dict[str, Any], str]:
                for t in sorted(stab, key=lambda t: -t.radius)[:5]]
     text = [
         "## The cart-pole loop, told straight", "",
-        "Computed by `gfrf.paper_checks_cartpole` (tests: `tests/test_paper_findings.py`, "
+        "Computed by `gfrf.papers.cartpole` (tests: `tests/test_paper_findings.py`, "
         "against exact Routh-Hurwitz arrays in rationals, the static series, python-control "
         "and direct integrations).", "",
         "**The ideal loop is stable only by reversing the inertia.** With the model's own "
@@ -335,7 +335,7 @@ def _alpha_section(rows: list[AlphaRow]) -> tuple[list[str], str]:
         "inconsistent, so eq (2) is kept faithfully in "
         + " and ".join(f"[{Path(n).stem}](models/{Path(n).stem}.md)" for n in EQ2_MODELS)
         + "; eq (6)'s files stay as the paper's variant. Theorem 1 at the paper's r = 1 "
-        "(`gfrf.paper_checks.alpha_variants`; threshold from "
+        "(`gfrf.papers.gfrf_paper.alpha_variants`; threshold from "
         "`gfrf verdict <file> --margin rho`; simulation: polynomial model, u = cos(w_r t) "
         f"at the resonance, {num(rows[0].t_end)} s):", "",
         table(["model", "alpha", "rho", "||H1||", "r*", "r* proof",
@@ -419,7 +419,7 @@ def write(out_dir: Path, quick: bool = False) -> Path:
              "inverted pendulum* (`../shared/papers/001_2d500e4ecf148e2c.txt` beside this "
              "repository). Printed "
              "values are quoted from the model files' `[paper]` tables and from "
-             "`gfrf.paper_checks`; every other number is computed in this run. Certified: "
+             "`gfrf.papers.gfrf_paper`; every other number is computed in this run. Certified: "
              "exact H1 norms, majorant upper bounds, r*; estimates: lower bounds found by "
              "search, radius estimates, simulations. Model pages: "
              + ", ".join(f"[{a.stem}](models/{a.stem}.md)" for a in ordered)

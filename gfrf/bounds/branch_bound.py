@@ -1,0 +1,374 @@
+"""Certified branch-and-bound for ||H_n||_inf = sup over R^n of |H_n(j w_1 .. j w_n)|.
+
+The recursive majorant of :mod:`gfrf.bounds.majorant` bounds |H_n| by multiplying sup-norms
+of factors; it is loose wherever terms cancel or resonances cannot coincide.  Here
+the sup is enclosed directly (angular frequencies in rad/s throughout):
+
+* **Tail.**  Outside the box |w_i| <= W (some |w_i| > W), the proven tail bound of
+  :mod:`gfrf.bounds.tail` (a recursion on the majorant that places the large coordinates in
+  the factors of each term).  W is doubled until it is below half the best value found
+  (or stops decreasing: the bracket then keeps the smallest tail bound met as its floor).
+* **Boxes.**  Inside, each box gets the enclosure of :mod:`gfrf.bounds.enclosure`: a
+  third-order Taylor enclosure of the straight-line recursion (the code of
+  :func:`gfrf.kernels.compiled.kernel_source`), whose tightest bound comes from the exact
+  quadratic model of |H_n|^2 at the box centre, so the overestimate is third order in
+  the box size.
+* **Search.**  Only a fundamental domain is searched: w_1 >= .. >= w_n for the
+  symmetric kernel (|H_n| is invariant under permutations) and w_1 + .. + w_n >= 0
+  (H_n(-w) = conj H_n(w)).  The boxes with the largest bounds are bisected (the
+  coordinate contributing most to the enclosure width), boxes whose bound is below
+  ``lower / (1 - tol)`` are discarded, box centres raise the lower bound and a new
+  best centre is polished by Nelder-Mead.
+
+Soundness.  The tail's one-dimensional sups are proven (Arb, :class:`gfrf.bounds.exact.SupBeyond`);
+the box enclosures are certified in floating point (see :mod:`gfrf.bounds.enclosure`), so the
+upper bound is ``proof = "float"``, not proven.  Continuous-time models only.
+
+Examples
+--------
+>>> from gfrf.model.equation import parse_model
+>>> r = branch_and_bound(parse_model("D(y,2) + 0.2*D(y) + y + 0.4*y**2 = u"), 2)
+>>> r.converged and (r.upper - r.lower) <= 1e-6 * r.upper
+True
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from collections.abc import Callable
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
+import sympy as sp
+
+from gfrf.bounds.enclosure import InverseA, enclose
+from gfrf.bounds.majorant import linear_polynomials, majorant
+from gfrf.bounds.simplex import nelder_mead
+from gfrf.bounds.starts import start_points
+from gfrf.bounds.tail import tail_bound
+from gfrf.errors import ArgumentError
+from gfrf.kernels.compiled import _Printer, kernel_source
+from gfrf.kernels.recursion import GFRFGenerator, generator
+from gfrf.model.equation import Model
+
+__all__ = ["BranchBoundResult", "branch_and_bound", "box_bounds", "MAX_ORDER",
+           "MAX_BOXES", "BOX_LIMIT", "check_budget"]
+
+#: Highest kernel order searched (the enclosure costs 2^n vertices and n^2 Hessian bounds).
+MAX_ORDER = 5
+#: Boxes bisected per vectorised step.
+BATCH = 2048
+#: Default budget of box evaluations of :func:`branch_and_bound` (about 10 s at order 5
+#: on a 2-core 2026 machine; :func:`gfrf.bounds.norms.kernel_norm` passes its own budget).
+MAX_BOXES = 200_000
+#: Boxes evaluated after which a search continues with the fused numba loops (when
+#: installed): their one-off import and cache load (~0.5 s) is then repaid by the ~50-250
+#: us per box they save (pendulum and cart-pole H5), and a search that ends sooner (most
+#: at orders <= 3) never imports numba.  A count of work, so the switch is deterministic.
+COMPILED_FROM = 5_000
+#: Budget from which the fused loops are used from the first box (a search given that
+#: much work is expected to need more than COMPILED_FROM boxes).
+COMPILED_BUDGET = 100_000
+#: Most boxes any search may be given (bounds the cost of every input: about 10 min).
+BOX_LIMIT = 20_000_000
+#: Nelder-Mead polishings of a new best box centre per search.
+MAX_POLISHES = 20
+
+
+@dataclass(frozen=True)
+class BranchBoundResult:
+    """Bracket of ||H_n||_inf from the branch-and-bound (angular frequencies in rad/s).
+
+    Attributes
+    ----------
+    lower : float
+        Best |H_n| found (attained at ``argmax``).
+    upper : float
+        Certified upper bound: max of the tail bound and of every box bound (never above
+        the recursive majorant).
+    argmax : tuple of float
+        Where ``lower`` is attained (rad/s).
+    converged : bool
+        True when ``upper - lower <= tol * upper`` was reached within the budget.
+    boxes : int
+        Number of boxes evaluated (the work that decided where the search stopped).
+    width : float
+        Half-width W (rad/s) of the searched box [-W, W]^n.
+    tail : float
+        Certified bound of |H_n| outside that box.
+    """
+
+    lower: float
+    upper: float
+    argmax: tuple[float, ...]
+    converged: bool
+    boxes: int
+    width: float
+    tail: float
+
+
+def _taylor_source(gen: GFRFGenerator, n: int, symmetric: bool) -> str:
+    """Source of ``taylor_kernel(x, inv_a)``: the recursion with 1/A as a call."""
+    printer = _Printer()
+    lines = ["def taylor_kernel(x, inv_a):",
+             f"    {', '.join(f'x{i}' for i in range(n))}, = x"]
+    names: dict[tuple[int, ...], str] = {}
+
+    def emit(block: tuple[int, ...]) -> str:
+        if block in names:
+            return names[block]
+        plan = gen.plan(len(block), symmetric)
+        if plan.is_zero:
+            names[block] = "0.0"
+            return "0.0"
+        label = "h_" + "_".join(map(str, block))
+        inner = gen.variables(len(block))
+        mapping: dict[sp.Symbol, sp.Symbol] = {v: sp.Symbol(f"x{block[i]}")
+                                               for i, v in enumerate(inner)}
+        for sub, placeholder in zip(plan.blocks, plan.placeholders, strict=True):
+            mapping[placeholder] = sp.Symbol(emit(tuple(block[j] for j in sub)))
+        replacements, (reduced,) = sp.cse(plan.numerator.xreplace(mapping),
+                                          symbols=sp.numbered_symbols(f"{label}_c"))
+        for sym, value in replacements:
+            lines.append(f"    {sym} = {printer.doprint(value)}")
+        lines.append(f"    {label} = -({printer.doprint(reduced)}) * inv_a({block!r})")
+        names[block] = label
+        return label
+
+    lines.append(f"    return {emit(tuple(range(n)))}")
+    return "\n".join(lines) + "\n"
+
+
+@lru_cache(maxsize=32)
+def _compiled(gen: GFRFGenerator, n: int, symmetric: bool) -> tuple[Callable[..., Any],
+                                                                     Callable[..., Any]]:
+    """(Taylor enclosure function, scalar point function) of H_n."""
+    namespace: dict[str, Any] = {}
+    exec(compile(_taylor_source(gen, n, symmetric), f"<gfrf taylor H{n}>", "exec"),  # noqa: S102
+         namespace)
+    exec(compile(kernel_source(gen, n, symmetric, "point_kernel"), f"<gfrf H{n}>", "exec"),  # noqa: S102
+         namespace)
+    return namespace["taylor_kernel"], namespace["point_kernel"]
+
+
+def box_bounds(model: Model, n: int, lo: np.ndarray, hi: np.ndarray, symmetric: bool = True,
+               compiled: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Certified bounds of |H_n| on boxes, with |H_n| at the centres.
+
+    Parameters
+    ----------
+    model : Model
+        Continuous-time model.
+    n : int
+        Kernel order.
+    lo, hi : numpy.ndarray, shape (N, n)
+        Box corners, angular frequencies in rad/s.
+    symmetric : bool, optional
+        Symmetric (default) or asymmetric kernel.
+    compiled : bool, optional
+        The fused numba loops instead of numpy (see :func:`gfrf.bounds.enclosure.enclose`).
+
+    Returns
+    -------
+    bound : numpy.ndarray, shape (N,)
+        sup of |H_n| over each box is at most ``bound``.
+    centre_modulus : numpy.ndarray, shape (N,)
+        |H_n| at the box centres.
+    split : numpy.ndarray of int, shape (N,)
+        Coordinate whose bisection most reduces the enclosure width.
+    """
+    if model.is_discrete:
+        raise ArgumentError("the branch-and-bound handles continuous-time models only")
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    if lo.ndim != 2 or lo.shape != hi.shape or lo.shape[1] != n:
+        raise ArgumentError(f"lo and hi must both have shape (N, {n})")
+    if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and np.all(lo <= hi)):
+        raise ArgumentError("box corners must be finite with lo <= hi (rad/s)")
+    _, den = linear_polynomials(model)
+    return enclose(_compiled(generator(model), n, symmetric)[0], _inverse(tuple(den.tolist())),
+                   lo, hi, compiled,
+                   _input_free(model))
+
+
+def _input_free(model: Model) -> bool:
+    """No input in a nonlinear term: every term of H_n holds each H1(w_i) once."""
+    return not any(t.q for t in majorant(model).terms)
+
+
+def check_budget(max_boxes: object, least: int) -> int:
+    """``max_boxes`` as an int in [least, BOX_LIMIT] (any integer type), else ArgumentError."""
+    if (isinstance(max_boxes, bool) or not isinstance(max_boxes, numbers.Integral)
+            or not least <= max_boxes <= BOX_LIMIT):
+        raise ArgumentError(f"max_boxes must be an integer in [{least}, {BOX_LIMIT}], got "
+                            f"{max_boxes!r}")
+    return int(max_boxes)
+
+
+@lru_cache(maxsize=16)
+def _inverse(den: tuple[float, ...]) -> InverseA:
+    """:class:`gfrf.bounds.enclosure.InverseA` of a denominator, built once per model."""
+    return InverseA(np.array(den))
+
+
+# -- search ----------------------------------------------------------------------------
+def _in_domain(lo: np.ndarray, hi: np.ndarray, symmetric: bool) -> np.ndarray:
+    """Boxes that may meet the open domain {sum w > 0} and, symmetric, {w_1 > .. > w_n}.
+
+    The tests are necessary conditions for a box to hold a point of that open set (a
+    point x with lo <= x <= hi, x_1 > .. > x_n has hi_i >= x_i > x_j >= lo_j for i < j),
+    so no such point is dropped; the kept boxes form a closed set, hence cover its
+    closure {w_1 >= .. >= w_n, sum w >= 0} too.  A box meeting only a face of that
+    closure (e.g. [a, b] x [b, c] with b < c, where w_1 = w_2 = b) is dropped: its
+    points lie in the mirrored box as well.
+    """
+    if not symmetric:
+        return hi.sum(axis=1) > 0
+    greedy = np.minimum.accumulate(hi, axis=1)  # the componentwise largest sorted point
+    return np.all(greedy[:, :-1] > lo[:, 1:], axis=1) & (greedy.sum(axis=1) > 0)
+
+
+def _polish(point: Callable[..., complex], x0: np.ndarray, scale: float
+            ) -> tuple[np.ndarray, float]:
+    """Nelder-Mead on -log|H_n| from x0."""
+
+    def objective(x: np.ndarray) -> float:
+        v = abs(point(*x))
+        return -math.log(v) if v > 0 and math.isfinite(v) else 1e300
+
+    n = x0.size
+    res = nelder_mead(objective, x0, initial_simplex=np.vstack([x0, x0 + scale * np.eye(n)]),
+                      xatol=1e-13 * (1 + float(np.max(np.abs(x0)))), fatol=1e-15,
+                      maxiter=800 * n, maxfev=1000 * n)
+    return res.x, abs(point(*res.x))
+
+
+def _modulus(point: Callable[..., complex], x: np.ndarray) -> float:
+    """|H_n(x)|, 0 where it is not a finite number."""
+    with np.errstate(all="ignore"):
+        value = abs(complex(point(*x)))
+    return value if math.isfinite(value) else 0.0
+
+
+def _resonance_start(point: Callable[..., Any], poles: np.ndarray, n: int) -> np.ndarray:
+    """The best of the start points (:func:`gfrf.bounds.starts.start_points`) built from the
+    poles' frequencies {0, |Im p|}: a start whose |H_n| lets the tail width W stop
+    doubling (from 0, where |H_n| may vanish, it never would)."""
+    starts = start_points({0.0, *(float(abs(p.imag)) for p in poles)}, n)
+    with np.errstate(all="ignore"):
+        values = np.abs(np.asarray(point(*starts.T), dtype=complex))
+    values[~np.isfinite(values)] = 0.0
+    return starts[int(np.argmax(values))]
+
+
+def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float = 0.0,
+                     argmax: tuple[float, ...] | None = None, tol: float = 1e-6,
+                     max_boxes: int = MAX_BOXES, progress: bool | None = False
+                     ) -> BranchBoundResult:
+    """Certified bracket of ||H_n||_inf over R^n (angular frequencies in rad/s).
+
+    Parameters
+    ----------
+    model : Model
+        Continuous-time model whose majorant is finite (else the tail is unbounded).
+    n : int
+        Kernel order, 2 <= n <= :data:`MAX_ORDER`.
+    symmetric : bool, optional
+        Symmetric (default) or asymmetric kernel.
+    lower, argmax : optional
+        A value already attained and where (e.g. from a local search).
+    tol : float, optional
+        Target relative gap (upper - lower) / upper.
+    max_boxes : int, optional
+        Budget of box evaluations; the search stops at the first batch that reaches
+        it and returns the honest bracket with ``converged = False``.  The result
+        depends on the model, ``n``, ``tol`` and this budget only, never on time.
+    progress : bool or None, optional
+        tqdm progress bar of the boxes spent against the budget, with the current gap
+        (on stderr); None shows it on a terminal only.  Default False.
+
+    Returns
+    -------
+    BranchBoundResult
+    """
+    if model.is_discrete:
+        raise ArgumentError("the branch-and-bound handles continuous-time models only")
+    if not 2 <= n <= MAX_ORDER:
+        raise ArgumentError(f"branch-and-bound order must be in 2..{MAX_ORDER}, got {n}")
+    max_boxes = check_budget(max_boxes, 1)
+    gen = generator(model)
+    taylor, point = _compiled(gen, n, symmetric)
+    _, den = linear_polynomials(model)
+    inverse = _inverse(tuple(den.tolist()))
+    poles = np.roots(den) if den.size > 1 else np.zeros(1)
+    best_x = (_resonance_start(point, poles, n) if argmax is None
+              else np.array(argmax, dtype=float))
+    best = max(lower, _modulus(point, best_x))
+    maj = majorant(model)
+    width = 2.0 * (1.0 + float(np.max(np.abs(poles))))
+    tails = [(width, tail_bound(model, n, width, maj))]
+    while tails[-1][1] > 0.5 * best and len(tails) < 60 and not (
+            len(tails) > 8 and tails[-1][1] >= 0.99 * tails[-5][1]):  # floor reached
+        tails.append((2.0 * width, tail_bound(model, n, 2.0 * width, maj)))
+        width *= 2.0
+    floor = min(t for _, t in tails)
+    width, tail = next((w, t) for w, t in tails if t <= max(floor * 1.01, 0.5 * best))
+    ceiling = float(maj.coefficients(n)[n, 0])
+    if not tail < ceiling:
+        return BranchBoundResult(best, max(ceiling, best), tuple(float(x) for x in best_x),
+                                 False, 0, width, tail)
+    lo, hi = -width * np.ones((1, n)), width * np.ones((1, n))
+    leaves = _input_free(model)
+    bound, value, split = enclose(taylor, inverse, lo, hi, max_boxes >= COMPILED_BUDGET,
+                                  leaves)
+    boxes, pruned, polishes = 1, 0.0, 0
+    from tqdm import tqdm
+
+    bar = tqdm(total=max_boxes, initial=1, unit="box", desc=f"||H{n}|| bracket", leave=False,
+               disable=None if progress is None else not progress)
+    with bar:
+        while True:
+            threshold = max(best / (1.0 - tol), tail)  # upper >= tail whatever the boxes give
+            keep = bound > threshold
+            pruned = max(pruned, float(np.max(bound[~keep], initial=0.0)))
+            lo, hi, bound, split = lo[keep], hi[keep], bound[keep], split[keep]
+            upper = max(tail, pruned, float(np.max(bound, initial=0.0)))
+            bar.set_postfix_str(f"gap {1 - best / upper if upper > 0 else 0.0:.2e}", refresh=False)
+            if not bound.size or boxes >= max_boxes:
+                break
+            take = np.argsort(bound)[::-1][:BATCH]
+            rest = np.ones(bound.size, bool)
+            rest[take] = False
+            p_lo, p_hi, p_split = lo[take], hi[take], split[take]
+            rows = np.arange(take.size)
+            mid = 0.5 * (p_lo[rows, p_split] + p_hi[rows, p_split])
+            left_hi, right_lo = p_hi.copy(), p_lo.copy()
+            left_hi[rows, p_split] = mid
+            right_lo[rows, p_split] = mid
+            c_lo, c_hi = np.vstack([p_lo, right_lo]), np.vstack([left_hi, p_hi])
+            inside = _in_domain(c_lo, c_hi, symmetric)
+            c_lo, c_hi = c_lo[inside], c_hi[inside]
+            c_bound, c_value, c_split = enclose(taylor, inverse, c_lo, c_hi,
+                                                max_boxes >= COMPILED_BUDGET
+                                                or boxes >= COMPILED_FROM, leaves)
+            boxes += c_lo.shape[0]
+            bar.update(c_lo.shape[0])
+            magnitude = c_value.copy()
+            magnitude[~np.isfinite(magnitude)] = 0.0
+            if magnitude.size and magnitude.max() > best:
+                k = int(np.argmax(magnitude))
+                centre = 0.5 * (c_lo[k] + c_hi[k])
+                if magnitude[k] > best * (1 + tol) and polishes < MAX_POLISHES:
+                    polishes += 1
+                    x, polished = _polish(point, centre, float(np.max(c_hi[k] - c_lo[k])))
+                    if polished > magnitude[k]:
+                        centre, magnitude[k] = x, polished
+                best, best_x = float(magnitude[k]), centre
+            lo, hi = np.vstack([lo[rest], c_lo]), np.vstack([hi[rest], c_hi])
+            bound = np.concatenate([bound[rest], c_bound])
+            split = np.concatenate([split[rest], c_split])
+    upper = max(min(upper, ceiling), best)
+    return BranchBoundResult(best, upper, tuple(float(x) for x in best_x),
+                             upper - best <= tol * upper, boxes, width, tail)

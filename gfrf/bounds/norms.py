@@ -1,0 +1,518 @@
+"""H-infinity norms of the GFRFs: ||H1|| exactly, ||Hn|| (n >= 2) as a certified bracket.
+
+``h1_norm(model)`` is the sup over omega (rad/s) of |H1(j omega)|, H1 = -B/A, as a
+proven enclosure ``[lower, upper]`` (``proof = "interval"``): exact rational algebra
+on the float coefficients and ball arithmetic on the stationary points of |H1|^2
+(:func:`gfrf.bounds.rational.rational_sup`), for continuous and NARX models alike.  It is
+cross-checked against python-control's ``control.norm(sys, p='inf')`` (whose
+tolerance is 1e-6 without slycot).  A common factor of B and A is cancelled exactly
+and reported; an improper H1 or a pole on the imaginary axis (unit circle), decided
+exactly, gives ``upper = inf`` with the reason in ``notes``; an unstable linear part
+(a pole in the open right half plane) still has a finite sup on the axis (the
+L-infinity norm, used by Theorem 2 for an unstable plant), flagged ``stable = False``.
+Stability of A is decided exactly (Routh's test in rationals, :mod:`gfrf.bounds.exact`).
+
+``kernel_norm(model, n)`` brackets ||H_n|| = sup over R^n of |H_n(j w_1..j w_n)|:
+
+* ``upper`` is certified: the recursive majorant of :mod:`gfrf.bounds.majorant` (proven sups
+  combined in ball arithmetic, :meth:`gfrf.bounds.majorant.Majorant.proven_upper`), valid for the
+  symmetric and the asymmetric kernel.  For a pure-output polynomial with constant
+  input gain (Duffing, the hanging pendulum) it equals |c3| ||H1||^3 sup|1/A| for H3
+  and is attained at (w_r, w_r, -w_r): the gap is rounding only.  Where the majorant
+  is not attained (the cart-pole's theta^3 and theta^2 u partly cancel; resonances
+  that cannot coincide) a continuous model of order n <= 5 is refined by the
+  certified branch-and-bound of :mod:`gfrf.bounds.branch_bound` (majorant tail outside a
+  box, third-order Taylor enclosures on sub-boxes) within a budget of
+  :data:`BOX_BUDGET` boxes; the bracket stays open where that budget is too small.
+* ``lower`` is the best value found: |H_n| evaluated at all start points built from the
+  resonance frequencies of the linear part (each w_i in {0, +-damped natural
+  frequencies, +-peak frequencies of |H1| and |1/A|}, plus points whose sum hits a
+  resonance), taken up to permutation and global sign (the symmetric kernel is
+  invariant under both in modulus), then polished by Nelder-Mead on log|H_n|.  At
+  ``proof = "interval"`` and ``"float"`` |H_n| is re-evaluated at that witness point in
+  ball arithmetic (:mod:`gfrf.bounds.witness`: exact binary coefficients and frequencies) and
+  the lower end is
+  the ball's lower end rounded down, proven to be attained to its digits
+  (``lower_proof = "interval"``); a ball wider than 1e-10 relative keeps the float
+  value, labelled ``"float"``.  An identically zero kernel (decided symbolically) is exact.
+
+Which kernel: the symmetric kernel by default (it is unique for the system); the
+asymmetric kernel of the recursion on request (it depends on how the model is written).
+
+Examples
+--------
+>>> from gfrf.model.equation import parse_model
+>>> m = parse_model("D(y,2) + 0.05*D(y) + 2.45*y - 0.41*y**3 = u")
+>>> b = kernel_norm(m, 3)
+>>> b.certified and b.gap < 1e-9
+True
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import sys
+import warnings
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from gfrf._results import markdown_table, short_repr
+from gfrf.bounds.branch_bound import MAX_ORDER, BranchBoundResult, branch_and_bound, check_budget
+from gfrf.bounds.exact import PoleReport, format_roots, poles
+from gfrf.bounds.majorant import linear_polynomials, majorant
+from gfrf.bounds.rational import check_proof, discrete_rational_sup, rational_sup
+from gfrf.bounds.simplex import nelder_mead
+from gfrf.bounds.starts import start_points
+from gfrf.errors import ArgumentError
+from gfrf.kernels.recursion import kernel
+from gfrf.model.equation import Model
+
+if TYPE_CHECKING:
+    import control
+
+__all__ = ["Bound", "h1_norm", "kernel_norm", "linear_poles", "linear_stability"]
+
+#: Boxes the branch-and-bound may evaluate per kernel norm (order 5: about 2.5 s for the
+#: pendulum, 5 s for the cart-pole on a 2-core 2026 machine).
+BOX_BUDGET = 20_000
+
+
+@dataclass(frozen=True)
+class Bound:
+    """A bracket ``lower <= ||H_n||_inf <= upper`` (angular frequencies in rad/s).
+
+    Attributes
+    ----------
+    lower : float
+        Best value of |H_n| actually found (attained at ``argmax``).
+    upper : float
+        Upper bound (``inf`` when unbounded or not bounded by the method).
+    argmax : tuple of float
+        Angular frequencies (rad/s) where ``lower`` is attained.
+    certified : bool
+        True when ``upper`` is a certified bound (see ``proof`` for how rigorous).
+    method : str
+        How the bracket was obtained.
+    order : int
+        Kernel order n.
+    symmetric : bool
+        Norm of the symmetric (True) or asymmetric kernel.
+    stable : bool or None
+        Whether the linear part A is stable (None if not determined).
+    notes : tuple of str
+        Reasons for infinite values, instability, an open gap.
+    reference : float or None
+        python-control's ``norm(sys, 'inf')`` for order 1 (cross-check), else None.
+    proof : str
+        The weaker of the two ends: ``"interval"``: lower and upper are proven (exact
+        algebra, ball arithmetic, outward rounding); ``"float"``: a sound method
+        evaluated in floating point (relative rounding ~1e-15 not accounted for, or a
+        float witness point); ``"none"``: estimates only (not certified).
+    upper_proof, lower_proof : str
+        The level of each end ("" means ``proof``): for n >= 2 at the interval level
+        the upper end is proven by the ball-arithmetic majorant (``"float"`` where the
+        float branch-and-bound lowered it) and the lower end by |H_n| at ``argmax`` in
+        ball arithmetic (``"float"`` if that ball is too wide, see ``notes``).
+    """
+
+    lower: float
+    upper: float
+    argmax: tuple[float, ...]
+    certified: bool
+    method: str
+    order: int
+    symmetric: bool = True
+    stable: bool | None = None
+    notes: tuple[str, ...] = field(default=())
+    reference: float | None = None
+    proof: str = "float"
+    upper_proof: str = ""
+    lower_proof: str = ""
+
+    @property
+    def gap(self) -> float:
+        """Relative gap (upper - lower) / upper (0 for an exact value, inf if unbounded)."""
+        if self.upper == self.lower:
+            return 0.0
+        if math.isinf(self.upper):
+            return math.inf
+        return (self.upper - self.lower) / self.upper
+
+    def __repr__(self) -> str:
+        return short_repr(self, "order", "lower", "upper", "certified")
+
+    def _repr_markdown_(self) -> str:
+        """The bracket as a one-row Markdown table (Jupyter)."""
+        return markdown_table(("n", "lower", "upper", "gap", "lower proof", "upper proof"),
+                              [(self.order, self.lower, self.upper, self.gap,
+                                self.lower_proof or self.proof,
+                                self.upper_proof or self.proof)])
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary (infinities become "inf" through the CLI encoder)."""
+        return {"order": self.order, "lower": self.lower, "upper": self.upper,
+                "gap": self.gap, "argmax": list(self.argmax), "certified": self.certified,
+                "method": self.method, "symmetric": self.symmetric, "stable": self.stable,
+                "notes": list(self.notes), "reference": self.reference, "proof": self.proof,
+                "upper_proof": self.upper_proof or self.proof,
+                "lower_proof": self.lower_proof or self.proof}
+
+
+def linear_poles(model: Model) -> PoleReport:
+    """Exact location of the poles of A: Re s < 0, or |z| < 1 in z = 1/q for NARX.
+
+    Decided on the exact rational values of the (normalised) coefficients by Routh's
+    test (after the Cayley map for NARX), with exact boundary roots; see
+    :func:`gfrf.bounds.exact.poles`.
+    """
+    # For a NARX model den is A's coefficients, lowest power of q first; in z = 1/q the
+    # polynomial z^L A(1/z) has those same coefficients, highest power of z first.
+    _, den = linear_polynomials(model)
+    return poles(den, model.is_discrete)
+
+
+def linear_stability(model: Model) -> tuple[bool, np.ndarray]:
+    """(stable, poles) of A, stability decided exactly (see :func:`linear_poles`)."""
+    report = linear_poles(model)
+    return report.stable, report.roots
+
+
+def h1_norm(model: Model, proof: str = "interval", cross_check: bool = False) -> Bound:
+    """||H1||_inf = sup over omega (rad/s) of |H1(j omega)|, as a proven enclosure.
+
+    Parameters
+    ----------
+    model : Model
+    proof : {"interval", "float", "none"}
+        Level of proof (:func:`gfrf.bounds.rational.rational_sup`); the default proves.
+    cross_check : bool, optional
+        Also compute python-control's ``norm(sys, 'inf')`` into ``Bound.reference``
+        (imports python-control, ~2 s cold, and ~70 % of a warm call: off by default).
+
+    Returns
+    -------
+    Bound
+        ``[lower, upper]`` proven at the default level; ``inf`` for an improper H1
+        or poles on the imaginary axis / unit circle (reason in ``notes``);
+        ``stable = False`` flags an unstable linear part, whose finite value is then
+        the L-infinity norm on the axis, not an H-infinity norm.
+    """
+    check_proof(proof)
+    num, den = linear_polynomials(model)
+    report = linear_poles(model)
+    stable = report.stable
+    notes = []
+    if not stable:
+        where = ("some pole strictly outside the stability region" if report.outside else
+                 "poles on the stability boundary at "
+                 + format_roots(report.boundary, "z" if model.is_discrete else "s"))
+        notes.append(f"linear part not asymptotically stable ({where}, exact test): the value "
+                     "is the L-infinity norm on the frequency axis, not an H-infinity norm")
+    if model.is_discrete:
+        sup = discrete_rational_sup(num, den, model.sample_time, proof)  # type: ignore[arg-type]
+        method = ("exact rational algebra on the unit circle (Cayley map) + "
+                  + _stationary_text(proof))
+    else:
+        sup = rational_sup(num, den, proof)
+        method = "exact rational algebra + " + _stationary_text(proof)
+    reference = None
+    if cross_check and stable and math.isfinite(sup.upper):
+        import control  # imported where used: nothing else here needs it
+
+        system = (control.tf(_pad(num, den), _pad(den, num), model.sample_time)
+                  if model.is_discrete else control.tf(num, den))
+        reference = _control_norm(system)
+        method += ", cross-checked with control.norm"
+    notes += [f"||H1|| = inf: {note}" if note == sup.reason else note for note in sup.notes]
+    return Bound(sup.lower, sup.upper, (sup.omega,), proof != "none", method, 1, True, stable,
+                 tuple(notes), reference, proof)
+
+
+def _stationary_text(proof: str) -> str:
+    if proof == "interval":
+        return "ball enclosure of the stationary points of |H1|^2 (proven)"
+    label = "float" if proof == "float" else "estimate"
+    return f"stationary points of |H1|^2 by numpy.roots ({label})"
+
+
+def _pad(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """q-polynomial (lowest first) as a z-polynomial (highest first) of the common degree."""
+    return np.concatenate([a, np.zeros(max(a.size, b.size) - a.size)])
+
+
+def _control_norm(system: control.TransferFunction) -> float | None:
+    """python-control's H-infinity norm, or None where it fails (e.g. a zero system)."""
+    import control
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            return float(control.norm(system, p="inf", print_warning=False))
+        except (np.linalg.LinAlgError, ValueError):
+            return None
+
+
+def _frequencies(model: Model, proof: str) -> tuple[list[float], float]:
+    """Resonance frequencies (rad/s, >= 0) of the linear part and a local length scale."""
+    num, den = linear_polynomials(model)
+    if model.is_discrete:
+        peaks = [discrete_rational_sup(num, den, model.sample_time, proof).omega,  # type: ignore[arg-type]
+                 discrete_rational_sup(np.ones(1), den, model.sample_time, proof).omega]  # type: ignore[arg-type]
+        return sorted({0.0, *(abs(p) for p in peaks if math.isfinite(p))}), \
+            0.01 * math.pi / model.sample_time  # type: ignore[operator]
+    poles = np.roots(den) if den.size > 1 else np.zeros(0)
+    freqs = {0.0, *(float(abs(p.imag)) for p in poles)}
+    for res in (rational_sup(num, den, proof), rational_sup(np.ones(1), den, proof)):
+        if math.isfinite(res.omega):
+            freqs.add(float(res.omega))
+    damping = [abs(p.real) for p in poles if abs(p.real) > 0]
+    scale = min(max(0.25 * min(damping, default=1.0), 1e-9), 0.5)
+    rounded = sorted({round(f, 12) for f in freqs})
+    return rounded, scale
+
+
+def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
+                max_boxes: int = BOX_BUDGET, proof: str = "interval",
+                cross_check: bool = False, searches: int | None = None,
+                progress: bool | None = False) -> Bound:
+    """Bracket ||H_n||_inf over R^n (rad/s): certified upper, best-found lower bound.
+
+    Parameters
+    ----------
+    model : Model
+    n : int
+        Kernel order (1 gives :func:`h1_norm`).
+    symmetric : bool, optional
+        Symmetric kernel (default) or the asymmetric kernel of the recursion.
+    tol : float, optional
+        Target relative gap; more local searches are run while the gap exceeds it.
+    max_boxes : int, optional
+        Budget of the branch-and-bound (boxes evaluated, at most
+        :data:`gfrf.bounds.branch_bound.BOX_LIMIT`), used when the majorant leaves a gap above
+        ``tol`` (continuous model, n <= 5); 0 skips it (the majorant's upper end and the
+        local search only).  The search stops on this work count or on ``tol``, never on
+        time.  Measured on a 2-core 2026 machine (``gfrf bench``, section "Tight
+        brackets"): ||H5|| of the hanging pendulum closes to ``tol = 1e-3`` in about
+        1.1e5 boxes (~6 s on one core), of the cart-pole plant in about 6e4 (~11 s).
+    proof : {"interval", "float", "none"}
+        ``"interval"`` (default): the majorant's upper end in ball arithmetic on proven
+        sups (``upper_proof = "interval"``) and the witness |H_n(argmax)| in ball
+        arithmetic (``lower_proof = "interval"``).
+        ``"float"``: the majorant in floating point on double-precision sups (one
+        that underflows to 0 is redone in balls); the witness still in ball arithmetic
+        (cheap, and a float |H_n| can be off where A(j w) cancels).
+        ``"none"``: the float majorant and the local search only (no
+        branch-and-bound), labelled estimates (``certified = False``).
+    cross_check : bool, optional
+        For n = 1, also python-control's norm (see :func:`h1_norm`).
+    searches : int, optional
+        Most local searches of the lower bound (default: up to 12 for n <= 4 and 2
+        above, stopping once the gap is below ``tol``); fewer searches only lower it.
+    progress : bool or None, optional
+        Progress bar of the branch-and-bound (see
+        :func:`gfrf.bounds.branch_bound.branch_and_bound`);
+        None shows it on a terminal only.  Default False.
+
+    Returns
+    -------
+    Bound
+    """
+    if not (isinstance(tol, float | int) and 0 < tol < 1):
+        raise ArgumentError(f"tol must be in (0, 1), got {tol!r}")
+    if searches is not None and (isinstance(searches, bool) or not isinstance(searches, int)
+                                 or searches < 0):
+        raise ArgumentError(f"searches must be a non-negative integer, got {searches!r}")
+    max_boxes = check_budget(max_boxes, 0)
+    check_proof(proof)
+    k = kernel(model, n, symmetric)
+    if n == 1:
+        b = h1_norm(model, proof, cross_check)
+        return Bound(b.lower, b.upper, b.argmax, b.certified, b.method, 1, symmetric,
+                     b.stable, b.notes, b.reference, b.proof)
+    stable, _ = linear_stability(model)
+    notes = [] if stable else ["linear part not asymptotically stable: L-infinity norm on the "
+                               "frequency axis"]
+    if k.is_zero:
+        return Bound(0.0, 0.0, tuple([0.0] * n), True, "kernel identically zero", n,
+                     symmetric, stable, tuple(notes), proof="interval")
+    maj = majorant(model, proof)
+    upper = maj.proven_upper(n) if proof == "interval" else float(maj.coefficients(n)[n, 0])
+    upper_proof = proof
+    if upper == 0.0:  # a float majorant of a nonzero kernel underflowed: use balls
+        upper, upper_proof = majorant(model, "interval").proven_upper(n), "interval"
+    notes += list(maj.reasons)
+    blowup = _axis_blowup(k, model, n)
+    if blowup is not None:
+        return Bound(math.inf, math.inf, blowup, True,
+                     "A(j w) = 0 on the axis and P_n != 0 there", n, symmetric, stable,
+                     (*notes, "||H_n|| = inf: H_n = -P_n / A(j(w_1+..+w_n)) with A(j w0) = 0 "
+                      "and P_n bounded away from 0 near the hyperplane w_1+..+w_n = w0"))
+    lower, argmax = _search(k, model, n, symmetric, upper, tol, proof, searches)
+    method = ({"interval": "recursive majorant in ball arithmetic (proven upper)",
+               "float": "recursive majorant in floating point (certified upper)",
+               "none": "recursive majorant in floating point (estimate)"}[proof]
+              + " + resonance-start Nelder-Mead (lower: "
+              + ("witness re-evaluated in ball arithmetic)" if proof != "none"
+                 else "float witness)"))
+    if (max_boxes != 0 and (upper == math.inf or upper - lower > tol * upper)
+            and not model.is_discrete and n <= MAX_ORDER and proof != "none"):
+        bb, skipped = _refine(model, n, symmetric, lower, argmax, tol, max_boxes, progress,
+                              upper)
+        if bb is None:
+            notes.append(skipped)
+        else:
+            if bb.lower > lower:
+                lower, argmax = bb.lower, bb.argmax
+            if bb.upper < upper * (1 - 4 * 2.0 ** -52):  # not a rounding of the majorant
+                upper, upper_proof = bb.upper, "float"
+            notes.append(f"branch-and-bound: {bb.boxes} boxes; |H_{n}| <= {bb.tail:.6g} "
+                         f"where some |w_i| > {bb.width:.6g} rad/s (tail bound)")
+            method = (f"branch-and-bound, {bb.boxes} boxes in [-{bb.width:.4g}, "
+                      f"{bb.width:.4g}]^{n} rad/s + majorant tail (certified upper); local "
+                      "search (lower)")
+    if upper == math.inf and not maj.reasons:  # no other note explains it
+        notes.append(f"the majorant of |H_{n}| overflows double precision (above "
+                     f"{sys.float_info.max:.3g}): no finite upper end")
+    gap = 0.0 if upper == lower else (upper - lower) / upper
+    if gap > tol:
+        notes.append(f"relative gap {gap:.3g} > tol {tol:g}: the majorant is not attained "
+                     "(terms of different sign or phase) and the branch-and-bound budget "
+                     "did not close the gap; honest bracket")
+    lower_proof = "none" if proof == "none" else "float"
+    if proof != "none":  # a float |H_n| can be off where A(j w) cancels: prove the witness
+        lower, lower_proof, note = _proven_witness(model, n, symmetric, lower, argmax)
+        notes += [note] if note else []
+    if lower > upper:  # only rounding of the float levels can do this
+        upper = lower
+    weakest = min(upper_proof, lower_proof, key=("none", "float", "interval").index)
+    return Bound(lower, upper, argmax, maj.certified, method, n, symmetric, stable,
+                 tuple(notes), proof=weakest, upper_proof=upper_proof, lower_proof=lower_proof)
+
+
+#: Range of the majorant within which the double-precision box enclosures of the
+#: branch-and-bound are trusted (beyond it their products underflow or overflow).
+_FLOAT_RANGE = (1e-280, 1e280)
+
+
+def _refine(model: Model, n: int, symmetric: bool, lower: float, argmax: tuple[float, ...],
+            tol: float, max_boxes: int, progress: bool | None, upper: float
+            ) -> tuple[BranchBoundResult | None, str]:
+    """(branch-and-bound result, "") or (None, why it was not run)."""
+    if math.isfinite(upper) and not _FLOAT_RANGE[0] < upper < _FLOAT_RANGE[1]:
+        return None, (f"branch-and-bound skipped: the majorant {upper:.3g} is outside "
+                      f"[{_FLOAT_RANGE[0]:g}, {_FLOAT_RANGE[1]:g}], where its double-"
+                      "precision enclosures would underflow or overflow")
+    try:
+        return branch_and_bound(model, n, symmetric, lower, argmax, tol,
+                                max_boxes=max_boxes, progress=progress), ""
+    except OverflowError:
+        return None, ("branch-and-bound skipped: the linear part's coefficients (and the "
+                      "derivatives of |A(j w)|^2) overflow double precision")
+
+
+def _proven_witness(model: Model, n: int, symmetric: bool, lower: float,
+                    argmax: tuple[float, ...]) -> tuple[float, str, str]:
+    """(lower, lower_proof, note): |H_n| at the witness ``argmax`` re-evaluated in balls.
+
+    The proven lower end is the ball's lower end rounded down (at most an ulp or two
+    below the float value); a ball wider than :data:`gfrf.bounds.witness.WIDTH` relative keeps
+    the float value, labelled "float", with a note.
+    """
+    from gfrf.bounds.witness import WIDTH, witness_bound
+
+    if lower == 0.0:  # |H_n| >= 0 needs no witness
+        return 0.0, "interval", ""
+    ball = witness_bound(model, n, argmax, symmetric)
+    if ball.relative_width > WIDTH:
+        return lower, "float", (f"witness |H_{n}| at {list(argmax)} enclosed only to relative "
+                                f"width {ball.relative_width:.3g} in ball arithmetic "
+                                f"({ball.precision} bits): the lower end stays a float value")
+    return ball.lower, "interval", ""
+
+
+def _axis_blowup(k: Any, model: Model, n: int) -> tuple[float, ...] | None:
+    """A point near which |H_n| is unbounded because A(j w0) = 0, or None.
+
+    On the hyperplane w_1 + .. + w_n = w0 the denominator A(j w0) vanishes; if the
+    numerator P_n = -H_n A is nonzero at a generic point of it (|H_n A| evaluated at
+    distances 1e-6 and 1e-8 from the hyperplane agree and are not tiny), H_n is
+    unbounded there.  Continuous models only.
+    """
+    if model.is_discrete:
+        return None
+    _, den = linear_polynomials(model)
+    axis = sorted({abs(p.imag) for p in linear_poles(model).boundary})
+    rng = np.random.default_rng(0)
+    for w0 in axis:
+        base = rng.uniform(-1.0, 1.0, n - 1) * (1 + w0) + 0.123
+        products = []
+        for eps in (1e-6, 1e-8):
+            point = (*base, w0 + eps - float(np.sum(base)))
+            value = complex(k(*point))
+            products.append(abs(value * np.polyval(den, 1j * (w0 + eps))))
+        if products[1] > 1e-12 and abs(products[0] - products[1]) <= 1e-3 * products[1]:
+            return (*(float(b) for b in base), w0 - float(np.sum(base)))
+    return None
+
+
+def _search(k: Any, model: Model, n: int, symmetric: bool, upper: float,
+            tol: float, proof: str, searches: int | None = None
+            ) -> tuple[float, tuple[float, ...]]:
+    """Best |H_n| from resonance start points, locally maximised."""
+    freqs, scale = _frequencies(model, proof)
+    starts = start_points(freqs, n)
+    if not symmetric and n <= 4:
+        starts = np.unique(np.array([p for s in starts for p in itertools.permutations(s)]),
+                           axis=0)
+    values = np.abs(k(*starts.T))
+    values[~np.isfinite(values)] = 0.0
+    order = np.argsort(values)[::-1]
+    best, best_x = float(values[order[0]]), tuple(float(v) for v in starts[order[0]])
+    batch = 4 if n <= 4 else 1
+    most = 3 * batch if n <= 4 else 2
+    for count, i in enumerate(order[: most if searches is None else min(most, searches)]):
+        if count >= batch and (upper - best) <= tol * upper:
+            break
+        x, value = (_nelder_mead(k, starts[i], scale) if n <= 4
+                    else _pattern_search(k, starts[i], scale))
+        if math.isfinite(value) and value > best:
+            best, best_x = value, tuple(float(v) for v in x)
+    return best, best_x
+
+
+def _nelder_mead(k: Any, x0: np.ndarray, scale: float) -> tuple[np.ndarray, float]:
+    """Nelder-Mead on -log|H_n| (low orders, where a scalar evaluation is cheap)."""
+    n = x0.size
+
+    def objective(x: np.ndarray) -> float:
+        v = abs(complex(k(*x)))
+        return -math.log(v) if v > 0 and math.isfinite(v) else 1e300
+
+    simplex = np.vstack([x0, x0 + scale * np.eye(n)])
+    res = nelder_mead(objective, x0, initial_simplex=simplex, xatol=1e-12 * (1 + scale),
+                      fatol=1e-14, maxiter=600 * n, maxfev=800 * n)
+    return res.x, abs(complex(k(*res.x)))
+
+
+def _pattern_search(k: Any, x0: np.ndarray, scale: float) -> tuple[np.ndarray, float]:
+    """Batched pattern search along +-e_i and +-e_i +- e_j (one vectorised call per step)."""
+    n = x0.size
+    eye = np.eye(n)
+    pairs = [eye[i] + sign * eye[j] for i in range(n) for j in range(i + 1, n)
+             for sign in (1.0, -1.0)]
+    directions = np.vstack([eye, -eye, *pairs, *(-p for p in pairs)])
+    x, value = x0.copy(), float(abs(k(*x0)))
+    step = scale
+    while step > 1e-12 * (1 + scale):
+        trial = x + step * directions
+        values = np.abs(k(*trial.T))
+        values[~np.isfinite(values)] = 0.0
+        j = int(np.argmax(values))
+        if values[j] > value:
+            x, value = trial[j], float(values[j])
+        else:
+            step *= 0.5
+    return x, value

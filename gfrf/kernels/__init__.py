@@ -1,0 +1,11 @@
+"""Kernels: the generalised frequency response functions H1..Hn of a model.
+
+Owns the Billings / Peyton Jones recursion with symmetrisation (:mod:`.recursion`), the
+generated straight-line evaluators and their numba / on-disk cache (:mod:`.compiled`),
+the multiset and composition counting they share (:mod:`.combinatorics`), and harmonic
+probing, the independent method that checks the recursion (:mod:`.probing`).
+
+May import: :mod:`gfrf.model`, :mod:`gfrf.errors`, :mod:`gfrf._atomic`.
+Public face: ``kernel``, ``Kernel`` (:mod:`.recursion`); ``probe_kernel``
+(:mod:`.probing`).
+"""

@@ -1,0 +1,202 @@
+"""Straight-line code generation for a GFRF: one fused function per model, order and kind.
+
+:class:`gfrf.kernels.recursion.GFRFGenerator` evaluates H_n bottom-up over the subsets of the
+frequencies with a Python-level memo.  Here the same recursion is unrolled once into
+Python source: one assignment per lower-order kernel on a block, each the block's
+recursion step after common-subexpression elimination, then the top-level kernel.
+The source runs as is on numpy arrays, and compiled with numba (when installed) it
+becomes a scalar function wrapped in a numpy ufunc, which is the fast path for
+millions of points (no temporary arrays at all).
+
+Compiled kernels are cached on disk, so that a second process pays no compile: the
+generated module is written to :func:`cache_dir` (``$GFRF_CACHE_DIR/kernels``, by
+default the platform's user cache directory, e.g. ``~/.cache/gfrf/kernels``) under
+the hash of its source, and numba's ``cache=True`` keeps the machine code beside it.
+The code that runs is always the source generated in this process: a cached file is
+only the anchor of numba's cache, rewritten when it differs from that source.  When
+the directory cannot be written, the kernel is compiled in memory, uncached.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import os
+import sys
+import types
+from pathlib import Path
+from typing import Any, Protocol
+
+import sympy as sp
+from sympy.printing.pycode import PythonCodePrinter
+
+from gfrf.model.equation import Model
+
+__all__ = ["kernel_source", "numba_ufunc", "HAVE_NUMBA", "cache_dir", "Recursion"]
+
+
+class Recursion(Protocol):
+    """What code generation needs of :class:`gfrf.kernels.recursion.GFRFGenerator` (a protocol, so
+    that this module does not import :mod:`gfrf.kernels.recursion`, which imports it)."""
+
+    model: Model
+
+    def plan(self, n: int, symmetric: bool) -> Any:
+        """The recursion step of H_n: ``is_zero``, ``blocks``, ``placeholders``,
+        ``numerator``."""
+
+    def variables(self, n: int) -> tuple[sp.Symbol, ...]:
+        """The symbolic variables s1..sn (or q1..qn)."""
+
+#: Whether numba (the optional ``fast`` extra) is installed; it is imported only when a
+#: kernel is compiled (importing it costs about half a second).
+HAVE_NUMBA: bool = importlib.util.find_spec("numba") is not None
+
+
+class _Printer(PythonCodePrinter):
+    """Plain arithmetic: rationals as float literals, complex unit as 1j."""
+
+    def _print_Rational(self, expr: sp.Rational) -> str:
+        return repr(float(expr))
+
+    def _print_ImaginaryUnit(self, expr: sp.Expr) -> str:
+        return "1j"
+
+    def _print_Pow(self, expr: sp.Pow, rational: bool = False) -> str:
+        """Small integer powers as products: complex ``**`` is a slow library call."""
+        base, exponent = expr.args
+        if exponent.is_Integer and 1 < int(exponent) <= 8:
+            factor = self.parenthesize(base, 100)
+            return "(" + "*".join([factor] * int(exponent)) + ")"
+        return super()._print_Pow(expr, rational=rational)
+
+
+def kernel_source(gen: Recursion, n: int, symmetric: bool, name: str = "kernel") -> str:
+    """Python source of ``name(w0, ..., w{n-1}) -> H_n`` (angular frequencies in rad/s)."""
+    printer = _Printer()
+    model = gen.model
+    lines = [f"def {name}({', '.join(f'w{i}' for i in range(n))}):"]
+    for i in range(n):
+        if model.is_discrete:
+            lines.append(f"    x{i} = cmath_exp(-1j * {model.sample_time!r} * w{i})")
+        else:
+            lines.append(f"    x{i} = 1j * w{i}")
+    names: dict[tuple[int, ...], str] = {}
+    linear = model.linear_output
+
+    def emit(block: tuple[int, ...]) -> str:
+        if block in names:
+            return names[block]
+        plan = gen.plan(len(block), symmetric)
+        label = "h_" + "_".join(map(str, block))
+        if plan.is_zero:
+            names[block] = "0.0"
+            return "0.0"
+        inner = gen.variables(len(block))
+        mapping: dict[sp.Symbol, sp.Symbol] = {v: sp.Symbol(f"x{block[i]}")
+                                               for i, v in enumerate(inner)}
+        for sub, placeholder in zip(plan.blocks, plan.placeholders, strict=True):
+            mapping[placeholder] = sp.Symbol(emit(tuple(block[j] for j in sub)))
+        numerator = plan.numerator.xreplace(mapping)
+        replacements, (reduced,) = sp.cse(numerator, symbols=sp.numbered_symbols(f"{label}_c"))
+        for sym, value in replacements:
+            lines.append(f"    {sym} = {printer.doprint(value)}")
+        xs = [f"x{i}" for i in block]
+        combined = " * ".join(xs) if model.is_discrete else "(" + " + ".join(xs) + ")"
+        lines.append(f"    {label}_z = {combined}")
+        denominator = _horner([linear.get(p, 0.0) for p in range(max(linear) + 1)],
+                              f"{label}_z")
+        lines.append(f"    {label} = -({printer.doprint(reduced)}) / ({denominator})")
+        names[block] = label
+        return label
+
+    result = emit(tuple(range(n)))
+    lines.append(f"    return {result}")
+    return "\n".join(lines) + "\n"
+
+
+def _horner(coefficients: list[float], variable: str) -> str:
+    """``a0 + z*(a1 + z*(a2 + ...))`` as source text."""
+    text = repr(coefficients[-1])
+    for coefficient in reversed(coefficients[:-1]):
+        text = f"{coefficient!r} + {variable} * ({text})"
+    return text
+
+
+def cache_dir() -> Path:
+    """Directory of the compiled-kernel cache: ``$GFRF_CACHE_DIR/kernels``, else the
+    platform's user cache directory (``$XDG_CACHE_HOME`` or ``~/.cache`` on Linux,
+    ``~/Library/Caches`` on macOS, ``%LOCALAPPDATA%`` on Windows) ``/gfrf/kernels``."""
+    base = os.environ.get("GFRF_CACHE_DIR")
+    if base:
+        return Path(base) / "kernels"
+    if sys.platform == "win32":
+        root = Path(os.environ.get("LOCALAPPDATA") or Path.home() / "AppData" / "Local")
+    elif sys.platform == "darwin":
+        root = Path.home() / "Library" / "Caches"
+    else:
+        root = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+    return root / "gfrf" / "kernels"
+
+
+def _module_source(gen: Recursion, n: int, symmetric: bool, cache: bool) -> str:
+    """Source of a module defining the ufunc ``scalar_kernel`` of H_n."""
+    signature = f"complex128({', '.join(['float64'] * n)})"
+    return ("from cmath import exp as cmath_exp\n\nfrom numba import vectorize\n\n\n"
+            f"@vectorize([{signature!r}], cache={cache})\n"
+            + kernel_source(gen, n, symmetric, name="scalar_kernel"))
+
+
+def _anchor(name: str, source: str) -> Path | None:
+    """The cache file of ``source`` (written if absent or different); None if unwritable."""
+    from gfrf._atomic import atomic_write_text
+
+    folder = cache_dir()
+    path = folder / f"{name}.py"
+    try:
+        folder.mkdir(parents=True, exist_ok=True, mode=0o700)
+        try:
+            current = path.read_text(encoding="utf-8")
+        except FileNotFoundError:
+            current = None
+        if current != source:  # absent, stale or tampered with: ours replaces it
+            atomic_write_text(path, source)
+    except OSError:
+        return None
+    return path
+
+
+def numba_ufunc(gen: Recursion, n: int, symmetric: bool) -> Any:
+    """A numba-compiled numpy ufunc ``f(w1..wn) -> complex128`` of H_n, cached on disk.
+
+    Measured on a 2-core machine (numba 0.68), the cart-pole model: order 3 compiles
+    in 1.5 s and loads from the on-disk cache (:func:`cache_dir`) in 0.5 s in a later
+    process; order 5 in 3.3 s and 0.6 s.  Generating the source (sympy) takes 0.02 s
+    and 0.16 s of that.
+
+    Raises
+    ------
+    ImportError
+        If numba is not installed (``pip install gfrf[fast]``).
+    """
+    if not HAVE_NUMBA:
+        raise ImportError("the compiled kernel needs numba: pip install 'gfrf[fast]'")
+    source = _module_source(gen, n, symmetric, cache=True)
+    name = "gfrf_kernel_" + hashlib.sha256(source.encode()).hexdigest()[:24]
+    if name in sys.modules:
+        return sys.modules[name].scalar_kernel
+    path = _anchor(name, source)
+    if path is None:
+        source = _module_source(gen, n, symmetric, cache=False)
+    module = types.ModuleType(name)
+    module.__file__ = str(path) if path else f"<gfrf H{n}>"
+    # Our generated source (never the file's content) runs; the file name lets numba's
+    # cache find its index beside the file.
+    code = compile(source, module.__file__, "exec")
+    sys.modules[name] = module  # numba's cache refers to the module by name
+    try:
+        exec(code, module.__dict__)  # noqa: S102 - generated code, validated names only
+    except BaseException:
+        del sys.modules[name]
+        raise
+    return module.scalar_kernel

@@ -1,0 +1,318 @@
+"""Model files: one TOML file per system, holding a plant and optionally a controller.
+
+The smallest valid file is one line, ``equation = "D(y,2) + 2*D(y) + y = u"`` (plus
+``sample_time = 0.1`` for a discrete model).  Every other key is optional:
+
+=================== =====================================================================
+key                 meaning
+=================== =====================================================================
+equation            the model equation (see :func:`gfrf.model.equation.parse_model`)
+sample_time         sample time in s; makes the model discrete-time (NARX)
+truncation          Taylor order for ``sin``/``cos``/... terms (the polynomial model)
+physical_equation   untruncated equation kept for simulation when ``equation`` is the
+                    already-truncated polynomial (e.g. a paper's printed coefficients)
+output, input       signal names (default ``y``, ``u``)
+parameters          table of named constants used in the equations
+name, source,       free text: a title, the paper equation it comes from, a description
+description
+kind                ``"ode"`` (default), or ``"parametric"`` for the time-varying
+                    pendulum handled by :mod:`gfrf.periodic` (refused here)
+paper               table of values printed in the paper, quoted by reports only
+controller          table: ``num``/``den`` (transfer function, highest power first, as
+                    :func:`control.tf`; entries may be parameter expressions) or
+                    ``equation`` (a polynomial controller whose input is the plant
+                    output and whose output is the plant input); ``feedback`` = -1
+                    (default, u = r - C[y]) or +1; ``name``, ``source``, ``description``
+=================== =====================================================================
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+import sympy as sp
+
+from gfrf.errors import ArgumentError, ModelError
+from gfrf.model.equation import Model, parse_model
+from gfrf.model.expr import UnknownNames, check_name, parse_expression, quote
+
+__all__ = ["Controller", "ModelFile", "load_model", "model_from_dict", "read_table",
+           "MAX_FILE_BYTES", "MAX_PARAMETERS", "MAX_CONTROLLER_COEFFICIENTS", "parse_number",
+           "as_plant"]
+
+#: Largest model file accepted, in bytes (checked before reading it).
+MAX_FILE_BYTES = 256 * 1024
+#: Most entries of a ``[parameters]`` table.
+MAX_PARAMETERS = 500
+#: Most entries of a controller's ``num`` or ``den``.
+MAX_CONTROLLER_COEFFICIENTS = 64
+
+_TOP_KEYS = {"equation", "sample_time", "truncation", "physical_equation", "output", "input",
+             "parameters", "name", "source", "description", "kind", "paper", "controller"}
+_CONTROLLER_KEYS = {"num", "den", "equation", "feedback", "name", "source", "description",
+                    "parameters"}
+
+
+@dataclass(frozen=True)
+class Controller:
+    """A controller from a model file: linear transfer function or polynomial model.
+
+    Attributes
+    ----------
+    num, den : tuple of float or None
+        Transfer-function coefficients, highest power of s first (``control.tf`` order).
+    model : Model or None
+        Polynomial controller; its input is the plant output, its output the plant input.
+    feedback : int
+        -1 for negative feedback ``u = r - C[y]`` (default), +1 for positive.
+    name, source, description : str
+        Free text.
+    """
+
+    num: tuple[float, ...] | None = None
+    den: tuple[float, ...] | None = None
+    model: Model | None = None
+    feedback: int = -1
+    name: str = ""
+    source: str = ""
+    description: str = ""
+
+    @property
+    def is_linear(self) -> bool:
+        """True for a transfer-function controller."""
+        return self.model is None
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready description."""
+        return {"name": self.name, "source": self.source, "feedback": self.feedback,
+                "num": list(self.num) if self.num else None,
+                "den": list(self.den) if self.den else None,
+                "equation": self.model.equation() if self.model else None}
+
+
+@dataclass(frozen=True)
+class ModelFile:
+    """The contents of a model file: the plant, its controller and metadata."""
+
+    plant: Model
+    name: str = ""
+    source: str = ""
+    description: str = ""
+    path: str = ""
+    parameters: dict[str, float] = field(default_factory=dict)
+    controller: Controller | None = None
+    paper: dict[str, Any] = field(default_factory=dict)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready description."""
+        return {"name": self.name, "source": self.source, "path": self.path,
+                "parameters": dict(self.parameters), "plant": self.plant.to_dict(),
+                "controller": self.controller.to_dict() if self.controller else None}
+
+
+def load_model(path: str | Path) -> ModelFile:
+    """Read a TOML model file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+
+    Returns
+    -------
+    ModelFile
+
+    Raises
+    ------
+    ModelError
+        Missing file, invalid TOML, unknown key, or an invalid equation; the message
+        names the file and the key.
+    """
+    p = Path(path)
+    data = read_table(p)
+    try:
+        return model_from_dict(data, path=str(p))
+    except ModelError as exc:
+        message = str(exc)
+        raise ModelError(message if message.startswith(str(p)) else f"{p}: {message}") from None
+
+
+def read_table(path: str | Path) -> dict[str, Any]:
+    """The TOML table of a model file, read within :data:`MAX_FILE_BYTES`.
+
+    Raises
+    ------
+    ModelError
+        Missing or oversized file, invalid TOML or UTF-8, nesting too deep to read.
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise ModelError(f"model file {quote(str(p))} does not exist")
+    size = p.stat().st_size
+    if size > MAX_FILE_BYTES:
+        raise ModelError(f"{p}: {size} bytes, more than the limit MAX_FILE_BYTES = "
+                         f"{MAX_FILE_BYTES}")
+    try:
+        return tomllib.loads(p.read_text(encoding="utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise ModelError(f"{p}: not valid TOML: {exc}") from None
+    except RecursionError:
+        raise ModelError(f"{p}: not readable TOML: arrays or tables nested too deep") \
+            from None
+
+
+def parse_number(value: Any, key: str, parameters: Mapping[str, float]) -> float:
+    """A finite number from a TOML value: a number, or an expression text such as
+    ``"1/(m*L**2)"`` in the named ``parameters`` (parsed by :mod:`gfrf.model.expr`, never
+    evaluated as code).
+
+    Raises
+    ------
+    ModelError
+        Not a number, unknown names, a non-real or non-finite value; the message names
+        ``key``.
+    """
+    if isinstance(value, bool):
+        raise ModelError(f"{key}: expected a number, got {value!r}")
+    if isinstance(value, (int, float)):
+        try:
+            result = float(value)
+        except OverflowError:
+            raise ModelError(f"{key}: the integer is too large for a float") from None
+    elif isinstance(value, str):
+        names = {k: sp.Float(v) for k, v in parameters.items()}
+        try:
+            expr = parse_expression(value, names=names).expr
+        except UnknownNames as exc:
+            raise ModelError(f"{key}: {quote(value)} uses unknown symbol(s) "
+                             f"{', '.join(exc.names)}") from None
+        except ModelError as exc:
+            raise ModelError(f"{key}: {exc}") from None
+        if not expr.is_number or not expr.is_real:
+            raise ModelError(f"{key}: {quote(value)} is not a real number")
+        try:
+            result = float(expr)
+        except OverflowError:
+            result = math.inf
+    else:
+        raise ModelError(f"{key}: expected a number or an expression, got {value!r}")
+    if not math.isfinite(result):
+        raise ModelError(f"{key}: {quote(str(value))} is not finite")
+    return result
+
+
+def _parameters(table: Any, where: str) -> dict[str, float]:
+    if table is None:
+        return {}
+    if not isinstance(table, dict):
+        raise ModelError(f"{where} must be a table of name = number")
+    if len(table) > MAX_PARAMETERS:
+        raise ModelError(f"{where} has {len(table)} entries, more than the limit "
+                         f"MAX_PARAMETERS = {MAX_PARAMETERS}")
+    values: dict[str, float] = {}
+    for name, value in table.items():
+        check_name(name, f"{where}: parameter name")
+        values[name] = parse_number(value, f"{where}.{name}", values)
+    return values
+
+
+def _text(data: dict[str, Any], key: str, where: str = "") -> str:
+    value = data.get(key, "")
+    if not isinstance(value, str):
+        raise ModelError(f"{where}{key} must be a string, got {value!r}")
+    return value
+
+
+def model_from_dict(data: dict[str, Any], path: str = "") -> ModelFile:
+    """Build a :class:`ModelFile` from the parsed TOML table ``data``."""
+    unknown = sorted(set(data) - _TOP_KEYS)
+    if unknown:
+        raise ModelError(f"unknown model file key(s) {', '.join(map(repr, unknown))}; "
+                         f"allowed: {', '.join(sorted(_TOP_KEYS))}")
+    kind = data.get("kind", "ode")
+    if kind == "parametric":
+        raise ModelError("this is a parametrically excited (time-varying) model: it has no "
+                         "GFRFs; use 'gfrf transition' / 'gfrf periodic' (gfrf.periodic)")
+    if kind != "ode":
+        raise ModelError(f"kind must be 'ode' or 'parametric', got {kind!r}")
+    if "equation" not in data:
+        raise ModelError("missing key 'equation'")
+    parameters = _parameters(data.get("parameters"), "parameters")
+    sample_time = data.get("sample_time")
+    if sample_time is not None:
+        sample_time = parse_number(sample_time, "sample_time", parameters)
+    common = {"truncation": data.get("truncation"), "parameters": parameters,
+              "output": data.get("output", "y"), "input": data.get("input", "u")}
+    plant = parse_model(_text(data, "equation"), sample_time=sample_time, **common)
+    if "physical_equation" in data:
+        # Only the untruncated expression is kept; the truncation merely validates it.
+        physical = parse_model(_text(data, "physical_equation"), sample_time=sample_time,
+                               **{**common, "truncation": common["truncation"] or 3})
+        plant = replace(plant, physical=physical.physical)
+    controller = _controller(data.get("controller"), parameters, plant)
+    paper = data.get("paper", {})
+    if not isinstance(paper, dict):
+        raise ModelError("paper must be a table")
+    return ModelFile(plant=plant, name=_text(data, "name") or Path(path).stem,
+                     source=_text(data, "source"), description=_text(data, "description"),
+                     path=path, parameters=parameters, controller=controller, paper=paper)
+
+
+def _controller(table: Any, parameters: dict[str, float], plant: Model) -> Controller | None:
+    if table is None:
+        return None
+    if not isinstance(table, dict):
+        raise ModelError("controller must be a table")
+    unknown = sorted(set(table) - _CONTROLLER_KEYS)
+    if unknown:
+        raise ModelError(f"unknown controller key(s) {', '.join(map(repr, unknown))}; "
+                         f"allowed: {', '.join(sorted(_CONTROLLER_KEYS))}")
+    values = {**parameters, **_parameters(table.get("parameters"), "controller.parameters")}
+    feedback = table.get("feedback", -1)
+    if feedback not in (-1, 1) or isinstance(feedback, bool):
+        raise ModelError(f"controller.feedback must be -1 or +1, got {feedback!r}")
+    text = {k: _text(table, k, "controller.") for k in ("name", "source", "description")}
+    has_tf = "num" in table or "den" in table
+    if has_tf == ("equation" in table):
+        raise ModelError("controller needs either num/den (a transfer function) or an "
+                         "equation, not both and not neither")
+    if has_tf:
+        coefficients = {}
+        for key in ("num", "den"):
+            entries = table.get(key, [1])
+            if not isinstance(entries, list) or not entries:
+                raise ModelError(f"controller.{key} must be a non-empty list of coefficients")
+            if len(entries) > MAX_CONTROLLER_COEFFICIENTS:
+                raise ModelError(f"controller.{key} has {len(entries)} coefficients, more than "
+                                 f"the limit MAX_CONTROLLER_COEFFICIENTS = "
+                                 f"{MAX_CONTROLLER_COEFFICIENTS}")
+            coefficients[key] = tuple(parse_number(v, f"controller.{key}", values)
+                                      for v in entries)
+        if not any(coefficients["den"]):
+            raise ModelError("controller.den is zero")
+        return Controller(num=coefficients["num"], den=coefficients["den"], feedback=feedback,
+                          **text)
+    model = parse_model(table["equation"], sample_time=plant.sample_time, parameters=values,
+                        output=plant.input, input=plant.output)
+    return Controller(model=model, feedback=feedback, **text)
+
+
+def as_plant(model: Model | ModelFile) -> Model:
+    """The plant :class:`~gfrf.model.equation.Model` of ``model`` (a Model, or a ModelFile's plant).
+
+    Raises
+    ------
+    ArgumentError
+        ``model`` is neither (a path string, say: load it with :func:`gfrf.load_model`).
+    """
+    if isinstance(model, ModelFile):
+        return model.plant
+    if isinstance(model, Model):
+        return model
+    raise ArgumentError(f"expected a Model (gfrf.parse_model) or a ModelFile "
+                        f"(gfrf.load_model), got {type(model).__name__}")

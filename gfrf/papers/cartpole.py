@@ -1,0 +1,727 @@
+"""The cart-pole loop of paper 001 (section 5) told straight.
+
+Code that exists only for this paper; the general library is :mod:`gfrf.stability.loops` and
+:mod:`gfrf.stability.criteria`.  Five findings, each a function returning a result object with
+``to_dict``:
+
+* :func:`inertia_reversal` - with the model's own signs (eq (16), negative feedback
+  ``u = -(a s^2 + b s + c) theta``) the closed-loop theta'' coefficient is
+  ``1 - 39.3185 a < 0``: the linear loop looks stable only because the improper
+  controller's ``a s^2`` term reverses the sign of the inertia.
+* :func:`lagged_loops` - any realisable version, the controller times ``1/(tau s + 1)^k``,
+  has a right-half-plane pole near ``(39.3185 a - 1)/tau`` (python-control
+  ``feedback``/``poles``); :func:`lagged_simulation` integrates the lagged *nonlinear*
+  loop of eq (12) with :func:`scipy.integrate.solve_ivp` and watches it diverge.
+* :func:`sign_margin` - with the physically right sign (``u = +K theta`` for this plant)
+  the paper's ``c = 0.1331`` leaves a right-half-plane pole; the loop is stable exactly
+  for ``c > c* = 67.578/39.3185`` (Routh-Hurwitz on the characteristic polynomial).
+* :func:`theorem2_obstruction` - no proper, stable linear controller lets Theorem 2
+  certify this plant (proof in the docstring), with a small search over PD-with-filter
+  gains through :func:`gfrf.stability.criteria.theorem2` that agrees.
+* :func:`loop_drive` - the closed loop driven at its own corner frequency over many
+  periods (it has no resonance: both poles are real), polynomial and physical equation.
+
+Angular frequencies are in rad/s, times in s, angles in rad unless a name says deg.
+
+Examples
+--------
+>>> from gfrf.model.modelfile import load_model
+>>> mf = load_model("models/cartpole_reduced.toml")
+>>> round(inertia_reversal(mf).coefficient, 4)
+-612.3686
+>>> sign_margin(mf).c_min
+Fraction(135156, 78637)
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from fractions import Fraction
+from typing import Any
+
+import numpy as np
+
+from gfrf._results import plain, short_repr
+from gfrf.bounds.majorant import linear_polynomials
+from gfrf.errors import ArgumentError
+from gfrf.model.modelfile import ModelFile
+from gfrf.stability.loops import characteristic, closed_loop, controller_polynomials
+
+__all__ = ["InertiaReversal", "LagRow", "LagSimulation", "SignMargin", "ControllerTrial",
+           "Theorem2Obstruction", "DriveTrial", "LoopDrive", "inertia_reversal",
+           "lagged_loops", "lagged_simulation", "sign_margin", "theorem2_obstruction",
+           "loop_drive", "has_physical_equation", "LAG_TIME_CONSTANTS", "PD_GRID"]
+
+#: Lag time constants tau (s) of the realisable controllers (the paper: "T_i << 1").
+LAG_TIME_CONSTANTS = (1e-3, 3e-3, 1e-2)
+
+#: PD-with-filter gains (K_p, K_d, tau_f) tried by :func:`theorem2_obstruction`:
+#: u = +(K_d s + K_p)/(tau_f s + 1) theta.  No point has K_d = tau_f K_p (the zero would
+#: cancel the filter pole and leave closed-loop poles on the imaginary axis).
+PD_GRID = tuple((kp, kd, tf) for kp in (1.8, 2.5, 4.0, 20.0) for kd in (0.05, 0.5, 5.0)
+                for tf in (1e-3, 1e-2, 1e-1))
+
+
+def _exact(x: float) -> Fraction:
+    """The decimal a model file prints (shortest repr) as an exact rational."""
+    return Fraction(repr(float(x)))
+
+
+def _loop_parts(mf: ModelFile) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]:
+    if mf.controller is None or not mf.controller.is_linear:
+        raise ArgumentError(f"{mf.name or 'model'}: needs a transfer-function [controller]")
+    num_p, den_p = linear_polynomials(mf.plant)
+    num_c, den_c = controller_polynomials(mf.controller)
+    if num_p.size != 1 or den_p.size != 3 or den_c.size != 1 or num_c.size != 3:
+        raise ArgumentError("the cart-pole checks need a plant k/(s^2 + a1 s + a0) and a "
+                            "controller a s^2 + b s + c")
+    return num_p, den_p, num_c, den_c, mf.controller.feedback
+
+
+def _poles(num_p: np.ndarray, den_p: np.ndarray, num_c: np.ndarray, den_c: np.ndarray,
+           feedback: int) -> np.ndarray:
+    """Closed-loop poles by python-control (``feedback`` sign as in the model file)."""
+    import control
+
+    loop = control.feedback(control.tf(num_p, den_p), control.tf(num_c, den_c),
+                            sign=feedback)
+    return np.sort_complex(np.asarray(control.poles(loop), dtype=complex))
+
+
+@dataclass(frozen=True)
+class InertiaReversal:
+    """The ideal loop's theta'' coefficient with the model's own signs.
+
+    Attributes
+    ----------
+    input_gain : float
+        Coefficient of u in the plant equation (39.3185 in eq (16)).
+    a : float
+        The controller's s^2 coefficient.
+    feedback : int
+    coefficient : float
+        theta'' coefficient of the closed loop, D_P[0] D_C[0] - f N_P[0] a (unnormalised).
+    characteristic : tuple of float
+        chi(s) = D_P D_C - f N_P N_C, highest power first, unnormalised.
+    poles : tuple of complex
+        Roots of chi (python-control).
+    plant_leading : float
+        theta'' coefficient of the plant alone (1).
+    """
+
+    input_gain: float
+    a: float
+    feedback: int
+    coefficient: float
+    characteristic: tuple[float, ...]
+    poles: tuple[complex, ...]
+    plant_leading: float
+
+    @property
+    def reversed(self) -> bool:
+        """The closed loop's theta'' coefficient has the opposite sign of the plant's."""
+        return (self.coefficient > 0) != (self.plant_leading > 0)
+
+    @property
+    def linear_stable(self) -> bool:
+        return all(p.real < 0 for p in self.poles)
+
+    def __repr__(self) -> str:
+        return short_repr(self, "coefficient", "reversed")
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary."""
+        return plain({"input_gain": self.input_gain, "a": self.a, "feedback": self.feedback,
+                      "coefficient": self.coefficient, "reversed": self.reversed,
+                      "characteristic": self.characteristic, "poles": self.poles,
+                      "linear_stable": self.linear_stable})
+
+
+def inertia_reversal(mf: ModelFile) -> InertiaReversal:
+    """The closed-loop theta'' coefficient of the ideal loop (model's signs, file's feedback).
+
+    With ``u = f (a s^2 + b s + c) theta`` and eq (16) ``theta'' - 67.578 theta + ... +
+    39.3185 u = 0`` the closed loop is ``(1 + 39.3185 f a) theta'' + ...``; for
+    ``f = -1`` this is ``1 - 39.3185 a``.
+    """
+    num_p, den_p, num_c, den_c, f = _loop_parts(mf)
+    chi = characteristic((num_p, den_p), (num_c, den_c), f)
+    lead = float(den_p[0] * den_c[0] - f * num_p[0] * num_c[0])
+    return InertiaReversal(float(-num_p[0] / den_p[0]), float(num_c[0] / den_c[0]), f, lead,
+                           tuple(float(x) for x in chi),
+                           tuple(complex(p) for p in _poles(num_p, den_p, num_c, den_c, f)),
+                           float(den_p[0] * den_c[0]))
+
+
+@dataclass(frozen=True)
+class LagRow:
+    """The loop with the controller divided by (tau s + 1)^lags.
+
+    Attributes
+    ----------
+    tau : float
+        Lag time constant (s).
+    lags : int
+        1 (a first-order filter) or 3 (the paper's eq (15) with T1 = T2 = T3 = tau).
+    poles : tuple of complex
+        Closed-loop poles (python-control).
+    predicted : float or None
+        For one lag, the large-pole estimate (input_gain * a - 1)/tau (rad/s).
+    """
+
+    tau: float
+    lags: int
+    poles: tuple[complex, ...]
+    predicted: float | None
+
+    @property
+    def unstable(self) -> tuple[complex, ...]:
+        """Poles with Re s > 0."""
+        return tuple(p for p in self.poles if p.real > 0)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary."""
+        return plain({"tau": self.tau, "lags": self.lags, "poles": self.poles,
+                      "unstable": self.unstable, "predicted": self.predicted})
+
+
+def lagged_loops(mf: ModelFile, taus: tuple[float, ...] = LAG_TIME_CONSTANTS,
+                 lags: tuple[int, ...] = (1, 3), feedback: int | None = None) -> list[LagRow]:
+    """Closed-loop poles with the controller times 1/(tau s + 1)^k (python-control).
+
+    Parameters
+    ----------
+    mf : ModelFile
+        Plant and ideal controller a s^2 + b s + c.
+    taus : tuple of float
+        Time constants (s), positive.
+    lags : tuple of int
+        Numbers k of equal first-order lags.
+    feedback : int, optional
+        Override the file's sign (+1: ``u = +C theta``).
+
+    Returns
+    -------
+    list of LagRow
+    """
+    num_p, den_p, num_c, den_c, f = _loop_parts(mf)
+    f = f if feedback is None else feedback
+    rows = []
+    for k in lags:
+        for tau in taus:
+            if not (math.isfinite(tau) and tau > 0) or k < 1:
+                raise ArgumentError(f"lags need tau > 0 and k >= 1, got tau={tau!r}, k={k!r}")
+            den = den_c
+            for _ in range(k):
+                den = np.polymul(den, [tau, 1.0])
+            gain = -f * num_p[0] / den_p[0] * num_c[0] / den_c[0]
+            predicted = float(-(1.0 + gain) / tau) if k == 1 else None
+            rows.append(LagRow(float(tau), k, tuple(complex(p) for p in
+                                                    _poles(num_p, den_p, num_c, den, f)),
+                               predicted))
+    return rows
+
+
+@dataclass(frozen=True)
+class LagSimulation:
+    """A run of the lagged nonlinear loop (eq (12), one lag tau) from rest at an angle.
+
+    Attributes
+    ----------
+    tau : float
+    theta0 : float
+        Initial angle (rad); theta'(0) = 0 and the lag state at theta0.
+    escape : float
+        |theta| (rad) at which the run is stopped as diverged.
+    escape_time : float or None
+        When |theta| reached ``escape`` (s), None if it stayed below up to ``t_end``.
+    t_end : float
+    growth_rate : float or None
+        Slope of ln|theta| between |theta| = 1e2 theta0 and 1e4 theta0 (1/s), when both
+        are reached before the escape (start small for a clean linear growth rate).
+    feedback : int
+    peak : float
+        max |theta| over the run.
+    """
+
+    tau: float
+    theta0: float
+    escape: float
+    escape_time: float | None
+    t_end: float
+    growth_rate: float | None
+    feedback: int
+    peak: float
+
+    @property
+    def diverged(self) -> bool:
+        return self.escape_time is not None
+
+    def __repr__(self) -> str:
+        return short_repr(self, "tau", "theta0", "escape_time", "growth_rate")
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary."""
+        return {"tau": self.tau, "theta0": self.theta0, "escape": self.escape,
+                "escape_time": self.escape_time, "t_end": self.t_end,
+                "growth_rate": self.growth_rate, "feedback": self.feedback,
+                "peak": self.peak, "diverged": self.diverged}
+
+
+def _equation_rhs(mf: ModelFile) -> Any:
+    """theta'' as a function of (theta, theta', u) from the plant's coefficient table.
+
+    Every term is ``coefficient * prod D^k theta * u^j``; terms holding theta'' (at most
+    once each) form its factor, the rest the right-hand side.
+    """
+    rows = mf.plant.coefficient_table()
+    top = max(max(r["y_orders"], default=0) for r in rows)
+    if top != 2 or any(k > 0 for r in rows for k in r["u_orders"]):
+        raise ArgumentError("the lagged simulation needs a second-order plant without input "
+                            "derivatives")
+    if any(r["y_orders"].count(2) > 1 for r in rows):
+        raise ArgumentError("the plant equation is not linear in theta''")
+
+    def rhs(theta: float, dtheta: float, u: float) -> float:
+        lead = rest = 0.0
+        for r in rows:
+            value = r["coefficient"] * u ** len(r["u_orders"])
+            for k in r["y_orders"]:
+                if k != 2:
+                    value *= theta if k == 0 else dtheta
+            if 2 in r["y_orders"]:
+                lead += value
+            else:
+                rest += value
+        return -rest / lead
+
+    return rhs
+
+
+def lagged_simulation(mf: ModelFile, tau: float, theta0: float = math.radians(5.0),
+                      t_end: float = 1.0, escape: float = 1.0,
+                      feedback: int | None = None, c: float | None = None) -> LagSimulation:
+    """Integrate the nonlinear loop with the controller (a s^2 + b s + c)/(tau s + 1).
+
+    The controller is realised as ``q1 theta' + q0 theta + r0 z`` with the lag state
+    ``tau z' = theta - z``, where ``q1 = a/tau``, ``q0 = (b - a/tau)/tau``,
+    ``r0 = c - q0`` (polynomial division), so ``u = f (q1 theta' + q0 theta + r0 z)``
+    needs no theta'' and the loop is explicit.  Integrated by
+    :func:`scipy.integrate.solve_ivp` (DOP853, rtol 1e-10) until |theta| = ``escape``;
+    meant for the diverging loop (a stable lagged loop is stiff for DOP853).
+
+    Parameters
+    ----------
+    mf : ModelFile
+        Plant (eq (12): ``models/cartpole.toml``) and ideal controller.
+    tau : float
+        Lag (s).
+    theta0 : float
+        Initial angle (rad).
+    t_end : float
+        Horizon (s).
+    escape : float
+        |theta| (rad) counted as diverged.
+    feedback : int, optional
+        Override the file's sign.
+    c : float, optional
+        Override the controller's constant coefficient.
+
+    Returns
+    -------
+    LagSimulation
+    """
+    from scipy.integrate import solve_ivp
+
+    _, _, num_c, den_c, f = _loop_parts(mf)
+    f = f if feedback is None else feedback
+    if not (tau > 0 and t_end > 0 and escape > abs(theta0) > 0):
+        raise ArgumentError("need tau > 0, t_end > 0 and 0 < |theta0| < escape")
+    a, b = num_c[0] / den_c[0], num_c[1] / den_c[0]
+    cc = num_c[2] / den_c[0] if c is None else c
+    q1, q0 = a / tau, (b - a / tau) / tau
+    r0 = cc - q0
+    theta_dd = _equation_rhs(mf)
+
+    def rates(_t: float, x: np.ndarray) -> list[float]:
+        u = f * (q1 * x[1] + q0 * x[0] + r0 * x[2])
+        return [x[1], theta_dd(x[0], x[1], u), (x[0] - x[2]) / tau]
+
+    def out(_t: float, x: np.ndarray) -> float:
+        return abs(x[0]) - escape
+
+    out.terminal = True  # type: ignore[attr-defined]
+    sol = solve_ivp(rates, (0.0, t_end), [theta0, 0.0, theta0], method="DOP853",
+                    rtol=1e-10, atol=1e-14 * max(1.0, abs(theta0)), events=out,
+                    dense_output=True)
+    escape_time = float(sol.t_events[0][0]) if sol.t_events[0].size else None
+    growth = None
+    grid = np.linspace(0.0, float(sol.t[-1]), 200001)
+    size = np.abs(sol.sol(grid)[0])
+    lo, hi = 1e2 * abs(theta0), 1e4 * abs(theta0)
+    if hi < escape and size.max() >= hi:
+        i, j = int(np.argmax(size >= lo)), int(np.argmax(size >= hi))
+        if j > i:
+            growth = float(math.log(size[j] / size[i]) / (grid[j] - grid[i]))
+    return LagSimulation(float(tau), float(theta0), float(escape), escape_time, float(t_end),
+                         growth, f, float(size.max()))
+
+
+@dataclass(frozen=True)
+class SignMargin:
+    """The loop with ``u = +(a s^2 + b s + c) theta`` (feedback +1) and its threshold on c.
+
+    Attributes
+    ----------
+    c_file : float
+        The paper's c.
+    poles_file : tuple of complex
+        Ideal loop poles at ``c_file`` with feedback +1 (python-control).
+    c_min : Fraction
+        Routh-Hurwitz threshold: stable iff c > c_min (ideal and one-lag loops).
+    poles_below, poles_above : tuple of complex
+        Ideal loop poles at c_min (1 - step) and c_min (1 + step).
+    step : float
+    c_max : dict
+        tau -> upper limit of c for the one-lag loop (cubic Hurwitz condition).
+    lag_poles_above : dict
+        tau -> poles of the one-lag loop at c_min (1 + step).
+    """
+
+    c_file: float
+    poles_file: tuple[complex, ...]
+    c_min: Fraction
+    poles_below: tuple[complex, ...]
+    poles_above: tuple[complex, ...]
+    step: float
+    c_max: dict[float, float]
+    lag_poles_above: dict[float, tuple[complex, ...]]
+
+    def __repr__(self) -> str:
+        return short_repr(self, "c_file", c_min=float(self.c_min))
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary."""
+        return plain({"c_file": self.c_file, "poles_file": self.poles_file,
+                      "c_min": float(self.c_min),
+                      "c_min_exact": f"{self.c_min.numerator}/{self.c_min.denominator}",
+                      "poles_below": self.poles_below, "poles_above": self.poles_above,
+                      "step": self.step, "c_max": {str(k): v for k, v in self.c_max.items()},
+                      "lag_poles_above": {str(k): v for k, v in self.lag_poles_above.items()}})
+
+
+def sign_margin(mf: ModelFile, taus: tuple[float, ...] = LAG_TIME_CONSTANTS,
+                step: float = 1e-3) -> SignMargin:
+    """The physically signed loop (feedback +1): poles at the paper's c and the threshold.
+
+    chi(s; c) = D_P D_C - N_P N_C depends on c only through its constant term
+    chi(0) = D_P(0) - N_P(0) c (D_C = 1 or tau s + 1).  For the ideal loop chi has
+    degree 2 and is Hurwitz iff its three coefficients are positive; the s^2 and s
+    coefficients (1 - N_P a, -N_P b) are positive for a, b > 0, so the loop is stable iff
+    c > c_min = D_P(0)/N_P(0).  With one lag, chi = tau s^3 + A2 s^2 + A1 s + A0 is
+    Hurwitz iff all A_i > 0 and A2 A1 > tau A0: the same c_min and an upper limit c_max.
+    """
+    num_p, den_p, num_c, den_c, _ = _loop_parts(mf)
+    a, b, c = (_exact(x) / _exact(den_c[0]) for x in num_c)
+    k, d2, d1, d0 = _exact(num_p[0]), _exact(den_p[0]), _exact(den_p[1]), _exact(den_p[2])
+    if (d2 - k * a) <= 0 or (d1 - k * b) <= 0:
+        raise ArgumentError("the s^2 or s coefficient of the ideal loop is not positive: "
+                            "no c stabilises it")
+    if k >= 0:
+        raise ArgumentError("with u = +C theta the plant's input coefficient must oppose its "
+                            "instability (N_P < 0): no smallest c")
+    c_min = d0 / k
+
+    def poles(cc: float, den: list[float] | None = None) -> tuple[complex, ...]:
+        dc = np.array([1.0]) if den is None else np.array(den)
+        return tuple(complex(p) for p in
+                     _poles(num_p, den_p, np.array([float(a), float(b), cc]), dc, 1))
+
+    c_max, lag_poles = {}, {}
+    for tau in taus:
+        t = _exact(tau)
+        # chi = (d2 s^2 + d1 s + d0)(t s + 1) - k (a s^2 + b s + c)
+        a2, a1 = d2 + d1 * t - k * a, d1 + d0 * t - k * b
+        # A0 = d0 - k c > 0 and A2 A1 > d2 t A0  ->  c < (d0 - A2 A1 / (d2 t)) / k
+        c_max[float(tau)] = float((d0 - a2 * a1 / (d2 * t)) / k) if a2 > 0 and a1 > 0 \
+            else float(c_min)
+        lag_poles[float(tau)] = poles(float(c_min) * (1 + step), [float(tau), 1.0])
+    return SignMargin(float(c), poles(float(c)), c_min, poles(float(c_min) * (1 - step)),
+                      poles(float(c_min) * (1 + step)), step, c_max, lag_poles)
+
+
+def _static_series(mf: ModelFile) -> tuple[Fraction, Fraction, Fraction]:
+    """c1, c2, c3 of the static branch theta = c1 u + c2 u^2 + c3 u^3 + ... (exact).
+
+    At zero frequency only the underived terms remain: F(theta, u) = sum a_ij theta^i u^j
+    = 0; the coefficients follow order by order.  They equal H_n(0, .., 0) (the GFRF
+    recursion evaluated at zero frequencies is this expansion).
+    """
+    a: dict[tuple[int, int], Fraction] = {}
+    for r in mf.plant.coefficient_table():
+        if any(r["y_orders"]) or any(r["u_orders"]):
+            continue
+        key = (len(r["y_orders"]), len(r["u_orders"]))
+        a[key] = a.get(key, Fraction(0)) + _exact(r["coefficient"])
+
+    def g(i: int, j: int) -> Fraction:
+        return a.get((i, j), Fraction(0))
+
+    if g(1, 0) == 0:
+        raise ArgumentError("the static equation has no linear theta term")
+    c1 = -g(0, 1) / g(1, 0)
+    c2 = -(g(2, 0) * c1 ** 2 + g(1, 1) * c1 + g(0, 2)) / g(1, 0)
+    c3 = -(2 * g(2, 0) * c1 * c2 + g(3, 0) * c1 ** 3 + g(2, 1) * c1 ** 2 + g(1, 1) * c2
+           + g(1, 2) * c1 + g(0, 3)) / g(1, 0)
+    return c1, c2, c3
+
+
+@dataclass(frozen=True)
+class ControllerTrial:
+    """One PD-with-filter controller u = +(K_d s + K_p)/(tau_f s + 1) theta in Theorem 2.
+
+    ``bound`` is the proof's ceiling on the certifiable amplitude for this controller,
+    (2/(3 sqrt 3)) (lambda_1 rho_1)^(-3/2) |c3|^(-1/2); ``radius`` is gfrf's certified r*.
+    """
+
+    kp: float
+    kd: float
+    tau_f: float
+    stable: bool
+    lambda1: float
+    rho1: float
+    radius: float
+    verdict: str
+    bound: float
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary."""
+        return {"kp": self.kp, "kd": self.kd, "tau_f": self.tau_f, "stable": self.stable,
+                "lambda1": self.lambda1, "rho1": self.rho1, "radius": self.radius,
+                "verdict": self.verdict, "bound": self.bound}
+
+
+@dataclass(frozen=True)
+class Theorem2Obstruction:
+    """Why Theorem 2 cannot certify the cart-pole with a proper, stable linear controller.
+
+    Attributes
+    ----------
+    beta1_floor : Fraction
+        |h1(0)| (exact), a lower bound of beta_1 = ||h1||.
+    c3 : Fraction
+        h3(0, 0, 0) (exact), so beta_3 >= |c3|.
+    kernel_h1_0, kernel_h3_0 : float
+        The same two values from :func:`gfrf.kernels.recursion.kernel` (cross-check).
+    ceiling : float
+        sup over y > 0 of beta1_floor y - |c3| y^3 = (2/(3 sqrt 3)) beta1^(3/2) |c3|^(-1/2):
+        no stabilising controller's theta-series converges at a reference size r at or
+        above it.
+    holds : bool
+        The exact test 4 beta1^3 < 27 |c3| (ceiling < 1).
+    trials : tuple of ControllerTrial
+        The PD-with-filter search.
+    """
+
+    beta1_floor: Fraction
+    c3: Fraction
+    kernel_h1_0: float
+    kernel_h3_0: float
+    ceiling: float
+    holds: bool
+    trials: tuple[ControllerTrial, ...]
+
+    @property
+    def stabilising(self) -> tuple[ControllerTrial, ...]:
+        return tuple(t for t in self.trials if t.stable)
+
+    @property
+    def best(self) -> ControllerTrial | None:
+        """The stabilising trial with the largest certified r*."""
+        return max(self.stabilising, key=lambda t: t.radius, default=None)
+
+    def __repr__(self) -> str:
+        return short_repr(self, "ceiling", "holds", trials=len(self.trials))
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary."""
+        best = self.best
+        return {"beta1_floor": float(self.beta1_floor), "c3": float(self.c3),
+                "kernel_h1_0": self.kernel_h1_0, "kernel_h3_0": self.kernel_h3_0,
+                "ceiling": self.ceiling, "holds": self.holds,
+                "trials": [t.to_dict() for t in self.trials],
+                "stabilising": len(self.stabilising),
+                "certified_at_r1": sum(t.verdict == "stable" for t in self.trials),
+                "best": best.to_dict() if best else None}
+
+
+def theorem2_obstruction(mf: ModelFile, grid: tuple[tuple[float, float, float], ...] = PD_GRID
+                         ) -> Theorem2Obstruction:
+    """Prove that Theorem 2 cannot certify the cart-pole, and search PD-with-filter gains.
+
+    **Claim.**  For the plant of eq (12) or (16) and *any* proper, stable, linear
+    controller s1 = N_C/D_C for which the linear closed loop is stable, the series
+    sum theta_n rho_1^n of Theorem 2 diverges; more generally it converges for no
+    reference size r >= (2/(3 sqrt 3)) beta^(3/2) |c3|^(-1/2) (= :attr:`ceiling`,
+    about 0.67), where beta = |h1(0)| = 39.3185/67.578 and c3 = h3(0, 0, 0).
+
+    **Proof.**  (i) Take D_C monic; it is Hurwitz, so D_C(0) > 0.  As deg N_C <= deg D_C,
+    chi = D_P D_C - f N_P N_C has leading coefficient 1, and Hurwitz chi has chi(0) > 0:
+    -67.578 D_C(0) + 39.3185 f N_C(0) > 0, i.e. |s1(0)| > 67.578/39.3185 = 1/beta.
+    Hence lambda_1 = sup|s1(jw)| >= |s1(0)| > 1/beta.  (ii) rho_1 >= 1: the sensitivity
+    1/(1 + h1 s1) tends to 1 as w -> inf (h1 strictly proper, s1 proper); the literal
+    sup|(1 + h1) s1| >= (1 + beta)|s1(0)| > 1 as well.  (iii) beta_3 = ||h3|| >= |h3(0,0,0)|
+    = |c3|, the cubic Taylor coefficient of the static branch theta(u) (exact rationals
+    in :func:`_static_series`), and phi_3 >= beta_3 alpha_1^3 = beta_3 (alpha_1 = 1),
+    every phi_m >= 0.  (iv) With T(x) = sum theta_n x^n, Theorem 2's recursion is
+    T = x + rho_1 Psi(lambda_1 T), Psi(y) = sum_{m>=2} phi_m y^m (non-negative
+    coefficients).  If sum theta_n (rho_1 r)^n converges, its value T* solves it
+    (Tonelli), and y = lambda_1 T* > 0 gives
+    r = y/(lambda_1 rho_1) - Psi(y) < beta y - |c3| y^3 <= ceiling.
+    With beta = 0.5818 and c3 = -0.0657 the exact test 4 beta^3 < 27 |c3| gives
+    ceiling < 1: at the paper's r = 1 the series diverges.  QED.  (The first series,
+    sum phi_m lambda_1^m, need not diverge: its lower bound sum |c_m| lambda_1^m
+    converges for lambda_1 below the static branch's radius.)
+
+    The search builds u = +(K_d s + K_p)/(tau_f s + 1) theta for each point of ``grid``,
+    keeps those with a stable linear loop and runs :func:`gfrf.stability.criteria.theorem2`
+    (order 3, majorant only); each certified r* must lie below that controller's own
+    ceiling (2/(3 sqrt 3)) (lambda_1 rho_1)^(-3/2) |c3|^(-1/2).
+
+    Parameters
+    ----------
+    mf : ModelFile
+        ``models/cartpole_reduced.toml`` or ``models/cartpole.toml``.
+    grid : tuple of (K_p, K_d, tau_f)
+
+    Returns
+    -------
+    Theorem2Obstruction
+    """
+    from gfrf.kernels.recursion import kernel
+    from gfrf.stability.criteria import theorem2
+
+    c1, c2, c3 = _static_series(mf)
+    if c2 != 0 or c3 == 0:
+        raise ArgumentError("the obstruction argument needs an odd static branch with c3 != 0")
+    beta = abs(c1)
+    holds = 4 * beta ** 3 < 27 * abs(c3)
+    ceiling = 2.0 / (3.0 * math.sqrt(3.0)) * float(beta) ** 1.5 / math.sqrt(float(abs(c3)))
+    h1_0 = float(np.real(kernel(mf.plant, 1)(0.0)))
+    h3_0 = float(np.real(kernel(mf.plant, 3)(0.0, 0.0, 0.0)))
+    trials = []
+    ctrl = mf.controller
+    if ctrl is None:
+        raise ArgumentError(f"{mf.name or 'model'}: needs a [controller] table")
+    for kp, kd, tf in grid:
+        trial_mf = replace(mf, controller=replace(ctrl, num=(kd, kp), den=(tf, 1.0),
+                                                  feedback=1))
+        loop = closed_loop(trial_mf)
+        lam, rho = loop.controller_norm, loop.sensitivity_peak
+        bound = (2.0 / (3.0 * math.sqrt(3.0)) * (lam * rho) ** -1.5
+                 / math.sqrt(float(abs(c3))))
+        if loop.stable:
+            v = theorem2(trial_mf, order=3, with_norms=False)
+            trials.append(ControllerTrial(kp, kd, tf, True, lam, rho, v.radius, v.verdict,
+                                          bound))
+        else:
+            trials.append(ControllerTrial(kp, kd, tf, False, lam, rho, 0.0, "unstable", bound))
+    return Theorem2Obstruction(beta, c3, h1_0, h3_0, ceiling, holds, tuple(trials))
+
+
+@dataclass(frozen=True)
+class DriveTrial:
+    """One closed-loop run driven by a cosine reference."""
+
+    equation: str
+    target_deg: float
+    amplitude: float
+    bounded: bool
+    peak: float
+    blowup_time: float | None
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary."""
+        return {"equation": self.equation, "target_deg": self.target_deg,
+                "amplitude": self.amplitude, "bounded": self.bounded, "peak": self.peak,
+                "blowup_time": self.blowup_time}
+
+
+@dataclass(frozen=True)
+class LoopDrive:
+    """The ideal linear closed loop's frequency scales and cosine-driven runs.
+
+    Attributes
+    ----------
+    poles : tuple of complex
+        Closed-loop poles (y/r).
+    resonant : bool
+        A complex pole pair exists (the loop can resonate).
+    omega : float
+        Drive frequency (rad/s): the least damped complex pair's |p| if ``resonant``,
+        otherwise the fastest pole's |p| (the corner of the loop's gain).
+    gain : float
+        |y/r(j omega)| of the linear loop.
+    t_end : float
+        Horizon (s), ``periods`` periods of the drive.
+    periods : int
+    trials : tuple of DriveTrial
+    """
+
+    poles: tuple[complex, ...]
+    resonant: bool
+    omega: float
+    gain: float
+    t_end: float
+    periods: int
+    trials: tuple[DriveTrial, ...]
+
+    def __repr__(self) -> str:
+        return short_repr(self, "omega", "resonant", "t_end")
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary."""
+        return plain({"poles": self.poles, "resonant": self.resonant, "omega": self.omega,
+                      "gain": self.gain, "t_end": self.t_end, "periods": self.periods,
+                      "trials": [t.to_dict() for t in self.trials]})
+
+
+def has_physical_equation(mf: ModelFile) -> bool:
+    """The file's untruncated equation differs from its polynomial (eq (12)'s file, not
+    eq (16)'s, whose "physical" equation is the polynomial itself)."""
+    physical = mf.plant.physical
+    return physical is not None and (physical - mf.plant.polynomial()).expand() != 0
+
+
+def loop_drive(mf: ModelFile, angles_deg: tuple[float, ...] = (5.0, 10.0, 15.0),
+               periods: int = 100, blowup: float = 1e3) -> LoopDrive:
+    """Drive the closed loop with r = A cos(omega t) at its own frequency scale.
+
+    A is chosen so that the *linear* loop's steady angle amplitude is each of
+    ``angles_deg``; the nonlinear loop (polynomial equation, and the physical one when
+    the file has a distinct one, :func:`has_physical_equation`) is simulated by
+    :func:`gfrf.sim.simulation.simulate` over ``periods`` periods.
+    """
+    from gfrf.sim.simulation import build_system, simulate
+
+    loop = closed_loop(mf)
+    poles = tuple(complex(p) for p in loop.poles)
+    pairs = [p for p in poles if p.imag > 0]
+    if pairs:
+        omega = abs(max(pairs, key=lambda p: p.real / abs(p)))
+    else:
+        omega = max(abs(p) for p in poles)
+    gain = float(abs(loop.reference_to_output(1j * omega)))
+    t_end = periods * 2.0 * math.pi / omega
+    equations = ["polynomial"] + (["physical"] if has_physical_equation(mf) else [])
+    trials = []
+    for eq in equations:
+        system = build_system(mf, closed_loop=True, equation=eq)
+        for deg in angles_deg:
+            amp = math.radians(deg) / gain
+            res = simulate(system, f"{amp!r}*cos({omega!r}*t)", t_end=t_end, rtol=1e-8,
+                           atol=1e-11, blowup=blowup)
+            trials.append(DriveTrial(eq, deg, amp, res.bounded, res.peak, res.blowup_time))
+    return LoopDrive(poles, bool(pairs), float(omega), gain, float(t_end), periods,
+                     tuple(trials))

@@ -1,0 +1,633 @@
+"""The static map, a proven upper bound on the true radius, and a many-term estimate.
+
+Three numbers describe how far the norm series sum_n ||H_n|| r^n converges:
+
+* ``radius`` (elsewhere, :mod:`gfrf.bounds.majorant`): r*, a proven *lower* bound on its radius.
+* :func:`radius_upper`: a proven *upper* bound, from the zero-frequency kernels.  At
+  zero frequency (s = 0, or q = 1 for a NARX model) every derivative factor vanishes
+  (every lag is the same value), so H_n(0, .., 0) = c_n are the Taylor coefficients
+  of the static input-output map: the branch y(u) with y(0) = 0 of the algebraic
+  equation P(y, u) = 0 obtained by keeping the terms without derivatives.  Because
+  ||H_n|| >= |c_n|, the true radius is at most the radius of sum c_n u^n, which is the
+  modulus of the nearest singular point of that branch.  The bound is the modulus of
+  a root sigma of the discriminant of P in y at which the branch is proven singular:
+  the branch is tracked along the segment [0, sigma] in Arb ball arithmetic
+  (Weierstrass root-inclusion discs, valid for every u of a ball covering a piece of
+  the segment; the branch's disc meets no other, so it holds exactly one root; a
+  fold of other sheets on the way does not matter), it is shown to enter a disc D
+  around the double
+  root y0 of P(., sigma) on whose boundary P(., u) has no zero for u on the rest of
+  the segment, D holds exactly two roots at sigma, and P_u != 0 on D x {sigma}.  Were
+  the branch analytic at sigma, y(sigma) = y0 and P_y y' + P_u = 0 there would force
+  P_u(y0, sigma) = 0: so it is singular, and the radius is at most |sigma|.
+* :func:`radius_estimate`: an estimate of the true radius from many terms of a
+  lower-bound series: L_n = max over a few frequencies w of |H_n(w, .., w, -w, .., -w)|
+  (all splits into +w and -w), which is <= ||H_n||.  Those values are the harmonic
+  coefficients of the response to a e^{jwt} + b e^{-jwt}, computed to order 24 by
+  harmonic balance in two-variable power series (cheap at any order, unlike the
+  symbolic kernels).  The radius is read off log L_n ~ n log(1/R) - (3/2) log n + c
+  (the tail of a square-root branch point) by least squares on the upper envelope
+  of the upper half of the nonzero terms (:func:`fit_radius`), and clamped into
+  [r*, radius_upper]: an estimate, never a proof.  Fed the exact static series, the
+  same fit recovers the closed-form branch points (tested).
+
+Examples
+--------
+>>> from gfrf.model.equation import parse_model
+>>> m = parse_model("y[k] = 0.5*y[k-1] - 0.2*y[k-1]**2*u[k-2] + u[k-1]", sample_time=0.1)
+>>> [float(c) for c in static_series(m, 3)]  # exact values of the float coefficients
+[0.0, 2.0, 0.0, -1.6]
+>>> round(radius_upper(m).value, 6)  # branch points at +-i sqrt(5/16)
+0.559017
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Any
+
+import numpy as np
+
+from gfrf.bounds.exact import arb_upper
+from gfrf.model.equation import Model
+
+__all__ = ["StaticBound", "RadiusEstimate", "static_polynomial", "static_series",
+           "radius_upper", "resonant_lower_bounds", "radius_estimate", "fit_radius"]
+
+#: Kernel orders used by the estimate (harmonic balance, float).
+ESTIMATE_ORDER = 24
+#: Most pieces of the segment the branch tracking may use (a work count, not a time).
+MAX_TRACK_STEPS = 4000
+#: Arb working precision (bits) of the branch tracking.
+PRECISION = 128
+
+
+@dataclass(frozen=True)
+class StaticBound:
+    """A proven upper bound on the true radius of the norm series.
+
+    Attributes
+    ----------
+    value : float
+        A float >= |sigma| (rounded up): the radius of the static series is at most it.
+    branch_point : complex
+        sigma, midpoint of its Arb enclosure.
+    double_root : complex
+        y0, the static output value at which the branch folds.
+    exact : bool
+        True when no other singular candidate is nearer than sigma, so the static
+        series' radius equals |sigma| (not only is at most it).
+    detail : str
+        The proof in one sentence.
+    """
+
+    value: float
+    branch_point: complex
+    double_root: complex
+    exact: bool
+    detail: str
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary."""
+        return {"value": self.value, "branch_point": [self.branch_point.real,
+                                                       self.branch_point.imag],
+                "double_root": [self.double_root.real, self.double_root.imag],
+                "exact": self.exact, "detail": self.detail}
+
+
+@dataclass(frozen=True)
+class RadiusEstimate:
+    """The estimate of the true radius and the numbers it was clamped between.
+
+    Attributes
+    ----------
+    value : float
+        The estimate (never above ``upper``, never below ``lower``).
+    fitted : float
+        The tail fit before clamping.
+    lower : float
+        Proven lower bound r* it was clamped to.
+    upper : float or None
+        Proven upper bound it was clamped to.
+    terms : int
+        Number of nonzero lower bounds L_n used by the fit.
+    method : str
+    """
+
+    value: float
+    fitted: float
+    lower: float
+    upper: float | None
+    terms: int
+    method: str
+
+
+def _static_terms(model: Model) -> dict[tuple[int, int], Fraction]:
+    """Coefficients {(i, j): c} of y^i u^j of the static equation P(y, u) = 0."""
+    out: dict[tuple[int, int], Fraction] = {}
+    for t in model.terms:
+        if not model.is_discrete and any(t.y_orders + t.u_orders):
+            continue  # a derivative factor is zero at zero frequency
+        key = (len(t.y_orders), len(t.u_orders))
+        out[key] = out.get(key, Fraction(0)) + Fraction(t.coefficient)
+    return {k: v for k, v in out.items() if v != 0}
+
+
+def static_polynomial(model: Model) -> dict[tuple[int, int], Fraction]:
+    """The static equation P(y, u) = sum c_ij y^i u^j = 0 with exact rational coefficients.
+
+    Parameters
+    ----------
+    model : Model
+
+    Returns
+    -------
+    dict
+        ``{(i, j): c_ij}`` (the floats of the model at their exact values).
+    """
+    return _static_terms(model)
+
+
+def static_series(model: Model, n_max: int) -> list[Fraction]:
+    """Exact Taylor coefficients c_0..c_{n_max} of the static branch y(u), y(0) = 0.
+
+    c_n = H_n(0, .., 0) (s = 0 or q = 1).  Returns an empty list when the static map
+    is not defined by the linear part (A(0) = 0: no finite static gain).
+    """
+    p = _static_terms(model)
+    a0 = p.get((1, 0), Fraction(0))
+    if a0 == 0 or (0, 0) in p:  # no finite static gain, or a constant term (y(0) != 0)
+        return []
+    y = [Fraction(0)] * (n_max + 1)
+    for n in range(1, n_max + 1):
+        total = -p.get((0, 1), Fraction(0)) if n == 1 else Fraction(0)
+        for (i, j), c in p.items():
+            if i + j < 2 or j > n:
+                continue
+            total -= c * _power_coefficient(y, i, n - j)
+        y[n] = total / a0
+    return y
+
+
+def _power_coefficient(y: list[Fraction], i: int, n: int) -> Fraction:
+    """Coefficient of u^n in y(u)^i (y[0] = 0), from the known y[1..n-1]."""
+    acc = [Fraction(1)] + [Fraction(0)] * n
+    for _ in range(i):
+        acc = [sum((acc[k] * y[m - k] for k in range(m)), Fraction(0)) for m in range(n + 1)]
+    return acc[n]
+
+
+def _coefficient_polys(p: dict[tuple[int, int], Fraction]) -> list[Any]:
+    """fmpq_poly coefficients p_i(u) of y^i, i = 0..degree in y."""
+    from flint import fmpq, fmpq_poly
+
+    deg_y = max(i for i, _ in p)
+    deg_u = max(j for _, j in p)
+    rows = [[Fraction(0)] * (deg_u + 1) for _ in range(deg_y + 1)]
+    for (i, j), c in p.items():
+        rows[i][j] = c
+    return [fmpq_poly([fmpq(c.numerator, c.denominator) for c in row]) for row in rows]
+
+
+def _discriminant(polys: list[Any]) -> Any:
+    """Discriminant in y of sum p_i(u) y^i (resultant of P and P_y over Q[u])."""
+    import sympy as sp
+
+    u, y = sp.symbols("u y")
+    expr = sum(sp.Poly([sp.Rational(int(c.p), int(c.q)) for c in reversed(q.coeffs())] or [0],
+                       u).as_expr() * y ** i for i, q in enumerate(polys))
+    disc = sp.Poly(sp.resultant(expr, sp.diff(expr, y), y), u)
+    from flint import fmpq, fmpq_poly
+
+    coeffs = [sp.Rational(c) for c in reversed(disc.all_coeffs())]
+    return fmpq_poly([fmpq(int(c.p), int(c.q)) for c in coeffs])
+
+
+def _eval(q: Any, u: Any) -> Any:
+    """fmpq_poly q at the acb ball u (Horner, outward rounded)."""
+    from flint import acb
+
+    acc = acb(0)
+    for c in reversed(q.coeffs()):
+        acc = acc * u + acb(c)
+    return acc
+
+
+def _eval_p(polys: list[Any], y: Any, u: Any) -> Any:
+    from flint import acb
+
+    acc = acb(0)
+    for q in reversed(polys):
+        acc = acc * y + _eval(q, u)
+    return acc
+
+
+def _derivative_u(polys: list[Any]) -> list[Any]:
+    return [q.derivative() for q in polys]
+
+
+def _segment(sigma: Any, a: float, b: float) -> Any:
+    """An acb ball covering {t sigma : t in [a, b]}."""
+    from flint import acb, arb
+
+    return sigma * acb(arb((a + b) / 2, (b - a) / 2 * (1 + 1e-12)))
+
+
+def _discs(polys: list[Any], u: Any) -> tuple[np.ndarray, np.ndarray] | None:
+    """Weierstrass inclusion discs (centres, radii) of the roots of P(., u) for every u
+    in the ball ``u`` (their union holds every root, a connected component of m discs
+    exactly m roots); None unless the leading coefficient excludes 0."""
+    from flint import acb
+
+    d = len(polys) - 1
+    lead = _eval(polys[-1], u)
+    low = float(lead.abs_lower())
+    if d < 1 or not low > 0:
+        return None
+    mid = [complex(_eval(q, acb(u.mid()))) for q in polys]
+    z = np.roots(mid[::-1])
+    if z.size != d or not np.all(np.isfinite(z)):
+        return None
+    radii = np.empty(d)
+    for j in range(d):
+        prod = 1.0
+        for k in range(d):
+            if k != j:
+                prod *= abs(z[j] - z[k])
+        if prod == 0.0:
+            return None
+        value = _eval_p(polys, acb(complex(z[j])), u)
+        radii[j] = d * arb_upper(value.abs_upper()) / (low * prod) * (1 + 1e-9)
+    return z, radii
+
+
+def _certify(polys: list[Any], sigma: Any) -> complex | None:
+    """The double root y0 if the branch through (0, 0) is proven singular at sigma."""
+    from flint import acb
+
+    d = len(polys) - 1
+    sigma_mid = complex(sigma.mid())
+    at_sigma = np.roots([complex(_eval(q, acb(sigma_mid))) for q in polys][::-1])
+    if at_sigma.size != d:
+        return None
+    gaps = {(j, k): abs(at_sigma[j] - at_sigma[k]) for j in range(d) for k in range(j)}
+    pair = min(gaps, key=gaps.__getitem__)
+    y0 = complex(0.5 * (at_sigma[pair[0]] + at_sigma[pair[1]]))
+    others = [at_sigma[i] for i in range(d) if i not in pair]
+    start = _start(polys, sigma)
+    if start is None:
+        return None
+    t, delta = start
+    h, steps = min(1.0 / 16, t), 0
+    current = (0j, delta)
+    while steps < MAX_TRACK_STEPS:
+        steps += 1
+        b = min(1.0, t + h)
+        discs = _discs(polys, _segment(sigma, t, b)) if b < 1.0 else None
+        linked = None if discs is None else _link(discs, current)
+        if linked is None:
+            h *= 0.5
+            if h < 1e-14:
+                return None
+            continue
+        current, t, h = linked, b, min(2 * h, 0.25)
+        if t > 0.5 and _end_stage(polys, sigma, t, current, y0, others):
+            return y0
+    return None
+
+
+def _start(polys: list[Any], sigma: Any) -> tuple[float, float] | None:
+    """(t0, delta): for every u in [0, t0] sigma the branch is the only root of P(., u)
+    in |y| < delta (Rouche at u = 0, no root on |y| = delta along the piece)."""
+    from flint import acb, arb
+
+    p1 = abs(float(polys[1].coeffs()[0])) if polys[1].coeffs() else 0.0
+    higher = [abs(float(q.coeffs()[0])) if q.coeffs() else 0.0 for q in polys[2:]]
+    delta = 1.0
+    while p1 * delta <= 2 * sum(c * delta ** (i + 2) for i, c in enumerate(higher)):
+        delta *= 0.5
+        if delta < 1e-12:
+            return None
+    pieces = 256
+    for k in range(1, 40):
+        t0 = 2.0 ** -k
+        piece = _segment(sigma, 0.0, t0)
+        ok = True
+        for j in range(pieces):
+            angle = 2 * math.pi * (j + 0.5) / pieces
+            half = delta * math.pi / pieces * 1.01
+            ball = acb(delta * complex(math.cos(angle), math.sin(angle))) + acb(
+                arb(0, half), arb(0, half))
+            if _eval_p(polys, ball, piece).contains(0):
+                ok = False
+                break
+        if ok:
+            return t0, delta
+    return None
+
+
+def _link(discs: tuple[np.ndarray, np.ndarray],
+          current: tuple[complex, float]) -> tuple[complex, float] | None:
+    """The disc of this piece holding the tracked root: the only one meeting the last,
+    and disjoint from every other disc (a component of one disc: exactly one root).
+    Other roots' discs may overlap each other (a fold of other sheets is harmless)."""
+    z, radii = discs
+    c, r = current
+    hits = [j for j in range(z.size) if abs(z[j] - c) <= radii[j] + r]
+    if len(hits) != 1:
+        return None
+    j = hits[0]
+    if any(abs(z[j] - z[k]) <= radii[j] + radii[k] for k in range(z.size) if k != j):
+        return None
+    return complex(z[j]), float(radii[j])
+
+
+def _end_stage(polys: list[Any], sigma: Any, t: float, current: tuple[complex, float],
+               y0: complex, others: list[complex]) -> bool:
+    """Checks (2)-(4) of the module docstring for a disc D(y0, rho) from t to sigma."""
+    from flint import acb, arb
+
+    c, r = current
+    d = len(polys) - 1
+    rho = 2.0 * (abs(c - y0) + r)
+    if not rho > 0 or any(abs(o - y0) <= 2 * rho for o in others):
+        return False
+    rest = _segment(sigma, t, 1.0)
+    if not _eval(polys[-1], rest).abs_lower() > 0:
+        return False
+    pieces = 256
+    for k in range(pieces):  # no root on the circle |y - y0| = rho for u on the rest
+        point = y0 + rho * complex(math.cos(2 * math.pi * (k + 0.5) / pieces),
+                                   math.sin(2 * math.pi * (k + 0.5) / pieces))
+        ball = acb(point) + acb(arb(0, rho * math.pi / pieces * 1.01),
+                                arb(0, rho * math.pi / pieces * 1.01))
+        if _eval_p(polys, ball, rest).contains(0):
+            return False
+    eps = rho / (2 * (1 + d))  # two roots in D at sigma, the others simple outside D
+    approx = [y0 + eps, y0 - eps, *others]
+    lead_low = float(_eval(polys[-1], sigma).abs_lower())
+    if not lead_low > 0:  # sigma is a zero of the leading coefficient: not a fold
+        return False
+    radii = []
+    for j, zj in enumerate(approx):
+        prod = math.prod(abs(zj - zk) for k, zk in enumerate(approx) if k != j)
+        value = _eval_p(polys, acb(zj), sigma)
+        radii.append(d * arb_upper(value.abs_upper()) / (lead_low * prod) * (1 + 1e-9))
+    if any(abs(approx[j] - y0) + radii[j] >= rho for j in (0, 1)):
+        return False
+    for j in range(2, d):
+        if abs(approx[j] - y0) - radii[j] <= rho:
+            return False
+        for k in range(2, j):
+            if abs(approx[j] - approx[k]) <= radii[j] + radii[k]:
+                return False
+    disc_ball = acb(y0) + acb(arb(0, rho), arb(0, rho))
+    return not _eval_p(_derivative_u(polys), disc_ball, sigma).contains(0)
+
+
+def radius_upper(model: Model) -> StaticBound | None:
+    """Proven upper bound on the true radius of sum ||H_n|| r^n from the static map.
+
+    Parameters
+    ----------
+    model : Model
+
+    Returns
+    -------
+    StaticBound or None
+        None when the static map has no finite gain (A(0) = 0), is linear, or no
+        candidate branch point could be proven singular within the work budget.
+    """
+    from flint import ctx
+
+    p = _static_terms(model)
+    if p.get((1, 0), Fraction(0)) == 0 or (0, 0) in p or max(i for i, _ in p) < 2:
+        return None
+    saved = ctx.prec
+    ctx.prec = PRECISION
+    try:
+        polys = _coefficient_polys(p)
+        disc = _discriminant(polys)
+        if disc == 0:
+            return None
+        lead = polys[-1]
+        candidates = [s for s, _ in disc.complex_roots()]
+        if lead.degree() > 0:
+            candidates += [s for s, _ in lead.complex_roots()]
+        candidates = [s for s in candidates if not s.contains(0)]
+        candidates.sort(key=lambda s: float(abs(s).mid()))
+        if not candidates:
+            return None
+        nearest = float(abs(candidates[0]).abs_lower())
+        for sigma in candidates:
+            y0 = _certify(polys, sigma)
+            if y0 is not None:
+                value = arb_upper(abs(sigma))
+                exact = value <= nearest * (1 + 1e-12)
+                s = complex(sigma.mid())
+                return StaticBound(value, s, y0, exact,
+                                   f"static branch point u = {_fmt(s)} (|u| = {value:.6g}): "
+                                   f"the static branch y(u) folds at y = {_fmt(y0)}, proven in "
+                                   "ball arithmetic; ||H_n|| >= |H_n(0,..,0)|")
+        return None
+    finally:
+        ctx.prec = saved
+
+
+def _fmt(z: complex) -> str:
+    if abs(z.imag) <= 1e-14 * abs(z):
+        return f"{z.real:.6g}"
+    if abs(z.real) <= 1e-14 * abs(z):
+        return f"{z.imag:.6g}i"
+    return f"{z.real:.6g}{z.imag:+.6g}i"
+
+
+def _atom_factors(model: Model, w: float, n: int) -> dict[int, np.ndarray]:
+    """Matrix F[k, l] of the factor of an order-p atom at harmonic m = k - l."""
+    orders = {o for t in model.terms for o in (*t.y_orders, *t.u_orders)}
+    m = np.subtract.outer(np.arange(n + 1), np.arange(n + 1)).astype(float)
+    if model.is_discrete:
+        return {p: np.exp(-1j * m * w * model.sample_time * p) for p in orders}  # type: ignore[operator]
+    return {p: (1j * m * w) ** p for p in orders}
+
+
+def _truncated_product(p: np.ndarray, f: np.ndarray) -> np.ndarray:
+    """The leading n x n block of the 2-D convolution of two n x n arrays (the product
+    of two bivariate series truncated to degree < n in each variable), as one matrix
+    product of shifted copies: direct sums, no FFT rounding, no scipy.signal import."""
+    n = p.shape[0]
+    k = np.arange(n)
+    idx = np.subtract.outer(k, k)  # idx[i, a] = i - a
+    idx = np.where(idx >= 0, idx, n)  # n: the zero padding
+    f_pad = np.vstack([f, np.zeros((1, n), dtype=f.dtype)])
+    p_pad = np.hstack([p, np.zeros((n, 1), dtype=p.dtype)])
+    shifted = f_pad[idx]  # shifted[i, a, b] = f[i - a, b]
+    toeplitz = p_pad[:, idx.T]  # toeplitz[a, b, j] = p[a, j - b]
+    return shifted.reshape(n, n * n) @ toeplitz.reshape(n * n, n)
+
+
+def _harmonic_coefficients(model: Model, w: float, n: int) -> np.ndarray | None:
+    """Y[k, l]: coefficient of a^k b^l e^{j (k - l) w t} of the response to
+    u = a e^{jwt} + b e^{-jwt}; Y[k, l] = C(k + l, k) H_{k+l}(w x k, -w x l)."""
+    fac = _atom_factors(model, w, n)
+    a_lin = sum((c * fac[p] for p, c in model.linear_output.items()), np.zeros((n + 1, n + 1)))
+    u = np.zeros((n + 1, n + 1), dtype=complex)
+    if n >= 1:
+        u[1, 0] = u[0, 1] = 1.0
+    degree = np.add.outer(np.arange(n + 1), np.arange(n + 1))
+    if np.any(np.abs(a_lin[degree <= n]) <= 1e-300):
+        return None
+    y = np.zeros((n + 1, n + 1), dtype=complex)
+    nonlinear = [t for t in model.terms if not t.is_linear_output]
+    for order in range(1, n + 1):
+        size = order + 1  # entries of degree <= order only
+        total = np.zeros((size, size), dtype=complex)
+        for t in nonlinear:
+            prod = None
+            for p, base in [(p, y) for p in t.y_orders] + [(p, u) for p in t.u_orders]:
+                f = fac[p][:size, :size] * base[:size, :size]
+                prod = f if prod is None else _truncated_product(prod, f)
+            with np.errstate(all="ignore"):
+                total += t.coefficient * prod
+        mask = degree[:size, :size] == order
+        with np.errstate(all="ignore"):
+            y[:size, :size][mask] = -total[mask] / a_lin[:size, :size][mask]
+        if not np.all(np.isfinite(y[:size, :size][mask])):
+            return None  # A(j m w) = 0 (a pole on the axis) or overflow: no value at w
+    return y
+
+
+def _frequencies(model: Model) -> list[float]:
+    """Resonances of the linear part (peaks, |Im p|, |p|; angles for NARX) and their
+    halves and thirds (rad/s)."""
+    from gfrf.bounds.majorant import linear_polynomials
+    from gfrf.bounds.norms import _frequencies as resonances
+
+    base, _ = resonances(model, "float")
+    _, den = linear_polynomials(model)
+    found = set(base)
+    if den.size > 1:
+        roots = np.roots(den[::-1] if model.is_discrete else den)
+        if model.is_discrete:
+            found |= {abs(float(np.angle(1 / p))) / model.sample_time  # type: ignore[operator]
+                      for p in roots if p != 0}
+        else:
+            found |= {abs(float(p.imag)) for p in roots} | {float(abs(p)) for p in roots}
+    out = {0.0}
+    for f in found:
+        if math.isfinite(f):
+            for k in (1, 2, 3):
+                out.add(round(f / k, 12))
+    return sorted(out)
+
+
+def resonant_lower_bounds(model: Model, n_max: int = ESTIMATE_ORDER) -> np.ndarray:
+    """L_n <= ||H_n||: max of |H_n(w, .., w, -w, .., -w)| over splits and frequencies.
+
+    Parameters
+    ----------
+    model : Model
+    n_max : int
+        Highest order.
+
+    Returns
+    -------
+    numpy.ndarray
+        L_0..L_{n_max} (L_0 = 0), float values (~1e-13 relative).
+    """
+    from scipy.special import comb
+
+    best = np.zeros(n_max + 1)
+    degree = np.add.outer(np.arange(n_max + 1), np.arange(n_max + 1))
+    k_idx = np.arange(n_max + 1)[:, None] * np.ones(n_max + 1)
+    weights = comb(degree, k_idx)
+    for w in _frequencies(model):
+        y = _harmonic_coefficients(model, w, n_max)
+        if y is None:
+            continue
+        values = np.abs(y) / np.where(weights > 0, weights, 1.0)
+        for n in range(1, n_max + 1):
+            v = values[degree == n]
+            v = v[np.isfinite(v)]
+            if v.size:
+                best[n] = max(best[n], float(np.max(v)))
+    return best
+
+
+#: Exponent alpha of the tail L_n ~ C R^-n n^alpha assumed by the fit: a square-root
+#: branch point (a fold, the generic singularity of an algebraic map) gives -3/2.
+TAIL_EXPONENT = -1.5
+
+
+def fit_radius(values: np.ndarray | list[float]) -> tuple[float, int, int, int]:
+    """Radius R of the tail fit log L_n = n log(1/R) + alpha log n + c, alpha = -3/2.
+
+    The fit uses the upper half of the nonzero terms; points more than 0.02 below the
+    fit (troughs of an oscillating sequence: complex-conjugate singularities, families
+    of resonances taking turns) are dropped and the fit repeated on the upper envelope,
+    keeping at least three points.
+
+    Parameters
+    ----------
+    values : array_like
+        L_0, L_1, ..., L_N (nonnegative; zeros are skipped).
+
+    Returns
+    -------
+    tuple
+        (R, points used, first order, last order); R is nan with fewer than four
+        nonzero terms.
+    """
+    values = np.asarray(values, dtype=float)
+    ns = [n for n in range(1, values.size) if values[n] > 0 and math.isfinite(values[n])]
+    if len(ns) < 4:
+        return math.nan, 0, 0, 0
+    tail = ns[len(ns) // 2 - 1:]
+    full = np.array(tail, dtype=float)
+    target = np.log(values[tail]) - TAIL_EXPONENT * np.log(full)
+    keep = list(range(len(tail)))
+    coef = np.zeros(2)
+    for _ in range(len(tail)):
+        design = np.column_stack([full[keep], np.ones(len(keep))])
+        coef, *_ = np.linalg.lstsq(design, target[keep], rcond=None)
+        fit = coef[0] * full + coef[1]
+        upper = [i for i in range(len(tail)) if target[i] >= fit[i] - 0.02]
+        if upper == keep or len(upper) < 3:
+            break
+        keep = upper
+    return float(math.exp(-coef[0])), len(keep), tail[0], tail[-1]
+
+
+def radius_estimate(model: Model, lower: float, upper: float | None,
+                    n_max: int = ESTIMATE_ORDER) -> RadiusEstimate | None:
+    """Estimate of the true radius, clamped into [lower, upper].
+
+    Parameters
+    ----------
+    model : Model
+    lower : float
+        The proven lower bound r*.
+    upper : float or None
+        A proven upper bound (:func:`radius_upper`), if any.
+    n_max : int
+
+    Returns
+    -------
+    RadiusEstimate or None
+        None when fewer than four nonzero L_n exist (a polynomial map: nothing to fit).
+    """
+    values = resonant_lower_bounds(model, n_max)
+    fitted, used, first, last = fit_radius(values)
+    if not math.isfinite(fitted):
+        return None
+    value = fitted
+    if upper is not None:
+        value = min(value, upper)
+    value = max(value, lower)
+    return RadiusEstimate(value, fitted, lower, upper, used,
+                          f"least-squares fit of log L_n = n log(1/R) - 1.5 log n + c to the "
+                          f"upper envelope of orders {first}..{last}, L_n = max "
+                          "|H_n(w,..,w,-w,..,-w)| over resonance frequencies (a lower bound "
+                          "of ||H_n||)")

@@ -1,0 +1,541 @@
+"""Parameter sweeps: verdict, radius r*, norms or simulated boundedness over a grid.
+
+A sweep evaluates one quantity at every point of a grid over model-file parameters
+(``rho`` and ``L`` of the pendulum, the controller gains ``a, b, c`` of the cart-pole
+loop).  The symbolic work is done once: :func:`gfrf.model.template.model_template` turns the
+file into coefficient formulas, and each point only evaluates them and runs the
+numeric criteria.  Points are grouped in chunks, one task per chunk, submitted to any
+:class:`concurrent.futures.Executor`:
+
+* ``local`` (default): in this process, no set-up;
+* ``processes``: a ``dask.distributed`` LocalCluster of one single-threaded worker
+  process per core of this machine;
+* any other string: the address of a running dask scheduler
+  (``tcp://host:8786``), used through ``Client(address).get_executor()``.
+
+What is evaluated per point (``what``):
+
+=========  ================================================================================
+verdict    Theorem 1 (open loop) or 2 (with controller) at the amplitude: ``verdict``,
+           ``radius`` r*, ``linear_stable``
+radius     r* only (independent of the amplitude), ``linear_stable``
+norm       ``h1`` = ||H1|| (exact) and the certified majorant ``M2..M<order>`` of ||H_n||
+bounded    a simulation of the polynomial model (closed loop with a controller) driven
+           by ``amplitude * cos(w_r t)`` at the resonance w_r of H1: ``bounded``,
+           ``peak`` max|y|, ``blowup_time``
+=========  ================================================================================
+
+Continuous and discrete (NARX, ``sample_time``) models, with a transfer-function or a
+polynomial controller, all go through the template; a structure it does not cover (a
+``sample_time`` depending on a swept parameter) falls back to a full
+:func:`gfrf.model.template.rebuild` of the file per point, much slower.  Every row has
+``path``: ``template`` or ``rebuild``, the route its model file took.
+Every row also has ``error``: empty, or the message of a point where the model is
+invalid (a vanishing coefficient, ...), so one bad point does not stop a sweep.
+Angular frequencies are in rad/s, amplitudes in input units.
+
+Examples
+--------
+>>> data = {"equation": "D(y,2) + c*D(y) + y + 0.5*y**3 = u", "parameters": {"c": 0.2}}
+>>> result = sweep(data, [parse_axis("c=0.1:0.4:2")], what="radius")
+>>> [round(row["radius"], 4) for row in result.rows]
+[0.0172, 0.1336]
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import itertools
+import logging
+import math
+import os
+import re
+import time
+import warnings
+from collections.abc import Iterator, Mapping, Sequence
+from concurrent.futures import Executor, Future, ThreadPoolExecutor, as_completed
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+from urllib.parse import urlsplit
+
+from gfrf._atomic import atomic_path
+from gfrf._results import short_repr
+from gfrf.errors import ArgumentError, GfrfError
+
+if TYPE_CHECKING:
+    from gfrf.model.template import ModelTemplate
+
+__all__ = ["MAX_GRID_POINTS", "Axis", "SweepResult", "parse_axis", "grid", "sweep", "executor",
+           "WHAT", "evaluate_point", "check_output", "check_scheduler", "SCHEDULER_TIMEOUT"]
+
+#: Most points of one sweep grid (the product of the axes' N), checked before any work.
+MAX_GRID_POINTS = 1_000_000
+#: Quantities a sweep can evaluate.
+WHAT = ("verdict", "radius", "norm", "bounded")
+
+_AXIS = re.compile(r"^\s*([A-Za-z_]\w*)\s*=\s*([^:]*):([^:]*):([^:]*)$")
+
+
+@dataclass(frozen=True)
+class Axis:
+    """One swept parameter: its name and its values (START:STOP:N, endpoints included)."""
+
+    name: str
+    values: tuple[float, ...]
+
+
+def parse_axis(spec: str) -> Axis:
+    """Parse ``NAME=START:STOP:N`` (N >= 1 equally spaced values, both ends included).
+
+    Raises
+    ------
+    ArgumentError
+        Bad syntax, a non-numeric bound or N < 1; the message quotes ``spec``.
+    """
+    match = _AXIS.match(spec)
+    if not match:
+        raise ArgumentError(f"--param {spec!r}: expected NAME=START:STOP:N, "
+                            f"e.g. rho=0.1:2:20")
+    name, start, stop, count = match.groups()
+    bounds = []
+    for text in (start, stop):
+        try:
+            value = float(text)
+        except ValueError:
+            raise ArgumentError(f"--param {spec!r}: {text.strip()!r} is not a number") from None
+        if not math.isfinite(value):
+            raise ArgumentError(f"--param {spec!r}: bounds must be finite")
+        bounds.append(value)
+    try:
+        n = int(count)
+    except ValueError:
+        raise ArgumentError(f"--param {spec!r}: N = {count.strip()!r} is not an integer") \
+            from None
+    if not 1 <= n <= MAX_GRID_POINTS:
+        raise ArgumentError(f"--param {spec!r}: N = {n} must be between 1 and "
+                            f"MAX_GRID_POINTS = {MAX_GRID_POINTS}")
+    import numpy as np
+
+    return Axis(name, tuple(float(v) for v in np.linspace(bounds[0], bounds[1], n)))
+
+
+def grid(axes: Sequence[Axis]) -> list[dict[str, float]]:
+    """All points of the grid, the last axis varying fastest."""
+    names = [a.name for a in axes]
+    size = math.prod(len(a.values) for a in axes)
+    if size > MAX_GRID_POINTS:
+        raise ArgumentError(f"the grid has {size} points, more than MAX_GRID_POINTS = "
+                            f"{MAX_GRID_POINTS}")
+    if len(set(names)) != len(names):
+        twice = next(n for n in names if names.count(n) > 1)
+        raise ArgumentError(f"parameter {twice!r} is swept twice")
+    return [dict(zip(names, values, strict=True))
+            for values in itertools.product(*(a.values for a in axes))]
+
+
+@dataclass(frozen=True)
+class _Task:
+    """What every chunk needs: the template and the options (pickled once per chunk).
+
+    ``template`` is None on the rebuild route: each point re-parses ``data``.
+    """
+
+    template: ModelTemplate | None
+    what: str
+    amplitude: float
+    order: int
+    t_end: float
+    data: Mapping[str, Any] = field(default_factory=dict)
+    file: str = ""
+
+    @property
+    def path(self) -> str:
+        """The route of the points: ``template`` or ``rebuild``."""
+        return "rebuild" if self.template is None else "template"
+
+
+def _linear_stable(v: Any) -> bool:
+    return bool(next(c.passed for c in v.conditions if c.name.startswith("linear")))
+
+
+def evaluate_point(task: _Task, point: Mapping[str, float]) -> dict[str, Any]:
+    """The row of one grid point (parameters first, then the results, then ``error``)."""
+    from gfrf.bounds.majorant import majorant
+    from gfrf.bounds.norms import h1_norm
+    from gfrf.model.template import rebuild
+    from gfrf.stability.criteria import verdict
+
+    row: dict[str, Any] = dict(point)
+    try:
+        mf = (rebuild(task.data, point, task.file) if task.template is None
+              else task.template.instantiate(point))
+        if task.what in ("verdict", "radius"):
+            v = verdict(mf, 1, task.amplitude, with_norms=False)
+            if task.what == "verdict":
+                row.update(verdict=v.verdict, theorem=v.theorem)
+            row.update(radius=v.radius, radius_proof=v.radius_proof,
+                       linear_stable=_linear_stable(v))
+        elif task.what == "norm":
+            bound = h1_norm(mf.plant)
+            coefficients = majorant(mf.plant).coefficients(task.order)[:, 0]
+            row.update(h1=bound.upper, h1_proof=bound.upper_proof or bound.proof,
+                       linear_stable=bool(bound.stable))
+            row.update({f"M{n}": float(coefficients[n]) for n in range(2, task.order + 1)})
+        else:
+            row.update(_simulate(mf, task))
+        row["path"], row["error"] = task.path, ""
+    except GfrfError as exc:
+        row["path"], row["error"] = task.path, str(exc)
+    except (TypeError, ValueError, ArithmeticError) as exc:
+        # a coefficient formula that is complex or not a number at this point (a
+        # fractional power of a negative parameter, ...): this row's error, not the sweep's
+        where = ", ".join(f"{name} = {value:g}" for name, value in point.items())
+        row["path"], row["error"] = task.path, (f"at {where}: the model is not real-valued "
+                                                f"here ({type(exc).__name__}: {exc})")
+    return row
+
+
+def _simulate(mf: Any, task: _Task) -> dict[str, Any]:
+    from gfrf.sim.simulation import simulate
+    from gfrf.sim.validation import resonance
+
+    w = resonance(mf.plant)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)  # unstable linearisations are expected
+        res = simulate(mf, f"{task.amplitude!r}*cos({w!r}*t)", t_end=task.t_end,
+                       closed_loop=mf.controller is not None, equation="polynomial",
+                       n_out=501)
+    return {"bounded": res.bounded, "peak": res.peak, "blowup_time": res.blowup_time}
+
+
+def _run_chunk(task: _Task, points: list[dict[str, float]]) -> list[dict[str, Any]]:
+    return [evaluate_point(task, p) for p in points]
+
+
+class _InlineExecutor(Executor):
+    """Runs each task at submission, in this process: the set-up-free default."""
+
+    def submit(self, fn: Any, /, *args: Any, **kwargs: Any) -> Future:
+        future: Future = Future()
+        try:
+            future.set_result(fn(*args, **kwargs))
+        except BaseException as exc:  # noqa: BLE001 - handed to the caller via the future
+            future.set_exception(exc)
+        return future
+
+
+#: Seconds a dask scheduler address has to answer (connect and handshake) before the
+#: sweep gives up with an error; a listener that is not a dask scheduler never answers.
+SCHEDULER_TIMEOUT = 10.0
+
+
+def check_scheduler(scheduler: str) -> str:
+    """Validate a ``--scheduler`` value; return it (``host:port`` becomes ``tcp://host:port``).
+
+    Accepted: ``local``, ``processes`` and ``tcp://HOST:PORT`` (or ``HOST:PORT``).
+
+    Raises
+    ------
+    ArgumentError
+        Another scheme (``inproc://`` is private to a process, ``tls://`` needs a
+        security context the command line cannot pass, ``ucx://`` needs ucx-py), no
+        host, or a port that is not an integer in 1..65535.
+    """
+    if scheduler in ("local", "processes"):
+        return scheduler
+    address = scheduler if "://" in scheduler else f"tcp://{scheduler}"
+    scheme = address.split("://", 1)[0]
+    why = {"inproc": "an in-process address belongs to another process",
+           "tls": "TLS needs a security context (certificates), which this option cannot "
+                  "pass; use a tcp:// address or the Python API with a Client",
+           "ucx": "UCX needs ucx-py and a UCX network; use a tcp:// address"}
+    if scheme != "tcp":
+        reason = why.get(scheme, f"unknown scheme {scheme + '://'!r}; use 'local', "
+                                 f"'processes' or tcp://host:port")
+        raise ArgumentError(f"scheduler {scheduler!r}: {reason}")
+    parts = urlsplit(address)
+    try:
+        port = parts.port
+    except ValueError:
+        port = None
+    if not parts.hostname or port is None or not 1 <= port <= 65535 \
+            or parts.path or parts.query or parts.fragment:
+        raise ArgumentError(f"scheduler {scheduler!r}: expected tcp://HOST:PORT with a port "
+                            f"in 1..65535, e.g. tcp://127.0.0.1:8786")
+    return address
+
+
+def _probe(address: str, timeout: float) -> None:
+    """Connect to ``address`` and complete dask's handshake within ``timeout`` seconds.
+
+    ``distributed.Client`` waits for the handshake without a time limit, so a listener
+    that accepts but never speaks dask would hang it; this runs the handshake in a
+    thread of its own (with its own event loop) and gives up after ``timeout``.
+    """
+    import asyncio
+
+    from distributed.comm import connect
+
+    async def handshake() -> None:
+        comm = await asyncio.wait_for(connect(address, timeout=timeout), timeout)
+        await comm.close()
+
+    pool = ThreadPoolExecutor(1)
+    try:
+        pool.submit(asyncio.run, handshake()).result(timeout=timeout + 1.0)
+    except TimeoutError:
+        raise ArgumentError(f"no dask scheduler answered at {address!r} within "
+                            f"{timeout:g} s (nothing listens there, or what listens "
+                            f"is not a dask scheduler)") from None
+    except OSError as exc:
+        raise ArgumentError(f"cannot reach the dask scheduler {address!r}: {exc}") from None
+    finally:
+        pool.shutdown(wait=False)
+
+
+@contextlib.contextmanager
+def executor(scheduler: str = "local", workers: int | None = None
+             ) -> Iterator[tuple[Executor, int]]:
+    """An executor for ``scheduler`` and its number of parallel workers; closed on exit.
+
+    Parameters
+    ----------
+    scheduler : str
+        ``local``, ``processes`` or a dask scheduler address ``tcp://host:port`` (see
+        :func:`check_scheduler`).  An address must answer within
+        :data:`SCHEDULER_TIMEOUT` seconds.
+    workers : int, optional
+        Worker processes of ``processes`` (default: the machine's cores).
+
+    Raises
+    ------
+    ArgumentError
+        dask.distributed is missing, the scheduler string is not understood, or no
+        dask scheduler answers at the address in time.
+    """
+    scheduler = check_scheduler(scheduler)
+    if scheduler == "local":
+        yield _InlineExecutor(), 1
+        return
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:
+        raise ArgumentError("scheduler 'processes' or an address needs dask.distributed: "
+                            "pip install 'gfrf[dask]'") from None
+    if scheduler == "processes":
+        n = workers or os.cpu_count() or 1
+        # silence_logs: dask's own log lines (on Ctrl-C the nanny and the workers log
+        # ERRORs for the connections torn down) are not gfrf's output; a point's error
+        # reaches the sweep through its future.  The preload makes workers ignore Ctrl-C.
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                               dashboard_address=None, silence_logs=logging.CRITICAL,
+                               preload=["gfrf.sweep._dask_worker"])
+        with cluster, Client(cluster) as client:
+            yield client.get_executor(), n
+        return
+    _probe(scheduler, SCHEDULER_TIMEOUT)
+    try:
+        client = Client(scheduler, timeout=SCHEDULER_TIMEOUT)
+    except (OSError, TimeoutError) as exc:
+        raise ArgumentError(f"cannot reach the dask scheduler {scheduler!r}: {exc}") from None
+    with client:
+        yield client.get_executor(), max(1, sum(client.nthreads().values()))
+
+
+@dataclass
+class SweepResult:
+    """The table of a sweep: one row per grid point, in grid order.
+
+    Attributes
+    ----------
+    axes : tuple of Axis
+    what : str
+    amplitude : float
+    rows : list of dict
+    columns : list of str
+    seconds : float
+        Wall time of the evaluation (template excluded).
+    template_seconds : float
+        Time of the symbolic work (once per sweep).
+    scheduler : str
+    """
+
+    axes: tuple[Axis, ...]
+    what: str
+    amplitude: float
+    rows: list[dict[str, Any]]
+    columns: list[str]
+    seconds: float
+    template_seconds: float
+    scheduler: str
+    notes: list[str] = field(default_factory=list)
+
+    def __repr__(self) -> str:
+        return short_repr(self, "what", "scheduler", points=len(self.rows),
+                          errors=sum(1 for r in self.rows if r["error"]),
+                          axes=[a.name for a in self.axes])
+
+    @property
+    def points_per_second(self) -> float:
+        """Throughput of the evaluation."""
+        return len(self.rows) / self.seconds if self.seconds > 0 else math.inf
+
+    def write(self, path: str | Path) -> Path:
+        """Write the table as CSV (``.csv``) or Parquet (``.parquet``, needs pyarrow).
+
+        The file is replaced atomically: a write that fails midway leaves the previous
+        file as it was.
+        """
+        p = Path(path)
+        kind = check_output(p)
+        with atomic_path(p) as tmp:  # a failed write leaves the previous table intact
+            if kind == "csv":
+                with tmp.open("w", newline="", encoding="utf-8") as fh:
+                    writer = csv.DictWriter(fh, fieldnames=self.columns)
+                    writer.writeheader()
+                    writer.writerows(self.rows)
+            else:
+                import pyarrow as pa
+                import pyarrow.parquet as pq
+
+                pq.write_table(pa.Table.from_pylist(self.rows), tmp)
+        return p
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready summary and table."""
+        return {"what": self.what, "amplitude": self.amplitude, "scheduler": self.scheduler,
+                "axes": {a.name: list(a.values) for a in self.axes},
+                "points": len(self.rows), "seconds": self.seconds,
+                "template_seconds": self.template_seconds,
+                "points_per_second": self.points_per_second, "columns": self.columns,
+                "rows": self.rows, "notes": self.notes}
+
+
+def check_output(path: str | Path) -> str:
+    """The table format of ``path`` from its suffix, ``csv`` or ``parquet``.
+
+    Raises
+    ------
+    ArgumentError
+        Another suffix, or ``.parquet`` without pyarrow installed.
+    """
+    suffix = Path(path).suffix
+    if suffix == ".csv":
+        return "csv"
+    if suffix != ".parquet":
+        raise ArgumentError(f"output {str(path)!r}: the suffix {suffix!r} is neither '.csv' "
+                            f"nor '.parquet'")
+    try:
+        import pyarrow  # noqa: F401 - availability check
+    except ImportError:
+        raise ArgumentError(f"output {str(path)!r}: Parquet needs pyarrow (pip install "
+                            f"pyarrow); write a .csv instead") from None
+    return "parquet"
+
+
+def _columns(axes: Sequence[Axis], what: str, order: int) -> list[str]:
+    names = [a.name for a in axes]
+    extra = {"verdict": ["verdict", "theorem", "radius", "radius_proof", "linear_stable"],
+             "radius": ["radius", "radius_proof", "linear_stable"],
+             "norm": ["h1", "h1_proof", "linear_stable"]
+             + [f"M{n}" for n in range(2, order + 1)],
+             "bounded": ["bounded", "peak", "blowup_time"]}[what]
+    return names + extra + ["path", "error"]
+
+
+def sweep(data: Mapping[str, Any], axes: Sequence[Axis], *, what: str = "verdict",
+          amplitude: float = 1.0, order: int = 5, t_end: float = 50.0,
+          scheduler: str | Executor = "local", workers: int | None = None,
+          chunk_size: int | None = None, progress: bool | None = None,
+          path: str = "") -> SweepResult:
+    """Evaluate ``what`` at every point of the grid of ``axes``.
+
+    Parameters
+    ----------
+    data : mapping
+        The parsed TOML table of a model file (``tomllib.load``).
+    axes : sequence of Axis
+        Swept parameters (see :func:`parse_axis`).
+    what : {"verdict", "radius", "norm", "bounded"}
+    amplitude : float
+        Input amplitude r of the verdict and of the simulations.
+    order : int
+        Highest order of the majorant columns (``norm``).
+    t_end : float
+        Simulated time in s (``bounded``).
+    scheduler : str or Executor
+        ``local``, ``processes`` or a dask scheduler address (see :func:`executor`), or
+        an executor already running (reused, not closed: e.g. to time a warm cluster).
+    workers : int, optional
+        Worker processes for ``processes``; for an executor, its parallelism.
+    chunk_size : int, optional
+        Points per task; default: one in process (``local``: the progress bar moves per
+        point), else about four tasks per worker, at most 64 points.
+    progress : bool or None
+        tqdm progress bar; None shows it on a terminal only.
+    path : str
+        The model file, for messages.
+
+    Returns
+    -------
+    SweepResult
+    """
+    if what not in WHAT:
+        raise ArgumentError(f"what must be one of {', '.join(WHAT)}, got {what!r}")
+    if not (math.isfinite(amplitude) and amplitude > 0):
+        raise ArgumentError(f"amplitude must be a positive finite number, got {amplitude!r}")
+    if isinstance(order, bool) or not isinstance(order, int) or order < 2:
+        raise ArgumentError(f"order must be an integer >= 2, got {order!r}")
+    if not axes:
+        raise ArgumentError("a sweep needs at least one --param NAME=START:STOP:N")
+    for name, value in (("chunk size", chunk_size), ("workers", workers)):
+        if value is not None and (isinstance(value, bool) or value < 1):
+            raise ArgumentError(f"{name} must be a positive integer, got {value!r}")
+    if not (math.isfinite(t_end) and t_end > 0):
+        raise ArgumentError(f"t_end must be a positive number of seconds, got {t_end!r}")
+    from tqdm import tqdm
+
+    from gfrf.model.template import TemplateUnsupported, model_template
+
+    points = grid(axes)
+    start = time.perf_counter()
+    try:
+        template: ModelTemplate | None = model_template(data, [a.name for a in axes], path)
+    except TemplateUnsupported as exc:
+        template, no_template = None, str(exc)
+    task = _Task(template, what, float(amplitude), order, float(t_end), dict(data), path)
+    template_seconds = time.perf_counter() - start
+    context = (contextlib.nullcontext((scheduler, workers or 1))
+               if isinstance(scheduler, Executor) else executor(scheduler, workers))
+    with context as (pool, n_workers):
+        inline = isinstance(pool, _InlineExecutor)  # one point per task: progress per point
+        size = chunk_size or (1 if inline else
+                              max(1, min(64, math.ceil(len(points) / (4 * n_workers)))))
+        chunks = [points[i:i + size] for i in range(0, len(points), size)]
+        results: list[list[dict[str, Any]]] = [[] for _ in chunks]
+        disable = None if progress is None else not progress
+        start = time.perf_counter()
+        with tqdm(total=len(points), disable=disable, unit="pt", desc=f"sweep {what}") as bar:
+            futures: dict[Future, int] = {}
+            for i, chunk in enumerate(chunks):  # the in-process executor runs at submit
+                future = pool.submit(_run_chunk, task, chunk)
+                if inline:
+                    results[i] = future.result()
+                    bar.update(len(chunk))
+                else:
+                    futures[future] = i
+            for future in as_completed(futures):
+                results[futures[future]] = future.result()
+                bar.update(len(results[futures[future]]))
+        seconds = time.perf_counter() - start
+    rows = [row for chunk in results for row in chunk]
+    notes = [f"{sum(1 for r in rows if r['error'])} point(s) with an invalid model"] \
+        if any(r["error"] for r in rows) else []
+    if template is None:
+        notes.append(f"no template for this model ({no_template}): every point re-parsed "
+                     f"the file (path 'rebuild')")
+    name = scheduler if isinstance(scheduler, str) else type(scheduler).__name__
+    return SweepResult(tuple(axes), what, float(amplitude), rows,
+                       _columns(axes, what, order), seconds, template_seconds, name, notes)
