@@ -27,7 +27,9 @@ demo: $(STAMP)
 	done
 	$(BIN)/gfrf report --out reports/
 
+# The layers first (import-linter, contracts in pyproject.toml: a few seconds), then the suite.
 test: $(STAMP)
+	$(BIN)/lint-imports --no-cache
 	$(BIN)/python -m pytest -q
 
 test-slow: $(STAMP)

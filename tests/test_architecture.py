@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import ast
+import importlib
 from pathlib import Path
 
 import gfrf
@@ -67,3 +68,70 @@ def test_no_module_shadows_a_public_name() -> None:
     modules = {path.stem for path in PACKAGE.glob("*.py")} | \
         {path.name for path in PACKAGE.iterdir() if path.is_dir()}
     assert not modules & set(gfrf.__all__)
+
+
+# --- the tree is the architecture (issue 22) ---------------------------------------------
+
+#: Most modules directly under gfrf/ (the public face and the small shared helpers).
+MAX_TOP_LEVEL_MODULES = 8
+#: Longest module, in lines: a file to read in one sitting.
+MAX_MODULE_LINES = 600
+
+
+def _subpackages() -> set[str]:
+    return {f"gfrf.{p.name}" for p in PACKAGE.iterdir()
+            if p.is_dir() and (p / "__init__.py").is_file()}
+
+
+def _contracts() -> list[dict]:
+    import tomllib
+
+    with open(PACKAGE.parent / "pyproject.toml", "rb") as f:
+        return tomllib.load(f)["tool"]["importlinter"]["contracts"]
+
+
+def test_few_modules_at_the_top_and_none_too_long() -> None:
+    top = sorted(p.name for p in PACKAGE.glob("*.py"))
+    assert len(top) <= MAX_TOP_LEVEL_MODULES, top
+    long = {str(p.relative_to(PACKAGE)): n for p in PACKAGE.rglob("*.py")
+            if (n := len(p.read_text(encoding="utf-8").splitlines())) > MAX_MODULE_LINES}
+    assert not long, long
+
+
+def test_every_subpackage_sits_in_the_layers_contract() -> None:
+    """A new subpackage cannot escape the layers: it must be placed in the contract."""
+    layers = next(c for c in _contracts() if c["type"] == "layers")["layers"]
+    placed = {name.strip() for layer in layers for name in layer.replace(":", "|").split("|")}
+    assert placed == _subpackages()
+
+
+def test_the_layers_run_model_to_cli_in_pipeline_order() -> None:
+    layers = next(c for c in _contracts() if c["type"] == "layers")["layers"]
+    order = [layer.split("|")[0].strip() for layer in layers]
+    pipeline = ["gfrf.cli", "gfrf.report", "gfrf.papers", "gfrf.sim", "gfrf.stability",
+                "gfrf.bounds", "gfrf.kernels", "gfrf.model"]
+    assert order == pipeline
+
+
+def test_each_subpackage_says_what_it_owns_and_may_import() -> None:
+    for name in sorted(_subpackages()):
+        doc = importlib.import_module(name).__doc__ or ""
+        assert len(doc.splitlines()) >= 3, name
+        assert "import" in doc.lower(), f"{name}: its docstring does not say what it may import"
+
+
+def test_the_layer_checker_catches_an_import_up_the_layers(tmp_path: Path) -> None:
+    """The contract is live: a kernels module importing the stability stage is refused."""
+    import shutil
+    import subprocess
+    import sys
+
+    copy = tmp_path / "gfrf"
+    shutil.copytree(PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copy(PACKAGE.parent / "pyproject.toml", tmp_path / "pyproject.toml")
+    (copy / "kernels" / "upward.py").write_text("from gfrf.stability import loops\n")
+    linter = Path(sys.executable).parent / "lint-imports"
+    env = {"PYTHONPATH": str(tmp_path), "PATH": "/usr/bin:/bin"}
+    ok = subprocess.run([str(linter)], cwd=tmp_path, env=env, capture_output=True, text=True)
+    assert "BROKEN" in ok.stdout and "gfrf.kernels.upward -> gfrf.stability" in ok.stdout
+    assert ok.returncode != 0

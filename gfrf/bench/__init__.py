@@ -4,6 +4,10 @@ Each computational kernel has a module here with ``run(quick: bool) -> BenchSect
 :data:`SECTION_MODULES` lists them.  Every section times our method and the naive
 baseline a user would write *in the same run*, and reports errors beside the
 times, so ratios are measured, never asserted.
+
+May import: every stage below the command line (it times them); never :mod:`gfrf.cli`
+or :mod:`gfrf.report` (a section measures the library's functions, in-process or in a
+new process through :func:`gfrf_command`).
 """
 
 from __future__ import annotations

@@ -4,6 +4,8 @@ Each feature registers its sub-commands from its own module (``gfrf.cli.<feature
 listed in :data:`COMMAND_MODULES`.  Every command that prints results accepts
 ``--json``.  Exit codes: 0 success (for ``verdict``: stability proven), 1 a
 negative or inconclusive answer, 2 bad input.
+
+May import: everything (it is the top layer); nothing imports it.
 """
 
 from __future__ import annotations

@@ -18,6 +18,9 @@ Modules, one idea each:
   :mod:`~gfrf.periodic.energy`, :mod:`~gfrf.periodic.averaging` -- the four methods;
 * :mod:`~gfrf.periodic.compare` -- errors against the ground truth;
 * :mod:`~gfrf.periodic.formulas` -- the formula-by-formula check of the paper.
+
+May import: :mod:`gfrf.errors` only; it and the GFRF stack (model ... sim) never import
+each other (an import-linter contract in pyproject.toml).
 """
 
 from gfrf.periodic.compare import (

@@ -13,6 +13,9 @@ dates), into one folder:
 * ``README.md``: an index of the above.
 
 ``speed-vs-error.md`` is written by ``gfrf bench`` (minutes of timing) and only linked.
+
+May import: every stage below the command line (papers, sweep, identify, periodic,
+sim, ...); never :mod:`gfrf.cli` or :mod:`gfrf.bench`.
 """
 
 from __future__ import annotations
@@ -102,7 +105,7 @@ def write_reports(out_dir: str | Path = "reports", models: list[str] | None = No
         periodic = importlib.import_module("gfrf.report.periodic")
         jobs.append(partial(periodic.write, out, quick=quick))
     if importlib.util.find_spec("sysidentpy") is not None:  # the `identify` extra
-        from gfrf.identify import report as identify_report
+        from gfrf.report import identified as identify_report
         jobs.append(partial(identify_report.write, out, quick))
     written = [job() for job in tqdm(jobs, desc="report", disable=None)]
     written.append(write_index(out, paths, quick))
