@@ -65,7 +65,7 @@ _LAZY = {
     "Verdict": "gfrf.stability.criteria", "Margin": "gfrf.stability.criteria",
     "parameter_margin": "gfrf.stability.criteria",
     "ClosedLoop": "gfrf.stability.loops", "closed_loop": "gfrf.stability.loops",
-    "SimulationResult": "gfrf.sim.simulation", "build_system": "gfrf.sim.simulation",
+    "SimulationResult": "gfrf.sim.simulation", "build_system": "gfrf.sim.system",
     "simulate": "gfrf.sim.simulation",
     "VolterraPrediction": "gfrf.sim.volterra",
     "SweepResult": "gfrf.sweep.run",

@@ -1,4 +1,5 @@
-"""Tests of gfrf.sim.simulation and gfrf.sim.fastsim against closed forms and each other."""
+"""Tests of gfrf.sim.system, gfrf.sim.simulation and gfrf.sim.fastsim against closed forms
+and each other."""
 
 import math
 import re
@@ -11,7 +12,8 @@ import pytest
 from gfrf.errors import ArgumentError, ModelError
 from gfrf.model.equation import parse_model
 from gfrf.model.modelfile import load_model
-from gfrf.sim.simulation import build_system, simulate
+from gfrf.sim.simulation import simulate
+from gfrf.sim.system import build_system
 
 MODELS = "models"
 

@@ -25,7 +25,8 @@ from gfrf.model.equation import parse_model
 from gfrf.model.modelfile import load_model
 from gfrf.model.signals import parse_input
 from gfrf.sim import integrate
-from gfrf.sim.simulation import build_system, simulate
+from gfrf.sim.simulation import simulate
+from gfrf.sim.system import build_system
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 METHODS = ("rk45", "dop853", "lsoda", "radau")

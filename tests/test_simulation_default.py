@@ -15,7 +15,8 @@ from gfrf.model.equation import parse_model
 from gfrf.model.modelfile import load_model
 from gfrf.model.signals import parse_input
 from gfrf.sim.integrate import SCIPY_METHODS, _fused_rhs
-from gfrf.sim.simulation import AUTO_RK45_RTOL, auto_method, build_system, simulate
+from gfrf.sim.simulation import AUTO_RK45_RTOL, auto_method, simulate
+from gfrf.sim.system import build_system
 
 RTOLS = [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10]
 # y'' + 2 z w y' + w^2 y = cos(W t), y(0) = y'(0) = 0

@@ -12,17 +12,14 @@ from gfrf.kernels.recursion import kernel
 from gfrf.model.equation import parse_model
 from gfrf.model.modelfile import load_model
 from gfrf.sim import volterra
+from gfrf.sim.truncation import base_frequency, compare, error_vs_amplitude, select_order
 from gfrf.sim.volterra import (
     MAX_PRODUCTS,
     BeyondRadiusError,
     NoSteadyStateError,
-    base_frequency,
-    compare,
-    error_vs_amplitude,
     input_amplitude,
     intermodulation_count,
     predict,
-    select_order,
 )
 
 PENDULUM = load_model("models/hanging_pendulum.toml").plant
@@ -208,8 +205,8 @@ def test_shooting_stops_on_its_work_budget():
     import time
 
     from gfrf.errors import ConvergenceError
-    from gfrf.sim.simulation import build_system
-    from gfrf.sim.volterra import steady_state
+    from gfrf.sim.system import build_system
+    from gfrf.sim.truncation import steady_state
 
     system = build_system(parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"))
     start = time.perf_counter()

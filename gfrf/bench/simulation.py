@@ -34,7 +34,8 @@ from gfrf._atomic import atomic_path
 from gfrf.bench import BenchSection, best_of, figure_dir, load_note
 from gfrf.model.modelfile import load_model
 from gfrf.model.signals import parse_input
-from gfrf.sim.simulation import auto_method, build_system, simulate
+from gfrf.sim.simulation import auto_method, simulate
+from gfrf.sim.system import build_system
 
 __all__ = ["run", "measure"]
 

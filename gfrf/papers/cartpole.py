@@ -703,7 +703,8 @@ def loop_drive(mf: ModelFile, angles_deg: tuple[float, ...] = (5.0, 10.0, 15.0),
     the file has a distinct one, :func:`has_physical_equation`) is simulated by
     :func:`gfrf.sim.simulation.simulate` over ``periods`` periods.
     """
-    from gfrf.sim.simulation import build_system, simulate
+    from gfrf.sim.simulation import simulate
+    from gfrf.sim.system import build_system
 
     loop = closed_loop(mf)
     poles = tuple(complex(p) for p in loop.poles)

@@ -27,7 +27,8 @@ from gfrf.errors import GfrfError
 from gfrf.model.modelfile import ModelFile, load_model
 from gfrf.model.template import ModelTemplate, model_template
 from gfrf.sim.integrate import SimulationResult
-from gfrf.sim.simulation import build_system, simulate
+from gfrf.sim.simulation import simulate
+from gfrf.sim.system import build_system
 from gfrf.sim.validation import ValidationResult, resonance, validate
 from gfrf.stability.criteria import Margin, Verdict, parameter_margin, verdict
 

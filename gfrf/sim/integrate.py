@@ -1,6 +1,6 @@
 """The integrators' common ground: a model in state form, a run's result, the scipy path.
 
-:func:`gfrf.sim.simulation.build_system` generates an :class:`OdeSystem` (the right-hand
+:func:`gfrf.sim.system.build_system` generates an :class:`OdeSystem` (the right-hand
 side as Python source) from a model; :func:`integrate_scipy` steps one of scipy's
 ``solve_ivp`` solvers on it (the right-hand side and the input fused into one generated
 function) under a work budget of right-hand-side evaluations, and

@@ -1,6 +1,6 @@
 """A model file as a python-control ``NonlinearIOSystem``, for python-control simulations.
 
-:func:`to_nlsys` wraps the state form that :func:`gfrf.sim.simulation.build_system`
+:func:`to_nlsys` wraps the state form that :func:`gfrf.sim.system.build_system`
 generates (the same right-hand side :func:`gfrf.simulate` integrates), so
 ``control.input_output_response`` and :func:`gfrf.simulate` solve the same equations.
 
@@ -71,7 +71,7 @@ def to_nlsys(model: Model | ModelFile, closed_loop: bool = False, *,
     ModelError
         A continuous model (or loop) that reads derivatives of its input: python-control
         gives the system its input only; a closed loop without a controller; the errors
-        of :func:`gfrf.sim.simulation.build_system`.
+        of :func:`gfrf.sim.system.build_system`.
 
     Examples
     --------
@@ -83,7 +83,7 @@ def to_nlsys(model: Model | ModelFile, closed_loop: bool = False, *,
     import control
 
     from gfrf.model.modelfile import ModelFile, as_plant
-    from gfrf.sim.simulation import build_system
+    from gfrf.sim.system import build_system
 
     source = model if isinstance(model, ModelFile) else as_plant(model)
     plant = as_plant(model)

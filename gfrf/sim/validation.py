@@ -58,7 +58,8 @@ from gfrf.kernels.recursion import kernel
 from gfrf.model.modelfile import ModelFile
 from gfrf.model.signals import InputSignal, parse_input
 from gfrf.sim.integrate import OdeSystem, SimulationResult
-from gfrf.sim.simulation import build_system, simulate
+from gfrf.sim.simulation import simulate
+from gfrf.sim.system import build_system
 from gfrf.stability.criteria import Verdict
 from gfrf.stability.criteria import verdict as compute_verdict
 
