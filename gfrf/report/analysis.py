@@ -29,7 +29,8 @@ from gfrf.model.template import ModelTemplate, model_template
 from gfrf.sim.integrate import SimulationResult
 from gfrf.sim.simulation import build_system, simulate
 from gfrf.sim.validation import ValidationResult, resonance, validate
-from gfrf.stability.criteria import Margin, Verdict, parameter_margin, verdict
+from gfrf.stability.criteria import Margin, parameter_margin, verdict
+from gfrf.stability.verdicts import Verdict
 
 __all__ = ["MODELS_DIR", "MARGIN_OCTAVES", "ModelAnalysis", "ParameterScan", "Response",
            "analyse", "scan_parameter", "settings"]

@@ -59,8 +59,8 @@ from gfrf.model.modelfile import ModelFile
 from gfrf.model.signals import InputSignal, parse_input
 from gfrf.sim.integrate import OdeSystem, SimulationResult
 from gfrf.sim.simulation import build_system, simulate
-from gfrf.stability.criteria import Verdict
 from gfrf.stability.criteria import verdict as compute_verdict
+from gfrf.stability.verdicts import Verdict
 
 #: Multiples of the radius estimate r_est tried for Theorem 1 (r_est and beyond).
 ESTIMATE_FACTORS = (1.0, 2.0, 10.0)
