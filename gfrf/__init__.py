@@ -62,7 +62,7 @@ _LAZY = {
     "ModelFile": "gfrf.model.modelfile", "load_model": "gfrf.model.modelfile",
     "Kernel": "gfrf.kernels.recursion",
     "Bound": "gfrf.bounds.norms",
-    "Verdict": "gfrf.stability.criteria", "Margin": "gfrf.stability.criteria",
+    "Verdict": "gfrf.stability.verdicts", "Margin": "gfrf.stability.criteria",
     "parameter_margin": "gfrf.stability.criteria",
     "ClosedLoop": "gfrf.stability.loops", "closed_loop": "gfrf.stability.loops",
     "SimulationResult": "gfrf.sim.simulation", "build_system": "gfrf.sim.system",

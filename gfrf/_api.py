@@ -22,7 +22,7 @@ if TYPE_CHECKING:
 
     from gfrf.model.equation import Model
     from gfrf.model.modelfile import ModelFile
-    from gfrf.stability.criteria import Verdict
+    from gfrf.stability.verdicts import Verdict
 
 __all__ = ["plant_function", "linear_part", "verdict"]
 
@@ -112,7 +112,7 @@ def verdict(model: Model | ModelFile, order: int = 5, amplitude: float = 1.0,
     feedback : {-1, 1}
         Sign of the feedback of ``controller`` (default negative).
     proof : {"interval", "float", "none"}
-        Level of proof (default ``"interval"``), see :func:`gfrf.stability.criteria.theorem1`.
+        Level of proof (default ``"interval"``), see :func:`gfrf.stability.theorem1.theorem1`.
 
     Returns
     -------

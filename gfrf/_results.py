@@ -88,7 +88,7 @@ def new_figure(rows: int, columns: int, size: tuple[float, float]) -> tuple[Any,
 
 
 def verdict_markdown(verdict: Any) -> str:
-    """Markdown of a :class:`gfrf.stability.criteria.Verdict`: r*, r and the bounds, the conditions,
+    """Markdown of a :class:`gfrf.stability.verdicts.Verdict`: r*, r and the bounds, the conditions,
     the norm brackets."""
     kind = (f"certified, {verdict.radius_proof}" if verdict.radius_certified
             else "estimate, not certified")

@@ -18,7 +18,9 @@ from gfrf.errors import ArgumentError, ModelError
 from gfrf.kernels.recursion import kernel
 from gfrf.model.equation import parse_model
 from gfrf.model.modelfile import load_model, model_from_dict
-from gfrf.stability.criteria import parameter_margin, theorem1, theorem2
+from gfrf.stability.criteria import parameter_margin
+from gfrf.stability.theorem1 import theorem1
+from gfrf.stability.theorem2 import theorem2
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 PENDULUM = str(MODELS / "hanging_pendulum.toml")

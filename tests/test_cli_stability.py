@@ -142,9 +142,9 @@ def test_library_verdict_checks_order_first(monkeypatch: pytest.MonkeyPatch) -> 
     from gfrf.errors import ArgumentError
     from gfrf.kernels.recursion import MAX_KERNEL_ORDER
     from gfrf.model.equation import parse_model
-    from gfrf.stability import criteria
+    from gfrf.stability import criteria, theorem1
 
-    monkeypatch.setattr(criteria, "majorant", lambda *a: pytest.fail("computed first"))
+    monkeypatch.setattr(theorem1, "majorant", lambda *a: pytest.fail("computed first"))
     with pytest.raises(ArgumentError, match="MAX_KERNEL_ORDER"):
         criteria.verdict(parse_model(STABLE), MAX_KERNEL_ORDER + 1)
 

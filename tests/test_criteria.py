@@ -1,4 +1,5 @@
-"""Tests of gfrf.stability.criteria (Theorems 1 and 2, r*, margins) and gfrf.papers.gfrf_paper."""
+"""Tests of gfrf.stability.theorem1, theorem2 and criteria (Theorems 1 and 2, r*, margins)
+and gfrf.papers.gfrf_paper."""
 
 from __future__ import annotations
 
@@ -12,14 +13,9 @@ from gfrf.errors import ArgumentError
 from gfrf.model.equation import parse_model
 from gfrf.model.modelfile import load_model, model_from_dict
 from gfrf.papers.gfrf_paper import paper_checks, printed_match
-from gfrf.stability.criteria import (
-    parameter_margin,
-    phi_series,
-    theorem1,
-    theorem2,
-    theta_series,
-    verdict,
-)
+from gfrf.stability.criteria import parameter_margin, verdict
+from gfrf.stability.theorem1 import theorem1
+from gfrf.stability.theorem2 import phi_series, theorem2, theta_series
 
 C3 = 9.8 / (6 * 4.0)  # g / (6 L) of the hanging pendulum
 
@@ -214,8 +210,8 @@ LAG_LOOP = {"equation": "D(y,2) + D(y) + 2*y + 0.3*y**3 = u",
 
 
 def test_theorem2_radius_is_proven_in_ball_arithmetic() -> None:
-    from gfrf.stability.criteria import _loop_proves
     from gfrf.stability.loops import closed_loop
+    from gfrf.stability.theorem2 import _loop_proves
 
     mf = model_from_dict(LAG_LOOP)
     v = theorem2(mf, order=1, amplitude=0.01, with_norms=False)

@@ -20,7 +20,7 @@ from gfrf.bounds.norms import h1_norm, kernel_norm, linear_stability
 from gfrf.kernels.probing import probe_kernel
 from gfrf.kernels.recursion import kernel
 from gfrf.model.equation import parse_model
-from gfrf.stability.criteria import theorem1
+from gfrf.stability.theorem1 import theorem1
 
 mp.mp.dps = 40
 

@@ -166,7 +166,7 @@ def test_cluster_loop_decided_exactly(gain: float, stable: bool) -> None:
 
 def test_cluster_loop_verdict_is_not_unstable() -> None:
     """Theorem 2 calls a loop unstable only on an exact right-half-plane pole."""
-    from gfrf.stability.criteria import theorem2
+    from gfrf.stability.theorem2 import theorem2
 
     v = theorem2(model_from_dict(_cluster_loop(1e-20)), order=1, amplitude=1e-3)
     assert v.verdict != "unstable"

@@ -27,8 +27,8 @@ from gfrf.papers.cartpole import (
 )
 from gfrf.papers.gfrf_paper import alpha_variants, paper_checks, printed_match, theta_readings
 from gfrf.sim.simulation import simulate
-from gfrf.stability.criteria import theta_series
 from gfrf.stability.loops import with_lags
+from gfrf.stability.theorem2 import theta_series
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 REDUCED = MODELS / "cartpole_reduced.toml"

@@ -22,7 +22,7 @@ from mp_reference import mp_sup as reference_sup
 from gfrf.bounds.norms import kernel_norm
 from gfrf.bounds.rational import rational_sup
 from gfrf.model.equation import parse_model
-from gfrf.stability.criteria import theorem1
+from gfrf.stability.theorem1 import theorem1
 
 DIGITS = 60
 

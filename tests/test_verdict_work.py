@@ -19,7 +19,8 @@ import gfrf.bounds.norms
 from gfrf.errors import ArgumentError
 from gfrf.model.equation import parse_model
 from gfrf.model.modelfile import load_model
-from gfrf.stability.criteria import DEFAULT_NORMS, NORM_LEVELS, theorem1, verdict
+from gfrf.stability.criteria import verdict
+from gfrf.stability.theorem1 import DEFAULT_NORMS, NORM_LEVELS, theorem1
 
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = sorted(p.name for p in (ROOT / "models").glob("*.toml")
@@ -117,7 +118,7 @@ def test_a_verdict_does_not_import_python_control(name: str) -> None:
 
 def test_radius_estimate_values_unchanged_by_the_matmul_product() -> None:
     # the truncated bivariate product against a direct double sum (exact reference)
-    from gfrf.stability.static import _truncated_product
+    from gfrf.stability.estimate import _truncated_product
 
     rng = np.random.default_rng(3)
     n = 6

@@ -33,7 +33,7 @@ from gfrf.errors import ArgumentError
 
 if TYPE_CHECKING:  # imported where used: building the parser stays cheap
     from gfrf.bounds.norms import Bound
-    from gfrf.stability.criteria import Verdict
+    from gfrf.stability.verdicts import Verdict
 
 __all__ = ["register"]
 

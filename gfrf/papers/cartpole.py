@@ -1,7 +1,7 @@
 """The cart-pole loop of paper 001 (section 5) told straight.
 
 Code that exists only for this paper; the general library is :mod:`gfrf.stability.loops` and
-:mod:`gfrf.stability.criteria`.  Five findings, each a function returning a result object with
+:mod:`gfrf.stability.theorem2`.  Five findings, each a function returning a result object with
 ``to_dict``:
 
 * :func:`inertia_reversal` - with the model's own signs (eq (16), negative feedback
@@ -17,7 +17,7 @@ Code that exists only for this paper; the general library is :mod:`gfrf.stabilit
   for ``c > c* = 67.578/39.3185`` (Routh-Hurwitz on the characteristic polynomial).
 * :func:`theorem2_obstruction` - no proper, stable linear controller lets Theorem 2
   certify this plant (proof in the docstring), with a small search over PD-with-filter
-  gains through :func:`gfrf.stability.criteria.theorem2` that agrees.
+  gains through :func:`gfrf.stability.theorem2.theorem2` that agrees.
 * :func:`loop_drive` - the closed loop driven at its own corner frequency over many
   periods (it has no resonance: both poles are real), polynomial and physical equation.
 
@@ -585,7 +585,7 @@ def theorem2_obstruction(mf: ModelFile, grid: tuple[tuple[float, float, float], 
     converges for lambda_1 below the static branch's radius.)
 
     The search builds u = +(K_d s + K_p)/(tau_f s + 1) theta for each point of ``grid``,
-    keeps those with a stable linear loop and runs :func:`gfrf.stability.criteria.theorem2`
+    keeps those with a stable linear loop and runs :func:`gfrf.stability.theorem2.theorem2`
     (order 3, majorant only); each certified r* must lie below that controller's own
     ceiling (2/(3 sqrt 3)) (lambda_1 rho_1)^(-3/2) |c3|^(-1/2).
 
@@ -600,7 +600,7 @@ def theorem2_obstruction(mf: ModelFile, grid: tuple[tuple[float, float, float], 
     Theorem2Obstruction
     """
     from gfrf.kernels.recursion import kernel
-    from gfrf.stability.criteria import theorem2
+    from gfrf.stability.theorem2 import theorem2
 
     c1, c2, c3 = _static_series(mf)
     if c2 != 0 or c3 == 0:

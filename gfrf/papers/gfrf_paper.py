@@ -3,7 +3,7 @@
 :func:`paper_checks` returns one :class:`CheckRow` per printed quantity: the paper's
 value (read from the model file's ``[paper]`` table, never retyped), ours (computed by
 :mod:`gfrf.bounds.norms`, :mod:`gfrf.bounds.majorant`, :mod:`gfrf.stability.loops`,
-:mod:`gfrf.stability.criteria`),
+:mod:`gfrf.stability.theorem1`, :mod:`gfrf.stability.theorem2`),
 whether they agree to the paper's printed precision, and the reason when they do not.
 The report renders these rows; ``tests/test_paper_checks`` style assertions use them.
 
@@ -42,8 +42,9 @@ from gfrf.papers.cartpole import (
     lagged_loops,
     theorem2_obstruction,
 )
-from gfrf.stability.criteria import theorem1, theta_series
 from gfrf.stability.loops import characteristic, closed_loop
+from gfrf.stability.theorem1 import theorem1
+from gfrf.stability.theorem2 import theta_series
 
 __all__ = ["CheckRow", "paper_checks", "coefficient_rows", "loop_sign_variants",
            "printed_match", "AlphaRow", "alpha_variants", "ThetaReading", "theta_readings",
@@ -437,7 +438,7 @@ class ThetaReading:
 def theta_readings(models_dir: str | Path = "models") -> list[ThetaReading]:
     """theta_3 of sections 3 and 5 under one convention, from the files' ``[paper]`` tables.
 
-    Uses :func:`gfrf.stability.criteria.theta_series` (the printed recursion) with the paper's
+    Uses :func:`gfrf.stability.theorem2.theta_series` (the printed recursion) with the paper's
     rho_1 and with rho_1 = 1 (dropped).
     """
     d = Path(models_dir)

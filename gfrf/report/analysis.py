@@ -30,7 +30,8 @@ from gfrf.sim.integrate import SimulationResult
 from gfrf.sim.simulation import simulate
 from gfrf.sim.system import build_system
 from gfrf.sim.validation import ValidationResult, resonance, validate
-from gfrf.stability.criteria import Margin, Verdict, parameter_margin, verdict
+from gfrf.stability.criteria import Margin, parameter_margin, verdict
+from gfrf.stability.verdicts import Verdict
 
 __all__ = ["MODELS_DIR", "MARGIN_OCTAVES", "ModelAnalysis", "ParameterScan", "Response",
            "analyse", "scan_parameter", "settings"]

@@ -24,7 +24,8 @@ from gfrf.identify import example as ex
 from gfrf.kernels.recursion import kernel
 from gfrf.model.equation import Model
 from gfrf.model.modelfile import ModelFile, load_model
-from gfrf.stability.criteria import Verdict, verdict
+from gfrf.stability.criteria import verdict
+from gfrf.stability.verdicts import Verdict
 
 __all__ = ["Comparison", "compare", "write", "PAGE"]
 

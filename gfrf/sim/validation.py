@@ -60,8 +60,8 @@ from gfrf.model.signals import InputSignal, parse_input
 from gfrf.sim.integrate import OdeSystem, SimulationResult
 from gfrf.sim.simulation import simulate
 from gfrf.sim.system import build_system
-from gfrf.stability.criteria import Verdict
 from gfrf.stability.criteria import verdict as compute_verdict
+from gfrf.stability.verdicts import Verdict
 
 #: Multiples of the radius estimate r_est tried for Theorem 1 (r_est and beyond).
 ESTIMATE_FACTORS = (1.0, 2.0, 10.0)

@@ -1,9 +1,11 @@
 """Stability: the theorems that turn bounds into a verdict.
 
-Owns Theorem 1 (the norm series of the open-loop plant) and Theorem 2 (the loop series
-of a plant under a controller), the verdict and margin objects, the linear loops they
-rest on (:mod:`.loops`), and the static branch points that bound the radius from above
-(:mod:`.static`).
+Owns Theorem 1 (the norm series of the open-loop plant, :mod:`.theorem1`) and Theorem 2
+(the loop series of a plant under a controller, :mod:`.theorem2`), the verdict objects
+(:mod:`.verdicts`), the entry points ``verdict`` and ``parameter_margin`` with the margin
+object (:mod:`.criteria`), the linear loops they rest on (:mod:`.loops`), the static
+branch points that bound the radius from above (:mod:`.static`) and the many-term
+estimate of the radius (:mod:`.estimate`).
 
 May import: :mod:`gfrf.bounds`, :mod:`gfrf.kernels`, :mod:`gfrf.model` and the shared
 helpers.

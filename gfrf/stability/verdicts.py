@@ -1,0 +1,151 @@
+"""The verdict objects of Theorems 1 and 2: :class:`Condition` and :class:`Verdict`.
+
+:func:`gfrf.stability.theorem1.theorem1` (open loop) and
+:func:`gfrf.stability.theorem2.theorem2` (closed loop) return a :class:`Verdict`, one
+:class:`Condition` per hypothesis of the theorem; :func:`gfrf.stability.criteria.verdict`
+chooses the theorem.
+
+Verdicts: ``stable`` when every condition holds (certified); ``unstable`` when the
+linearisation has a pole in the open right half plane (Lyapunov's indirect method:
+the equilibrium is unstable; the theorem is then inapplicable); ``inconclusive``
+otherwise.  Angular frequencies are in rad/s throughout.
+
+Three radii, never confused.  ``radius``: r*, the proven (certified) lower bound on
+the radius of the theorem's series.  ``radius_upper``: a proven upper bound on the
+true radius of the norm series sum ||H_n|| r^n (the plant's, for Theorem 2), from
+the static branch point of the zero-frequency kernels
+(:func:`gfrf.stability.static.radius_upper`),
+where one is proven.  ``radius_estimate``: a many-term estimate of that true radius
+(:func:`gfrf.stability.estimate.radius_estimate`), clamped into [lower bound,
+``radius_upper``]: an estimate, never a proof and never the ground of a verdict.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+from gfrf._results import plain, short_repr, verdict_figure, verdict_markdown
+from gfrf.bounds.norms import Bound
+
+__all__ = ["Condition", "Verdict"]
+
+
+@dataclass(frozen=True)
+class Condition:
+    """One hypothesis of a theorem: ``passed`` True, False, or None (not established)."""
+
+    name: str
+    passed: bool | None
+    value: Any
+    detail: str
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary."""
+        return {"name": self.name, "passed": self.passed, "value": plain(self.value),
+                "detail": self.detail}
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """Outcome of Theorem 1 or 2 for one model and input amplitude.
+
+    Attributes
+    ----------
+    verdict : str
+        ``stable`` (every condition proven), ``inconclusive`` or ``unstable``.
+    theorem : int
+        1 (open loop) or 2 (closed loop).
+    radius : float
+        r*: the certified series converges for every amplitude r < r*.
+    radius_certified : bool
+        True when r* comes from certified sups (levels ``interval`` and ``float``).
+    amplitude : float
+        The input amplitude r tested (the paper's r = 1).
+    conditions : tuple of Condition
+    norms : tuple of Bound
+        ||H_n|| brackets (plant) for n = 1..order.
+    series : tuple of dict
+        Per order n: the series terms (certified majorant and estimates).
+    radius_estimate : float or None
+        Estimate of the true radius of the norm series (the plant's for Theorem 2):
+        a fit to many terms of a lower-bound series, clamped into [proven lower bound,
+        ``radius_upper``].  An estimate only: no verdict rests on it.
+    summary : str
+        One sentence.
+    radius_proof : str
+        ``"interval"``: convergence at the certified end of r* re-checked in ball
+        arithmetic on proven sups (Theorems 1 and 2); ``"float"``: certified in double
+        precision; ``"none"``: an estimate.
+    radius_upper : float or None
+        Proven upper bound on the true radius of the norm series (the plant's for
+        Theorem 2): the modulus of a static branch point (:mod:`gfrf.stability.static`).
+    radius_upper_detail : str
+        Where ``radius_upper`` comes from (the branch point and fold), or why absent.
+    estimate_of : str
+        Which series ``radius_upper`` and ``radius_estimate`` are about.
+    estimate_lower : float or None
+        The proven lower bound of that series the estimate was clamped to (r* for
+        Theorem 1, the plant majorant's radius for Theorem 2).
+    """
+
+    verdict: str
+    theorem: int
+    radius: float
+    radius_certified: bool
+    amplitude: float
+    conditions: tuple[Condition, ...]
+    norms: tuple[Bound, ...] = field(default=())
+    series: tuple[dict[str, Any], ...] = field(default=())
+    radius_estimate: float | None = None
+    summary: str = ""
+    radius_proof: str = "float"
+    radius_upper: float | None = None
+    radius_upper_detail: str = ""
+    estimate_of: str = ""
+    estimate_lower: float | None = None
+
+    def __repr__(self) -> str:
+        return short_repr(self, "verdict", "theorem", "radius", "amplitude")
+
+    def _repr_markdown_(self) -> str:
+        return verdict_markdown(self)
+
+    def plot(self) -> Any:
+        """The norm series: ||H_n|| and the certified majorant c_n against n, and the
+        root-test radii c_n^(-1/n) with r*, the amplitude r and the proven upper bound.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            Made without pyplot (works with any backend; display it or ``savefig``).
+        """
+        return verdict_figure(self)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary (the ``--json`` output of ``gfrf verdict``)."""
+        return {"verdict": self.verdict, "theorem": self.theorem, "radius": self.radius,
+                "radius_certified": self.radius_certified, "amplitude": self.amplitude,
+                "conditions": [c.to_dict() for c in self.conditions],
+                "norms": [b.to_dict() for b in self.norms], "series": list(self.series),
+                "radius_estimate": self.radius_estimate, "summary": self.summary,
+                "radius_proof": self.radius_proof, "proof": self.radius_proof,
+                "radius_upper": self.radius_upper,
+                "radius_upper_detail": self.radius_upper_detail,
+                "estimate_of": self.estimate_of, "estimate_lower": self.estimate_lower,
+                "radius_kinds": {
+                    "radius": f"lower bound r* of the {_SERIES[self.theorem]}, "
+                              + (_label(self.radius_proof) if self.radius_certified
+                                 else "estimate (not certified)"),
+                    "radius_upper": f"proven upper bound on the true radius of the "
+                                    f"{self.estimate_of} (static branch point)",
+                    "radius_estimate": f"estimate of the true radius of the {self.estimate_of}"
+                                       " (not a proof; never decides a verdict)"}}
+
+
+_SERIES = {1: "norm series sum ||H_n|| r^n", 2: "loop series sum theta_n rho_1^n r^n"}
+
+
+def _label(proof: str) -> str:
+    """How a number at a level of proof is called in text."""
+    return {"interval": "proven", "float": "certified (float)"}.get(proof, "estimate")
