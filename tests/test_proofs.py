@@ -172,34 +172,34 @@ def test_bench_section_proof_levels() -> None:
 
 
 def test_exact_sups_are_memoised_and_clearable() -> None:
-    from gfrf.bounds import exact
+    from gfrf.bounds import exact_sup
 
-    exact.clear_caches()
-    first = exact.sup_abs([1.0], [1.0, 0.1, 2.0])
-    again = exact.sup_abs([1.0], [1.0, 0.1, 2.0])
+    exact_sup.clear_caches()
+    first = exact_sup.sup_abs([1.0], [1.0, 0.1, 2.0])
+    again = exact_sup.sup_abs([1.0], [1.0, 0.1, 2.0])
     assert again == first
-    assert exact._sup_continuous.cache_info().hits >= 1
-    exact.discrete_sup_abs([1.0], [1.0, -0.5], 0.1)
-    exact.discrete_sup_abs([1.0], [1.0, -0.5], 0.1)
-    assert exact._sup_discrete.cache_info().hits >= 1
-    exact.clear_caches()
-    assert exact._sup_continuous.cache_info().currsize == 0
+    assert exact_sup._sup_continuous.cache_info().hits >= 1
+    exact_sup.discrete_sup_abs([1.0], [1.0, -0.5], 0.1)
+    exact_sup.discrete_sup_abs([1.0], [1.0, -0.5], 0.1)
+    assert exact_sup._sup_discrete.cache_info().hits >= 1
+    exact_sup.clear_caches()
+    assert exact_sup._sup_continuous.cache_info().currsize == 0
 
 
 def test_float_discrete_sup_agrees_or_refuses_with_a_reason() -> None:
     """q^2 / (1 - q/2): sup 2 at q = 1 (its |N/D|^2 has a harmless double stationary
     point at x = -1, which once made the float path refuse without saying why); clustered
     lightly damped poles: the float path equals the interval value or refuses, naming why."""
-    from gfrf.bounds import exact
+    from gfrf.bounds import exact_sup
 
-    assert exact.discrete_sup_abs([0, 0, 1], [1, -0.5], 1.0, "float").upper == 2.0
+    assert exact_sup.discrete_sup_abs([0, 0, 1], [1, -0.5], 1.0, "float").upper == 2.0
     for gap in (1e-2, 1e-5, 1e-8):
         theta1, theta2, radius = 0.3, 0.3 + gap, 0.999
         first = [1.0, -2 * radius * np.cos(theta1), radius**2]
         second = [1.0, -2 * radius * np.cos(theta2), radius**2]
         den = np.convolve(first, second)
-        flt = exact.discrete_sup_abs([1.0], den, 0.1, "float")
-        ball = exact.discrete_sup_abs([1.0], den, 0.1, "interval")
+        flt = exact_sup.discrete_sup_abs([1.0], den, 0.1, "float")
+        ball = exact_sup.discrete_sup_abs([1.0], den, 0.1, "interval")
         if math.isinf(flt.upper):
             assert flt.reason
         else:

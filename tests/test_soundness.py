@@ -19,7 +19,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from gfrf.bounds.exact import hurwitz, poles, schur, sup_abs_beyond
+from gfrf.bounds.exact import hurwitz, poles, schur
+from gfrf.bounds.exact_sup import sup_abs_beyond
 from gfrf.bounds.majorant import majorant, radius
 from gfrf.bounds.norms import h1_norm, kernel_norm
 from gfrf.cli import main

@@ -3,7 +3,7 @@
 For every bundled model with GFRFs the same quantity is computed at the three levels
 of :data:`gfrf.bounds.rational.PROOF_LEVELS` in one run, and the times are reported as
 ratios to the float path.  Each time is the best of a few repeats of a *cold*
-computation: the memoised sups (:func:`gfrf.bounds.exact.clear_caches`) are forgotten before
+computation: the memoised sups (:func:`gfrf.bounds.exact_sup.clear_caches`) are forgotten before
 every call, while the symbolic kernels (the same at every level) are built once
 beforehand.  Quantities:
 
@@ -77,7 +77,7 @@ def _cases() -> list[tuple[str, str, Callable[[str], Any], Callable[[Any], float
 
 def run(quick: bool) -> BenchSection:
     """Time every case at every level; return the report section."""
-    from gfrf.bounds.exact import clear_caches
+    from gfrf.bounds.exact_sup import clear_caches
 
     repeats = 2 if quick else 5
     rows: list[list[object]] = []

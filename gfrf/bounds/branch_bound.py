@@ -20,9 +20,10 @@ the sup is enclosed directly (angular frequencies in rad/s throughout):
   ``lower / (1 - tol)`` are discarded, box centres raise the lower bound and a new
   best centre is polished by Nelder-Mead.
 
-Soundness.  The tail's one-dimensional sups are proven (Arb, :class:`gfrf.bounds.exact.SupBeyond`);
-the box enclosures are certified in floating point (see :mod:`gfrf.bounds.enclosure`), so the
-upper bound is ``proof = "float"``, not proven.  Continuous-time models only.
+Soundness.  The tail's one-dimensional sups are proven (Arb,
+:class:`gfrf.bounds.exact_sup.SupBeyond`); the box enclosures are certified in floating point
+(see :mod:`gfrf.bounds.enclosure`), so the upper bound is ``proof = "float"``, not proven.
+Continuous-time models only.
 
 Examples
 --------

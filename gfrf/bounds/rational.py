@@ -7,7 +7,7 @@ the imaginary axis is decided exactly (a real root of the gcd of the real and
 imaginary parts of D(j*omega)), and the stationary points of |N/D|^2 (the real roots
 of P'Q - PQ' with P = |N(j*omega)|^2, Q = |D(j*omega)|^2) are isolated rigorously
 and |N/D| evaluated on their enclosures in ball arithmetic (FLINT/Arb through
-python-flint; see :mod:`gfrf.bounds.exact`).  The result is an interval ``[lower, upper]``
+python-flint; see :mod:`gfrf.bounds.exact_sup`).  The result is an interval ``[lower, upper]``
 that provably contains the sup, with ``value`` its midpoint; clustered or lightly
 damped poles only cost precision, never correctness.  Scaling N or D by any factor
 does not change the method (exact arithmetic has no range limits).
@@ -34,7 +34,8 @@ from typing import Any
 
 import numpy as np
 
-from gfrf.bounds.exact import ExactSup, discrete_sup_abs, format_roots, sup_abs
+from gfrf.bounds.exact import format_roots
+from gfrf.bounds.exact_sup import ExactSup, discrete_sup_abs, sup_abs
 from gfrf.errors import ArgumentError
 
 __all__ = ["SupResult", "PROOF_LEVELS", "check_proof", "rational_sup",

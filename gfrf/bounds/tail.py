@@ -20,7 +20,7 @@ order m >= 1, power l and threshold V > 0:
     T_2(m, l, V) >= |sigma^l H_m|  wherever two distinct |w_i|, |w_j| >= V   (m >= 2).
 
 **Order one.**  T_1(1, l, V) = sup over |x| >= V of |x^l H1(j x)|, proven (Arb,
-:class:`gfrf.bounds.exact.SupBeyond`).  A block of one coordinate cannot hold two.
+:class:`gfrf.bounds.exact_sup.SupBeyond`).  A block of one coordinate cannot hold two.
 
 **One large coordinate** (|w_i| >= W).  For a split 0 < alpha < 1 (best of a few):
 
@@ -79,13 +79,13 @@ _ALPHAS = (0.25, 0.5, 0.75)
 class _Beyond:
     """sup over |w| >= v of |N(j w) / D(j w)| (coefficients highest first), proven.
 
-    A proven upper bound (:class:`gfrf.bounds.exact.SupBeyond`: exact stationary points
+    A proven upper bound (:class:`gfrf.bounds.exact_sup.SupBeyond`: exact stationary points
     isolated once by Arb, ball evaluation per query, outward rounding), so a cluster
     of lightly damped poles cannot make the tail bound too small.
     """
 
     def __init__(self, num: np.ndarray, den: np.ndarray) -> None:
-        from gfrf.bounds.exact import SupBeyond
+        from gfrf.bounds.exact_sup import SupBeyond
 
         self.bound = SupBeyond(num, den)
 

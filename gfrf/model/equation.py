@@ -35,16 +35,8 @@ from typing import Any
 import sympy as sp
 
 from gfrf.errors import ModelError
-from gfrf.model.expr import (
-    MAX_DEGREE,
-    MAX_TEXT_LENGTH,
-    MODEL_FUNCTIONS,
-    Parsed,
-    UnknownNames,
-    check_name,
-    parse_expression,
-    quote,
-)
+from gfrf.model.expr import MODEL_FUNCTIONS, UnknownNames, check_name, parse_expression
+from gfrf.model.limits import MAX_DEGREE, MAX_TEXT_LENGTH, Parsed, quote
 
 __all__ = ["Term", "Model", "parse_model", "coefficient_formulas", "MAX_DERIVATIVE_ORDER",
            "MAX_DEGREE", "MAX_TRUNCATION_WORK"]

@@ -39,7 +39,8 @@ import sympy as sp
 
 from gfrf.errors import ArgumentError, ModelError
 from gfrf.model.equation import Model, parse_model
-from gfrf.model.expr import UnknownNames, check_name, parse_expression, quote
+from gfrf.model.expr import UnknownNames, check_name, parse_expression
+from gfrf.model.limits import quote
 
 __all__ = ["Controller", "ModelFile", "load_model", "model_from_dict", "read_table",
            "MAX_FILE_BYTES", "MAX_PARAMETERS", "MAX_CONTROLLER_COEFFICIENTS", "parse_number",

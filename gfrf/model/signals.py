@@ -38,7 +38,8 @@ import sympy as sp
 from scipy.interpolate import CubicSpline
 
 from gfrf.errors import ArgumentError, ModelError
-from gfrf.model.expr import SIGNAL_FUNCTIONS, UnknownNames, parse_expression, quote
+from gfrf.model.expr import SIGNAL_FUNCTIONS, UnknownNames, parse_expression
+from gfrf.model.limits import quote
 
 __all__ = ["InputSignal", "parse_input", "zero_input", "tones_input", "T", "MAX_BREAKPOINTS"]
 

@@ -36,7 +36,8 @@ import sympy as sp
 
 from gfrf.errors import ArgumentError, ModelError
 from gfrf.model.equation import Model, Term, coefficient_formulas
-from gfrf.model.expr import Parsed, UnknownNames, parse_expression, quote
+from gfrf.model.expr import UnknownNames, parse_expression
+from gfrf.model.limits import Parsed, quote
 from gfrf.model.modelfile import ModelFile, model_from_dict
 
 __all__ = ["ModelTemplate", "TemplateUnsupported", "model_template", "rebuild",
@@ -288,7 +289,7 @@ def model_template(data: Mapping[str, Any], names: Sequence[str], path: str = ""
                 n_num = len(num)
     except ModelError as exc:
         # The file is valid (parsed above with numbers); only the symbolic form in the
-        # swept parameters exceeds a limit of gfrf.model.expr: each point is parsed in full.
+        # swept parameters exceeds a limit of gfrf.model.limits: each point is parsed in full.
         raise TemplateUnsupported(f"its form in the swept parameters exceeds a parser "
                                   f"limit: {exc}") from None
     body = ", ".join(sp.pycode(_exact(e)) for e in exprs)

@@ -40,7 +40,7 @@ import sympy as sp
 
 from gfrf.errors import ArgumentError
 from gfrf.model.equation import Model
-from gfrf.model.expr import quote
+from gfrf.model.limits import quote
 from gfrf.model.modelfile import ModelFile
 from gfrf.model.signals import InputSignal, T, parse_input, zero_input
 from gfrf.sim.integrate import (
