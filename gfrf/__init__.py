@@ -69,7 +69,7 @@ _LAZY = {
     "simulate": "gfrf.sim.simulation",
     "VolterraPrediction": "gfrf.sim.volterra",
     "SweepResult": "gfrf.sweep.run",
-    "from_sysidentpy": "gfrf.identify",
+    "from_sysidentpy": "gfrf.identify.narx",
     "linear_part": "gfrf._api", "verdict": "gfrf._api",
     "to_nlsys": "gfrf.sim.nlsys",
 }

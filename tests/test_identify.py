@@ -18,17 +18,11 @@ import pytest
 
 from gfrf.cli import main
 from gfrf.errors import ArgumentError, GfrfError, ModelError
-from gfrf.identify import (
-    INSTALL_HINT,
-    free_run,
-    from_sysidentpy,
-    identify,
-    model_file_text,
-    read_csv,
-    same_terms,
-    write_atomic,
-)
 from gfrf.identify import example as ex
+from gfrf.identify.data import read_csv
+from gfrf.identify.fit import INSTALL_HINT, free_run, identify, same_terms
+from gfrf.identify.narx import from_sysidentpy
+from gfrf.identify.output import model_file_text, write_atomic
 from gfrf.kernels.recursion import kernel
 from gfrf.model.equation import parse_model
 from gfrf.model.modelfile import load_model
@@ -421,22 +415,28 @@ def test_worked_example_files_are_consistent_and_close_to_the_truth():
                            rtol=1e-12, atol=1e-14)
 
 
-def test_module_examples_and_the_top_level_name():
+@pytest.mark.parametrize("name", ["gfrf.identify.narx", "gfrf.identify.data"])
+def test_module_examples(name):
     import doctest
+    import importlib
 
+    result = doctest.testmod(importlib.import_module(name), optionflags=doctest.ELLIPSIS)
+    assert result.attempted > 0 and result.failed == 0
+
+
+def test_the_top_level_name_and_the_package_face():
     import gfrf
     import gfrf.identify
 
-    result = doctest.testmod(gfrf.identify, optionflags=doctest.ELLIPSIS)
-    assert result.attempted > 0 and result.failed == 0
     assert gfrf.from_sysidentpy is from_sysidentpy
+    assert gfrf.identify.from_sysidentpy is from_sysidentpy
 
 
 def test_one_run_information_criterion_equals_sysidentpys_loop():
     """The criterion from one ERR run equals sysidentpy's run-per-size loop, bit for bit."""
     from sysidentpy.model_structure_selection import FROLS
 
-    from gfrf.identify import _frols
+    from gfrf.identify.fit import _frols
 
     rng = np.random.default_rng(21)
     u = rng.uniform(-1, 1, 1200)
@@ -458,7 +458,7 @@ def test_one_run_information_criterion_equals_sysidentpys_loop():
 
 
 def test_narx_equation_and_free_run_refuse_models_not_explicit_in_y_k():
-    from gfrf.identify import narx_equation
+    from gfrf.identify.narx import narx_equation
 
     model = parse_model("2*y[k] = y[k-1] + 3*u[k-1] - u[k-2]**2", sample_time=T)
     assert narx_equation(model) == "y[k] = 0.5*y[k-1] + 1.5*u[k-1] - 0.5*u[k-2]**2"

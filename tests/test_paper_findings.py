@@ -20,11 +20,10 @@ from gfrf.model.modelfile import load_model
 from gfrf.papers.cartpole import (
     inertia_reversal,
     lagged_loops,
-    lagged_simulation,
-    loop_drive,
     sign_margin,
     theorem2_obstruction,
 )
+from gfrf.papers.cartpole_trials import lagged_simulation, loop_drive
 from gfrf.papers.gfrf_paper import alpha_variants, paper_checks, printed_match, theta_readings
 from gfrf.sim.simulation import simulate
 from gfrf.stability.loops import with_lags
@@ -290,7 +289,7 @@ def test_paper_rows_quote_the_findings() -> None:
 
 
 def test_report_sections_quote_the_result_objects(alpha_rows) -> None:
-    from gfrf.papers.cartpole import has_physical_equation
+    from gfrf.papers.cartpole_trials import has_physical_equation
     from gfrf.report import paper_gfrf
     from gfrf.report._format import cell
 

@@ -2,7 +2,7 @@
 
 Data: the worked example's true model (:mod:`gfrf.identify.example`) driven by
 uniform white noise, output measurement noise 0.02, 10^4 and 10^5 samples (2*10^3
-and 10^4 when quick), written to a CSV file.  Timed: :func:`gfrf.identify.identify`
+and 10^4 when quick), written to a CSV file.  Timed: :func:`gfrf.identify.fit.identify`
 (FROLS fit, exact conversion, held-out free run), the whole ``gfrf identify DATA.csv
 --json`` command in-process (CSV read, fit, model file text checked by re-reading,
 verdict of Theorem 1 with norms up to order 5), and, as the baseline, sysidentpy's
@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from gfrf.identify import example as ex
-from gfrf.identify import identify
+from gfrf.identify.fit import identify
 
 __all__ = ["run", "measure"]
 
@@ -44,7 +44,8 @@ def measure(n: int, folder: Path) -> dict[str, Any]:
     from sysidentpy.model_structure_selection import FROLS
     from sysidentpy.parameter_estimation import LeastSquares
 
-    from gfrf.identify import load_text, model_file_text, read_csv
+    from gfrf.identify.data import read_csv
+    from gfrf.identify.output import load_text, model_file_text
     from gfrf.stability.criteria import verdict
 
     u, y, _ = ex.generate(n, seed=ex.SEED + n)

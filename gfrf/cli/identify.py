@@ -2,7 +2,7 @@
 
 ``gfrf identify DATA.csv --output y --input u --sample-time T [--ylag 2 --ulag 2
 --degree 3] [--criterion bic] [--out model.toml] [--json]`` fits a polynomial NARX
-model with sysidentpy's FROLS (:func:`gfrf.identify.identify`), prints the identified
+model with sysidentpy's FROLS (:func:`gfrf.identify.fit.identify`), prints the identified
 equation, the fit quality on the held-out end of the data and the verdict of
 Theorem 1, and writes the model file when ``--out`` is given.  Exit codes as
 ``gfrf verdict``: 0 stability proven, 1 not proven or unstable, 2 bad input or
@@ -71,14 +71,10 @@ def _check_out(out: str) -> Path:
 
 def _identify(args: argparse.Namespace) -> int:
     from gfrf.cli.stability import _verdict_text
-    from gfrf.identify import (
-        identify,
-        load_text,
-        model_file_text,
-        narx_equation,
-        read_csv,
-        write_atomic,
-    )
+    from gfrf.identify.data import read_csv
+    from gfrf.identify.fit import identify
+    from gfrf.identify.narx import narx_equation
+    from gfrf.identify.output import load_text, model_file_text, write_atomic
     from gfrf.stability.criteria import verdict
 
     out = _check_out(args.out) if args.out else None

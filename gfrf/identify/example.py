@@ -21,7 +21,9 @@ from pathlib import Path
 
 import numpy as np
 
-from gfrf.identify import free_run, identify, model_file_text, read_csv, write_atomic
+from gfrf.identify.data import read_csv
+from gfrf.identify.fit import free_run, identify
+from gfrf.identify.output import model_file_text, write_atomic
 from gfrf.kernels.recursion import kernel
 from gfrf.model.equation import Model, parse_model
 

@@ -15,7 +15,8 @@ printed recursion with its rho_1 prefactor reproduces neither printed theta_3; w
 rho_1 dropped (theta_3 = phi_3 lambda_1^3) both are reproduced (section 5: 0.006 =
 2.56 x 0.1331^3).  :func:`loop_sign_variants` enumerates sign conventions of the
 cart-pole loop to find which one reproduces the printed closed loop (614 s^2 + 12554 s
-+ 73); the cart-pole findings themselves are in :mod:`gfrf.papers.cartpole`.
++ 73); the cart-pole findings themselves are in :mod:`gfrf.papers.cartpole` and
+:mod:`gfrf.papers.cartpole_trials`.
 :func:`alpha_variants` compares eq (6) (input gain alpha = 1) with eq (2) (alpha =
 1/(m L^2) kept) at the paper's r = 1.
 """

@@ -19,8 +19,10 @@ from typing import Any
 
 import numpy as np
 
-from gfrf.identify import Identification, identify, read_csv, same_terms, write_atomic
 from gfrf.identify import example as ex
+from gfrf.identify.data import read_csv
+from gfrf.identify.fit import Identification, identify, same_terms
+from gfrf.identify.output import write_atomic
 from gfrf.kernels.recursion import kernel
 from gfrf.model.equation import Model
 from gfrf.model.modelfile import ModelFile, load_model

@@ -24,14 +24,12 @@ from gfrf.kernels.recursion import kernel
 from gfrf.model.modelfile import load_model
 from gfrf.papers.cartpole import (
     LAG_TIME_CONSTANTS,
-    has_physical_equation,
     inertia_reversal,
     lagged_loops,
-    lagged_simulation,
-    loop_drive,
     sign_margin,
     theorem2_obstruction,
 )
+from gfrf.papers.cartpole_trials import has_physical_equation, lagged_simulation, loop_drive
 from gfrf.papers.gfrf_paper import AlphaRow, CheckRow, alpha_variants, paper_checks, theta_readings
 from gfrf.report._figures import frequency_scale, h1_figure, h3_slice_figure
 from gfrf.report._format import cell, code, header, num, table

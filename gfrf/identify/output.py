@@ -1,0 +1,83 @@
+"""The identified model as a model file: its TOML text, read back, written atomically.
+
+:func:`model_file_text` writes an :class:`~gfrf.identify.fit.Identification` as a model
+file (``source`` names the data and the fit settings) that ``gfrf verdict`` and
+``gfrf report`` read like any other, and checks that it reads back to the identified
+terms; :func:`load_text` reads such a text, :func:`write_atomic` saves it.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+import tomllib
+from pathlib import Path
+
+from gfrf.errors import ModelError
+from gfrf.identify.fit import Identification
+from gfrf.model.modelfile import ModelFile, model_from_dict
+
+__all__ = ["model_file_text", "load_text", "write_atomic"]
+
+
+def _toml_string(text: str) -> str:
+    return json.dumps(text, ensure_ascii=True)
+
+
+def model_file_text(result: Identification, data: str, name: str = "",
+                    description: str = "") -> str:
+    """The model file (TOML) of an identification; ``source`` names the data and settings.
+
+    The text is read back before it is returned: its model must have exactly the
+    identified terms (same lags, same coefficients), else :class:`ModelError`.
+    """
+    m = result.model
+    source = (f"gfrf identify {data} --output {m.output} --input {m.input} --sample-time "
+              f"{m.sample_time!r} {result.settings_text()} (sysidentpy "
+              f"{result.sysidentpy_version} FROLS): {result.quality_text()}")
+    lines = ["# Identified from measured data by `gfrf identify` (sysidentpy FROLS).",
+             f"name = {_toml_string(name or 'NARX identified from ' + Path(data).name)}",
+             f"equation = {_toml_string(m.text)}",
+             f"sample_time = {m.sample_time!r}"]
+    if m.output != "y" or m.input != "u":
+        lines += [f"output = {_toml_string(m.output)}", f"input = {_toml_string(m.input)}"]
+    lines.append(f"source = {_toml_string(source)}")
+    if description or result.notes:
+        about = " ".join([description, *result.notes]).strip()
+        lines.append(f"description = {_toml_string(about)}")
+    text = "\n".join(lines) + "\n"
+    reread = model_from_dict(tomllib.loads(text)).plant
+    if reread.terms != m.terms:  # Term equality includes the coefficient
+        raise ModelError(f"the model file does not reproduce the identified model: "
+                         f"{reread.equation()} != {m.equation()}")
+    return text
+
+
+def load_text(text: str, path: str) -> ModelFile:
+    """The ModelFile of a model file text (as ``load_model`` would read it from ``path``)."""
+    return model_from_dict(tomllib.loads(text), path=path)
+
+
+def write_atomic(path: str | Path, text: str) -> Path:
+    """Write ``text`` to ``path`` atomically (temporary file in the same folder, then rename).
+
+    A reader sees the old file or the new one, never a partial file; the temporary
+    file is removed when writing fails.
+    """
+    target = Path(path)
+    folder = target.parent if str(target.parent) else Path(".")
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=folder)
+    mask = os.umask(0)
+    os.umask(mask)
+    try:
+        os.chmod(tmp, 0o666 & ~mask)  # mkstemp's 0600 would make a private file
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, target)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return target
