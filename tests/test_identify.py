@@ -527,3 +527,27 @@ def test_same_terms_tolerates_ulps_and_nothing_more():
     other = [Term((2,), (), -0.4995686297675639, discrete=True), a[1]]
     assert same_terms(a, ulp) and same_terms(a, a)
     assert not same_terms(a, moved) and not same_terms(a, other) and not same_terms(a, a[:1])
+
+
+def test_identification_leaves_matplotlib_settings_alone():
+    """sysidentpy's first import turns the top and right spines off for every later plot;
+    identify() must not pass that on (two report builds differed by it)."""
+    code = """
+import matplotlib
+matplotlib.use("Agg")
+import numpy as np
+from gfrf.identify import identify
+before = {k: str(v) for k, v in matplotlib.rcParams.items()}
+u = np.random.default_rng(0).uniform(-1, 1, 400)
+y = np.convolve(u, [0.0, 0.5, 0.2])[:400]
+identify(y, u, 0.1)
+after = {k: str(v) for k, v in matplotlib.rcParams.items()}
+print({k: (before[k], after[k]) for k in before if before[k] != after[k]})
+"""
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "{}"

@@ -190,9 +190,14 @@ class Identification:
 def _frols(ylag: int, ulag: int, degree: int, criterion: str, max_terms: int) -> Any:
     """sysidentpy's FROLS with least squares, without the constant regressor."""
     try:
-        from sysidentpy.basis_function import Polynomial
-        from sysidentpy.model_structure_selection import FROLS
-        from sysidentpy.parameter_estimation import LeastSquares
+        import matplotlib  # sysidentpy imports it anyway
+
+        # sysidentpy's first import restyles matplotlib globally (top and right spines
+        # off): the caller's plots, and gfrf's reports, are not its to change.
+        with matplotlib.rc_context():
+            from sysidentpy.basis_function import Polynomial
+            from sysidentpy.model_structure_selection import FROLS
+            from sysidentpy.parameter_estimation import LeastSquares
     except ImportError:
         raise GfrfError(INSTALL_HINT) from None
 
