@@ -102,7 +102,7 @@ def write_reports(out_dir: str | Path = "reports", models: list[str] | None = No
         periodic = importlib.import_module("gfrf.report.periodic")
         jobs.append(partial(periodic.write, out, quick=quick))
     if importlib.util.find_spec("sysidentpy") is not None:  # the `identify` extra
-        from gfrf.identify import report as identify_report
+        from gfrf.report import identified as identify_report
         jobs.append(partial(identify_report.write, out, quick))
     written = [job() for job in tqdm(jobs, desc="report", disable=None)]
     written.append(write_index(out, paths, quick))
