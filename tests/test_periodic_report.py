@@ -6,14 +6,8 @@ from scipy.optimize import brentq
 from scipy.special import mathieu_b
 
 from gfrf.report._format import num
-from gfrf.report.periodic import (
-    _delta_signs,
-    _formula_table,
-    _grid_table,
-    conclusion_checks,
-    error_grid,
-    write,
-)
+from gfrf.report.periodic import _delta_signs, _formula_table, write
+from gfrf.report.periodic_checks import _grid_table, conclusion_checks, error_grid
 
 
 @pytest.fixture(scope="module")

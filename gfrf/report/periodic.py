@@ -9,353 +9,39 @@ is built from :mod:`gfrf.periodic` result objects (the tests assert on the same
 objects); only the paper's printed formulas, quoted in :mod:`gfrf.periodic.formulas`,
 are typed by hand.  No timings appear here (they are in ``speed-vs-error.md``), so the
 file is the same on every run.
+
+This module writes the page and its smaller tables; the error grid and the conclusion
+checks are in :mod:`gfrf.report.periodic_checks`, the figures in
+:mod:`gfrf.report.periodic_figures`.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
 from scipy.optimize import brentq
 
 from gfrf._atomic import atomic_write_text
-from gfrf.periodic.compare import PeriodicComparison, compare_periodic, transition_curve
+from gfrf.periodic.compare import compare_periodic
 from gfrf.periodic.energy import energy_cutoff
 from gfrf.periodic.equation import load_model
-from gfrf.periodic.floquet import (
-    mathieu_transition,
-    monodromy_transition,
-    quarter_tongue_zero,
-    upper_quarter_transition,
-)
+from gfrf.periodic.floquet import mathieu_transition, monodromy_transition, quarter_tongue_zero
 from gfrf.periodic.formulas import FormulaCheck, formula_checks
-from gfrf.periodic.homotopy import ham
-from gfrf.periodic.perturbation import perturbation_series
-from gfrf.periodic.shooting import exact_transition_curve, transition_delta, transition_zero_eps
-from gfrf.report._format import header, num, save_figure, table
-
-__all__ = ["ConclusionCheck", "ErrorGrid", "conclusion_checks", "error_grid", "write"]
-
-#: Methods of the comparison table: (label, method, order); orders 2 are the paper's.
-TABLE_METHODS: tuple[tuple[str, str, int | None], ...] = (
-    ("perturbation, order 2 (paper)", "perturbation", 2),
-    ("perturbation, order 4", "perturbation", 4),
-    ("homotopy, order 2", "homotopy", 2),
-    ("homotopy, order 4", "homotopy", 4),
-    ("energy (48)", "energy", None),
-    ("averaging (58)", "averaging", None),
-)
-#: Methods with an upper ``1/4`` curve (orbits with ``x(0) = 0``, amplitude ``x(pi)``).
-UPPER_METHODS: tuple[tuple[str, str, int | None], ...] = (
-    ("energy (49)", "energy", None),
-    ("averaging case 3", "averaging", None),
+from gfrf.periodic.shooting import transition_zero_eps
+from gfrf.report._format import header, num, table
+from gfrf.report.periodic_checks import _grid_table, conclusion_checks, error_grid
+from gfrf.report.periodic_figures import (
+    _fig2,
+    _fig10,
+    _ham_h_figure,
+    _orbit_figure,
+    _stability_chart,
+    _transition_figure,
 )
 
-
-@dataclass
-class ErrorGrid:
-    """Errors of every method on a grid of ``eps`` and ``x(0)`` for one branch.
-
-    Attributes
-    ----------
-    branch : str
-    eps_values, amplitudes : tuple of float
-    rows : dict
-        ``(label, eps, amplitude) -> PeriodicComparison``.
-    side : str
-        ``"lower"`` or ``"upper"`` (``1/4`` tongue; amplitudes are then ``x(pi)``).
-    """
-
-    branch: str
-    eps_values: tuple[float, ...]
-    amplitudes: tuple[float, ...]
-    rows: dict[tuple[str, float, float], PeriodicComparison]
-    side: str = "lower"
-
-    def labels(self) -> list[str]:
-        """Method labels present in the grid, in table order."""
-        return [lab for lab, _, _ in TABLE_METHODS + UPPER_METHODS
-                if any(k[0] == lab for k in self.rows)]
-
-    def to_dict(self) -> dict[str, object]:
-        """Plain-dict view."""
-        return {"branch": self.branch, "side": self.side,
-                "rows": [{"label": k[0], **v.to_dict()} for k, v in self.rows.items()]}
-
-
-def error_grid(branch: str, eps_values: tuple[float, ...], amplitudes: tuple[float, ...],
-               side: str = "lower") -> ErrorGrid:
-    """Compare each applicable method at every ``(eps, amplitude)`` of ``branch``/``side``."""
-    rows = {}
-    for lab, method, order in (TABLE_METHODS if side == "lower" else UPPER_METHODS):
-        if branch == "0" and method in ("energy", "averaging"):
-            continue
-        for e in eps_values:
-            for a in amplitudes:
-                rows[(lab, e, a)] = compare_periodic(method, e, a, branch, order, side=side)
-    return ErrorGrid(branch, eps_values, amplitudes, rows, side)
-
-
-@dataclass
-class ConclusionCheck:
-    """One conclusion of the paper tested on our numbers."""
-
-    claim: str
-    evidence: str
-    holds: bool
-
-    def to_dict(self) -> dict[str, object]:
-        """Plain-dict view."""
-        return {"claim": self.claim, "evidence": self.evidence, "holds": self.holds}
-
-
-def _err(grid: ErrorGrid, label: str, e: float, a: float) -> float:
-    return grid.rows[(label, e, a)].max_error
-
-
-def conclusion_checks(grid: ErrorGrid) -> list[ConclusionCheck]:
-    """Test the paper's conclusions 1 and 3 on the 1/4-branch grid (paper orders)."""
-    out = []
-    amin, amax = min(grid.amplitudes), max(grid.amplitudes)
-    for lab in grid.labels():
-        ok = [_err(grid, lab, e, amax) > _err(grid, lab, e, amin) for e in grid.eps_values
-              if np.isfinite(_err(grid, lab, e, amax))]
-        out.append(ConclusionCheck(
-            f"(1) accuracy drops as the initial angle grows: {lab}",
-            f"max|dx| larger at x(0) = {amax} than at {amin} for {sum(ok)} of {len(ok)} eps",
-            bool(ok) and all(ok)))
-    paper = ["perturbation, order 2 (paper)", "homotopy, order 2", "energy (48)",
-             "averaging (58)"]
-    mid = sorted(grid.amplitudes)[len(grid.amplitudes) // 2]
-    small = [e for e in grid.eps_values if e < 0.1]
-    for e in small:
-        errs = [_err(grid, lab, e, mid) for lab in paper]
-        ratio = max(errs) / min(errs)
-        out.append(ConclusionCheck(
-            f"(3) for eps < 0.1 the four methods are about equally accurate (eps = {e}, "
-            f"x(0) = {mid})",
-            ", ".join(f"{lab}: {num(v, 3)}" for lab, v in zip(paper, errs, strict=True))
-            + f"; largest/smallest = {num(ratio, 3)}", ratio < 10))
-    for e in [e for e in grid.eps_values if e > 0.1]:
-        p, h_opt, en, av = (_err(grid, lab, e, mid) for lab in paper)
-        h_paper = _paper_h_error(e, mid)
-        for h, which in ((h_opt, "h minimising the residual"), (h_paper, "h = -1/1000")):
-            finite_he = [v for v in (h, en) if np.isfinite(v)]
-            holds = bool(finite_he) and max(p, av) < min(finite_he)
-            out.append(ConclusionCheck(
-                f"(3) for eps > 0.1 perturbation and averaging beat homotopy and energy "
-                f"(eps = {e}, x(0) = {mid}, paper orders, homotopy with {which})",
-                f"perturbation {num(p, 3)}, averaging {num(av, 3)}, homotopy {num(h, 3)}, "
-                f"energy {num(en, 3) if np.isfinite(en) else 'no orbit ((48) has no root)'}",
-                holds))
-    return out
-
-
-def _paper_h_error(eps: float, amplitude: float) -> float:
-    """Max orbit error of the order-2 HAM at the paper's h = -1/1000 (1/4 branch)."""
-    orbit = transition_delta(eps, amplitude, "1/4")
-    t = np.linspace(0, 4 * np.pi, 401)
-    approx = ham(eps, amplitude, "1/4", 2, -1 / 1000).solution(t)
-    return float(np.max(np.abs(approx - orbit.evaluate(t))))
-
-
-def _grid_table(grid: ErrorGrid) -> str:
-    where = "x(0)" if grid.side == "lower" else "x(pi)"
-    head = ["method", "eps"] + [f"{where} = {a}: |d delta| / max|dx|" for a in grid.amplitudes]
-    rows = []
-    for lab in grid.labels():
-        for e in grid.eps_values:
-            cells = []
-            for a in grid.amplitudes:
-                r = grid.rows[(lab, e, a)]
-                cells.append("no orbit" if not np.isfinite(r.max_error)
-                             else f"{num(r.delta_error, 2)} / {num(r.max_error, 2)}")
-            rows.append([lab, e] + cells)
-    return table(head, rows)
-
-
-def _orbit_panel(ax: plt.Axes, t: np.ndarray, x_exact: np.ndarray, x_method: np.ndarray,
-                 title: str) -> None:
-    ax.plot(t, x_exact, "-", color="k", lw=1.2, label="exact (shooting)")
-    step = max(1, len(t) // 60)
-    ax.plot(t[::step], x_method[::step], ".", color="C3", ms=4, label="analytical")
-    if not np.isfinite(x_method).any():
-        ax.text(0.5, 0.5, "method has no orbit", transform=ax.transAxes, ha="center",
-                fontsize=8, color="C3")
-    ax.set_title(title, fontsize=8)
-    ax.tick_params(labelsize=7)
-    ax.set_xticks(np.pi * np.arange(5), ["0", "π", "2π", "3π", "4π"])
-
-
-def _label_orbit_axes(axes: list[list[plt.Axes]]) -> None:
-    """Axis labels on the outer panels of a grid of orbit panels (time t = omega t_phys)."""
-    for row in axes:
-        row[0].set_ylabel("x (rad)", fontsize=8)
-    for ax in axes[-1]:
-        ax.set_xlabel("t = ω t_phys", fontsize=8)
-
-
-def _fig2(out: Path, quick: bool) -> tuple[str, list[list[object]]]:
-    """(16) at the paper's a, against the exact orbit through the same x(0)."""
-    s = perturbation_series("1/4", 2, "kernel")
-    eps_list = (0.1, 0.5) if quick else (0.1, 0.2, 0.5)
-    a_list = (0.05, 1.0) if quick else (0.05, 0.5, 1.0)
-    fig, axes = plt.subplots(len(eps_list), len(a_list), figsize=(9, 2.2 * len(eps_list)),
-                             squeeze=False)
-    rows = []
-    t = np.linspace(0, 4 * np.pi, 241)
-    for i, e in enumerate(eps_list):
-        for j, a in enumerate(a_list):
-            x_an = s.evaluate(e, a, t)
-            orbit = transition_delta(e, float(x_an[0]), "1/4")
-            x_ex = orbit.evaluate(t)
-            _orbit_panel(axes[i][j], t, x_ex, x_an, f"eps={e}, a={a}, x(0)={x_an[0]:.3g}")
-            rows.append([e, a, float(x_an[0]), s.delta_at(e, a), orbit.delta,
-                         float(np.max(np.abs(x_an - x_ex)))])
-    axes[0][0].legend(fontsize=7)
-    _label_orbit_axes(axes)
-    fig.tight_layout()
-    return save_figure(fig, out / "paper-periodic-fig2.png"), rows
-
-
-def _transition_figure(out: Path, name: str, branches: tuple[str, ...],
-                       amplitudes: tuple[float, ...], methods: tuple[tuple[str, str, int | None],
-                                                                     ...],
-                       eps: np.ndarray) -> tuple[str, list[list[object]]]:
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    rows = []
-    for b in branches:
-        for a in amplitudes:
-            exact = exact_transition_curve(eps, a, b)
-            ax.plot(eps, exact, "-", color="k", lw=1)
-            for k, (lab, m, order) in enumerate(methods):
-                if b == "0" and m in ("energy", "averaging"):
-                    continue
-                vals = transition_curve(m, eps, a, b, order)
-                ax.plot(eps, vals, ".", color=f"C{k}", ms=3,
-                        label=lab if (b, a) == (branches[0], amplitudes[0]) else None)
-                ok = np.isfinite(vals)
-                rows.append([b, a, lab, float(np.max(np.abs(vals[ok] - exact[ok])))
-                             if ok.any() else float("nan"), int((~ok).sum())])
-    ax.set_xlabel("eps")
-    ax.set_ylabel("delta")
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    return save_figure(fig, out / name), rows
-
-
-def _stability_chart(out: Path, quick: bool) -> str:
-    eps = np.linspace(0.0, 0.5, 201)
-    fig, ax = plt.subplots(figsize=(9.5, 5))
-    d0, d1, du = (mathieu_transition(eps, "0"), mathieu_transition(eps, "1/4"),
-                  upper_quarter_transition(eps))
-    ax.fill_between(eps, d0, np.minimum(d1, 0.3), where=d1 > d0, color="0.9",
-                    label="linearly stable (Mathieu)")
-    ax.fill_between(eps, d1, du, color="#f3d9d9", label="1/4 instability tongue")
-    for d, lab in ((d0, "exact linear: a_0(2 eps)/4"), (d1, "exact linear: b_1(2 eps)/4"),
-                   (du, "exact linear: a_1(2 eps)/4")):
-        ax.plot(eps, d, "-", color="k", lw=1.3, label=lab)
-    coarse = np.linspace(0.01, 0.5, 8 if quick else 25)
-    amp = 0.5
-    styles = (("perturbation, order 2", "perturbation", 2, "C0"),
-              ("perturbation, order 6", "perturbation", 6, "C1"),
-              ("homotopy, order 4", "homotopy", 4, "C2"),
-              ("energy (48)", "energy", None, "C3"), ("averaging (58)", "averaging", None, "C4"))
-    for b in ("0", "1/4"):
-        ax.plot(coarse, exact_transition_curve(coarse, amp, b), "--", color="0.4", lw=1.2,
-                label=f"exact nonlinear, x(0) = {amp}" if b == "0" else None)
-        for lab, m, order, col in styles:
-            if b == "0" and m in ("energy", "averaging"):
-                continue
-            ax.plot(coarse, transition_curve(m, coarse, amp, b, order), "o", ms=3, color=col,
-                    label=f"{lab}, x(0) = {amp}" if b == "1/4" else None)
-    ax.plot(coarse, transition_curve("exact", coarse, amp, "1/4", side="upper"), ":",
-            color="0.4", lw=1.2, label=f"exact nonlinear upper, x(0) = 0, x(pi) = {amp}")
-    for (lab, m, _), col in zip(UPPER_METHODS, ("C3", "C4"), strict=True):
-        ax.plot(coarse, transition_curve(m, coarse, amp, "1/4", side="upper"), "s", ms=3,
-                mfc="none", color=col, label=f"{lab}, x(pi) = {amp}")
-    ax.axhline(0, color="0.6", lw=0.6)
-    ax.set_xlabel("eps = A/L")
-    ax.set_ylabel("delta = -g/(L omega^2)")
-    ax.set_ylim(-0.15, 0.5)
-    ax.legend(fontsize=6, loc="center left", bbox_to_anchor=(1.01, 0.5))
-    fig.tight_layout()
-    return save_figure(fig, out / "paper-periodic-stability.png")
-
-
-def _orbit_figure(out: Path, name: str, method: str, cases: list[list[tuple[float, float]]],
-                  order: int | None = None) -> tuple[str, list[PeriodicComparison]]:
-    """One panel per (eps, x(0)) on the 1/4 branch, one row of panels per list in ``cases``."""
-    from gfrf.periodic.compare import method_orbit
-
-    ncol = max(len(row) for row in cases)
-    fig, axes = plt.subplots(len(cases), ncol, figsize=(3 * ncol, 0.4 + 2.4 * len(cases)),
-                             squeeze=False)
-    rows = []
-    t = np.linspace(0, 4 * np.pi, 401)
-    for i, row in enumerate(cases):
-        for j, (e, a) in enumerate(row):
-            r = compare_periodic(method, e, a, "1/4", order)
-            rows.append(r)
-            x_ex = transition_delta(e, a, "1/4").evaluate(t)
-            if np.isfinite(r.max_error):
-                _, x_m = method_orbit(method, e, a, "1/4", t, order)
-            else:
-                x_m = np.full_like(t, np.nan)
-            _orbit_panel(axes[i][j], t, x_ex, x_m, f"eps={e}, x(0)={a}, delta={r.delta_exact:.3g}")
-    axes[0][0].legend(fontsize=6)
-    _label_orbit_axes(axes)
-    fig.tight_layout()
-    return save_figure(fig, out / name), rows
-
-
-def _fig10(out: Path, quick: bool) -> tuple[str, list[PeriodicComparison]]:
-    from gfrf.periodic.compare import method_orbit
-
-    eps_list = (0.1, 0.3)
-    methods = (("perturbation", 2), ("homotopy", 2), ("energy", None), ("averaging", None))
-    fig, axes = plt.subplots(len(eps_list), 4, figsize=(11, 2.3 * len(eps_list)),
-                             squeeze=False)
-    t = np.linspace(0, 4 * np.pi, 401)
-    rows = []
-    for i, e in enumerate(eps_list):
-        x_ex = transition_delta(e, 0.5, "1/4").evaluate(t)
-        for j, (m, k) in enumerate(methods):
-            r = compare_periodic(m, e, 0.5, "1/4", k)
-            rows.append(r)
-            x_m = method_orbit(m, e, 0.5, "1/4", t, k)[1] if np.isfinite(r.max_error) \
-                else np.full_like(t, np.nan)
-            _orbit_panel(axes[i][j], t, x_ex, x_m, f"{m}, eps={e}")
-    axes[0][0].legend(fontsize=6)
-    _label_orbit_axes(axes)
-    fig.tight_layout()
-    return save_figure(fig, out / "paper-periodic-fig10.png"), rows
-
-
-def _ham_h_figure(out: Path) -> tuple[str, list[list[object]]]:
-    """h-curves: delta and residual of the order-4 HAM against h (paper: h = -1/1000)."""
-    hs = np.linspace(-1.6, -0.001, 60)
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(9, 3))
-    rows = []
-    for e in (0.01, 0.05, 0.08):
-        res = [ham(e, 0.5, "1/4", 4, float(h)) for h in hs]
-        ax1.plot(hs, [r.delta for r in res], label=f"eps={e}")
-        ax2.semilogy(hs, [r.residual for r in res], label=f"eps={e}")
-        exact = transition_delta(e, 0.5, "1/4").delta
-        paper_h = ham(e, 0.5, "1/4", 4, -1 / 1000)
-        best = min(res, key=lambda r: r.residual)
-        rows.append([e, exact, paper_h.delta, paper_h.residual, best.h, best.delta,
-                     best.residual])
-    ax1.set_xlabel("h")
-    ax1.set_ylabel("delta (HAM order 4)")
-    ax2.set_xlabel("h")
-    ax2.set_ylabel("RMS residual")
-    ax1.legend(fontsize=7)
-    fig.tight_layout()
-    return save_figure(fig, out / "paper-periodic-ham-h.png"), rows
+__all__ = ["write"]
 
 
 def _paper_ham_setting_rows() -> list[list[object]]:
