@@ -21,7 +21,8 @@ Stability
     python-control system), Verdict, parameter_margin, Margin, closed_loop, ClosedLoop
 Time and frequency domain
     simulate, SimulationResult, build_system, predict, VolterraPrediction,
-    to_nlsys (the plant or closed loop as a ``control.NonlinearIOSystem``)
+    to_nlsys (the plant or closed loop as a ``control.NonlinearIOSystem``), ofrf, OFRF
+    (the output at one frequency as a polynomial in a parameter, and the NOFRFs)
 Sweeps
     :mod:`gfrf.sweep.run` (``gfrf.sweep.run.sweep``), SweepResult
 Errors
@@ -72,6 +73,7 @@ _LAZY = {
     "from_sysidentpy": "gfrf.identify.narx",
     "linear_part": "gfrf._api", "verdict": "gfrf._api",
     "to_nlsys": "gfrf.sim.nlsys",
+    "ofrf": "gfrf.sim.ofrf", "OFRF": "gfrf.sim.ofrf",
 }
 #: Functions of a plant model re-exported so that they also take a ModelFile.
 _PLANT = {
