@@ -70,8 +70,8 @@ def _ofrf(args: argparse.Namespace) -> int:
     lines = [f"{name}: output at omega = {o.omega:.6g} rad/s for {args.input}, order "
              f"{o.order}",
              f"  complex amplitude (amplitude*exp(j*phase), as gfrf predict) = "
-             f"sum c_k * {o.parameter}**k:",
-             "  k   c_k"]
+             f"sum P_k * {o.parameter}**k:",
+             "  k   P_k"]
     lines += [f"  {k:<3d} {_pair(c)}" for k, c in enumerate(o.coefficients)]
     lines.append(f"  at {o.parameter} = {o.value:.6g}: amplitude {abs(at):.6g}, phase "
                  f"{cmath.phase(at):+.6f} rad; input amplitude "
