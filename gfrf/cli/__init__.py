@@ -35,6 +35,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "gfrf.cli.sweep",
     "gfrf.cli.identify",
     "gfrf.cli.ofrf",
+    "gfrf.cli.plot",
 )
 
 
