@@ -12,7 +12,9 @@ stays cheap); every function that takes a model takes a :class:`Model` or what
 1.0
 
 Models
-    parse_model, load_model, Model, ModelFile
+    parse_model, load_model, Model, ModelFile; from_tf (a transfer function with a
+    polynomial feedback or series nonlinearity), from_nlsys (a polynomial
+    ``control.nlsys`` about an equilibrium)
 Kernels and norms
     kernel, Kernel, h1_norm, kernel_norm, Bound, probe_kernel, linear_part
     (H1 as a ``control.TransferFunction``)
@@ -74,6 +76,7 @@ _LAZY = {
     "linear_part": "gfrf._api", "verdict": "gfrf._api",
     "to_nlsys": "gfrf.sim.nlsys",
     "ofrf": "gfrf.sim.ofrf", "OFRF": "gfrf.sim.ofrf",
+    "from_tf": "gfrf.model.from_control", "from_nlsys": "gfrf.model.from_control",
 }
 #: Functions of a plant model re-exported so that they also take a ModelFile.
 _PLANT = {
