@@ -186,6 +186,25 @@ class Model:
             expr += mono
         return expr
 
+    def __repr__(self) -> str:
+        kind = f", sample_time={self.sample_time!r}" if self.is_discrete else ""
+        return f"Model({self.equation()!r}{kind})"
+
+    def _repr_latex_(self) -> str:
+        names = {}
+        for signal in (self.output, self.input):
+            for order in range(self.max_order + 1):
+                if self.is_discrete:
+                    name = f"{signal}_{{k-{order}}}" if order else f"{signal}_{{k}}"
+                else:
+                    name = {0: signal, 1: rf"\dot{{{signal}}}",
+                            2: rf"\ddot{{{signal}}}"}.get(order, f"{signal}^{{({order})}}")
+                names[_atom(signal, order)] = name
+        expr = self.polynomial()
+        expr = expr.xreplace({f: sp.Integer(int(f)) for f in expr.atoms(sp.Float)
+                             if float(f).is_integer()})
+        return f"${sp.latex(expr, symbol_names=names)} = 0$"
+
     def equation(self) -> str:
         """The polynomial model as text, ``... = 0``, in the model's own notation."""
         text = " + ".join(str(t) for t in sorted(self.terms, key=_display_key))

@@ -154,6 +154,18 @@ class OFRF:
         return short_repr(self, "parameter", "omega", "order",
                           degree=len(self.coefficients) - 1)
 
+    def _repr_markdown_(self) -> str:
+        from gfrf.sim.views import ofrf_markdown
+
+        return ofrf_markdown(self)
+
+    def plot(self, values: Any = None) -> Any:
+        """|Y(jW)| against the parameter's ``values`` (default: 0 to twice the file's value);
+        a matplotlib Figure made without pyplot."""
+        from gfrf.sim.views import ofrf_figure
+
+        return ofrf_figure(self, values)
+
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready description (complex numbers as ``[re, im]``)."""
         def pair(z: complex) -> list[float]:

@@ -146,6 +146,19 @@ class VolterraPrediction:
         return short_repr(self, "order", "amplitude", "radius",
                           components=len(self.components))
 
+    def _repr_markdown_(self) -> str:
+        from gfrf.sim.views import prediction_markdown
+
+        return prediction_markdown(self)
+
+    def plot(self, simulated: Any = None) -> Any:
+        """The predicted spectrum as stems (rad/s), with the FFT of ``simulated`` (a
+        :class:`gfrf.sim.simulation.SimulationResult` or ``(t, y)``) behind it; returns a
+        matplotlib Figure made without pyplot (:func:`gfrf.sim.views.prediction_figure`)."""
+        from gfrf.sim.views import prediction_figure
+
+        return prediction_figure(self, simulated)
+
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready description."""
         return {"tones": [list(x) for x in self.tones], "order": self.order,
