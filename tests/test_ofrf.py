@@ -147,3 +147,9 @@ def test_cli_bad_input_exit_2(argv: list[str], capsys) -> None:
 def test_module_example() -> None:
     result = doctest.testmod(ofrf_module)
     assert result.attempted > 0 and result.failed == 0
+
+
+def test_frequency_not_reached_is_said() -> None:
+    o = ofrf(DUFFING, "k3", "0.01*cos(1.0*t)", 1.5, 5)   # one tone at 1: nothing at 1.5
+    assert o.coefficients == (0j,) and not o.reached and "not a sum" in o.warning
+    assert all(g is None for g in o.nofrf().values())

@@ -142,8 +142,18 @@ class OFRF:
         return out
 
     @property
+    def reached(self) -> bool:
+        """True when W is a harmonic or intermodulation frequency of the input up to the
+        order (some U_n(W) != 0); else every coefficient is 0."""
+        return any(abs(u) > 0 for u in self.input_spectrum.values())
+
+    @property
     def warning(self) -> str | None:
-        """Set when the input amplitude is at or beyond r* at the file's value."""
+        """Set when W is not reached by the input, or the input amplitude is at or beyond
+        r* at the file's value."""
+        if not self.reached:
+            return (f"omega = {self.omega:.6g} rad/s is not a sum of at most {self.order} "
+                    f"input tone frequencies: the output has no component there")
         if self.amplitude < self.radius:
             return None
         return (f"input amplitude {self.amplitude:.6g} is at or beyond the radius r* = "
@@ -185,7 +195,8 @@ class OFRF:
                            "input_spectrum": pair(self.input_spectrum.get(n, 0j))}
                           for n, g in self.nofrf().items()],
                 "amplitude": self.amplitude, "radius": self.radius,
-                "radius_proof": self.radius_proof, "warning": self.warning,
+                "radius_proof": self.radius_proof, "reached": self.reached,
+                "warning": self.warning,
                 "kind": "estimate (exact order-N truncation of the Volterra series in float "
                         "arithmetic; truncation error not bounded)"}
 
