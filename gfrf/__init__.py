@@ -32,9 +32,12 @@ Errors
     InstabilityError
 
 Result objects have a short ``repr`` and a ``to_dict()`` that :func:`json.dumps`
-accepts; Verdict, Margin and SimulationResult show as Markdown tables in notebooks,
-and ``Verdict.plot()`` (norm series with r*) and ``SimulationResult.plot()`` (y and u
-against t) return a matplotlib Figure.
+accepts; Verdict, Margin, SimulationResult, VolterraPrediction, OFRF and ClosedLoop
+show as Markdown tables in notebooks, Model, ModelFile and Kernel as LaTeX; and
+``Verdict.plot()`` (norm series with r*), ``SimulationResult.plot()`` (y and u against
+t), ``Kernel.plot()`` (Bode of H1, |H2| map, slices of Hn), ``VolterraPrediction.plot()``
+(the predicted spectrum, with a simulation's FFT) and ``OFRF.plot()`` return a
+matplotlib Figure made without pyplot.
 
 The package is laid out as its pipeline, one subpackage per stage, each importing only
 the stages before it (``import-linter`` holds this in ``make test``):
