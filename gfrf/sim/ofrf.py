@@ -31,6 +31,9 @@ the same input are ``G_n(jW) = Y_n(W) / U_n(W)`` with ``U_n(W)`` the component a
 ``u(t)^n``; undefined (None) where ``U_n(W) = 0`` (e.g. even n at the fundamental of
 one tone).
 
+The OFRF is that of the polynomial model the GFRFs describe (a file's ``truncation`` of
+``sin`` etc. applied), as for ``gfrf predict``.
+
 What kind of number: the coefficients are the exact order-N truncation of the Volterra
 series, evaluated in float arithmetic (an *estimate* of the steady state: the
 truncation error is not bounded here).  The truncated series approximates the steady
