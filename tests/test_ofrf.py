@@ -133,8 +133,22 @@ def test_cli_json_contract(tmp_path, capsys) -> None:
     assert payload["nofrf"][1]["value"] is None and payload["warning"] is None
 
 
+def test_cli_inline_equation_with_value(tmp_path, capsys) -> None:
+    argv = ["--input", "0.015*cos(1.0*t)", "--omega", "1", "--order", "3", "--json"]
+    assert main(["ofrf", DUFFING["equation"], "--param", "k3=0.5", *argv]) == 0
+    inline = json.loads(capsys.readouterr().out)
+    path = tmp_path / "duffing.toml"
+    path.write_text('equation = "D(y,2) + 0.2*D(y) + y + k3*y**3 = u"\n'
+                    '[parameters]\nk3 = 0.1\n', encoding="utf-8")
+    assert main(["ofrf", str(path), "--param", "k3=0.5", *argv]) == 0   # overrides 0.1
+    from_file = json.loads(capsys.readouterr().out)
+    assert inline["coefficients"] == from_file["coefficients"]
+    assert inline["value"] == from_file["value"] == 0.5
+
+
 @pytest.mark.parametrize("argv", [
     ["ofrf", "D(y)+y=u", "--param", "c", "--input", "cos(t)", "--omega", "1"],
+    ["ofrf", "D(y)+y+c*y**3=u", "--param", "c=x", "--input", "cos(t)", "--omega", "1"],
     ["ofrf", "models/duffing.toml", "--param", "c", "--input", "cos(t)", "--omega", "1"],
     ["ofrf", "models/duffing.toml", "--param", "c", "--input", "step(t)", "--omega", "1"],
 ])

@@ -4,7 +4,7 @@
 coefficients (complex amplitude ``amplitude*exp(j*phase)`` of the output component at
 W, as ``gfrf predict`` prints it, = sum coefficients[k]*NAME**k) and the NOFRFs of the
 same input at the file's value of NAME.  MODEL is a model file whose ``[parameters]``
-holds NAME.  Exit 0 on success, 2 for bad input (unknown parameter, a parameter in the
+holds NAME, or an equation text with ``--param NAME=VALUE``.  Exit 0 on success, 2 for bad input (unknown parameter, a parameter in the
 linear output part, a plant without a steady state, an input that is not a sum of tones).
 """
 
@@ -33,8 +33,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "and the NOFRFs G_n(jW) = Y_n(W)/U_n(W) at the file's value.  The "
                     "coefficients are the exact order-N truncation (an estimate of the "
                     "steady state, valid below the series radius r*).")
-    cmd.add_argument("model", metavar="MODEL", help="a model file with a [parameters] table")
-    cmd.add_argument("--param", required=True, metavar="NAME", help="the parameter")
+    cmd.add_argument("model", metavar="MODEL",
+                     help="a model file with a [parameters] table, or an equation in quotes "
+                          "that uses the parameter, e.g. 'D(y,2) + 0.2*D(y) + y + c*y**3 = u'")
+    cmd.add_argument("--param", required=True, metavar="NAME[=VALUE]",
+                     help="the parameter; =VALUE sets its value (needed for an inline "
+                          "equation; overrides the file's)")
+    cmd.add_argument("--sample-time", type=float, default=None, metavar="T",
+                     help="sample time in s when MODEL is an inline discrete (NARX) equation")
     cmd.add_argument("--input", required=True, metavar="TEXT",
                      help="a sum of tones, e.g. '0.1*cos(1.0*t)'")
     cmd.add_argument("--omega", required=True, type=float, metavar="W",
@@ -54,10 +60,28 @@ def _ofrf(args: argparse.Namespace) -> int:
     from gfrf.model.signals import parse_input
     from gfrf.sim.ofrf import ofrf
 
-    if not (args.model.endswith(".toml") or _is_file(args.model)):
-        raise ArgumentError(f"MODEL {args.model!r}: ofrf needs a model file whose "
-                            f"[parameters] table holds --param {args.param}")
-    data = read_table(args.model)
+    name, eq, text = args.param.partition("=")
+    name = name.strip()
+    value = None
+    if eq:
+        try:
+            value = float(text)
+        except ValueError:
+            raise ArgumentError(f"--param {args.param!r}: the value after = must be a "
+                                f"number") from None
+    args.param = name
+    if args.model.endswith(".toml") or _is_file(args.model):
+        data = dict(read_table(args.model))
+        if value is not None:
+            data["parameters"] = {**(data.get("parameters") or {}), name: value}
+    elif value is None:
+        raise ArgumentError(f"MODEL {args.model!r}: an inline equation needs the value of "
+                            f"its parameter, --param {name}=VALUE (or a model file whose "
+                            f"[parameters] table holds {name})")
+    else:
+        data = {"equation": args.model, "name": "inline model", "parameters": {name: value}}
+        if args.sample_time is not None:
+            data["sample_time"] = args.sample_time
     signal = parse_input(args.input)
     if not signal.tones:
         raise ArgumentError(f"--input {args.input!r} is not a sum of sinusoids "
