@@ -4,8 +4,9 @@
 coefficients (complex amplitude ``amplitude*exp(j*phase)`` of the output component at
 W, as ``gfrf predict`` prints it, = sum coefficients[k]*NAME**k) and the NOFRFs of the
 same input at the file's value of NAME.  MODEL is a model file whose ``[parameters]``
-holds NAME, or an equation text with ``--param NAME=VALUE``.  Exit 0 on success, 2 for bad input (unknown parameter, a parameter in the
-linear output part, a plant without a steady state, an input that is not a sum of tones).
+holds NAME, or an equation text with ``--param NAME=VALUE``.  Exit 0 on success, 2 for
+bad input (unknown parameter, a parameter in the linear output part, a plant without a
+steady state, an input that is not a sum of tones).
 """
 
 from __future__ import annotations
