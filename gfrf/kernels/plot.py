@@ -226,7 +226,7 @@ def _map(fig: Any, ax: Any, kernel: Kernel, top: float, what: str,
     ax.set_aspect("equal")
     if fixed:
         others = ", ".join(f"omega{i + 3} = {f:.4g}" for i, f in enumerate(fixed))
-        ax.set_title(f"H{kernel.order}(j omega1, j omega2, ...) with {others} rad/s fixed",
+        ax.set_title(f"H{kernel.order}(j omega1, j omega2, ...)\nwith {others} rad/s fixed",
                      fontsize=9)
     else:
         ax.set_title(f"H2 of {_name(kernel)}", fontsize=9)
@@ -252,5 +252,5 @@ def _diagonal(ax: Any, kernel: Kernel, top: float, what: str,
         ax.plot(w, values)
     ax.set_xlabel("omega (rad/s)")
     ax.set_ylabel(f"H{n}(j omega, ..., j omega) {label}")
-    ax.set_title(f"diagonal slice of H{n}: {_name(kernel)}", fontsize=9)
+    ax.set_title(f"diagonal slice of H{n}\n{_name(kernel)}", fontsize=9)
     ax.grid(True, alpha=0.3)
