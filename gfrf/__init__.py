@@ -12,7 +12,9 @@ stays cheap); every function that takes a model takes a :class:`Model` or what
 1.0
 
 Models
-    parse_model, load_model, Model, ModelFile
+    parse_model, load_model, Model, ModelFile; from_tf (a transfer function with a
+    polynomial feedback or series nonlinearity), from_nlsys (a polynomial
+    ``control.nlsys`` about an equilibrium)
 Kernels and norms
     kernel, Kernel, h1_norm, kernel_norm, Bound, probe_kernel, linear_part
     (H1 as a ``control.TransferFunction``)
@@ -21,7 +23,8 @@ Stability
     python-control system), Verdict, parameter_margin, Margin, closed_loop, ClosedLoop
 Time and frequency domain
     simulate, SimulationResult, build_system, predict, VolterraPrediction,
-    to_nlsys (the plant or closed loop as a ``control.NonlinearIOSystem``)
+    to_nlsys (the plant or closed loop as a ``control.NonlinearIOSystem``), ofrf, OFRF
+    (the output at one frequency as a polynomial in a parameter, and the NOFRFs)
 Sweeps
     :mod:`gfrf.sweep.run` (``gfrf.sweep.run.sweep``), SweepResult
 Errors
@@ -29,9 +32,12 @@ Errors
     InstabilityError
 
 Result objects have a short ``repr`` and a ``to_dict()`` that :func:`json.dumps`
-accepts; Verdict, Margin and SimulationResult show as Markdown tables in notebooks,
-and ``Verdict.plot()`` (norm series with r*) and ``SimulationResult.plot()`` (y and u
-against t) return a matplotlib Figure.
+accepts; Verdict, Margin, SimulationResult, VolterraPrediction, OFRF and ClosedLoop
+show as Markdown tables in notebooks, Model, ModelFile and Kernel as LaTeX; and
+``Verdict.plot()`` (norm series with r*), ``SimulationResult.plot()`` (y and u against
+t), ``Kernel.plot()`` (Bode of H1, |H2| map, slices of Hn), ``VolterraPrediction.plot()``
+(the predicted spectrum, with a simulation's FFT) and ``OFRF.plot()`` return a
+matplotlib Figure made without pyplot.
 
 The package is laid out as its pipeline, one subpackage per stage, each importing only
 the stages before it (``import-linter`` holds this in ``make test``):
@@ -72,6 +78,8 @@ _LAZY = {
     "from_sysidentpy": "gfrf.identify.narx",
     "linear_part": "gfrf._api", "verdict": "gfrf._api",
     "to_nlsys": "gfrf.sim.nlsys",
+    "ofrf": "gfrf.sim.ofrf", "OFRF": "gfrf.sim.ofrf",
+    "from_tf": "gfrf.model.from_control", "from_nlsys": "gfrf.model.from_control",
 }
 #: Functions of a plant model re-exported so that they also take a ModelFile.
 _PLANT = {

@@ -93,7 +93,7 @@ def _controller(controller: Any, feedback: int) -> Any:
 
 def verdict(model: Model | ModelFile, order: int = 5, amplitude: float = 1.0,
             with_norms: bool = True, *, controller: Any = None,
-            feedback: int = -1, proof: str = "interval") -> Verdict:
+            feedback: int = -1, proof: str = "interval", norms: str | None = None) -> Verdict:
     """Theorem 2 with a controller (the file's or ``controller``), Theorem 1 otherwise.
 
     Parameters
@@ -113,6 +113,9 @@ def verdict(model: Model | ModelFile, order: int = 5, amplitude: float = 1.0,
         Sign of the feedback of ``controller`` (default negative).
     proof : {"interval", "float", "none"}
         Level of proof (default ``"interval"``), see :func:`gfrf.stability.theorem1.theorem1`.
+    norms : {"none", "fast", "tight"}, optional
+        Tightness of the ||H_n|| brackets, default ``"fast"``, as
+        :func:`gfrf.stability.criteria.verdict`; the verdict and r* do not depend on it.
 
     Returns
     -------
@@ -128,4 +131,4 @@ def verdict(model: Model | ModelFile, order: int = 5, amplitude: float = 1.0,
         model = replace(base, controller=_controller(controller, feedback))
     elif not isinstance(model, ModelFile):
         model = as_plant(model)
-    return criteria_verdict(model, order, amplitude, with_norms, proof)
+    return criteria_verdict(model, order, amplitude, with_norms, proof, norms=norms)

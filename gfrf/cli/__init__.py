@@ -34,6 +34,8 @@ COMMAND_MODULES: tuple[str, ...] = (
     "gfrf.cli.periodic",
     "gfrf.cli.sweep",
     "gfrf.cli.identify",
+    "gfrf.cli.ofrf",
+    "gfrf.cli.plot",
 )
 
 

@@ -416,6 +416,21 @@ class Kernel:
         """Compact form in which lower-order kernels appear as ``H_m(...)`` functions."""
         return self._gen.recursive(self.order, self.symmetric)
 
+    def __repr__(self) -> str:
+        kind = "" if self.symmetric else ", asymmetric"
+        return f"Kernel(H{self.order} of {self.model.text or self.model.equation()!r}{kind})"
+
+    def _repr_latex_(self) -> str:
+        return f"$H_{{{self.order}}} = {sp.latex(self.recursive_expr)}$"
+
+    def plot(self, **options: Any) -> Any:
+        """Figure of the kernel (:func:`gfrf.kernels.plot.plot_kernel`; ``omega_range``,
+        ``what``, ``mark``, ``fixed``): Bode plot of H1, |H2| map, slices of Hn >= 3.
+        Returns a matplotlib Figure made without pyplot (no window opens)."""
+        from gfrf.kernels.plot import plot_kernel
+
+        return plot_kernel(self, **options)
+
     def __call__(self, *omega: Any) -> np.ndarray:
         """Evaluate H_n at angular frequencies omega_1..omega_n in rad/s.
 

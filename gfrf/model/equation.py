@@ -38,7 +38,8 @@ from gfrf.errors import ModelError
 from gfrf.model.expr import MODEL_FUNCTIONS, UnknownNames, check_name, parse_expression
 from gfrf.model.limits import MAX_DEGREE, MAX_TEXT_LENGTH, Parsed, quote
 
-__all__ = ["Term", "Model", "parse_model", "coefficient_formulas", "MAX_DERIVATIVE_ORDER",
+__all__ = ["Term", "Model", "parse_model", "ModelTypeError", "coefficient_formulas",
+           "MAX_DERIVATIVE_ORDER",
            "MAX_DEGREE", "MAX_TRUNCATION_WORK"]
 
 _LARGEST_FLOAT = 1.7976931348623157e308
@@ -185,6 +186,25 @@ class Model:
             expr += mono
         return expr
 
+    def __repr__(self) -> str:
+        kind = f", sample_time={self.sample_time!r}" if self.is_discrete else ""
+        return f"Model({self.equation()!r}{kind})"
+
+    def _repr_latex_(self) -> str:
+        names = {}
+        for signal in (self.output, self.input):
+            for order in range(self.max_order + 1):
+                if self.is_discrete:
+                    name = f"{signal}_{{k-{order}}}" if order else f"{signal}_{{k}}"
+                else:
+                    name = {0: signal, 1: rf"\dot{{{signal}}}",
+                            2: rf"\ddot{{{signal}}}"}.get(order, f"{signal}^{{({order})}}")
+                names[_atom(signal, order)] = name
+        expr = self.polynomial()
+        expr = expr.xreplace({f: sp.Integer(int(f)) for f in expr.atoms(sp.Float)
+                             if float(f).is_integer()})
+        return f"${sp.latex(expr, symbol_names=names)} = 0$"
+
     def equation(self) -> str:
         """The polynomial model as text, ``... = 0``, in the model's own notation."""
         text = " + ".join(str(t) for t in sorted(self.terms, key=_display_key))
@@ -316,6 +336,11 @@ def coefficient_formulas(text: str, *, output: str = "y", input: str = "u",  # n
     return formulas
 
 
+class ModelTypeError(ModelError, TypeError):
+    """:func:`parse_model` was given something other than a str (e.g. a python-control
+    system: see :func:`gfrf.from_tf` and :func:`gfrf.from_nlsys`)."""
+
+
 def parse_model(text: str, *, sample_time: float | None = None, truncation: int | None = None,
                 parameters: dict[str, float] | None = None, output: str = "y",
                 input: str = "u") -> Model:  # noqa: A002 - the name a user expects
@@ -347,6 +372,13 @@ def parse_model(text: str, *, sample_time: float | None = None, truncation: int 
         truncation, no linear output term (H1 undefined), a NaN/infinite coefficient,
         an absurd derivative order, an explicit dependence on time.
     """
+    if not isinstance(text, str):
+        kind = type(text).__module__.split(".")[0]
+        hint = (" (a python-control system: build the model with gfrf.from_tf(G, "
+                "nonlinearity=...) or gfrf.from_nlsys(sys, x0, u0, order=N))"
+                if kind == "control" else "")
+        raise ModelTypeError(f"parse_model takes the equation as a str, got "
+                             f"{type(text).__name__}{hint}")
     parameters = dict(parameters or {})
     discrete = sample_time is not None
     if discrete:

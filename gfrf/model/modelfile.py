@@ -109,6 +109,13 @@ class ModelFile:
     controller: Controller | None = None
     paper: dict[str, Any] = field(default_factory=dict)
 
+    def __repr__(self) -> str:
+        extra = ", controller" if self.controller is not None else ""
+        return f"ModelFile({self.name or self.path!r}, {self.plant.equation()!r}{extra})"
+
+    def _repr_latex_(self) -> str:
+        return self.plant._repr_latex_()
+
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready description."""
         return {"name": self.name, "source": self.source, "path": self.path,

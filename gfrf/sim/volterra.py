@@ -146,6 +146,19 @@ class VolterraPrediction:
         return short_repr(self, "order", "amplitude", "radius",
                           components=len(self.components))
 
+    def _repr_markdown_(self) -> str:
+        from gfrf.sim.views import prediction_markdown
+
+        return prediction_markdown(self)
+
+    def plot(self, simulated: Any = None) -> Any:
+        """The predicted spectrum as stems (rad/s), with the FFT of ``simulated`` (a
+        :class:`gfrf.sim.simulation.SimulationResult` or ``(t, y)``) behind it; returns a
+        matplotlib Figure made without pyplot (:func:`gfrf.sim.views.prediction_figure`)."""
+        from gfrf.sim.views import prediction_figure
+
+        return prediction_figure(self, simulated)
+
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready description."""
         return {"tones": [list(x) for x in self.tones], "order": self.order,
@@ -197,6 +210,15 @@ def _steady_state_problem(model: Model) -> str | None:
 
 
 def _check_tones(tones: Any) -> tuple[Tone, ...]:
+    """Tones as (A, omega, phi) floats; text is read as ``gfrf predict --input`` reads it."""
+    if isinstance(tones, str):
+        from gfrf.model.signals import parse_input
+
+        parsed = parse_input(tones).tones
+        if not parsed:
+            raise ArgumentError(f"input {tones!r} is not a sum of sinusoids "
+                                f"A*sin(w*t + p) / A*cos(w*t + p)")
+        tones = parsed
     try:
         out = tuple((float(a), float(w), float(p)) for a, w, p in tones)
     except (TypeError, ValueError):
@@ -265,9 +287,10 @@ def predict(model: Model, tones: Any, order: int, *, force: bool = False
     ----------
     model : Model
         A polynomial model with a stable linear part.
-    tones : sequence of (A, omega, phi)
-        Input ``sum A cos(omega t + phi)``, omega in rad/s, phi in rad.  Its amplitude
-        is ``sum |A|`` (:func:`input_amplitude`).
+    tones : sequence of (A, omega, phi), or str
+        Input ``sum A cos(omega t + phi)``, omega in rad/s, phi in rad, or its text as
+        ``gfrf predict --input`` takes it (``"0.01*sin(1.565*t)"``).  Its amplitude is
+        ``sum |A|`` (:func:`input_amplitude`).
     order : int
         Highest kernel order N, 1 <= N <= :data:`gfrf.kernels.recursion.MAX_KERNEL_ORDER`.
     force : bool, optional

@@ -42,7 +42,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from gfrf._results import plain, short_repr
+from gfrf._results import markdown_table, plain, short_repr
 from gfrf.bounds.exact import format_roots, fractions, poles
 from gfrf.bounds.majorant import linear_polynomials
 from gfrf.bounds.rational import rational_sup
@@ -227,6 +227,13 @@ class ClosedLoop:
     def __repr__(self) -> str:
         return short_repr(self, "stable", "feedback", "sensitivity_peak",
                           poles=[complex(p) for p in self.poles])
+
+    def _repr_markdown_(self) -> str:
+        rows = [("stable", self.stable), ("feedback", self.feedback),
+                ("sensitivity peak", self.sensitivity_peak),
+                ("controller norm", self.controller_norm),
+                ("poles", ", ".join(f"{complex(p):.6g}" for p in self.poles))]
+        return "**Closed loop (linear part)**\n\n" + markdown_table(("quantity", "value"), rows)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary."""
