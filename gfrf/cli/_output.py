@@ -5,12 +5,14 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 from pathlib import Path
 from typing import Any
 
 from gfrf.errors import ArgumentError
 
-__all__ = ["add_json_flag", "emit", "to_jsonable", "check_plot_path", "PLOT_SUFFIXES"]
+__all__ = ["add_json_flag", "emit", "to_jsonable", "check_plot_path", "check_output_file",
+           "check_output_folder", "PLOT_SUFFIXES"]
 
 #: Figure formats of ``--plot`` (chosen by the file suffix; all written by matplotlib's
 #: Agg backend, checked before any computation so a typo costs nothing).
@@ -28,10 +30,63 @@ def check_plot_path(path: str | None) -> None:
     """
     if path is None:
         return
+    check_output_file("--plot", path)
     suffix = Path(path).suffix.lower()
     if suffix not in PLOT_SUFFIXES:
         raise ArgumentError(f"--plot {path!r}: unsupported figure format {suffix or '(none)'!r}; "
                             f"use one of {', '.join(PLOT_SUFFIXES)}")
+
+
+def check_output_file(option: str, path: str | None) -> None:
+    """Refuse, before any work, an output file that cannot be written.
+
+    An empty name, a directory, or a file whose folder does not exist or is not writable
+    (a device or FIFO that exists is written in place, see :mod:`gfrf._atomic`).
+
+    Raises
+    ------
+    ArgumentError
+        Naming ``option`` and the user's ``path``.
+    """
+    if path is None:
+        return
+    if not path.strip():
+        raise ArgumentError(f"{option}: empty file name")
+    target = Path(path)
+    if target.is_dir():
+        raise ArgumentError(f"{option} {path!r} is a directory")
+    if target.exists() and not target.is_file():
+        if not os.access(target, os.W_OK):
+            raise ArgumentError(f"{option} {path!r}: not writable")
+        return
+    folder = target.parent
+    if not folder.is_dir():
+        raise ArgumentError(f"{option} {path!r}: the folder {str(folder)!r} does not exist")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise ArgumentError(f"{option} {path!r}: the folder {str(folder)!r} is not writable")
+
+
+def check_output_folder(option: str, path: str) -> None:
+    """Refuse, before any work, an output folder that cannot be made or written.
+
+    Raises
+    ------
+    ArgumentError
+        Empty, an existing non-folder, or a missing folder whose parent is not writable.
+    """
+    if not path.strip():
+        raise ArgumentError(f"{option}: empty folder name")
+    folder = Path(path)
+    if folder.exists():
+        if not folder.is_dir():
+            raise ArgumentError(f"{option} {path!r} is not a folder")
+        if not os.access(folder, os.W_OK | os.X_OK):
+            raise ArgumentError(f"{option} {path!r}: the folder is not writable")
+        return
+    parent = next((p for p in folder.absolute().parents if p.exists()), None)
+    if parent is None or not parent.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
+        raise ArgumentError(f"{option} {path!r}: cannot create the folder "
+                            f"(in {str(parent)!r})")
 
 
 def add_json_flag(parser: argparse.ArgumentParser) -> None:
