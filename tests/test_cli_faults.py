@@ -298,6 +298,7 @@ def test_every_output_file_is_written_through_a_temporary_path() -> None:
         "gfrf/bench/identify.py",  # benchmark input data in a temporary folder
         "gfrf/sim/truncation.py",  # figure_error_vs_amplitude: a library helper, no CLI use
         "gfrf/_cache.py",  # numba cache anchors: mkstemp file + rename
+        "gfrf/model/modelfile.py",  # fdopen of a model file for reading ("rb")
     }
     pattern = re.compile(r"\.write_text\(|\.savefig\(|savetxt\(|write_table\(|"
                          r"open\([^)]*[\"']w|fdopen\(")

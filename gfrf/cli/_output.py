@@ -10,9 +10,10 @@ from pathlib import Path
 from typing import Any
 
 from gfrf.errors import ArgumentError
+from gfrf.model.safetext import printable
 
 __all__ = ["add_json_flag", "emit", "to_jsonable", "check_plot_path", "check_output_file",
-           "check_output_folder", "PLOT_SUFFIXES"]
+           "check_output_folder", "terminal_text", "PLOT_SUFFIXES"]
 
 #: Figure formats of ``--plot`` (chosen by the file suffix; all written by matplotlib's
 #: Agg backend, checked before any computation so a typo costs nothing).
@@ -128,4 +129,25 @@ def emit(args: argparse.Namespace, payload: dict[str, Any], text: str) -> None:
     if getattr(args, "json", False):
         print(json.dumps(to_jsonable(payload), indent=2))
     else:
-        print(text)
+        print(terminal_text(text, payload))
+
+
+def _free_text(value: Any) -> set[str]:
+    """The strings in ``value`` (a payload) that hold a character :func:`printable` escapes."""
+    if isinstance(value, str):
+        return {value} if printable(value) != value else set()
+    if isinstance(value, dict):
+        return set().union(*map(_free_text, value.values())) if value else set()
+    if isinstance(value, (list, tuple)):
+        return set().union(*map(_free_text, value)) if value else set()
+    return set()
+
+
+def terminal_text(text: str, payload: Any = None) -> str:
+    """``text`` safe for a terminal: text of the payload (a model's name, description,
+    input, ...) with its newlines and controls escaped where it appears, then every other
+    control character but newline and tab escaped (no ESC sequence, carriage return or
+    bidirectional override reaches the terminal)."""
+    for value in sorted(_free_text(payload), key=len, reverse=True):
+        text = text.replace(value, printable(value))
+    return printable(text, keep="\n\t")
