@@ -223,7 +223,23 @@ def load_generated(kind: str, name: str, make_source: Callable[[bool], str]) -> 
     except BaseException:
         del sys.modules[name]
         raise
+    if path is not None:
+        _keep_in(module, path.parent / "__pycache__")
     return module
+
+
+def _keep_in(module: types.ModuleType, folder: Path) -> None:
+    """Turn off the disk cache of any lazily compiled numba function of ``module`` whose
+    cache numba did not put in the checked ``folder`` (numba's locators are chosen
+    per function; this makes sure no other folder's pickles are read)."""
+    from numba.core.caching import NullCache
+
+    for value in list(vars(module).values()):
+        cache = getattr(value, "_cache", None)
+        if cache is None or isinstance(cache, NullCache):
+            continue
+        if os.path.realpath(getattr(cache, "cache_path", "")) != os.path.realpath(folder):
+            value._cache = NullCache()
 
 
 def trust_dispatchers(dispatchers: Iterable[Any]) -> None:

@@ -214,3 +214,6 @@ def test_the_layout_honours_xdg_cache_home(tmp_path: Path, warm: Path,
     assert {p: p.stat().st_mtime_ns for p in folder.rglob("*")} == before
     assert stat.S_IMODE(folder.stat().st_mode) == 0o700
     assert stat.S_IMODE((folder / "__pycache__").stat().st_mode) == 0o700
+    # numba's pickles are in the checked folders, nowhere else
+    pickles = {p.parent for p in (tmp_path / "xdg").rglob("*.nb[ic]")}
+    assert pickles == {folder / "__pycache__", folder.parent / "kernels" / "__pycache__"}

@@ -37,11 +37,24 @@ def no_work(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(gfrf.sim.simulation, "simulate", refuse)
 
 
-@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="no /dev/full")
-def test_dev_full_is_a_write_error_naming_it(capsys: pytest.CaptureFixture) -> None:
-    code, _, err = run(capsys, *SIM, "--csv", "/dev/full")
+def _device(folder: Path, name: str, minor: int) -> Path:
+    """A private copy of /dev/null (minor 3) or /dev/full (minor 7): a test must never
+    risk the real ones (the old writer replaced its target with a regular file)."""
+    node = folder / name
+    try:
+        os.mknod(node, stat.S_IFCHR | 0o666, os.makedev(1, minor))
+    except (PermissionError, AttributeError, OSError):
+        pytest.skip("cannot make a device node here")
+    return node
+
+
+def test_a_full_device_is_a_write_error_naming_it(tmp_path: Path,
+                                                  capsys: pytest.CaptureFixture) -> None:
+    full = _device(tmp_path, "full", 7)
+    code, _, err = run(capsys, *SIM, "--csv", str(full))
     assert code == 2
-    assert err == "gfrf: error: No space left on device: /dev/full\n"
+    assert err == f"gfrf: error: No space left on device: {full}\n"
+    assert stat.S_ISCHR(os.lstat(full).st_mode)
 
 
 def test_a_fifo_stays_a_fifo_and_gets_the_data(tmp_path: Path,
@@ -60,11 +73,7 @@ def test_a_fifo_stays_a_fifo_and_gets_the_data(tmp_path: Path,
 
 
 def test_a_device_node_is_written_not_replaced(tmp_path: Path) -> None:
-    node = tmp_path / "null"
-    try:
-        os.mknod(node, stat.S_IFCHR | 0o666, os.makedev(1, 3))  # like /dev/null
-    except (PermissionError, AttributeError, OSError):
-        pytest.skip("cannot make a device node here")
+    node = _device(tmp_path, "null", 3)
     atomic_write_text(node, "data\n")
     assert stat.S_ISCHR(os.lstat(node).st_mode)
     assert list(tmp_path.iterdir()) == [node]

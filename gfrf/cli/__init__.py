@@ -118,6 +118,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("gfrf: interrupted", file=sys.stderr)
         return 130
+    except SystemError as exc:
+        # Ctrl-C that lands while compiled code calls back into Python (numba boxing a
+        # result) surfaces as a SystemError caused by the KeyboardInterrupt
+        if not isinstance(exc.__cause__, KeyboardInterrupt):
+            raise
+        print("gfrf: interrupted", file=sys.stderr)
+        return 130
     except BrokenPipeError:
         # Python flushes stdout again at exit: point it at /dev/null so that it is quiet.
         devnull = os.open(os.devnull, os.O_WRONLY)

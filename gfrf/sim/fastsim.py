@@ -45,10 +45,12 @@ scipy's DOP853 at the same tolerances and says so in the result's notes.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import importlib.util
 import math
 import time
+from collections.abc import Iterator
 from dataclasses import dataclass
 from types import ModuleType
 
@@ -216,21 +218,35 @@ def _rk4(module: ModuleType, z0: np.ndarray, seg_n: np.ndarray, seg_h: np.ndarra
     Z[0] = z
     state = np.zeros(2, dtype=np.int64)  # segment, step in the segment
     done = steps
-    for start in range(0, steps, SLICE):
-        hit = module.rk4(z, seg_n, seg_h, V, VL, Z, F, FL, state, start,
-                         min(start + SLICE, steps), blowup)
-        if hit >= 0:
-            done = int(hit)
-            break
-    module.rate(Z, V, F, done)
+    with _interruptible():
+        for start in range(0, steps, SLICE):
+            hit = module.rk4(z, seg_n, seg_h, V, VL, Z, F, FL, state, start,
+                             min(start + SLICE, steps), blowup)
+            if hit >= 0:
+                done = int(hit)
+                break
+        module.rate(Z, V, F, done)
     return Z[:done + 1], F[:done + 1], FL, done
 
 
 def _plant_inputs(module: ModuleType, Z: np.ndarray, V: np.ndarray) -> np.ndarray:
     """The plant input u at each row of states ``Z`` and inputs ``V`` (in slices)."""
-    parts = [module.plant_inputs(Z[i:i + SLICE], V[i:i + SLICE])
-             for i in range(0, Z.shape[0], SLICE)]
+    with _interruptible():
+        parts = [module.plant_inputs(Z[i:i + SLICE], V[i:i + SLICE])
+                 for i in range(0, Z.shape[0], SLICE)]
     return np.concatenate(parts) if parts else np.zeros(0)
+
+
+@contextlib.contextmanager
+def _interruptible() -> Iterator[None]:
+    """Ctrl-C as KeyboardInterrupt, also when it lands while numba calls back into Python
+    (boxing a result), where it surfaces as a SystemError caused by it."""
+    try:
+        yield
+    except SystemError as exc:
+        if isinstance(exc.__cause__, KeyboardInterrupt):
+            raise KeyboardInterrupt from None
+        raise
 
 
 @dataclass(frozen=True)
