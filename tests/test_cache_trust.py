@@ -141,8 +141,9 @@ def test_a_world_writable_cache_folder_is_refused(tmp_path: Path, canary: Path) 
     cache = tmp_path / "cache"
     cache.mkdir()
     cache.chmod(0o777)  # another user could swap the folders below it
-    done = _simulate(cache)
+    done = _kernel(cache)
     _ok(done)
+    assert done.stdout.strip() == "True"
     assert f"{cache} is writable by group or others (mode 0777)" in done.stderr
     assert not list(cache.rglob("*.nb[ic]"))  # nothing written, nothing to read later
 
