@@ -73,8 +73,12 @@ def test_a_fifo_stays_a_fifo_and_gets_the_data(tmp_path: Path,
 
 
 def test_a_device_node_is_written_not_replaced(tmp_path: Path) -> None:
+    from gfrf.identify.output import write_atomic
+
     node = _device(tmp_path, "null", 3)
     atomic_write_text(node, "data\n")
+    assert stat.S_ISCHR(os.lstat(node).st_mode)
+    write_atomic(node, "data\n")  # identify's writer (model files, data) too
     assert stat.S_ISCHR(os.lstat(node).st_mode)
     assert list(tmp_path.iterdir()) == [node]
 
