@@ -4,7 +4,10 @@ Every file gfrf writes for the user (tables, figures, report pages, CSV traces) 
 through :func:`atomic_path`: the content is written to a hidden temporary file in the
 target's directory and moved over the target with :func:`os.replace` only once it is
 complete.  A run that fails or is interrupted (Ctrl-C) midway leaves the previous file
-untouched and no partial file behind.
+untouched and no partial file behind.  A target that exists and is not a regular file
+(``/dev/null``, ``/dev/full``, a FIFO, a terminal) is written in place, never replaced, so
+a device stays a device and a write error (``/dev/full``: no space) is reported.  Every
+error names the user's path, never the temporary file's.
 
 >>> import tempfile, pathlib
 >>> target = pathlib.Path(tempfile.mkdtemp()) / "table.csv"
@@ -16,7 +19,9 @@ untouched and no partial file behind.
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
+import stat
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
@@ -53,23 +58,45 @@ def atomic_path(path: str | os.PathLike[str]) -> Iterator[Path]:
         Where to write the content.
     """
     target = Path(path)
-    directory = target.parent
-    fd, name = tempfile.mkstemp(dir=directory, prefix=f".{target.name}.",
-                                suffix=f".tmp{target.suffix}")
+    try:
+        st: os.stat_result | None = os.stat(target)
+    except FileNotFoundError:
+        st = None
+    except OSError as exc:
+        raise _named(exc, target) from None
+    if st is not None and stat.S_ISDIR(st.st_mode):
+        raise IsADirectoryError(errno.EISDIR, "Is a directory", str(target))
+    if st is not None and not stat.S_ISREG(st.st_mode):  # a device or FIFO: in place
+        try:
+            yield target
+        except OSError as exc:
+            raise _named(exc, target) from None
+        return
+    try:
+        fd, name = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.",
+                                    suffix=f".tmp{target.suffix}")
+    except OSError as exc:
+        raise _named(exc, target) from None
     os.close(fd)
     tmp = Path(name)
     try:
         yield tmp
-        try:
-            mode = target.stat().st_mode & 0o7777
-        except FileNotFoundError:
-            mode = 0o666 & ~_umask()
+        mode = stat.S_IMODE(st.st_mode) if st is not None else 0o666 & ~_umask()
         os.chmod(tmp, mode)
         os.replace(tmp, target)
-    except BaseException:
+    except BaseException as exc:
         with contextlib.suppress(OSError):
             tmp.unlink()
+        if isinstance(exc, OSError):
+            raise _named(exc, target) from None
         raise
+
+
+def _named(exc: OSError, target: Path) -> OSError:
+    """``exc`` about ``target`` (the user's path), not a temporary file."""
+    if exc.errno is None:
+        return exc
+    return type(exc)(exc.errno, exc.strerror or os.strerror(exc.errno), str(target))
 
 
 def atomic_write_text(path: str | os.PathLike[str], text: str,

@@ -392,7 +392,7 @@ def test_fast_cache_file_that_differs_is_rewritten_not_run(tmp_path, monkeypatch
     monkeypatch.setattr(fastsim, "_MODULES", {})
     system = build_system(parse_model("D(y) + 2*y = u"))
     fastsim.compile_system(system)
-    (path,) = tmp_path.glob("gfrf_rhs_*.py")
+    (path,) = (tmp_path / "fastsim").glob("gfrf_rhs_*.py")
     good = path.read_text(encoding="utf-8")
     sentinel = tmp_path / "planted-ran"
     path.write_text(f"open({str(sentinel)!r}, 'w').close()\n", encoding="utf-8")

@@ -247,8 +247,12 @@ def _fused_kernels() -> Any:
 
     if not HAVE_NUMBA:
         return None
+    from gfrf._cache import trust_dispatchers
     from gfrf.bounds import jet_kernels
 
+    if not getattr(jet_kernels, "checked", False):  # numba reads its cache at the first call
+        trust_dispatchers([jet_kernels.jet_add, jet_kernels.jet_mul])
+        jet_kernels.checked = True
     return jet_kernels
 
 

@@ -77,20 +77,28 @@ def _run(argv: Sequence[str] | None) -> int:
     try:
         return int(args.func(args))
     except GfrfError as exc:
-        print(f"gfrf: error: {exc}", file=sys.stderr)
+        print(f"gfrf: error: {_one_line(str(exc))}", file=sys.stderr)
         return 2
     except BrokenPipeError:
         raise  # the reader went away: handled quietly by main
     except OSError as exc:
-        print(f"gfrf: error: {exc.strerror or exc}: {exc.filename or ''}".rstrip(": "),
-              file=sys.stderr)
+        print(_one_line(f"gfrf: error: {exc.strerror or exc}: {exc.filename or ''}"
+                        .rstrip(": ")), file=sys.stderr)
         return 2
 
 
 def _warning_line(message: Warning | str, category: type[Warning], filename: str,
                   lineno: int, line: str | None = None) -> str:
     """A warning as one line ``gfrf: warning: ...`` (no source path, no code line)."""
-    return f"gfrf: warning: {' '.join(str(message).split())}\n"
+    return f"gfrf: warning: {_one_line(' '.join(str(message).split()))}\n"
+
+
+def _one_line(text: str) -> str:
+    """``text`` with every control character escaped, newlines included: one line on a
+    terminal (user text may be in it)."""
+    from gfrf.model.safetext import printable
+
+    return printable(text)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -110,6 +118,13 @@ def main(argv: Sequence[str] | None = None) -> int:
             warnings.formatwarning = formatwarning
             sys.stdout.flush()  # a reader that went away shows up here, not at exit
     except KeyboardInterrupt:
+        print("gfrf: interrupted", file=sys.stderr)
+        return 130
+    except SystemError as exc:
+        # Ctrl-C that lands while compiled code calls back into Python (numba boxing a
+        # result) surfaces as a SystemError caused by the KeyboardInterrupt
+        if not isinstance(exc.__cause__, KeyboardInterrupt):
+            raise
         print("gfrf: interrupted", file=sys.stderr)
         return 130
     except BrokenPipeError:

@@ -5,12 +5,15 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 from pathlib import Path
 from typing import Any
 
 from gfrf.errors import ArgumentError
+from gfrf.model.safetext import printable
 
-__all__ = ["add_json_flag", "emit", "to_jsonable", "check_plot_path", "PLOT_SUFFIXES"]
+__all__ = ["add_json_flag", "emit", "to_jsonable", "check_plot_path", "check_output_file",
+           "check_output_folder", "terminal_text", "PLOT_SUFFIXES"]
 
 #: Figure formats of ``--plot`` (chosen by the file suffix; all written by matplotlib's
 #: Agg backend, checked before any computation so a typo costs nothing).
@@ -28,10 +31,63 @@ def check_plot_path(path: str | None) -> None:
     """
     if path is None:
         return
+    check_output_file("--plot", path)
     suffix = Path(path).suffix.lower()
     if suffix not in PLOT_SUFFIXES:
         raise ArgumentError(f"--plot {path!r}: unsupported figure format {suffix or '(none)'!r}; "
                             f"use one of {', '.join(PLOT_SUFFIXES)}")
+
+
+def check_output_file(option: str, path: str | None) -> None:
+    """Refuse, before any work, an output file that cannot be written.
+
+    An empty name, a directory, or a file whose folder does not exist or is not writable
+    (a device or FIFO that exists is written in place, see :mod:`gfrf._atomic`).
+
+    Raises
+    ------
+    ArgumentError
+        Naming ``option`` and the user's ``path``.
+    """
+    if path is None:
+        return
+    if not path.strip():
+        raise ArgumentError(f"{option}: empty file name")
+    target = Path(path)
+    if target.is_dir():
+        raise ArgumentError(f"{option} {path!r} is a directory")
+    if target.exists() and not target.is_file():
+        if not os.access(target, os.W_OK):
+            raise ArgumentError(f"{option} {path!r}: not writable")
+        return
+    folder = target.parent
+    if not folder.is_dir():
+        raise ArgumentError(f"{option} {path!r}: the folder {str(folder)!r} does not exist")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise ArgumentError(f"{option} {path!r}: the folder {str(folder)!r} is not writable")
+
+
+def check_output_folder(option: str, path: str) -> None:
+    """Refuse, before any work, an output folder that cannot be made or written.
+
+    Raises
+    ------
+    ArgumentError
+        Empty, an existing non-folder, or a missing folder whose parent is not writable.
+    """
+    if not path.strip():
+        raise ArgumentError(f"{option}: empty folder name")
+    folder = Path(path)
+    if folder.exists():
+        if not folder.is_dir():
+            raise ArgumentError(f"{option} {path!r} is not a folder")
+        if not os.access(folder, os.W_OK | os.X_OK):
+            raise ArgumentError(f"{option} {path!r}: the folder is not writable")
+        return
+    parent = next((p for p in folder.absolute().parents if p.exists()), None)
+    if parent is None or not parent.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
+        raise ArgumentError(f"{option} {path!r}: cannot create the folder "
+                            f"(in {str(parent)!r})")
 
 
 def add_json_flag(parser: argparse.ArgumentParser) -> None:
@@ -73,4 +129,25 @@ def emit(args: argparse.Namespace, payload: dict[str, Any], text: str) -> None:
     if getattr(args, "json", False):
         print(json.dumps(to_jsonable(payload), indent=2))
     else:
-        print(text)
+        print(terminal_text(text, payload))
+
+
+def _free_text(value: Any) -> set[str]:
+    """The strings in ``value`` (a payload) that hold a character :func:`printable` escapes."""
+    if isinstance(value, str):
+        return {value} if printable(value) != value else set()
+    if isinstance(value, dict):
+        return set().union(*map(_free_text, value.values())) if value else set()
+    if isinstance(value, (list, tuple)):
+        return set().union(*map(_free_text, value)) if value else set()
+    return set()
+
+
+def terminal_text(text: str, payload: Any = None) -> str:
+    """``text`` safe for a terminal: text of the payload (a model's name, description,
+    input, ...) with its newlines and controls escaped where it appears, then every other
+    control character but newline and tab escaped (no ESC sequence, carriage return or
+    bidirectional override reaches the terminal)."""
+    for value in sorted(_free_text(payload), key=len, reverse=True):
+        text = text.replace(value, printable(value))
+    return printable(text, keep="\n\t")

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from gfrf.cli._output import add_json_flag, emit
+from gfrf.cli._output import add_json_flag, check_output_folder, emit
 
 __all__ = ["register"]
 
@@ -26,6 +26,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def _bench(args: argparse.Namespace) -> int:
     from gfrf.bench import run_all, write_report
 
+    check_output_folder("--out", args.out)
     sections = run_all(quick=args.quick, only=args.only, out_dir=args.out)
     path = write_report(sections, args.out)
     payload = {"report": str(path),

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import argparse
 
-from gfrf.cli._output import add_json_flag, emit
+from gfrf.cli._output import add_json_flag, check_output_folder, emit
 from gfrf.errors import ModelError
 
 __all__ = ["register"]
@@ -36,6 +36,7 @@ def _report(args: argparse.Namespace) -> int:
     for m in args.models:
         if not m.endswith(".toml"):
             raise ModelError(f"gfrf report takes model files (*.toml), got {m!r}")
+    check_output_folder("--out", args.out)
     paths = write_reports(args.out, args.models or None, args.quick)
     emit(args, {"written": [str(p) for p in paths]},
          "\n".join(f"wrote {p}" for p in paths))

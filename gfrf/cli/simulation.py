@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, Any
 
 from gfrf._atomic import atomic_path
 from gfrf.cli._models import add_model_argument, resolve_model
-from gfrf.cli._output import add_json_flag, check_plot_path, emit
+from gfrf.cli._output import add_json_flag, check_output_file, check_plot_path, emit
 from gfrf.errors import ArgumentError
 
 if TYPE_CHECKING:  # the numerical modules are imported where used: the parser stays cheap
@@ -134,6 +134,7 @@ def _simulate(args: argparse.Namespace) -> int:
     from gfrf.sim.simulation import simulate
 
     check_plot_path(args.plot)
+    check_output_file("--csv", args.csv)
     mf = resolve_model(args)
     if not 2 <= args.points <= MAX_OUTPUT_POINTS:
         raise ArgumentError(f"--points must be between 2 and MAX_OUTPUT_POINTS = "
@@ -148,7 +149,7 @@ def _simulate(args: argparse.Namespace) -> int:
                        max_evaluations=MAX_RHS_EVALUATIONS if args.max_evaluations is None
                        else args.max_evaluations)
         bar.update(1)
-    if args.csv:
+    if args.csv is not None:
         with atomic_path(args.csv) as tmp:
             np.savetxt(tmp, np.c_[res.t, res.y, res.u], delimiter=",", header="t,y,u",
                        comments="")

@@ -13,7 +13,7 @@ import argparse
 import math
 from collections import Counter
 
-from gfrf.cli._output import add_json_flag, check_plot_path, emit
+from gfrf.cli._output import add_json_flag, check_output_file, check_plot_path, emit
 from gfrf.sweep.run import (
     SCHEDULER_TIMEOUT,
     WHAT,
@@ -86,7 +86,8 @@ def _summary(name: str, result: SweepResult) -> list[str]:
 
 def _sweep(args: argparse.Namespace) -> int:
     axes = [parse_axis(spec) for spec in args.param]
-    if args.out:
+    check_output_file("--out", args.out)
+    if args.out is not None:
         check_output(args.out)
     check_plot_path(args.plot)
     check_scheduler(args.scheduler)
@@ -99,7 +100,7 @@ def _sweep(args: argparse.Namespace) -> int:
                    chunk_size=args.chunk, path=args.model)
     lines = _summary(mf.name, result)
     payload = {"model": mf.name, **result.to_dict()}
-    if args.out:
+    if args.out is not None:
         lines.append(f"  table: {result.write(args.out)}")
     if args.plot:
         from gfrf.sweep.plot import plot_stability_map

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import json
 import os
-import tempfile
+import stat
 import tomllib
 from pathlib import Path
 
@@ -60,24 +60,17 @@ def load_text(text: str, path: str) -> ModelFile:
 
 
 def write_atomic(path: str | Path, text: str) -> Path:
-    """Write ``text`` to ``path`` atomically (temporary file in the same folder, then rename).
+    """Write ``text`` to ``path`` atomically (:func:`gfrf._atomic.atomic_path`: a temporary
+    file in the same folder, synced, then renamed; a device or FIFO is written in place).
 
     A reader sees the old file or the new one, never a partial file; the temporary
     file is removed when writing fails.
     """
-    target = Path(path)
-    folder = target.parent if str(target.parent) else Path(".")
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=folder)
-    mask = os.umask(0)
-    os.umask(mask)
-    try:
-        os.chmod(tmp, 0o666 & ~mask)  # mkstemp's 0600 would make a private file
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-            fh.flush()
+    from gfrf._atomic import atomic_path
+
+    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8") as fh:
+        fh.write(text)
+        fh.flush()
+        if stat.S_ISREG(os.fstat(fh.fileno()).st_mode):
             os.fsync(fh.fileno())
-        os.replace(tmp, target)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return target
+    return Path(path)

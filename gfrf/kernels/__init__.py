@@ -5,7 +5,7 @@ generated straight-line evaluators and their numba / on-disk cache (:mod:`.compi
 the multiset and composition counting they share (:mod:`.combinatorics`), and harmonic
 probing, the independent method that checks the recursion (:mod:`.probing`).
 
-May import: :mod:`gfrf.model`, :mod:`gfrf.errors`, :mod:`gfrf._atomic`.
+May import: :mod:`gfrf.model`, :mod:`gfrf.errors`, :mod:`gfrf._atomic`, :mod:`gfrf._cache`.
 Public face: ``kernel``, ``Kernel`` (:mod:`.recursion`); ``probe_kernel``
 (:mod:`.probing`).
 """

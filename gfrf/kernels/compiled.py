@@ -14,22 +14,22 @@ default the platform's user cache directory, e.g. ``~/.cache/gfrf/kernels``) und
 the hash of its source, and numba's ``cache=True`` keeps the machine code beside it.
 The code that runs is always the source generated in this process: a cached file is
 only the anchor of numba's cache, rewritten when it differs from that source.  When
-the directory cannot be written, the kernel is compiled in memory, uncached.
+the directory is unusable or fails the checks of :mod:`gfrf._cache` (a folder of this
+user's, writable by nobody else), the kernel is compiled in memory, uncached.
 """
 
 from __future__ import annotations
 
 import hashlib
 import importlib.util
-import os
 import sys
-import types
 from pathlib import Path
 from typing import Any, Protocol
 
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
+from gfrf._cache import cache_root, load_generated
 from gfrf.model.equation import Model
 
 __all__ = ["kernel_source", "numba_ufunc", "HAVE_NUMBA", "cache_dir", "Recursion"]
@@ -126,17 +126,9 @@ def _horner(coefficients: list[float], variable: str) -> str:
 def cache_dir() -> Path:
     """Directory of the compiled-kernel cache: ``$GFRF_CACHE_DIR/kernels``, else the
     platform's user cache directory (``$XDG_CACHE_HOME`` or ``~/.cache`` on Linux,
-    ``~/Library/Caches`` on macOS, ``%LOCALAPPDATA%`` on Windows) ``/gfrf/kernels``."""
-    base = os.environ.get("GFRF_CACHE_DIR")
-    if base:
-        return Path(base) / "kernels"
-    if sys.platform == "win32":
-        root = Path(os.environ.get("LOCALAPPDATA") or Path.home() / "AppData" / "Local")
-    elif sys.platform == "darwin":
-        root = Path.home() / "Library" / "Caches"
-    else:
-        root = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
-    return root / "gfrf" / "kernels"
+    ``~/Library/Caches`` on macOS, ``%LOCALAPPDATA%`` on Windows) ``/gfrf/kernels``
+    (see :mod:`gfrf._cache` for what it must be to be used)."""
+    return cache_root() / "kernels"
 
 
 def _module_source(gen: Recursion, n: int, symmetric: bool, cache: bool) -> str:
@@ -145,25 +137,6 @@ def _module_source(gen: Recursion, n: int, symmetric: bool, cache: bool) -> str:
     return ("from cmath import exp as cmath_exp\n\nfrom numba import vectorize\n\n\n"
             f"@vectorize([{signature!r}], cache={cache})\n"
             + kernel_source(gen, n, symmetric, name="scalar_kernel"))
-
-
-def _anchor(name: str, source: str) -> Path | None:
-    """The cache file of ``source`` (written if absent or different); None if unwritable."""
-    from gfrf._atomic import atomic_write_text
-
-    folder = cache_dir()
-    path = folder / f"{name}.py"
-    try:
-        folder.mkdir(parents=True, exist_ok=True, mode=0o700)
-        try:
-            current = path.read_text(encoding="utf-8")
-        except FileNotFoundError:
-            current = None
-        if current != source:  # absent, stale or tampered with: ours replaces it
-            atomic_write_text(path, source)
-    except OSError:
-        return None
-    return path
 
 
 def numba_ufunc(gen: Recursion, n: int, symmetric: bool) -> Any:
@@ -185,18 +158,6 @@ def numba_ufunc(gen: Recursion, n: int, symmetric: bool) -> Any:
     name = "gfrf_kernel_" + hashlib.sha256(source.encode()).hexdigest()[:24]
     if name in sys.modules:
         return sys.modules[name].scalar_kernel
-    path = _anchor(name, source)
-    if path is None:
-        source = _module_source(gen, n, symmetric, cache=False)
-    module = types.ModuleType(name)
-    module.__file__ = str(path) if path else f"<gfrf H{n}>"
-    # Our generated source (never the file's content) runs; the file name lets numba's
-    # cache find its index beside the file.
-    code = compile(source, module.__file__, "exec")
-    sys.modules[name] = module  # numba's cache refers to the module by name
-    try:
-        exec(code, module.__dict__)  # noqa: S102 - generated code, validated names only
-    except BaseException:
-        del sys.modules[name]
-        raise
+    module = load_generated("kernels", name,
+                            lambda cache: _module_source(gen, n, symmetric, cache=cache))
     return module.scalar_kernel

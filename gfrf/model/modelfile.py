@@ -29,6 +29,8 @@ controller          table: ``num``/``den`` (transfer function, highest power fir
 from __future__ import annotations
 
 import math
+import os
+import stat
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
@@ -159,19 +161,54 @@ def read_table(path: str | Path) -> dict[str, Any]:
         Missing or oversized file, invalid TOML or UTF-8, nesting too deep to read.
     """
     p = Path(path)
-    if not p.is_file():
-        raise ModelError(f"model file {quote(str(p))} does not exist")
-    size = p.stat().st_size
-    if size > MAX_FILE_BYTES:
-        raise ModelError(f"{p}: {size} bytes, more than the limit MAX_FILE_BYTES = "
-                         f"{MAX_FILE_BYTES}")
+    data = _read_regular(p)
     try:
-        return tomllib.loads(p.read_text(encoding="utf-8"))
+        return tomllib.loads(data.decode("utf-8-sig"))  # a UTF-8 byte order mark is fine
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise ModelError(f"{p}: not valid TOML: {exc}") from None
     except RecursionError:
         raise ModelError(f"{p}: not readable TOML: arrays or tables nested too deep") \
             from None
+
+
+def _kind(mode: int) -> str:
+    return ("a directory" if stat.S_ISDIR(mode) else "a FIFO" if stat.S_ISFIFO(mode)
+            else "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode)
+            else "a socket" if stat.S_ISSOCK(mode) else "not a regular file")
+
+
+def _read_regular(p: Path) -> bytes:
+    """The bytes of the regular file ``p`` (links followed), within MAX_FILE_BYTES.
+
+    A directory, FIFO, device or socket is refused from :func:`os.stat` before it is
+    opened (reading a FIFO would block, a device may never end), and the opened file is
+    checked again (non-blocking open, then :func:`os.fstat`).
+    """
+    try:
+        st = os.stat(p)
+    except FileNotFoundError:
+        raise ModelError(f"model file {quote(str(p))} does not exist") from None
+    except OSError as exc:
+        raise ModelError(f"model file {quote(str(p))}: {exc.strerror}") from None
+    if not stat.S_ISREG(st.st_mode):
+        raise ModelError(f"model file {quote(str(p))} is not a regular file "
+                         f"({_kind(st.st_mode)})")
+    if st.st_size > MAX_FILE_BYTES:
+        raise ModelError(f"{p}: {st.st_size} bytes, more than the limit MAX_FILE_BYTES = "
+                         f"{MAX_FILE_BYTES}")
+    try:
+        fd = os.open(p, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except OSError as exc:
+        raise ModelError(f"model file {quote(str(p))}: {exc.strerror}") from None
+    with os.fdopen(fd, "rb") as f:
+        mode = os.fstat(f.fileno()).st_mode
+        if not stat.S_ISREG(mode):
+            raise ModelError(f"model file {quote(str(p))} is not a regular file "
+                             f"({_kind(mode)})")
+        data = f.read(MAX_FILE_BYTES + 1)
+    if len(data) > MAX_FILE_BYTES:
+        raise ModelError(f"{p}: more than the limit MAX_FILE_BYTES = {MAX_FILE_BYTES} bytes")
+    return data
 
 
 def parse_number(value: Any, key: str, parameters: Mapping[str, float]) -> float:

@@ -30,6 +30,7 @@ from pathlib import Path
 from tqdm import tqdm
 
 from gfrf._atomic import atomic_write_text
+from gfrf.model.safetext import markdown_text
 from gfrf.report import model_page, paper_gfrf
 from gfrf.report._format import header, table
 from gfrf.report.analysis import MODELS_DIR, analyse
@@ -53,7 +54,8 @@ def write_index(out_dir: Path, models: list[str], quick: bool) -> Path:
     for path in models:
         a = analyse(path, quick)
         v = a.verdict
-        rows.append([f"[{a.model_file.name}](models/{a.stem}.md)", f"Theorem {v.theorem}",
+        rows.append([f"[{markdown_text(a.model_file.name)}](models/{a.stem}.md)",
+                     f"Theorem {v.theorem}",
                      v.verdict, v.radius,
                      "estimate (not a proof)" if not v.radius_certified
                      or v.radius_proof == "none" else "proven lower bound"

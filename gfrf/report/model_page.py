@@ -18,6 +18,7 @@ import sympy as sp
 from gfrf._atomic import atomic_write_text
 from gfrf.bounds.norms import linear_poles
 from gfrf.kernels.recursion import kernel
+from gfrf.model.safetext import markdown_text
 from gfrf.report._figures import frequency_scale, h1_figure, h3_slice_figure, response_figure
 from gfrf.report._format import cell, code, header, mark, num, table
 from gfrf.report.analysis import MARGIN_OCTAVES, ModelAnalysis, analyse
@@ -83,9 +84,9 @@ def _model_section(a: ModelAnalysis) -> list[str]:
     mf, plant = a.model_file, a.model_file.plant
     out = ["## The model", ""]
     if mf.source:
-        out += [f"Source: {mf.source}.", ""]
+        out += [f"Source: {markdown_text(mf.source)}.", ""]
     if mf.description:
-        out += [mf.description.strip(), ""]
+        out += [markdown_text(mf.description), ""]
     out += ["Equation as written in the model file:", "", "```", plant.text.strip(), "```", ""]
     if plant.truncation:
         out += [f"Polynomial model after Taylor truncation at order {plant.truncation} "
@@ -105,7 +106,8 @@ def _model_section(a: ModelAnalysis) -> list[str]:
     ctrl = mf.controller
     if ctrl is not None:
         loop_text = "u = r - C[y]" if ctrl.feedback == -1 else "u = r + C[y]"
-        out += [f"Controller: {ctrl.name or 'linear'} ({ctrl.source}). C(s) = num/den with "
+        out += [f"Controller: {markdown_text(ctrl.name or 'linear')} "
+                f"({markdown_text(ctrl.source)}). C(s) = num/den with "
                 f"num = {cell(list(ctrl.num or ()))}, den = {cell(list(ctrl.den or ()))} "
                 f"(highest power first), loop {loop_text}.", ""]
     return out
@@ -295,7 +297,7 @@ def write(path: str, out_dir: Path, quick: bool = False) -> Path:
     folder = Path(out_dir) / "models"
     folder.mkdir(parents=True, exist_ok=True)
     regen = f"gfrf report {command_path(a.path)} --out {Path(out_dir).as_posix()}/"
-    parts = [header(a.model_file.name, summary_lines(a), regen)]
+    parts = [header(markdown_text(a.model_file.name), summary_lines(a), regen)]
     for section in (_model_section(a), _kernel_section(a, folder), _norm_section(a),
                     _verdict_section(a), _margin_section(a), _simulation_section(a, folder),
                     _certification(a)):

@@ -1,0 +1,47 @@
+"""Text a model carries (name, description, source, ...) as data on a terminal and in a page.
+
+:func:`printable` escapes the characters a terminal acts on (C0 and C1 controls, so ESC
+sequences, carriage returns and bells; DEL; the bidirectional overrides and isolates
+U+202A-U+202E, U+2066-U+2069 and marks; the line and paragraph separators) as visible
+``\\x1b``-style escapes.  :func:`markdown_text` also makes text inert in Markdown and the
+HTML it renders to: no tag, no link, no heading, one line.
+
+>>> printable("Duffing\\x1b[2K\\r\\nverdict: stable")
+'Duffing\\\\x1b[2K\\\\r\\\\nverdict: stable'
+>>> markdown_text("<img src=x onerror=alert(1)> [x](javascript:alert(3))")
+'&lt;img src=x onerror=alert\\\\(1\\\\)&gt; \\\\[x\\\\]\\\\(javascript:alert\\\\(3\\\\)\\\\)'
+"""
+
+from __future__ import annotations
+
+import re
+
+__all__ = ["printable", "markdown_text"]
+
+_NAMED = {"\n": "\\n", "\r": "\\r", "\t": "\\t"}
+#: Characters a terminal or a bidirectional renderer acts on.
+_CONTROL = re.compile("[\x00-\x1f\x7f-\x9f\u061c\u200e\u200f\u2028\u2029\u202a-\u202e"
+                      "\u2066-\u2069]")
+_MARKDOWN = re.compile(r"([\\`*_{}\[\]()#+!|~>-])")
+
+
+def _escape(match: re.Match[str]) -> str:
+    char = match.group()
+    if char in _NAMED:
+        return _NAMED[char]
+    code = ord(char)
+    return f"\\x{code:02x}" if code < 0x100 else f"\\u{code:04x}"
+
+
+def printable(text: str, keep: str = "") -> str:
+    """``text`` with every control character (except those in ``keep``) escaped."""
+    if keep:
+        return "".join(c if c in keep else _CONTROL.sub(_escape, c) for c in text)
+    return _CONTROL.sub(_escape, text)
+
+
+def markdown_text(text: str) -> str:
+    """``text`` as one inert line of Markdown: controls escaped, no HTML, no markup."""
+    text = " ".join(printable(text, keep="\n\t").split())
+    text = text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+    return _MARKDOWN.sub(r"\\\1", text)
