@@ -72,6 +72,7 @@ _LAZY = {
     "from_sysidentpy": "gfrf.identify.narx",
     "linear_part": "gfrf._api", "verdict": "gfrf._api",
     "to_nlsys": "gfrf.sim.nlsys",
+    "threshold": "gfrf.twosided.threshold", "Threshold": "gfrf.twosided.threshold",
 }
 #: Functions of a plant model re-exported so that they also take a ModelFile.
 _PLANT = {

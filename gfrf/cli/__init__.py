@@ -34,6 +34,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "gfrf.cli.periodic",
     "gfrf.cli.sweep",
     "gfrf.cli.identify",
+    "gfrf.cli.threshold",
 )
 
 
