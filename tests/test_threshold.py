@@ -171,3 +171,14 @@ def test_every_bundled_model_lower_at_least_r_star_and_below_upper(capsys, name:
     if data["upper"] is not None:
         assert data["lower"] <= data["upper"]
         assert code == 0
+
+
+def test_verdict_threshold_block_closes_the_gap(capsys) -> None:
+    """Theorem 1 alone says inconclusive for the damped Duffing at r = 1; with the
+    threshold block the energy certificate proves it stable (exit 0)."""
+    duffing = str(MODELS / "duffing.toml")
+    assert main(["verdict", duffing, "--order", "3"]) == 1
+    capsys.readouterr()
+    assert main(["verdict", duffing, "--order", "3", "--threshold", "--json"]) == 0
+    block = json.loads(capsys.readouterr().out)["threshold"]
+    assert block["verdict_at_amplitude"] == "stable" and block["upper"] is None

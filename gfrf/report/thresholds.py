@@ -51,7 +51,7 @@ def threshold_figure(results: dict[str, Threshold], path: Path) -> str:
               if 0 < v < math.inf]
     lo, hi = min(finite) / 10, max(finite) * 10
     fig, ax = plt.subplots(figsize=(8, 0.45 * len(results) + 1.6))
-    for i, (stem, t) in enumerate(results.items()):
+    for i, t in enumerate(results.values()):
         lower = min(max(t.lower, lo), hi)
         top = hi if t.upper is None else t.upper
         ax.barh(i, lower - lo, left=lo, color="tab:green", height=0.6)

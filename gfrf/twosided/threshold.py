@@ -93,6 +93,16 @@ class Threshold:
         return (f"{low}; unstable at {self.upper:.6g} (witness: {tones_text(self.witness_tones)}"
                 f" from rest escapes); unknown in between")
 
+    def verdict_at(self, amplitude: float) -> str:
+        """``stable`` below ``lower`` (proven), ``unstable`` at or above ``upper`` (an input
+        of amplitude ``upper`` <= ``amplitude`` escapes: a simulation witness), else
+        ``inconclusive`` (the gap)."""
+        if amplitude < self.lower:
+            return "stable"
+        if self.upper is not None and amplitude >= self.upper:
+            return "unstable"
+        return "inconclusive"
+
     @property
     def witness_tones(self) -> list[tuple[float, float, float]]:
         """The witness's tones (amplitude, omega rad/s, phase rad); empty without one."""
