@@ -20,7 +20,13 @@ from gfrf._results import short_repr
 from gfrf.model.equation import Model
 from gfrf.model.modelfile import ModelFile
 from gfrf.stability.energy import Certificate, energy_certificate
-from gfrf.twosided.falsify import CAP_FACTOR, Falsification, falsify, tones_text
+from gfrf.twosided.falsify import (
+    CAP_FACTOR,
+    ESCAPE_LEVEL,
+    Falsification,
+    falsify,
+    tones_text,
+)
 
 __all__ = ["Threshold", "threshold", "THEOREM_CLASS"]
 
@@ -83,15 +89,14 @@ class Threshold:
     def answer(self) -> str:
         """The verdict in words."""
         signal = "reference amplitude" if self.theorem == 2 else "input amplitude"
+        proof = {"interval": "proven", "float": "certified (float)"}.get(self.lower_proof,
+                                                                         "estimate")
         if math.isinf(self.lower):
-            return f"stable for every {signal} (proven: {self.lower_method})"
-        low = f"stable below {signal} {self.lower:.6g} (proven: {self.lower_method})"
+            return f"stable for every {signal} ({proof}: {self.lower_method})"
+        low = f"stable below {signal} {self.lower:.6g} ({proof}: {self.lower_method})"
         if self.upper is None:
-            cap = self.falsification.cap if self.falsification else math.nan
-            return (f"{low}; no escaping input found up to {cap:.6g}: unknown above "
-                    f"{self.lower:.6g}")
-        return (f"{low}; unstable at {self.upper:.6g} (witness: {tones_text(self.witness_tones)}"
-                f" from rest escapes); unknown in between")
+            return f"{low}; unknown above (no escaping input found)"
+        return f"{low}; unstable at {self.upper:.6g} (a witness escapes); unknown in between"
 
     def verdict_at(self, amplitude: float) -> str:
         """``stable`` below ``lower`` (proven), ``unstable`` at or above ``upper`` (an input
@@ -130,32 +135,23 @@ class Threshold:
             "certificate_details": {c.method: c.detail for c in self.certificates}}
 
     def text(self) -> str:
-        """The short text of ``gfrf threshold``."""
-        lines = [self.name] if self.name else []
-        proof = {"interval": "proven", "float": "certified (float)"}.get(self.lower_proof,
-                                                                         "estimate")
-        lines.append(f"lower  {self.lower:.6g}  {proof}: {self.lower_method}")
+        """The short text of ``gfrf threshold``: the three regions, then the evidence."""
         f = self.falsification
-        if self.upper is not None and f is not None:
-            lines.append(f"upper  {self.upper:.6g}  witness (simulation, estimate-grade): "
-                         f"u = {tones_text(f.tones)} from rest escapes at t = "
-                         f"{f.t_escape:.6g} s")
-        elif f is not None:
-            lines.append(f"upper  none: no escape found up to amplitude {f.cap:.6g} "
-                         f"(the search cap)")
-        else:
-            lines.append("upper  none: stability is proven for every amplitude")
-        for c in self.certificates:
-            lines.append(f"  certificate {c.method}: radius {c.radius:.6g} ({c.proof}); "
-                         f"inputs: {c.input_class}")
-        if self.static_bound is not None:
-            lines.append(f"  static bound {self.static_bound:.6g} (proven upper bound on the "
-                         "norm series' radius, not on stability)")
-        if f is not None and self.upper is not None:
-            lines.append(f"  escape: {f.escape}")
-            lines.append("  the witness is a tone switched on at t = 0 (infinite L1 spectrum "
-                         "norm): reported beside Theorem 1's radius, in its own units")
+        lines = [self.name] if self.name else []
         lines.append(self.answer)
+        if f is not None and self.upper is not None:
+            lines.append(f"witness: u = {tones_text(f.tones)}, switched on at t = 0 from "
+                         f"rest, reaches |y| >= {ESCAPE_LEVEL:g} at t = {f.t_escape:.6g} s "
+                         "(simulation, estimate-grade; DOP853 at two tolerances agree)")
+        elif f is not None:
+            lines.append(f"no sum of tones up to amplitude {f.cap:.6g} (the search cap) "
+                         f"escaped within {f.t_end:g} s")
+        certs = ", ".join(f"{c.method.split(' (')[0]} {c.radius:.6g} ({c.proof})"
+                          for c in self.certificates)
+        lines.append(f"certificates: {certs}")
+        if self.static_bound is not None:
+            lines.append(f"static bound {self.static_bound:.6g}: the norm series' radius, "
+                         "not a stability limit")
         return "\n".join(lines)
 
 
