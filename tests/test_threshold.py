@@ -182,3 +182,26 @@ def test_verdict_threshold_block_closes_the_gap(capsys) -> None:
     assert main(["verdict", duffing, "--order", "3", "--threshold", "--json"]) == 0
     block = json.loads(capsys.readouterr().out)["threshold"]
     assert block["verdict_at_amplitude"] == "stable" and block["upper"] is None
+
+
+def test_local_certificate_of_the_damped_pendulum_survives_energy_pumping() -> None:
+    """The sublevel-set radius U lies between Theorem 1's r* = 0.409 and the escaping
+    tone 1.34, and the worst input for the energy, u = U sign(theta'), keeps an
+    independent solve_ivp run inside the well (|theta| < sqrt(6), the barrier)."""
+    from gfrf.model.modelfile import load_model
+    from gfrf.stability.energy_local import local_energy_certificate
+
+    cert = local_energy_certificate(load_model(MODELS / "hanging_pendulum_damped.toml").plant)
+    assert cert is not None and cert.proof == "interval"
+    U = cert.radius
+    assert 0.409 < U < TONE_THRESHOLD
+    b = 9.8 / 4 / 6
+    for u in (lambda t, z: U * math.copysign(1.0, z[1]),
+              lambda t, z: U * math.cos(1.05 * t), lambda t, z: U * math.cos(1.45 * t)):
+        sol = solve_ivp(lambda t, z, u=u: [z[1], -0.5 * z[1] - 2.45 * z[0] + b * z[0]**3
+                                           + u(t, z)],
+                        (0, 200), [0.0, 0.0], method="DOP853", rtol=1e-9, atol=1e-12,
+                        max_step=0.05)
+        assert sol.status == 0 and np.max(np.abs(sol.y[0])) < math.sqrt(6)
+    assert local_energy_certificate(parse_model("D(y,2) + 0.5*D(y) + 2.45*y + 0.4*y**3 = u")) \
+        is None  # hardening: the global certificate's case, not this one

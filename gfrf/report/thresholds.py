@@ -28,6 +28,10 @@ PAPER_PENDULUMS = ("hanging_pendulum", "hanging_pendulum_damped")
 QUICK_MODELS = ("duffing", "hanging_pendulum_damped")
 
 
+def _kind(radius: float) -> str:
+    return "energy, global" if math.isinf(radius) else "sublevel set"
+
+
 def rows(results: dict[str, Threshold]) -> list[list[object]]:
     """One table row per model: r*, second certificate, falsified amplitude, static bound."""
     out: list[list[object]] = []
@@ -40,7 +44,8 @@ def rows(results: dict[str, Threshold]) -> list[list[object]]:
                               for a, w, p in tones))
         ratio = theorem.radius / t.upper if t.upper else None
         out.append([stem, f"Theorem {t.theorem}", theorem.radius,
-                    "; ".join(f"{c.radius:g} ({c.proof})" for c in second) or "-",
+                    "; ".join(f"{c.radius:.6g} ({_kind(c.radius)}, {c.proof})"
+                              for c in second) or "-",
                     t.lower, t.upper, witness, t.static_bound, ratio])
     return out
 
@@ -95,10 +100,11 @@ def write(out_dir: Path, models: list[str], quick: bool = False) -> Path:
     for stem in PAPER_PENDULUMS:
         t = results.get(stem)
         if t is not None and t.upper:
-            text.append(f"- `{stem}`: Theorem 1 proves {t.certificates[0].radius:.4g}, a "
-                        f"tone of amplitude {t.upper:.4g} escapes: r*/upper = "
-                        f"{t.certificates[0].radius / t.upper:.1%} of the range shown safe "
-                        "is covered by Theorem 1.")
+            text.append(f"- `{stem}`: Theorem 1 proves {t.certificates[0].radius:.4g}, the "
+                        f"second certificate {t.lower:.4g}, a tone of amplitude "
+                        f"{t.upper:.4g} escapes: r*/upper = "
+                        f"{t.certificates[0].radius / t.upper:.1%} (Theorem 1), lower/upper "
+                        f"= {t.lower / t.upper:.1%} (the best proven).")
     text += ["", "Units: r* and the energy certificate's radius bound inputs of Theorem 1's "
              "class (amplitude = L1 norm of the spectrum) and every bounded input "
              "respectively; the witness is a tone switched on at t = 0 (its spectrum's L1 "

@@ -2,8 +2,10 @@
 
 ``lower`` is the largest radius of the proven certificates: Theorem 1's r* (Theorem 2's
 for a model file with a controller; input class: sums of tones, amplitude = sum of tone
-amplitudes, the L1 norm of the spectrum) and the energy certificate of
-:mod:`gfrf.stability.energy` (every bounded input: radius infinity when it applies).
+amplitudes, the L1 norm of the spectrum), the energy certificate of
+:mod:`gfrf.stability.energy` (every bounded input: radius infinity when it applies) or,
+for a softening oscillator, the invariant sublevel set of
+:mod:`gfrf.stability.energy_local` (every input with sup|u| <= U).
 ``upper`` is the amplitude of the falsifier's witness (:mod:`gfrf.twosided.falsify`),
 searched only when no certificate is global.  Between them: unknown (the only case
 still called ``inconclusive``).
@@ -20,6 +22,7 @@ from gfrf._results import short_repr
 from gfrf.model.equation import Model
 from gfrf.model.modelfile import ModelFile
 from gfrf.stability.energy import Certificate, energy_certificate
+from gfrf.stability.energy_local import local_energy_certificate
 from gfrf.twosided.falsify import (
     CAP_FACTOR,
     ESCAPE_LEVEL,
@@ -189,7 +192,7 @@ def threshold(model: ModelFile | Model, *, order: int = 5,
                          v.radius_proof if v.radius_certified else "none",
                          THEOREM_CLASS[v.theorem])]
     if not closed:
-        energy = energy_certificate(mf.plant)
+        energy = energy_certificate(mf.plant) or local_energy_certificate(mf.plant)
         if energy is not None:
             certs.append(energy)
     proven = [c for c in certs if c.proof in _LOWER_PROOF]
