@@ -56,11 +56,12 @@ def _check_contract(data: dict) -> None:
 def test_energy_certificate_applies_to_damped_hardening_only() -> None:
     assert energy_certificate(parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u")).radius \
         == math.inf
-    assert energy_certificate(parse_model("2*D(y,2) + D(y) - y + y**2 + y**5 = 3*u")) \
-        is not None  # unstable origin, still bounded for bounded inputs
+    assert energy_certificate(parse_model("2*D(y,2) + D(y) + y + y**2 + y**5 = 3*u")) \
+        is not None
     for text in ("D(y,2) + 0.2*D(y) + y - 0.5*y**3 = u",  # softening
                  "D(y,2) - 0.2*D(y) + y + 0.5*y**3 = u",  # negative damping
                  "D(y,2) + y + 0.5*y**3 = u",  # undamped
+                 "D(y,2) + D(y) - y + y**3 = u",  # unstable origin (bounded, not stable)
                  "D(y,2) + 0.2*D(y) + y + 0.5*y**4 = u",  # even degree
                  "D(y,2) + 0.2*D(y) + y + 0.5*y**3 + y**2*D(y) = u",  # outside the class
                  "D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u + u**2",  # nonlinear input

@@ -4,8 +4,8 @@ Theorem 1 proves that the norm series converges for inputs of Theorem 1's class 
 tones, amplitude = the L1 norm of the spectrum) below r*.  For a damped oscillator with
 a hardening restoring force,
 
-    a2 y'' + c y' + g(y) + b u = 0,   c / a2 > 0,   g / a2 a polynomial of odd degree
-    d >= 3 with a positive leading coefficient,
+    a2 y'' + c y' + g(y) + b u = 0,   c / a2 > 0,   g'(0) / a2 > 0,   g / a2 a polynomial
+    of odd degree d >= 3 with a positive leading coefficient,
 
 a Lyapunov function with a cross term proves much more: every solution is bounded for
 *every* bounded input, of any size (bounded-input bounded-state for L-infinity inputs).
@@ -116,8 +116,9 @@ def energy_certificate(model: Model) -> Certificate | None:
     -------
     Certificate or None
         Radius ``inf``, proof ``"exact"``, when the model is ``a2 y'' + c y' + g(y) + b u
-        = 0`` with c/a2 > 0 and g/a2 of odd degree >= 3 with a positive leading
-        coefficient (see the module docstring for the proof); None otherwise.
+        = 0`` with c/a2 > 0, g'(0)/a2 > 0 (a stable linear part) and g/a2 of odd degree
+        >= 3 with a positive leading coefficient (see the module docstring for the
+        proof); None otherwise.
 
     Examples
     --------
@@ -137,7 +138,9 @@ def energy_certificate(model: Model) -> Certificate | None:
     k = c / a2
     d = max(g)
     lead = g[d] / a2
-    if not (k > 0 and d >= 3 and d % 2 == 1 and lead > 0):
+    # k > 0 and f'(0) > 0: the linear part is asymptotically stable (H1 is stable), so
+    # "bounded for every bounded input" is stability, not only boundedness
+    if not (k > 0 and g.get(1, Fraction(0)) / a2 > 0 and d >= 3 and d % 2 == 1 and lead > 0):
         return None
     eps, alpha = k / 2, k / 4
     assert k - eps - alpha > 0 and eps > 0 and alpha > 0  # noqa: S101 - exact, by choice
