@@ -206,3 +206,14 @@ def test_local_certificate_of_the_damped_pendulum_survives_energy_pumping() -> N
         assert sol.status == 0 and np.max(np.abs(sol.y[0])) < math.sqrt(6)
     assert local_energy_certificate(parse_model("D(y,2) + 0.5*D(y) + 2.45*y + 0.4*y**3 = u")) \
         is None  # hardening: the global certificate's case, not this one
+
+
+def test_r_star_of_an_unstable_linear_part_proves_nothing() -> None:
+    """Theorem 1 computes r* = 0.3849 for y'' + y' - y + y^3 = u, but its linear part is
+    unstable (pole at (-1 + sqrt 5)/2 > 0): no amplitude is proven stable."""
+    import gfrf
+
+    t = gfrf.threshold(parse_model("D(y,2) + D(y) - y + y**3 = u"))
+    assert t.certificates[0].radius == 0.0 and t.lower == 0.0
+    assert "linear part" in t.certificates[0].detail
+    assert t.answer.startswith("stability is proven at no amplitude")

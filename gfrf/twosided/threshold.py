@@ -41,6 +41,9 @@ THEOREM_CLASS = {
        "spectrum, Theorem 2's class)"}
 #: The level of proof of ``lower`` in the JSON contract for each certificate level.
 _LOWER_PROOF = {"exact": "interval", "interval": "interval", "float": "float"}
+#: The amplitude series conditions of Theorems 1 and 2 (r* is their radius).
+_SERIES_CONDITIONS = ("norm series sum ||H_n|| r^n converges",
+                      "sum theta_n rho_1^n r^n converges")
 UPPER_METHOD = ("falsifier: sum of tones switched on at t = 0 from rest escapes "
                 "(simulation witness, estimate-grade)")
 
@@ -96,7 +99,8 @@ class Threshold:
                                                                          "estimate")
         if math.isinf(self.lower):
             return f"stable for every {signal} ({proof}: {self.lower_method})"
-        low = f"stable below {signal} {self.lower:.6g} ({proof}: {self.lower_method})"
+        low = (f"stable below {signal} {self.lower:.6g} ({proof}: {self.lower_method})"
+               if self.lower > 0 else "stability is proven at no amplitude")
         if self.upper is None:
             return f"{low}; unknown above (no escaping input found)"
         return f"{low}; unstable at {self.upper:.6g} (a witness escapes); unknown in between"
@@ -188,9 +192,16 @@ def threshold(model: ModelFile | Model, *, order: int = 5,
     mf = model if isinstance(model, ModelFile) else ModelFile(model)
     closed = mf.controller is not None
     v = verdict(mf, order=order, with_norms=False, proof="interval")
-    certs = [Certificate(f"theorem {v.theorem} (norm series radius r*)", float(v.radius),
+    # r* proves stability only with the theorem's other hypotheses (a stable linear
+    # part, proper kernels, ...): a failed or open one leaves radius 0
+    other = [c for c in v.conditions if c.name not in _SERIES_CONDITIONS]
+    holds = all(c.passed is True for c in other)
+    certs = [Certificate(f"theorem {v.theorem} (norm series radius r*)",
+                         float(v.radius) if holds else 0.0,
                          v.radius_proof if v.radius_certified else "none",
-                         THEOREM_CLASS[v.theorem])]
+                         THEOREM_CLASS[v.theorem],
+                         "" if holds else "not applicable: " + "; ".join(
+                             c.name for c in other if c.passed is not True))]
     if not closed:
         energy = energy_certificate(mf.plant) or local_energy_certificate(mf.plant)
         if energy is not None:
