@@ -18,7 +18,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-from gfrf._results import short_repr
+from gfrf._results import markdown_table, short_repr
 from gfrf.model.equation import Model
 from gfrf.model.modelfile import ModelFile
 from gfrf.stability.energy import Certificate, energy_certificate
@@ -122,6 +122,16 @@ class Threshold:
 
     def __repr__(self) -> str:
         return short_repr(self, "lower", "upper", "lower_method")
+
+    def _repr_markdown_(self) -> str:
+        rows = [("stable below (lower)", self.lower, self.lower_proof, self.lower_method),
+                ("unstable at (upper)", self.upper, "estimate" if self.upper else "-",
+                 self.upper_method or "no escape found")]
+        rows += [(f"certificate: {c.method}", c.radius, c.proof, c.input_class)
+                 for c in self.certificates]
+        title = f"**{self.name}**: " if self.name else ""
+        return f"{title}{self.answer}\n\n" + markdown_table(
+            ("", "amplitude", "proof", "method / inputs"), rows)
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON contract of ``gfrf threshold --json`` (``lower`` may be ``inf``)."""
