@@ -36,6 +36,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "gfrf.cli.identify",
     "gfrf.cli.ofrf",
     "gfrf.cli.plot",
+    "gfrf.cli.threshold",
 )
 
 

@@ -71,6 +71,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         "(adds the branch-and-bound and every local search: slower) or "
                         "'none' (no brackets, no radius estimate); the verdict, r* and the "
                         "conditions do not depend on it")
+    v.add_argument("--threshold", action="store_true",
+                   help="also print the two-sided answer of 'gfrf threshold' (proven lower "
+                        "side, falsified upper side with its witness)")
     _add_proof(v)
     add_json_flag(v)
     v.set_defaults(func=_verdict)
@@ -197,5 +200,18 @@ def _verdict(args: argparse.Namespace) -> int:
         lines.append(f"margin: certified stable for {margin.parameter} {margin.direction} "
                      f"{margin.value:.6g} at r = {margin.amplitude:g} (file value "
                      f"{margin.current:g})")
+    if args.threshold:
+        from gfrf.twosided.threshold import threshold
+
+        t = threshold(mf, order=args.order)
+        both = t.verdict_at(args.amplitude)
+        payload["threshold"] = {**t.to_dict(), "verdict_at_amplitude": both}
+        lines += ["", "Threshold:", t.text(),
+                  f"two-sided verdict at r = {args.amplitude:g}: {both}"]
+        return _emit_exit(args, payload, lines, both)
+    return _emit_exit(args, payload, lines, v.verdict)
+
+
+def _emit_exit(args: argparse.Namespace, payload: dict, lines: list[str], verdict: str) -> int:
     emit(args, payload, "\n".join(lines))
-    return 0 if v.verdict == "stable" else 1
+    return 0 if verdict == "stable" else 1

@@ -10,6 +10,8 @@ dates), into one folder:
   GFRF model file;
 * ``identified-example.md`` (:mod:`gfrf.report.identified`, with the ``identify`` extra):
   a NARX model identified from data against the true model;
+* ``thresholds.md`` (:mod:`gfrf.report.thresholds`): the two-sided answer of every
+  bundled model (r*, the energy certificate, the falsified amplitude, the static bound);
 * ``README.md``: an index of the above.
 
 ``speed-vs-error.md`` is written by ``gfrf bench`` (minutes of timing) and only linked.
@@ -31,7 +33,7 @@ from tqdm import tqdm
 
 from gfrf._atomic import atomic_write_text
 from gfrf.model.safetext import markdown_text
-from gfrf.report import model_page, paper_gfrf
+from gfrf.report import model_page, paper_gfrf, thresholds
 from gfrf.report._format import header, table
 from gfrf.report.analysis import MODELS_DIR, analyse
 
@@ -70,7 +72,9 @@ def write_index(out_dir: Path, models: list[str], quick: bool) -> Path:
             "- [paper-periodic.md](paper-periodic.md): the parametrically excited pendulum.",
             "- [speed-vs-error.md](speed-vs-error.md): benchmarks (`make bench`).",
             "- [identified-example.md](identified-example.md): a NARX model identified from "
-            "data (sysidentpy) against the true one.", "",
+            "data (sysidentpy) against the true one.",
+            "- [thresholds.md](thresholds.md): stable below (proven), unstable at (a "
+            "witness), for every model.", "",
             table(["model", "theorem", "verdict at r = 1", "r*", "r* is"], rows)]
     path = out_dir / "README.md"
     return atomic_write_text(path, "\n".join(text))
@@ -103,6 +107,7 @@ def write_reports(out_dir: str | Path = "reports", models: list[str] | None = No
     paths = bundled_models()
     jobs: list[Callable[[], Path]] = [partial(model_page.write, m, out, quick) for m in paths]
     jobs.append(partial(paper_gfrf.write, out, quick))
+    jobs.append(partial(thresholds.write, out, paths, quick))
     if importlib.util.find_spec("gfrf.report.periodic") is not None:
         periodic = importlib.import_module("gfrf.report.periodic")
         jobs.append(partial(periodic.write, out, quick=quick))

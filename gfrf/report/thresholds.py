@@ -1,0 +1,115 @@
+"""``thresholds.md``: the two-sided answer for every bundled model, and its figure.
+
+For each bundled GFRF model: Theorem 1's (or 2's) r*, the second certificate (the
+energy function of :mod:`gfrf.stability.energy` where it applies), the falsified
+amplitude of :mod:`gfrf.twosided.falsify` with its witness, the static bound, and how
+conservative r* is (r*/upper); the figure draws the three regions (proven stable,
+unknown, a witness escapes) on a log amplitude axis.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+
+from gfrf._atomic import atomic_write_text
+from gfrf.model.modelfile import load_model
+from gfrf.report._format import header, save_figure, table
+from gfrf.twosided.falsify import ESCAPE_LEVEL, MARGINS
+from gfrf.twosided.threshold import Threshold, threshold
+
+__all__ = ["write", "threshold_figure", "rows"]
+
+#: The paper's pendulums, whose conservativeness r*/upper the report states in words.
+PAPER_PENDULUMS = ("hanging_pendulum", "hanging_pendulum_damped")
+#: The models of a quick build (tests): one global certificate, one witness.
+QUICK_MODELS = ("duffing", "hanging_pendulum_damped")
+
+
+def _kind(radius: float) -> str:
+    return "energy, global" if math.isinf(radius) else "sublevel set"
+
+
+def rows(results: dict[str, Threshold]) -> list[list[object]]:
+    """One table row per model: r*, second certificate, falsified amplitude, static bound."""
+    out: list[list[object]] = []
+    for stem, t in results.items():
+        theorem = t.certificates[0]
+        second = t.certificates[1:]
+        tones = t.witness_tones
+        witness = ("-" if not tones else
+                   " + ".join(f"{a:.4g} cos({w:.4g} t{'' if p == 0 else f' + {p:.3g}'})"
+                              for a, w, p in tones))
+        ratio = theorem.radius / t.upper if t.upper else None
+        out.append([stem, f"Theorem {t.theorem}", theorem.radius,
+                    "; ".join(f"{c.radius:.6g} ({_kind(c.radius)}, {c.proof})"
+                              for c in second) or "-",
+                    t.lower, t.upper, witness, t.static_bound, ratio])
+    return out
+
+
+def threshold_figure(results: dict[str, Threshold], path: Path) -> str:
+    """Three regions per model on a log amplitude axis: proven, unknown, escapes."""
+    finite = [v for t in results.values() for v in (t.lower, t.upper or 0.0, t.static_bound or 0)
+              if 0 < v < math.inf]
+    lo, hi = min(finite) / 10, max(finite) * 10
+    fig, ax = plt.subplots(figsize=(8, 0.45 * len(results) + 1.6))
+    for i, t in enumerate(results.values()):
+        lower = min(max(t.lower, lo), hi)
+        top = hi if t.upper is None else t.upper
+        ax.barh(i, lower - lo, left=lo, color="tab:green", height=0.6)
+        ax.barh(i, top - lower, left=lower, color="lightgray", height=0.6)
+        if t.upper is not None:
+            ax.barh(i, hi - t.upper, left=t.upper, color="tab:red", height=0.6)
+        if t.static_bound:
+            ax.plot([t.static_bound], [i], "k|", markersize=14)
+    ax.set_xscale("log")
+    ax.set_xlim(lo, hi)
+    ax.set_yticks(range(len(results)), list(results))
+    ax.invert_yaxis()
+    ax.set_xlabel("input amplitude (sum of tone amplitudes; reference in a loop)")
+    ax.set_title("green: stability proven; gray: unknown; red: from the amplitude of an "
+                 "escaping witness on; |: static bound", fontsize=9)
+    fig.tight_layout()
+    return save_figure(fig, path)
+
+
+def write(out_dir: Path, models: list[str], quick: bool = False) -> Path:
+    """Write ``thresholds.md`` and ``thresholds.png`` for ``models`` (paths) into ``out_dir``.
+
+    ``quick`` (tests) keeps only :data:`QUICK_MODELS` (about 5 s instead of about 60 s).
+    """
+    if quick:
+        models = [m for m in models if Path(m).stem in QUICK_MODELS]
+    results = {Path(m).stem: threshold(load_model(m)) for m in models}
+    figure = threshold_figure(results, out_dir / "thresholds.png")
+    summary = ["Stable below lower (proven), unstable at upper (a simulation witness), "
+               "unknown between: every bundled model.",
+               "lower is the largest proven radius: Theorem 1/2's r* or the energy "
+               "certificate (every bounded input).",
+               "upper is the smallest escaping sum of tones found from rest, with a "
+               f"{MARGINS[0]:g}x margin; escape = |y| >= {ESCAPE_LEVEL:g}."]
+    text = [header("Thresholds: proven below, broken above", summary,
+                   "gfrf report --out reports/"),
+            table(["model", "theorem", "r* (proven)", "second certificate", "lower",
+                   "upper (falsified)", "witness u(t), rad/s", "static bound",
+                   "r*/upper"], rows(results)),
+            "", f"![three regions]({figure})", ""]
+    for stem in PAPER_PENDULUMS:
+        t = results.get(stem)
+        if t is not None and t.upper:
+            text.append(f"- `{stem}`: Theorem 1 proves {t.certificates[0].radius:.4g}, the "
+                        f"second certificate {t.lower:.4g}, a tone of amplitude "
+                        f"{t.upper:.4g} escapes: r*/upper = "
+                        f"{t.certificates[0].radius / t.upper:.1%} (Theorem 1), lower/upper "
+                        f"= {t.lower / t.upper:.1%} (the best proven).")
+    text += ["", "Units: r* and the energy certificate's radius bound inputs of Theorem 1's "
+             "class (amplitude = L1 norm of the spectrum) and every bounded input "
+             "respectively; the witness is a tone switched on at t = 0 (its spectrum's L1 "
+             "norm is infinite), so upper is reported beside r* in its own units (sum of "
+             "tone amplitudes), and the static bound bounds the norm series' radius, not "
+             "stability. A witness is a simulation fact (estimate-grade): found on the "
+             "fast path, confirmed by DOP853 at two tolerances.", ""]
+    return atomic_write_text(out_dir / "thresholds.md", "\n".join(text))
