@@ -13,18 +13,32 @@ sysidentpy is the optional extra ``gfrf[identify]``; it is imported only inside
 
 from __future__ import annotations
 
+import itertools
 import math
 import warnings
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
 
-from gfrf.errors import ArgumentError, GfrfError
-from gfrf.identify.data import _check_names, _check_sample_time, _check_settings, _check_signal
-from gfrf.identify.narx import _convert, _lead
+from gfrf.errors import ArgumentError, GfrfError, ModelError
+from gfrf.identify.data import (
+    MAX_MATRIX,
+    _check_data,
+    _check_names,
+    _check_sample_time,
+    _check_settings,
+    _check_signal,
+    check_rank,
+)
+from gfrf.identify.narx import _decode, _lead, narx_equation
+from gfrf.identify.noise import extended_least_squares, regressors, residuals
+from gfrf.identify.operating import SIGNIFICANT_DIGITS, equilibrium, round_significant, shift
+from gfrf.identify.validate import Validation, correlation_tests, judge
 from gfrf.model.equation import Model, Term
+
+Key = tuple[tuple[int, ...], tuple[int, ...]]
 
 __all__ = ["Identification", "identify", "free_run", "same_terms", "SAME_TERMS_RTOL",
            "INSTALL_HINT"]
@@ -121,12 +135,14 @@ def _rrse(measured: np.ndarray, predicted: np.ndarray) -> float:
 
 @dataclass(frozen=True)
 class Identification:
-    """A NARX model identified from data, with its fit settings and quality.
+    """A NARMAX model identified from data, with its fit settings, operating point and
+    validation.
 
     Attributes
     ----------
     model : Model
-        The identified discrete-time model (converted exactly from sysidentpy).
+        The process model about the operating point (deviations ``y - y0``,
+        ``u - u0``), coefficients rounded to :data:`SIGNIFICANT_DIGITS` digits.
     settings : dict
         ``ylag``, ``ulag``, ``degree``, ``criterion``, ``max_terms``, ``holdout``.
     n_samples, n_train : int
@@ -134,8 +150,8 @@ class Identification:
     candidates : int
         Candidate regressors considered (constant excluded).
     regressors : tuple of dict
-        Per selected regressor in FROLS order: ``codes``, ``theta``, ``err`` (the
-        error reduction ratio).
+        Per regressor FROLS selected, in its order: ``codes``, ``theta`` (before the
+        move to the operating point and before extended least squares), ``err``.
     free_run_error : float
         Root relative squared error of the free-run simulation on the held-out part
         (``inf`` when the simulation blew up).
@@ -144,8 +160,18 @@ class Identification:
     blowup : int or None
         Held-out sample at which the free run blew up, or None.
     notes : tuple of str
-        Remarks (dropped noise terms, ...).
+        Remarks (criterion at its limit, training window, ...).
     sysidentpy_version : str
+    operating_point : dict
+        ``u0``, ``y0``, ``constant`` (the fitted constant term or None) and ``how``.
+    noise : tuple of float
+        Coefficients ``c_j`` of the noise terms ``c_j*e[k-j]`` (empty: none fitted).
+    validation : Validation or None
+        Hold-out validation (free run and correlation tests).
+    structure : tuple of dict
+        The structures compared when lags and degree were chosen by the criterion.
+    n_fit : int
+        Training samples in the candidate matrix.
     """
 
     model: Model
@@ -159,6 +185,16 @@ class Identification:
     blowup: int | None = None
     notes: tuple[str, ...] = field(default=())
     sysidentpy_version: str = ""
+    operating_point: dict[str, Any] = field(default_factory=dict)
+    noise: tuple[float, ...] = field(default=())
+    validation: Validation | None = None
+    structure: tuple[dict[str, Any], ...] = field(default=())
+    n_fit: int = 0
+
+    @property
+    def adequate(self) -> bool:
+        """True when the hold-out validation passed."""
+        return self.validation is not None and self.validation.adequate
 
     def settings_text(self) -> str:
         """The fit settings as command-line options."""
@@ -176,19 +212,44 @@ class Identification:
                 f"({self.settings['criterion'].upper()}); on the held-out last {held} of "
                 f"{self.n_samples} samples: {run}, one-step RRSE {self.one_step_error:.4g}")
 
+    def operating_text(self) -> str:
+        """One line: the operating point the model and its GFRFs are about."""
+        op = self.operating_point
+        return (f"operating point u0 = {op['u0']:.10g}, y0 = {op['y0']:.10g} ({op['how']}); "
+                f"the model, its GFRFs and the verdict are about deviations from it")
+
+    def noise_text(self) -> str:
+        """The noise model, or that there is none."""
+        if not self.noise:
+            return "noise terms: none (the training residuals were white)"
+        body = " ".join(f"{'-' if c < 0 else '+'} {abs(c):.6g}*e[k-{j}]"
+                        for j, c in enumerate(self.noise, start=1))
+        return (f"noise terms (extended least squares; not part of the GFRFs): e[k] {body}")
+
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready description."""
+        validation = self.validation.to_dict() if self.validation else None
         return {"model": self.model.to_dict(), "settings": dict(self.settings),
-                "n_samples": self.n_samples, "n_train": self.n_train,
+                "n_samples": self.n_samples, "n_train": self.n_train, "n_fit": self.n_fit,
                 "candidates": self.candidates,
                 "regressors": [dict(r) for r in self.regressors],
+                "process_terms": self.model.text,
+                "noise_terms": [{"term": f"e[k-{j}]", "coefficient": c}
+                                for j, c in enumerate(self.noise, start=1)],
+                "operating_point": dict(self.operating_point),
                 "free_run_error": self.free_run_error, "one_step_error": self.one_step_error,
                 "blowup": self.blowup, "notes": list(self.notes),
+                "structure_search": [dict(s) for s in self.structure],
+                "validation": validation, "adequate": self.adequate,
+                "reason": self.validation.reason if self.validation else "not validated",
+                "significant_digits": SIGNIFICANT_DIGITS,
                 "sysidentpy_version": self.sysidentpy_version}
 
 
-def _frols(ylag: int, ulag: int, degree: int, criterion: str, max_terms: int) -> Any:
-    """sysidentpy's FROLS with least squares, without the constant regressor."""
+def _frols(ylag: int, ulag: int, degree: int, criterion: str, max_terms: int,
+           constant: bool = False) -> Any:
+    """sysidentpy's FROLS with least squares; the constant regressor a candidate only if
+    ``constant``."""
     try:
         import matplotlib  # sysidentpy imports it anyway
 
@@ -200,15 +261,16 @@ def _frols(ylag: int, ulag: int, degree: int, criterion: str, max_terms: int) ->
             from sysidentpy.parameter_estimation import LeastSquares
     except ImportError:
         raise GfrfError(INSTALL_HINT) from None
+    first = 0 if constant else 1
 
-    class _FrolsWithoutConstant(FROLS):  # type: ignore[misc, valid-type]
-        """FROLS over the candidate regressors minus the constant (column 0)."""
+    class _Frols(FROLS):  # type: ignore[misc, valid-type]
+        """FROLS over the candidate regressors, minus the constant (column 0) unless asked."""
 
         def run_mss_algorithm(self, psi: np.ndarray, y: np.ndarray,
                               process_term_number: int) -> tuple[Any, ...]:
-            err, piv, selected = self.error_reduction_ratio(psi[:, 1:], y,
+            err, piv, selected = self.error_reduction_ratio(psi[:, first:], y,
                                                              process_term_number)
-            return err, np.asarray(piv) + 1, selected
+            return err, np.asarray(piv) + first, selected
 
         def information_criterion(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
             """sysidentpy's criterion for 1..n_info_values terms from one greedy ERR run.
@@ -229,23 +291,113 @@ def _frols(ylag: int, ulag: int, degree: int, criterion: str, max_terms: int) ->
                                                         float(np.var(residual, ddof=1)))
             return values
 
-    return _FrolsWithoutConstant(
+    return _Frols(
         ylag=ylag, xlag=ulag, order_selection=True, info_criteria=criterion,
         n_info_values=max_terms, estimator=LeastSquares(),
         basis_function=Polynomial(degree=degree), model_type="NARMAX")
 
 
-def identify(y: Any, u: Any, sample_time: float, *, ylag: int = 2, ulag: int = 2,
-             degree: int = 3, criterion: str = "bic", max_terms: int = 15,
-             holdout: float = 0.25, output: str = "y", input: str = "u",  # noqa: A002
+#: A mean of u larger than this fraction of its standard deviation is an operating input.
+OFFSET_FRACTION = 0.05
+#: Structures compared when lags and degree are not given: (lag, degree), ylag = ulag.
+STRUCTURES = tuple((lag, degree) for degree in (1, 2, 3) for lag in (1, 2, 3))
+
+
+def _candidate_keys(ylag: int, ulag: int, degree: int) -> list[Key]:
+    """The constant and every monomial of degree 1..degree (sysidentpy's candidates)."""
+    factors = [("y", lag) for lag in range(1, ylag + 1)] + \
+        [("u", lag) for lag in range(1, ulag + 1)]
+    keys: list[Key] = [((), ())]
+    for d in range(1, degree + 1):
+        for combo in itertools.combinations_with_replacement(factors, d):
+            keys.append((tuple(sorted(lag for n, lag in combo if n == "y")),
+                         tuple(sorted(lag for n, lag in combo if n == "u"))))
+    return keys
+
+
+def _key_name(key: Key) -> str:
+    ys, us = key
+    return "*".join([f"y[k-{lag}]" for lag in ys] + [f"u[k-{lag}]" for lag in us]) or "1"
+
+
+@dataclass(frozen=True)
+class _Fit:
+    keys: list[Key]
+    theta: np.ndarray
+    frols: Any
+    criterion_value: float
+
+
+def _fit_structure(y: np.ndarray, u: np.ndarray, ylag: int, ulag: int, degree: int,
+                   criterion: str, max_terms: int, constant: bool) -> _Fit:
+    """FROLS on the training window; the selected monomials, theta and the criterion."""
+    lag = max(ylag, ulag)
+    keys = _candidate_keys(ylag, ulag, degree)
+    rows = min(y.size, 20000 + lag)
+    check_rank(regressors(keys if constant else keys[1:], y[:rows], u[:rows], lag),
+               [_key_name(k) for k in (keys if constant else keys[1:])])
+    frols = _frols(ylag, ulag, degree, criterion, max_terms, constant)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        frols.fit(X=u[:, None], y=y[:, None])
+    selected = [_decode(row) for row in frols.final_model]
+    theta = np.ravel(frols.theta)
+    values = [float(v) for v in np.ravel(frols.info_values)]
+    return _Fit(selected, theta, frols, min(values))
+
+
+def _choose_structure(y: np.ndarray, u: np.ndarray, criterion: str, max_terms: int,
+                      holdout: float) -> tuple[tuple[int, int, int], tuple[dict[str, Any], ...]]:
+    """Lags and degree of the smallest criterion among :data:`STRUCTURES`, each fitted on
+    the same training samples."""
+    valid = []
+    first_error: ArgumentError | None = None
+    for lag, degree in STRUCTURES:
+        try:
+            valid.append((lag, degree, *_check_settings(y.size, lag, lag, degree, criterion,
+                                                        max_terms, holdout)))
+        except ArgumentError as exc:
+            first_error = first_error or exc
+    window = min((v[4] for v in valid), default=0)
+    table = []
+    for lag, degree, candidates, _, _ in valid:
+        try:
+            fit = _fit_structure(y[:window], u[:window], lag, lag, degree, criterion,
+                                 min(max_terms, candidates), True)
+        except ArgumentError as exc:  # dependent candidates: this degree is not excited
+            first_error = first_error or exc
+            continue
+        table.append({"ylag": lag, "ulag": lag, "degree": degree, "terms": len(fit.keys),
+                      criterion: round_significant(fit.criterion_value)})
+    if not table:
+        assert first_error is not None
+        raise first_error
+    # a tie (to 1e-9 relative) goes to the simpler structure: STRUCTURES is in that order
+    low = min(r[criterion] for r in table)
+    best = next(r for r in table if r[criterion] <= low + 1e-9 * max(1.0, abs(low)))
+    for r in table:
+        r["chosen"] = r is best
+    return (best["ylag"], best["ulag"], best["degree"]), tuple(table)
+
+
+def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
+             ulag: int | None = 2, degree: int | None = 3, criterion: str = "bic",
+             max_terms: int = 15, holdout: float = 0.25, output: str = "y",
+             input: str = "u", noise: bool | None = None,  # noqa: A002
              ) -> Identification:
-    """Identify a polynomial NARX model from input/output data with sysidentpy's FROLS.
+    """Identify a polynomial NARMAX model from input/output data with sysidentpy's FROLS.
 
     The first ``1 - holdout`` of the samples train the model: FROLS ranks the
-    candidate regressors (monomials of degree 1..``degree`` in ``y(k-1..ylag)`` and
-    ``u(k-1..ulag)``, no constant) by error reduction ratio, the information
+    candidate regressors (the constant and the monomials of degree 1..``degree`` in
+    ``y(k-1..ylag)`` and ``u(k-1..ulag)``) by error reduction ratio, the information
     ``criterion`` picks the number of terms among 1..``max_terms``, least squares
-    estimates theta.  The last ``holdout`` part measures the free-run error.
+    estimates theta.  When the training residuals are not white (``noise`` None) or
+    when ``noise`` is True, extended least squares re-estimates the process terms with
+    ``ylag`` moving-average noise terms.  A fitted constant, or an input mean, makes an
+    operating point: the model is rewritten about its equilibrium there
+    (:mod:`gfrf.identify.operating`).  Coefficients are rounded to
+    :data:`SIGNIFICANT_DIGITS` digits.  The last ``holdout`` part validates the model
+    (:func:`gfrf.identify.validate.judge`).
 
     Parameters
     ----------
@@ -253,8 +405,9 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int = 2, ulag: int = 2
         Output and input samples, equally spaced by ``sample_time`` seconds.
     sample_time : float
         Sample time T in seconds.
-    ylag, ulag, degree : int
-        Largest output lag, largest input lag, polynomial degree.
+    ylag, ulag, degree : int or None
+        Largest output lag, largest input lag, polynomial degree; all three None: the
+        structure among :data:`STRUCTURES` with the smallest ``criterion``.
     criterion : {"bic", "aic", "aicc", "fpe", "lilc"}
         Information criterion for the number of terms (sysidentpy's names).
     max_terms : int
@@ -263,6 +416,8 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int = 2, ulag: int = 2
         Fraction (0.05 to 0.5) of the samples, at the end, held out for validation.
     output, input : str
         Signal names in the model.
+    noise : bool or None
+        Fit noise terms: None (default) when the training residuals are coloured.
 
     Returns
     -------
@@ -271,7 +426,8 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int = 2, ulag: int = 2
     Raises
     ------
     ArgumentError
-        Bad data or settings (non-finite samples, too few samples for the
+        Bad data or settings (non-finite or constant samples, values beyond
+        :data:`~gfrf.identify.data.MAX_MAGNITUDE`, linearly dependent candidates, too few samples for the
         candidates, a limit exceeded); checked before any fitting.
     GfrfError
         sysidentpy is not installed (the message says how to install it).
@@ -282,52 +438,96 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int = 2, ulag: int = 2
         raise ArgumentError(f"y has {y.size} samples and u has {u.size}")
     sample_time = _check_sample_time(sample_time)
     _check_names(output, input)
-    candidates, n_train = _check_settings(y.size, ylag, ulag, degree, criterion, max_terms,
-                                          holdout)
+    given = [v is not None for v in (ylag, ulag, degree)]
+    if any(given) and not all(given):
+        raise ArgumentError("give all of ylag, ulag and degree, or none (then the "
+                            "information criterion chooses them)")
+    search = not any(given)
+    probe = (2, 2, 1) if search else (ylag, ulag, degree)
+    candidates, n_train, n_fit = _check_settings(y.size, *probe, criterion, max_terms,
+                                                 holdout)
+    _check_data(y[:n_train], u[:n_train], probe[2] if not search else 3)
+    mean_u, mean_y = float(np.mean(u[:n_train])), float(np.mean(y[:n_train]))
+    u0 = mean_u if abs(mean_u) > OFFSET_FRACTION * float(np.std(u[:n_train])) else 0.0
+    structure: tuple[dict[str, Any], ...] = ()
+    if search:
+        (ylag, ulag, degree), structure = _choose_structure(y, u, criterion, max_terms,
+                                                            holdout)
+        candidates, n_train, n_fit = _check_settings(y.size, ylag, ulag, degree, criterion,
+                                                     max_terms, holdout)
+    assert ylag is not None and ulag is not None and degree is not None
     max_terms = min(max_terms, candidates)
-    frols = _frols(ylag, ulag, degree, criterion, max_terms)
+    lag = max(ylag, ulag)
+    fit = _fit_structure(y[:n_fit], u[:n_fit], ylag, ulag, degree, criterion, max_terms,
+                         True)
     import sysidentpy
 
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        frols.fit(X=u[:n_train, None], y=y[:n_train, None])
-    model = _convert(frols.final_model, frols.theta, sample_time, output, input)
-    theta = np.ravel(frols.theta)
-    regressors = tuple({"codes": [int(c) for c in row], "theta": float(t), "err": float(e)}
-                       for row, t, e in zip(frols.final_model, theta,
-                                            np.ravel(frols.err)[:theta.size], strict=True))
-    lag = max(ylag, ulag)
-    y_test, u_test = y[n_train:], u[n_train:]
+    theta = dict(zip(fit.keys, (float(v) for v in fit.theta), strict=True))
+    y_fit, u_fit = y[:n_fit], u[:n_fit]
+    noise_terms: tuple[float, ...] = ()
+    notes = []
+    white = correlation_tests(residuals(theta, (), y_fit, u_fit, lag), u_fit[lag:])[0].passed
+    if noise or (noise is None and not white):
+        theta, noise_terms = extended_least_squares(fit.keys, y_fit, u_fit, lag, ylag)
+        if not any(noise_terms):
+            noise_terms = ()
+            notes.append("the training residuals are coloured, but extended least squares "
+                         "found no invertible noise model: no noise terms")
+    constant = theta.get(((), ()))
+    if constant is None and u0 == 0.0:
+        y0, how = 0.0, "no offset detected: no constant term selected, mean u is zero"
+        about = dict(theta)
+    else:
+        y0 = equilibrium(theta, u0, mean_y)
+        how = ((f"constant term {constant:.6g} fitted" if constant is not None else
+                "no constant term selected") + ("; u0 is the mean input" if u0 else
+                                                "; u0 = 0 (mean input is zero)")
+               + "; y0 is the fitted model's equilibrium at u0 nearest the mean output "
+               f"{mean_y:.6g}")
+        about = shift(theta, y0, u0)
+    about = {k: round_significant(v) for k, v in about.items()}
+    y0, u0 = round_significant(y0), round_significant(u0)
+    noise_terms = tuple(round_significant(c) for c in noise_terms)
+    model = _model(about, sample_time, output, input)
+    y_test, u_test = y[n_train:] - y0, u[n_train:] - u0
     simulated, blowup = free_run(model, u_test, y_test[:lag])
     free = math.inf if blowup is not None else _rrse(y_test[lag:], simulated[lag:])
-    one_step = _one_step(model, y_test, u_test, lag)
-    notes = []
-    if len(regressors) == max_terms < candidates:
+    e = residuals(about, noise_terms, y_test, u_test, lag)
+    one_step = _rrse(y_test[lag:], y_test[lag:] - e)
+    validation = judge(free, one_step, e, u_test[lag:], blowup)
+    if n_fit < n_train:
+        notes.append(f"the candidate matrix is limited to {MAX_MATRIX} entries: the fit "
+                     f"used the first {n_fit} of the {n_train} training samples")
+    if len(fit.keys) == max_terms < candidates:
         notes.append(f"the criterion chose the largest size considered ({max_terms} terms): "
                      f"a larger max_terms may find a better model")
     if blowup is not None:
         notes.append(f"the identified model's free run blew up at held-out sample {blowup}: "
                      f"it does not reproduce the data")
+    regressor_rows = tuple(
+        {"codes": [int(c) for c in row], "theta": round_significant(float(t)),
+         "err": round_significant(float(e_))}
+        for row, t, e_ in zip(fit.frols.final_model, fit.theta,
+                              np.ravel(fit.frols.err)[:fit.theta.size], strict=True))
     settings = {"ylag": ylag, "ulag": ulag, "degree": degree, "criterion": criterion,
                 "max_terms": max_terms, "holdout": float(holdout)}
-    return Identification(model=model, settings=settings, n_samples=int(y.size),
-                          n_train=n_train, candidates=candidates, regressors=regressors,
-                          free_run_error=free, one_step_error=one_step,
-                          blowup=blowup, notes=tuple(notes),
-                          sysidentpy_version=str(sysidentpy.__version__))
+    return Identification(
+        model=model, settings=settings, n_samples=int(y.size), n_train=n_train,
+        candidates=candidates, regressors=regressor_rows, free_run_error=free,
+        one_step_error=one_step, blowup=blowup, notes=tuple(notes),
+        sysidentpy_version=str(sysidentpy.__version__),
+        operating_point={"u0": u0, "y0": y0, "constant": constant, "how": how},
+        noise=noise_terms, validation=validation, structure=structure, n_fit=n_fit)
 
 
-def _one_step(model: Model, y: np.ndarray, u: np.ndarray, lag: int) -> float:
-    """RRSE of one-step-ahead prediction (measured past outputs) on samples lag..end."""
-    n = y.size
-    prediction = np.zeros(n - lag)
-    lead = _lead(model)
-    for t in model.terms:
-        if t is lead:
-            continue
-        value = np.full(n - lag, -t.coefficient / lead.coefficient)
-        for name, orders in ((y, t.y_orders), (u, t.u_orders)):
-            for order in orders:
-                value *= name[lag - order:n - order]
-        prediction += value
-    return _rrse(y[lag:], prediction)
+def _model(theta: dict[Key, float], sample_time: float, output: str, input_: str) -> Model:
+    """The gfrf model ``y[k] - sum theta*m = 0`` of a dict without constant."""
+    terms = [Term((0,), (), 1.0, output, input_, True)]
+    terms += [Term(ys, us, -v, output, input_, True) for (ys, us), v in theta.items()
+              if v != 0.0]
+    if not any(t.u_orders for t in terms):
+        raise ModelError(f"the identified model has no input term (a NAR model): its GFRFs "
+                         f"are zero; the output does not respond to {input_!r} in the data")
+    model = Model(terms=tuple(sorted(terms)), sample_time=sample_time, output=output,
+                  input=input_)
+    return replace(model, text=narx_equation(model))
