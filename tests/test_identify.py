@@ -345,10 +345,11 @@ def test_cli_identify_text_output_and_bad_input(tmp_path, capsys):
 
 @pytest.mark.parametrize("content, message", [
     ("u,y\n1,2\n1,abc\n", "line 3, column 'y': 'abc'"),
-    ("u,y\n1,2\nnan,1\n", "line 3, column 'u'"),
+    ("u,y\n1,2\nnan,1\n", "1 row.* missing .* line 3.*--missing interpolate"),
     ("u,y\n1,2\n", "fewer than two"),
     ("a,b\n1,2\n", "no column 'y'"),
-    ("u,y\n1,2\n3\n", "line 3, column 'y': ''"),
+    ("u,y\n1,2\n3\n", "1 row.* missing .* line 3"),
+    ("u,y\n1,2\ninf,1\n", "line 3, column 'u': 'inf'"),
 ])
 def test_read_csv_names_the_bad_value(tmp_path, content, message):
     path = tmp_path / "bad.csv"

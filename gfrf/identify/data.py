@@ -201,7 +201,7 @@ def _fill(values: np.ndarray, missing: str, path: Path, columns: str, first_line
         return values, []
     count = int(np.sum(bad))
     if missing == "refuse":
-        raise ArgumentError(f"{path}: {count} rows with missing or non-numeric values in "
+        raise ArgumentError(f"{path}: {count} row(s) with missing or non-numeric values in "
                             f"{columns} (the first on line {first_line}); give --missing "
                             f"interpolate (linear, in the sample index) or --missing drop "
                             f"(keep the longest run of complete rows)")
@@ -209,7 +209,7 @@ def _fill(values: np.ndarray, missing: str, path: Path, columns: str, first_line
         edges = np.flatnonzero(np.diff(np.r_[1, bad.astype(int), 1]))
         runs = list(zip(edges[::2], edges[1::2], strict=True))  # [start, end) of good runs
         start, end = max(runs, key=lambda r: (r[1] - r[0], -r[0]))
-        return values[start:end], [f"{count} rows with missing values: kept the longest run "
+        return values[start:end], [f"{count} row(s) with missing values: kept the longest run "
                                    f"of complete rows, data rows {start + 1} to {end}"]
     good = np.flatnonzero(~bad)
     if good.size < 2:
@@ -220,7 +220,7 @@ def _fill(values: np.ndarray, missing: str, path: Path, columns: str, first_line
         ok = np.isfinite(out[:, j])
         out[:, j] = np.interp(index, index[ok], out[ok, j])
     dropped = good[0] + values.shape[0] - 1 - good[-1]
-    return out, [f"{count} rows with missing values: interpolated linearly in the sample "
+    return out, [f"{count} row(s) with missing values: interpolated linearly in the sample "
                  f"index" + (f" ({dropped} at the ends dropped)" if dropped else "")]
 
 

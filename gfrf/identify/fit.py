@@ -221,7 +221,7 @@ class Identification:
     def noise_text(self) -> str:
         """The noise model, or that there is none."""
         if not self.noise:
-            return "noise terms: none (the training residuals were white)"
+            return "noise terms: none"
         body = " ".join(f"{'-' if c < 0 else '+'} {abs(c):.6g}*e[k-{j}]"
                         for j, c in enumerate(self.noise, start=1))
         return (f"noise terms (extended least squares; not part of the GFRFs): e[k] {body}")
@@ -299,6 +299,9 @@ def _frols(ylag: int, ulag: int, degree: int, criterion: str, max_terms: int,
 
 #: A mean of u larger than this fraction of its standard deviation is an operating input.
 OFFSET_FRACTION = 0.05
+#: Residuals of root mean square below this fraction of the output's spread are the
+#: rounding errors of an exact fit (noise-free data): not tested for whiteness.
+ROUNDING_FLOOR = 1e-9
 #: Structures compared when lags and degree are not given: (lag, degree), ylag = ulag.
 STRUCTURES = tuple((lag, degree) for degree in (1, 2, 3) for lag in (1, 2, 3))
 
@@ -346,28 +349,32 @@ def _fit_structure(y: np.ndarray, u: np.ndarray, ylag: int, ulag: int, degree: i
     return _Fit(selected, theta, frols, min(values))
 
 
-def _choose_structure(y: np.ndarray, u: np.ndarray, criterion: str, max_terms: int,
-                      holdout: float) -> tuple[tuple[int, int, int], tuple[dict[str, Any], ...]]:
-    """Lags and degree of the smallest criterion among :data:`STRUCTURES`, each fitted on
-    the same training samples."""
+def _choose_structure(y: np.ndarray, u: np.ndarray, given: tuple[int | None, ...],
+                      criterion: str, max_terms: int, holdout: float
+                      ) -> tuple[tuple[int, int, int], tuple[dict[str, Any], ...]]:
+    """Lags and degree of the smallest criterion among :data:`STRUCTURES` (the ``given``
+    ylag, ulag, degree held fixed), each fitted on the same training samples."""
     valid = []
     first_error: ArgumentError | None = None
     for lag, degree in STRUCTURES:
+        setting = (given[0] or lag, given[1] or lag, given[2] or degree)
+        if any(v[:3] == setting for v in valid):
+            continue
         try:
-            valid.append((lag, degree, *_check_settings(y.size, lag, lag, degree, criterion,
-                                                        max_terms, holdout)))
+            valid.append((*setting, *_check_settings(y.size, *setting, criterion, max_terms,
+                                                     holdout)))
         except ArgumentError as exc:
             first_error = first_error or exc
-    window = min((v[4] for v in valid), default=0)
+    window = min((v[5] for v in valid), default=0)
     table = []
-    for lag, degree, candidates, _, _ in valid:
+    for ylag, ulag, degree, candidates, _, _ in valid:
         try:
-            fit = _fit_structure(y[:window], u[:window], lag, lag, degree, criterion,
+            fit = _fit_structure(y[:window], u[:window], ylag, ulag, degree, criterion,
                                  min(max_terms, candidates), True)
         except ArgumentError as exc:  # dependent candidates: this degree is not excited
             first_error = first_error or exc
             continue
-        table.append({"ylag": lag, "ulag": lag, "degree": degree, "terms": len(fit.keys),
+        table.append({"ylag": ylag, "ulag": ulag, "degree": degree, "terms": len(fit.keys),
                       criterion: round_significant(fit.criterion_value)})
     if not table:
         assert first_error is not None
@@ -406,8 +413,9 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
     sample_time : float
         Sample time T in seconds.
     ylag, ulag, degree : int or None
-        Largest output lag, largest input lag, polynomial degree; all three None: the
-        structure among :data:`STRUCTURES` with the smallest ``criterion``.
+        Largest output lag, largest input lag, polynomial degree; those None are chosen
+        among :data:`STRUCTURES` (lag 1 to 3, ``ylag = ulag``, degree 1 to 3) by the
+        smallest ``criterion``, the others held fixed.
     criterion : {"bic", "aic", "aicc", "fpe", "lilc"}
         Information criterion for the number of terms (sysidentpy's names).
     max_terms : int
@@ -438,21 +446,18 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
         raise ArgumentError(f"y has {y.size} samples and u has {u.size}")
     sample_time = _check_sample_time(sample_time)
     _check_names(output, input)
-    given = [v is not None for v in (ylag, ulag, degree)]
-    if any(given) and not all(given):
-        raise ArgumentError("give all of ylag, ulag and degree, or none (then the "
-                            "information criterion chooses them)")
-    search = not any(given)
-    probe = (2, 2, 1) if search else (ylag, ulag, degree)
+    given = (ylag, ulag, degree)
+    search = None in given
+    probe = (ylag or 1, ulag or 1, degree or 1)
     candidates, n_train, n_fit = _check_settings(y.size, *probe, criterion, max_terms,
                                                  holdout)
-    _check_data(y[:n_train], u[:n_train], probe[2] if not search else 3)
+    _check_data(y[:n_train], u[:n_train], degree or 3)
     mean_u, mean_y = float(np.mean(u[:n_train])), float(np.mean(y[:n_train]))
     u0 = mean_u if abs(mean_u) > OFFSET_FRACTION * float(np.std(u[:n_train])) else 0.0
     structure: tuple[dict[str, Any], ...] = ()
     if search:
-        (ylag, ulag, degree), structure = _choose_structure(y, u, criterion, max_terms,
-                                                            holdout)
+        (ylag, ulag, degree), structure = _choose_structure(y, u, given, criterion,
+                                                            max_terms, holdout)
         candidates, n_train, n_fit = _check_settings(y.size, ylag, ulag, degree, criterion,
                                                      max_terms, holdout)
     assert ylag is not None and ulag is not None and degree is not None
@@ -466,7 +471,11 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
     y_fit, u_fit = y[:n_fit], u[:n_fit]
     noise_terms: tuple[float, ...] = ()
     notes = []
-    white = correlation_tests(residuals(theta, (), y_fit, u_fit, lag), u_fit[lag:])[0].passed
+    floor = ROUNDING_FLOOR * float(np.std(y_fit))
+    white = correlation_tests(residuals(theta, (), y_fit, u_fit, lag), u_fit[lag:],
+                              floor=floor)[0].passed
+    if noise is None and white:
+        notes.append("the training residuals are white: no noise terms needed")
     if noise or (noise is None and not white):
         theta, noise_terms = extended_least_squares(fit.keys, y_fit, u_fit, lag, ylag)
         if not any(noise_terms):
@@ -494,7 +503,8 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
     free = math.inf if blowup is not None else _rrse(y_test[lag:], simulated[lag:])
     e = residuals(about, noise_terms, y_test, u_test, lag)
     one_step = _rrse(y_test[lag:], y_test[lag:] - e)
-    validation = judge(free, one_step, e, u_test[lag:], blowup)
+    validation = judge(free, one_step, e, u_test[lag:], blowup,
+                       floor=ROUNDING_FLOOR * float(np.std(y_test)))
     if n_fit < n_train:
         notes.append(f"the candidate matrix is limited to {MAX_MATRIX} entries: the fit "
                      f"used the first {n_fit} of the {n_train} training samples")
