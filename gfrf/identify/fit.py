@@ -387,6 +387,29 @@ def _choose_structure(y: np.ndarray, u: np.ndarray, given: tuple[int | None, ...
     return (best["ylag"], best["ulag"], best["degree"]), tuple(table)
 
 
+def _estimate(y: np.ndarray, u: np.ndarray, ylag: int, ulag: int, degree: int,
+              criterion: str, max_terms: int, noise: bool | None
+              ) -> tuple[_Fit, dict[Key, float], tuple[float, ...], list[str]]:
+    """FROLS, then extended least squares when asked or when the residuals are coloured."""
+    lag = max(ylag, ulag)
+    fit = _fit_structure(y, u, ylag, ulag, degree, criterion, max_terms, True)
+    theta = dict(zip(fit.keys, (float(v) for v in fit.theta), strict=True))
+    noise_terms: tuple[float, ...] = ()
+    notes = []
+    floor = ROUNDING_FLOOR * float(np.std(y))
+    white = correlation_tests(residuals(theta, (), y, u, lag), u[lag:],
+                              floor=floor)[0].passed
+    if noise is None and white:
+        notes.append("the training residuals are white: no noise terms needed")
+    if noise or (noise is None and not white):
+        theta, noise_terms = extended_least_squares(fit.keys, y, u, lag, ylag)
+        if not any(noise_terms):
+            noise_terms = ()
+            notes.append("the training residuals are coloured, but extended least squares "
+                         "found no invertible noise model: no noise terms")
+    return fit, theta, noise_terms, notes
+
+
 def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
              ulag: int | None = 2, degree: int | None = 3, criterion: str = "bic",
              max_terms: int = 15, holdout: float = 0.25, output: str = "y",
@@ -454,46 +477,42 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
     _check_data(y[:n_train], u[:n_train], degree or 3)
     mean_u, mean_y = float(np.mean(u[:n_train])), float(np.mean(y[:n_train]))
     u0 = mean_u if abs(mean_u) > OFFSET_FRACTION * float(np.std(u[:n_train])) else 0.0
+    offset = u0 != 0.0 or abs(mean_y) > OFFSET_FRACTION * float(np.std(y[:n_train]))
+    # the data about a centre: u0 first, then about the first fit's equilibrium, where
+    # an output offset no longer expands y**3 into y**3, y**2, y and 1 (a second fit)
+    cy, cu = 0.0, u0
     structure: tuple[dict[str, Any], ...] = ()
     if search:
-        (ylag, ulag, degree), structure = _choose_structure(y, u, given, criterion,
+        (ylag, ulag, degree), structure = _choose_structure(y - cy, u - cu, given, criterion,
                                                             max_terms, holdout)
         candidates, n_train, n_fit = _check_settings(y.size, ylag, ulag, degree, criterion,
                                                      max_terms, holdout)
     assert ylag is not None and ulag is not None and degree is not None
     max_terms = min(max_terms, candidates)
     lag = max(ylag, ulag)
-    fit = _fit_structure(y[:n_fit], u[:n_fit], ylag, ulag, degree, criterion, max_terms,
-                         True)
+    for step in range(2 if offset else 1):
+        if step:
+            if y0c == 0.0:
+                break
+            cy += y0c
+        fit, theta, noise_terms, notes = _estimate(y[:n_fit] - cy, u[:n_fit] - cu, ylag,
+                                                   ulag, degree, criterion, max_terms, noise)
+        constant = theta.get(((), ()))
+        if not step:
+            first_constant = constant
+        y0c = 0.0 if constant is None else equilibrium(theta, 0.0, 0.0)
     import sysidentpy
 
-    theta = dict(zip(fit.keys, (float(v) for v in fit.theta), strict=True))
-    y_fit, u_fit = y[:n_fit], u[:n_fit]
-    noise_terms: tuple[float, ...] = ()
-    notes = []
-    floor = ROUNDING_FLOOR * float(np.std(y_fit))
-    white = correlation_tests(residuals(theta, (), y_fit, u_fit, lag), u_fit[lag:],
-                              floor=floor)[0].passed
-    if noise is None and white:
-        notes.append("the training residuals are white: no noise terms needed")
-    if noise or (noise is None and not white):
-        theta, noise_terms = extended_least_squares(fit.keys, y_fit, u_fit, lag, ylag)
-        if not any(noise_terms):
-            noise_terms = ()
-            notes.append("the training residuals are coloured, but extended least squares "
-                         "found no invertible noise model: no noise terms")
-    constant = theta.get(((), ()))
-    if constant is None and u0 == 0.0:
-        y0, how = 0.0, "no offset detected: no constant term selected, mean u is zero"
-        about = dict(theta)
+    about = shift(theta, y0c, 0.0) if constant is not None else dict(theta)
+    y0 = cy + y0c
+    if first_constant is None and u0 == 0.0:
+        how = "no offset: no constant term selected, mean u is zero"
     else:
-        y0 = equilibrium(theta, u0, mean_y)
-        how = ((f"constant term {constant:.6g} fitted" if constant is not None else
-                "no constant term selected") + ("; u0 is the mean input" if u0 else
-                                                "; u0 = 0 (mean input is zero)")
-               + "; y0 is the fitted model's equilibrium at u0 nearest the mean output "
-               f"{mean_y:.6g}")
-        about = shift(theta, y0, u0)
+        how = ((f"constant term {first_constant:.6g} fitted" if first_constant is not None
+                else "no constant term selected") + ("; u0 is the mean input" if u0 else
+                                                     "; u0 = 0 (mean input is zero)")
+               + "; y0 is the fitted model's equilibrium at u0" + (
+                   ", the model refitted about it" if cy else ""))
     about = {k: round_significant(v) for k, v in about.items()}
     y0, u0 = round_significant(y0), round_significant(u0)
     noise_terms = tuple(round_significant(c) for c in noise_terms)
@@ -526,7 +545,7 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
         candidates=candidates, regressors=regressor_rows, free_run_error=free,
         one_step_error=one_step, blowup=blowup, notes=tuple(notes),
         sysidentpy_version=str(sysidentpy.__version__),
-        operating_point={"u0": u0, "y0": y0, "constant": constant, "how": how},
+        operating_point={"u0": u0, "y0": y0, "constant": first_constant, "how": how},
         noise=noise_terms, validation=validation, structure=structure, n_fit=n_fit)
 
 
