@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import csv
 import math
-from math import comb
 from dataclasses import dataclass
+from math import comb
 from pathlib import Path
 from typing import Any
 

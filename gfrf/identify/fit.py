@@ -1,10 +1,14 @@
 """The identification step: sysidentpy's FROLS on input/output data, and the fit's quality.
 
-:func:`identify` fits a polynomial NARX model to input/output data with sysidentpy's
-FROLS (the number of terms chosen by an information criterion, the constant regressor
-left out so that ``y = u = 0`` stays an equilibrium), converts it exactly
-(:mod:`gfrf.identify.narx`), and measures its free-run error (:func:`free_run`) on a
-held-out final part of the data; the result is an :class:`Identification`.
+:func:`identify` fits a polynomial NARMAX model to input/output data with sysidentpy's
+FROLS (the number of terms, and the lags and degree when not given, chosen by an
+information criterion; a constant term among the candidates), re-estimates it with
+noise terms by extended least squares when its residuals are coloured
+(:mod:`gfrf.identify.noise`), rewrites it about its operating point so that the
+deviations ``y = u = 0`` are an equilibrium (:mod:`gfrf.identify.operating`), rounds
+the coefficients, and validates it on a held-out final part of the data (free run,
+:func:`free_run`, and correlation tests, :mod:`gfrf.identify.validate`); the result is
+an :class:`~gfrf.identify.result.Identification`.
 :func:`same_terms` compares two identified models to a relative tolerance.
 
 sysidentpy is the optional extra ``gfrf[identify]``; it is imported only inside
@@ -17,7 +21,7 @@ import itertools
 import math
 import warnings
 from collections.abc import Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -34,8 +38,9 @@ from gfrf.identify.data import (
 )
 from gfrf.identify.narx import _decode, _lead, narx_equation
 from gfrf.identify.noise import extended_least_squares, regressors, residuals
-from gfrf.identify.operating import SIGNIFICANT_DIGITS, equilibrium, round_significant, shift
-from gfrf.identify.validate import Validation, correlation_tests, judge
+from gfrf.identify.operating import equilibrium, round_significant, shift
+from gfrf.identify.result import Identification
+from gfrf.identify.validate import correlation_tests, judge
 from gfrf.model.equation import Model, Term
 
 Key = tuple[tuple[int, ...], tuple[int, ...]]
@@ -131,119 +136,6 @@ def _rrse(measured: np.ndarray, predicted: np.ndarray) -> float:
     if spread == 0.0:
         return math.inf
     return math.sqrt(float(np.sum((measured - predicted) ** 2)) / spread)
-
-
-@dataclass(frozen=True)
-class Identification:
-    """A NARMAX model identified from data, with its fit settings, operating point and
-    validation.
-
-    Attributes
-    ----------
-    model : Model
-        The process model about the operating point (deviations ``y - y0``,
-        ``u - u0``), coefficients rounded to :data:`SIGNIFICANT_DIGITS` digits.
-    settings : dict
-        ``ylag``, ``ulag``, ``degree``, ``criterion``, ``max_terms``, ``holdout``.
-    n_samples, n_train : int
-        Samples in the data and in the training part (the rest is held out).
-    candidates : int
-        Candidate regressors considered (constant excluded).
-    regressors : tuple of dict
-        Per regressor FROLS selected, in its order: ``codes``, ``theta`` (before the
-        move to the operating point and before extended least squares), ``err``.
-    free_run_error : float
-        Root relative squared error of the free-run simulation on the held-out part
-        (``inf`` when the simulation blew up).
-    one_step_error : float
-        Root relative squared error of one-step-ahead prediction on the held-out part.
-    blowup : int or None
-        Held-out sample at which the free run blew up, or None.
-    notes : tuple of str
-        Remarks (criterion at its limit, training window, ...).
-    sysidentpy_version : str
-    operating_point : dict
-        ``u0``, ``y0``, ``constant`` (the fitted constant term or None) and ``how``.
-    noise : tuple of float
-        Coefficients ``c_j`` of the noise terms ``c_j*e[k-j]`` (empty: none fitted).
-    validation : Validation or None
-        Hold-out validation (free run and correlation tests).
-    structure : tuple of dict
-        The structures compared when lags and degree were chosen by the criterion.
-    n_fit : int
-        Training samples in the candidate matrix.
-    """
-
-    model: Model
-    settings: dict[str, Any]
-    n_samples: int
-    n_train: int
-    candidates: int
-    regressors: tuple[dict[str, Any], ...]
-    free_run_error: float
-    one_step_error: float
-    blowup: int | None = None
-    notes: tuple[str, ...] = field(default=())
-    sysidentpy_version: str = ""
-    operating_point: dict[str, Any] = field(default_factory=dict)
-    noise: tuple[float, ...] = field(default=())
-    validation: Validation | None = None
-    structure: tuple[dict[str, Any], ...] = field(default=())
-    n_fit: int = 0
-
-    @property
-    def adequate(self) -> bool:
-        """True when the hold-out validation passed."""
-        return self.validation is not None and self.validation.adequate
-
-    def settings_text(self) -> str:
-        """The fit settings as command-line options."""
-        s = self.settings
-        return (f"--ylag {s['ylag']} --ulag {s['ulag']} --degree {s['degree']} "
-                f"--criterion {s['criterion']} --max-terms {s['max_terms']} "
-                f"--holdout {s['holdout']:g}")
-
-    def quality_text(self) -> str:
-        """One line: terms chosen and the held-out errors."""
-        held = self.n_samples - self.n_train
-        run = (f"free run blew up at held-out sample {self.blowup}" if self.blowup is not None
-               else f"free-run RRSE {self.free_run_error:.4g}")
-        return (f"{len(self.regressors)} of {self.candidates} candidate terms "
-                f"({self.settings['criterion'].upper()}); on the held-out last {held} of "
-                f"{self.n_samples} samples: {run}, one-step RRSE {self.one_step_error:.4g}")
-
-    def operating_text(self) -> str:
-        """One line: the operating point the model and its GFRFs are about."""
-        op = self.operating_point
-        return (f"operating point u0 = {op['u0']:.10g}, y0 = {op['y0']:.10g} ({op['how']}); "
-                f"the model, its GFRFs and the verdict are about deviations from it")
-
-    def noise_text(self) -> str:
-        """The noise model, or that there is none."""
-        if not self.noise:
-            return "noise terms: none"
-        body = " ".join(f"{'-' if c < 0 else '+'} {abs(c):.6g}*e[k-{j}]"
-                        for j, c in enumerate(self.noise, start=1))
-        return (f"noise terms (extended least squares; not part of the GFRFs): e[k] {body}")
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready description."""
-        validation = self.validation.to_dict() if self.validation else None
-        return {"model": self.model.to_dict(), "settings": dict(self.settings),
-                "n_samples": self.n_samples, "n_train": self.n_train, "n_fit": self.n_fit,
-                "candidates": self.candidates,
-                "regressors": [dict(r) for r in self.regressors],
-                "process_terms": self.model.text,
-                "noise_terms": [{"term": f"e[k-{j}]", "coefficient": c}
-                                for j, c in enumerate(self.noise, start=1)],
-                "operating_point": dict(self.operating_point),
-                "free_run_error": self.free_run_error, "one_step_error": self.one_step_error,
-                "blowup": self.blowup, "notes": list(self.notes),
-                "structure_search": [dict(s) for s in self.structure],
-                "validation": validation, "adequate": self.adequate,
-                "reason": self.validation.reason if self.validation else "not validated",
-                "significant_digits": SIGNIFICANT_DIGITS,
-                "sysidentpy_version": self.sysidentpy_version}
 
 
 def _frols(ylag: int, ulag: int, degree: int, criterion: str, max_terms: int,
@@ -458,8 +350,8 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
     ------
     ArgumentError
         Bad data or settings (non-finite or constant samples, values beyond
-        :data:`~gfrf.identify.data.MAX_MAGNITUDE`, linearly dependent candidates, too few samples for the
-        candidates, a limit exceeded); checked before any fitting.
+        :data:`~gfrf.identify.data.MAX_MAGNITUDE`, linearly dependent candidates, too
+        few samples for the candidates, a limit exceeded); checked before any fitting.
     GfrfError
         sysidentpy is not installed (the message says how to install it).
     """
@@ -490,17 +382,16 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
     assert ylag is not None and ulag is not None and degree is not None
     max_terms = min(max_terms, candidates)
     lag = max(ylag, ulag)
-    for step in range(2 if offset else 1):
-        if step:
-            if y0c == 0.0:
-                break
-            cy += y0c
+    fit, theta, noise_terms, notes = _estimate(y[:n_fit], u[:n_fit] - cu, ylag, ulag,
+                                               degree, criterion, max_terms, noise)
+    first_constant = constant = theta.get(((), ()))
+    y0c = 0.0 if constant is None else equilibrium(theta, 0.0, mean_y)
+    if offset and y0c != 0.0:  # the second fit, about the first one's equilibrium
+        cy = y0c
         fit, theta, noise_terms, notes = _estimate(y[:n_fit] - cy, u[:n_fit] - cu, ylag,
                                                    ulag, degree, criterion, max_terms, noise)
         constant = theta.get(((), ()))
-        if not step:
-            first_constant = constant
-        y0c = 0.0 if constant is None else equilibrium(theta, 0.0, 0.0)
+        y0c = 0.0 if constant is None else equilibrium(theta, 0.0, mean_y - cy)
     import sysidentpy
 
     about = shift(theta, y0c, 0.0) if constant is not None else dict(theta)
