@@ -16,6 +16,7 @@ from __future__ import annotations
 import argparse
 import os
 from pathlib import Path
+from typing import Any
 
 from gfrf.cli._output import add_json_flag, emit
 from gfrf.errors import ArgumentError
@@ -99,6 +100,21 @@ def _sample_time(given: float | None, from_time: float | None, time: str) -> flo
     return given
 
 
+def _with_margin(v: Any) -> Any:
+    """A stable verdict kept only when the amplitude clears r* by the identification margin."""
+    from dataclasses import replace
+
+    from gfrf.identify.validate import VERDICT_MARGIN
+
+    if v.verdict != "stable" or v.amplitude * (1 + VERDICT_MARGIN) < v.radius:
+        return v
+    note = (f"Identified model: r = {v.amplitude:g} is below its r* = {v.radius:.6g} but "
+            f"r (1 + {VERDICT_MARGIN:g}) = {v.amplitude * (1 + VERDICT_MARGIN):.6g} is not: an "
+            f"identified r* only estimates the system's, which may be below r, so stability "
+            f"is not claimed. For the identified model alone:")
+    return replace(v, verdict="inconclusive", summary=f"{note} {v.summary}".strip())
+
+
 def _identify(args: argparse.Namespace) -> int:
     from gfrf.cli.stability import _verdict_text
     from gfrf.identify.data import read_data
@@ -141,7 +157,7 @@ def _identify(args: argparse.Namespace) -> int:
                       "marked as such)"]
         emit(args, payload, "\n".join(lines))
         return 1
-    v = verdict(model_file, args.order, args.amplitude)
+    v = _with_margin(verdict(model_file, args.order, args.amplitude))
     payload["verdict"] = v.to_dict()
     if not result.adequate:
         payload["forced"] = True

@@ -20,8 +20,9 @@ __all__ = ["regressors", "extended_least_squares", "residuals", "ELS_ITERATIONS"
 
 Key = tuple[tuple[int, ...], tuple[int, ...]]
 #: Most iterations of extended least squares (it stops earlier when no process
-#: coefficient moves by more than 1e-9 of the largest: work, never time, decides).
-ELS_ITERATIONS = 20
+#: coefficient moves by more than 1e-14 of the largest, so that the digits written are
+#: those of the limit: work, never time, decides).
+ELS_ITERATIONS = 200
 
 
 def regressors(keys: list[Key], y: np.ndarray, u: np.ndarray, lag: int) -> np.ndarray:
@@ -71,13 +72,13 @@ def extended_least_squares(keys: list[Key], y: np.ndarray, u: np.ndarray, lag: i
     theta = np.linalg.lstsq(psi, target, rcond=None)[0]
     e = target - psi @ theta
     noise = np.zeros(order)
-    for _ in range(ELS_ITERATIONS):
+    for _iteration in range(ELS_ITERATIONS):
         lagged = np.column_stack([np.r_[np.zeros(j), e[:e.size - j]]
                                   for j in range(1, order + 1)])
         full = np.linalg.lstsq(np.hstack([psi, lagged]), target, rcond=None)[0]
         if np.any(np.abs(np.roots(np.r_[1.0, full[len(keys):]])) >= 1.0):
             break  # a noise model that is not invertible: keep the last invertible one
-        done = np.max(np.abs(full[:len(keys)] - theta)) <= 1e-9 * np.max(np.abs(theta))
+        done = np.max(np.abs(full[:len(keys)] - theta)) <= 1e-14 * np.max(np.abs(theta))
         theta, noise = full[:len(keys)], full[len(keys):]
         if done:
             break
