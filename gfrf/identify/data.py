@@ -190,7 +190,7 @@ def _time_step(t: np.ndarray, path: Path, name: str) -> float:
         bad = int(np.argmax(np.abs(steps - step)))
         raise ArgumentError(f"{path}: column {name!r} is not equally spaced (step "
                             f"{steps[bad]:.6g} after row {bad + 1}, median {step:.6g})")
-    return step
+    return float(f"{step:.10g}")  # 0.1, not the 0.09999999999999432 of printed times
 
 
 def _fill(values: np.ndarray, missing: str, path: Path, columns: str, first_line: int
