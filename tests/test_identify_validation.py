@@ -308,3 +308,26 @@ def test_a_stable_verdict_needs_the_identification_margin(capsys):
     true = str(ex.MODELS_DIR / f"{ex.STEM}_true.toml")
     assert main(["verdict", true, "--order", "2", "--amplitude", "0.69"]) == 1
     capsys.readouterr()
+
+
+def test_output_error_when_extended_least_squares_cannot_whiten():
+    """A lightly damped model (poles |z| = 0.92) with white output noise: the equation
+    error is an MA process with roots near the unit circle; the output-error estimate
+    reproduces the output and H1, least squares does not."""
+    true = parse_model("y[k] = 1.7*y[k-1] - 0.85*y[k-2] + 0.1*u[k-1] + 0.05*u[k-2] "
+                       "- 0.02*y[k-1]**3", sample_time=T)
+    rng = np.random.default_rng(1)
+    u = rng.uniform(-1, 1, 2000)
+    x, blowup = free_run(true, u, np.zeros(2))
+    assert blowup is None
+    y = x + 0.04 * np.std(x) * rng.standard_normal(u.size)
+    plain = identify(y, u, T, noise=False)
+    oe = identify(y, u, T)
+    assert oe.noise_model == "output error" and oe.noise == ()
+    assert "output error" in oe.noise_text()
+    h = kernel(true, 1)(W)
+    errors = [np.max(np.abs(kernel(r.model, 1)(W) - h)) / np.max(np.abs(h))
+              for r in (plain, oe)]
+    assert errors[1] < 0.05 < errors[0]
+    assert not plain.adequate and oe.adequate
+    assert oe.free_run_error < FREE_RUN_LIMIT < plain.free_run_error

@@ -39,6 +39,7 @@ from gfrf.identify.data import (
 from gfrf.identify.narx import _decode, _lead, narx_equation
 from gfrf.identify.noise import extended_least_squares, regressors, residuals
 from gfrf.identify.operating import equilibrium, round_significant, shift
+from gfrf.identify.output_error import refine
 from gfrf.identify.result import Identification
 from gfrf.identify.validate import correlation_tests, judge
 from gfrf.model.equation import Model, Term
@@ -281,25 +282,37 @@ def _choose_structure(y: np.ndarray, u: np.ndarray, given: tuple[int | None, ...
 
 def _estimate(y: np.ndarray, u: np.ndarray, ylag: int, ulag: int, degree: int,
               criterion: str, max_terms: int, noise: bool | None
-              ) -> tuple[_Fit, dict[Key, float], tuple[float, ...], list[str]]:
-    """FROLS, then extended least squares when asked or when the residuals are coloured."""
+              ) -> tuple[_Fit, dict[Key, float], tuple[float, ...], list[str], str]:
+    """FROLS, then a noise model when asked or when the residuals are coloured.
+
+    Returns the fit, the process coefficients, the noise coefficients, notes and the
+    kind of noise model: ``"none"``, ``"narmax"`` (extended least squares) or
+    ``"output error"`` (when extended least squares cannot whiten the residuals:
+    :mod:`gfrf.identify.output_error`).
+    """
     lag = max(ylag, ulag)
     fit = _fit_structure(y, u, ylag, ulag, degree, criterion, max_terms, True)
     theta = dict(zip(fit.keys, (float(v) for v in fit.theta), strict=True))
-    noise_terms: tuple[float, ...] = ()
-    notes = []
+    notes: list[str] = []
     floor = ROUNDING_FLOOR * float(np.std(y))
-    white = correlation_tests(residuals(theta, (), y, u, lag), u[lag:],
-                              floor=floor)[0].passed
-    if noise is None and white:
-        notes.append("the training residuals are white: no noise terms needed")
-    if noise or (noise is None and not white):
-        theta, noise_terms = extended_least_squares(fit.keys, y, u, lag, ylag)
-        if not any(noise_terms):
-            noise_terms = ()
-            notes.append("the training residuals are coloured, but extended least squares "
-                         "found no invertible noise model: no noise terms")
-    return fit, theta, noise_terms, notes
+
+    def white(th: dict[Key, float], c: tuple[float, ...]) -> bool:
+        return correlation_tests(residuals(th, c, y, u, lag), u[lag:], floor=floor)[0].passed
+
+    if noise is False or (noise is None and white(theta, ())):
+        if noise is None:
+            notes.append("the training residuals are white: no noise terms needed")
+        return fit, theta, (), notes, "none"
+    els, noise_terms = extended_least_squares(fit.keys, y, u, lag, ylag)
+    if any(noise_terms) and (noise or white(els, noise_terms)):
+        return fit, els, noise_terms, notes, "narmax"
+    if noise:
+        notes.append("extended least squares found no invertible noise model: no noise "
+                     "terms")
+        return fit, theta, (), notes, "none"
+    notes.append("extended least squares could not whiten the coloured training residuals: "
+                 "output-error estimate (free-run error minimised on the training part)")
+    return fit, refine(theta, y, u, lag), (), notes, "output error"
 
 
 def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
@@ -382,13 +395,14 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
     assert ylag is not None and ulag is not None and degree is not None
     max_terms = min(max_terms, candidates)
     lag = max(ylag, ulag)
-    fit, theta, noise_terms, notes = _estimate(y[:n_fit], u[:n_fit] - cu, ylag, ulag,
+    fit, theta, noise_terms, notes, kind = _estimate(y[:n_fit], u[:n_fit] - cu, ylag, ulag,
                                                degree, criterion, max_terms, noise)
     first_constant = constant = theta.get(((), ()))
     y0c = 0.0 if constant is None else equilibrium(theta, 0.0, mean_y)
     if offset and y0c != 0.0:  # the second fit, about the first one's equilibrium
         cy = y0c
-        fit, theta, noise_terms, notes = _estimate(y[:n_fit] - cy, u[:n_fit] - cu, ylag,
+        fit, theta, noise_terms, notes, kind = _estimate(y[:n_fit] - cy, u[:n_fit] - cu,
+                                                         ylag,
                                                    ulag, degree, criterion, max_terms, noise)
         constant = theta.get(((), ()))
         y0c = 0.0 if constant is None else equilibrium(theta, 0.0, mean_y - cy)
@@ -411,7 +425,10 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
     y_test, u_test = y[n_train:] - y0, u[n_train:] - u0
     simulated, blowup = free_run(model, u_test, y_test[:lag])
     free = math.inf if blowup is not None else _rrse(y_test[lag:], simulated[lag:])
-    e = residuals(about, noise_terms, y_test, u_test, lag)
+    if kind == "output error":  # its one-step predictor is the free run
+        e = y_test[lag:] - simulated[lag:] if blowup is None else y_test[lag:]
+    else:
+        e = residuals(about, noise_terms, y_test, u_test, lag)
     one_step = _rrse(y_test[lag:], y_test[lag:] - e)
     validation = judge(free, one_step, e, u_test[lag:], blowup,
                        floor=ROUNDING_FLOOR * float(np.std(y_test)))
@@ -437,7 +454,8 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
         one_step_error=one_step, blowup=blowup, notes=tuple(notes),
         sysidentpy_version=str(sysidentpy.__version__),
         operating_point={"u0": u0, "y0": y0, "constant": first_constant, "how": how},
-        noise=noise_terms, validation=validation, structure=structure, n_fit=n_fit)
+        noise=noise_terms, validation=validation, structure=structure, n_fit=n_fit,
+        noise_model=kind)
 
 
 def _model(theta: dict[Key, float], sample_time: float, output: str, input_: str) -> Model:

@@ -55,6 +55,9 @@ class Identification:
         The structures compared when lags and degree were chosen by the criterion.
     n_fit : int
         Training samples in the candidate matrix.
+    noise_model : str
+        ``"none"``, ``"narmax"`` (the noise terms ``noise``) or ``"output error"``
+        (white noise on the output: coefficients minimise the free-run error).
     """
 
     model: Model
@@ -73,6 +76,7 @@ class Identification:
     validation: Validation | None = None
     structure: tuple[dict[str, Any], ...] = field(default=())
     n_fit: int = 0
+    noise_model: str = "none"
 
     @property
     def adequate(self) -> bool:
@@ -103,6 +107,9 @@ class Identification:
 
     def noise_text(self) -> str:
         """The noise model, or that there is none."""
+        if self.noise_model == "output error":
+            return ("noise: output error (white noise on the output; the coefficients "
+                    "minimise the free-run error on the training part)")
         if not self.noise:
             return "noise terms: none"
         body = " ".join(f"{'-' if c < 0 else '+'} {abs(c):.6g}*e[k-{j}]"
@@ -117,6 +124,7 @@ class Identification:
                 "candidates": self.candidates,
                 "regressors": [dict(r) for r in self.regressors],
                 "process_terms": self.model.text,
+                "noise_model": self.noise_model,
                 "noise_terms": [{"term": f"e[k-{j}]", "coefficient": c}
                                 for j, c in enumerate(self.noise, start=1)],
                 "operating_point": dict(self.operating_point),
