@@ -416,7 +416,8 @@ def test_worked_example_files_are_consistent_and_close_to_the_truth():
                            rtol=1e-12, atol=1e-14)
 
 
-@pytest.mark.parametrize("name", ["gfrf.identify.narx", "gfrf.identify.data"])
+@pytest.mark.parametrize("name", ["gfrf.identify.narx", "gfrf.identify.data",
+                                  "gfrf.identify.operating", "gfrf.identify.validate"])
 def test_module_examples(name):
     import doctest
     import importlib

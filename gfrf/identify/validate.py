@@ -48,7 +48,7 @@ def allowed_outside(count: int, level: float = 0.05) -> int:
     ``level``: the smallest k with ``P(Binomial(count, level) <= k) >= 0.99``.
 
     >>> allowed_outside(20), allowed_outside(21)
-    (3, 4)
+    (4, 4)
     """
     total = 0.0
     for k in range(count + 1):
