@@ -182,7 +182,11 @@ def _frols(ylag: int, ulag: int, degree: int, criterion: str, max_terms: int,
                 residual = target - selected[:, :i + 1] @ theta
                 values[i] = self.info_criteria_function(i + 1, n_samples,
                                                         float(np.var(residual, ddof=1)))
-            return values
+            self.raw_info_values = values
+            # sysidentpy keeps the size before the criterion's first increase, a local
+            # minimum (one term for a lightly damped system); the global minimum is meant:
+            # its distance from it, which first increases after it, selects it
+            return np.abs(np.arange(count, dtype=float) - float(np.argmin(values)))
 
     return _Frols(
         ylag=ylag, xlag=ulag, order_selection=True, info_criteria=criterion,
@@ -238,8 +242,7 @@ def _fit_structure(y: np.ndarray, u: np.ndarray, ylag: int, ulag: int, degree: i
         frols.fit(X=u[:, None], y=y[:, None])
     selected = [_decode(row) for row in frols.final_model]
     theta = np.ravel(frols.theta)
-    values = [float(v) for v in np.ravel(frols.info_values)]
-    return _Fit(selected, theta, frols, min(values))
+    return _Fit(selected, theta, frols, float(np.min(frols.raw_info_values)))
 
 
 def _choose_structure(y: np.ndarray, u: np.ndarray, given: tuple[int | None, ...],
