@@ -27,12 +27,14 @@ __all__ = ["register"]
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Register ``identify``."""
     p = subparsers.add_parser(
-        "identify", help="identify a polynomial NARX model from CSV data (sysidentpy FROLS) "
-                         "and give its verdict",
-        description="Fit a polynomial NARX model to the output and input columns of a CSV "
-                    "file with sysidentpy's FROLS (number of terms by an information "
-                    "criterion, no constant term), report the free-run error on the "
-                    "held-out end of the data, write the model file (--out) and print the "
+        "identify", help="identify a polynomial NARMAX model from CSV data (sysidentpy "
+                         "FROLS), validate it and give its verdict",
+        description="Fit a polynomial NARMAX model to the output and input columns of a "
+                    "CSV file with sysidentpy's FROLS (terms, and lags and degree when not "
+                    "given, by an information criterion; a constant term or an input mean "
+                    "makes an operating point; noise terms when the residuals are "
+                    "coloured), validate it on the held-out end of the data (free run and "
+                    "correlation tests), write the model file (--out) and print the "
                     "stability verdict if the model passes validation. Needs the optional "
                     "extra gfrf[identify]. Exit code 0: adequate model, stability proven; "
                     "1: not adequate, not proven or unstable; 2: bad input.")
@@ -54,7 +56,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--degree", type=int, default=None, help="polynomial degree")
     p.add_argument("--noise", default="auto", choices=("auto", "yes", "no"),
                    help="NARMAX noise terms by extended least squares: when the training "
-                        "residuals are coloured (auto, default), always, never")
+                        "residuals are coloured (auto, default; output error when they "
+                        "cannot whiten them), always, never")
     p.add_argument("--force", action="store_true",
                    help="give the verdict even when the model is not adequate (the output "
                         "is marked; the exit code stays 1)")
