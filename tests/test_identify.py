@@ -345,10 +345,11 @@ def test_cli_identify_text_output_and_bad_input(tmp_path, capsys):
 
 @pytest.mark.parametrize("content, message", [
     ("u,y\n1,2\n1,abc\n", "line 3, column 'y': 'abc'"),
-    ("u,y\n1,2\nnan,1\n", "line 3, column 'u'"),
+    ("u,y\n1,2\nnan,1\n", "1 row.* missing .* line 3.*--missing interpolate"),
     ("u,y\n1,2\n", "fewer than two"),
     ("a,b\n1,2\n", "no column 'y'"),
-    ("u,y\n1,2\n3\n", "line 3, column 'y': ''"),
+    ("u,y\n1,2\n3\n", "1 row.* missing .* line 3"),
+    ("u,y\n1,2\ninf,1\n", "line 3, column 'u': 'inf'"),
 ])
 def test_read_csv_names_the_bad_value(tmp_path, content, message):
     path = tmp_path / "bad.csv"
@@ -415,7 +416,8 @@ def test_worked_example_files_are_consistent_and_close_to_the_truth():
                            rtol=1e-12, atol=1e-14)
 
 
-@pytest.mark.parametrize("name", ["gfrf.identify.narx", "gfrf.identify.data"])
+@pytest.mark.parametrize("name", ["gfrf.identify.narx", "gfrf.identify.data",
+                                  "gfrf.identify.operating", "gfrf.identify.validate"])
 def test_module_examples(name):
     import doctest
     import importlib
@@ -451,7 +453,8 @@ def test_one_run_information_criterion_equals_sysidentpys_loop():
                 estimator=fast.estimator, basis_function=fast.basis_function)
     for m in (fast, slow):
         m.fit(X=u[:, None], y=y[:, None])
-    assert np.array_equal(fast.info_values, slow.info_values)
+    assert np.array_equal(fast.raw_info_values, slow.info_values)
+    assert len(fast.final_model) == int(np.argmin(slow.info_values)) + 1  # global minimum
     assert np.array_equal(fast.final_model, slow.final_model)
     assert np.array_equal(fast.theta, slow.theta)
     assert not np.any(fast.final_model.sum(axis=1) == 0)  # no constant regressor

@@ -9,6 +9,10 @@ One module per step, each importing only those before it:
   :func:`~gfrf.identify.narx.narx_equation`;
 * :mod:`gfrf.identify.fit` - :func:`~gfrf.identify.fit.identify` (sysidentpy's FROLS,
   held-out free-run error) and its :class:`~gfrf.identify.fit.Identification`;
+* :mod:`gfrf.identify.validate`, :mod:`gfrf.identify.operating`,
+  :mod:`gfrf.identify.noise`, :mod:`gfrf.identify.result` - hold-out validation
+  (Billings-Voon correlation tests), operating points, NARMAX noise terms by extended
+  least squares, and the :class:`~gfrf.identify.result.Identification`;
 * :mod:`gfrf.identify.output` - :func:`~gfrf.identify.output.model_file_text`,
   :func:`~gfrf.identify.output.load_text` and :func:`~gfrf.identify.output.write_atomic`:
   from the identification to a model file that ``gfrf verdict`` and ``gfrf report``
@@ -23,7 +27,14 @@ here.  Also: :mod:`gfrf.identify.example` (the worked example's data generator),
 
 from __future__ import annotations
 
-from gfrf.identify.data import MAX_CANDIDATES, MAX_SAMPLES, MIN_SAMPLES, candidate_count, read_csv
+from gfrf.identify.data import (
+    MAX_CANDIDATES,
+    MAX_SAMPLES,
+    MIN_SAMPLES,
+    candidate_count,
+    read_csv,
+    read_data,
+)
 from gfrf.identify.fit import (
     INSTALL_HINT,
     SAME_TERMS_RTOL,
@@ -37,5 +48,5 @@ from gfrf.identify.output import load_text, model_file_text, write_atomic
 
 __all__ = ["Identification", "from_sysidentpy", "identify", "read_csv", "free_run",
            "model_file_text", "load_text", "narx_equation", "write_atomic", "candidate_count",
-           "same_terms", "SAME_TERMS_RTOL",
+           "same_terms", "SAME_TERMS_RTOL", "read_data",
            "INSTALL_HINT", "MAX_CANDIDATES", "MAX_SAMPLES", "MIN_SAMPLES"]

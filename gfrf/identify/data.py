@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import csv
 import math
+from dataclasses import dataclass
 from math import comb
 from pathlib import Path
 from typing import Any
@@ -19,7 +20,8 @@ import numpy as np
 from gfrf.errors import ArgumentError, ModelError
 from gfrf.model.equation import MAX_DEGREE, MAX_DERIVATIVE_ORDER
 
-__all__ = ["read_csv", "candidate_count", "MAX_CANDIDATES", "MAX_SAMPLES", "MIN_SAMPLES"]
+__all__ = ["read_csv", "read_data", "Data", "check_rank", "candidate_count", "MAX_CANDIDATES",
+           "MAX_SAMPLES", "MIN_SAMPLES", "MAX_MAGNITUDE", "MISSING"]
 
 #: Largest number of candidate regressors (lags and degree) a fit may consider.
 MAX_CANDIDATES = 2000
@@ -27,8 +29,9 @@ MAX_CANDIDATES = 2000
 MAX_SAMPLES = 2_000_000
 #: Fewest samples a fit accepts (training plus held-out part).
 MIN_SAMPLES = 50
-#: Largest number of floats in the candidate regressor matrix (8 bytes each).
-_MAX_MATRIX = 300_000_000
+#: Largest number of floats in the candidate regressor matrix (8 bytes each, 32 MB): a
+#: longer training part is fitted on its first ``MAX_MATRIX // (candidates + 1)`` samples.
+MAX_MATRIX = 4_000_000
 _CRITERIA = ("aic", "aicc", "bic", "fpe", "lilc")
 
 
@@ -67,8 +70,12 @@ def _check_int(name: str, value: Any, low: int, high: int) -> int:
 
 
 def _check_settings(n: int, ylag: int, ulag: int, degree: int, criterion: str,
-                    max_terms: int, holdout: float) -> tuple[int, int]:
-    """Validate the fit settings against every limit; return (candidates, n_train)."""
+                    max_terms: int, holdout: float) -> tuple[int, int, int]:
+    """Validate the fit settings against every limit; return (candidates, n_train, n_fit).
+
+    ``n_fit`` is the number of training samples the candidate matrix holds (all of the
+    training part, or its first part when the matrix would exceed :data:`MAX_MATRIX`).
+    """
     _check_int("ylag", ylag, 1, MAX_DERIVATIVE_ORDER)
     _check_int("ulag", ulag, 1, MAX_DERIVATIVE_ORDER)
     _check_int("degree", degree, 1, MAX_DEGREE)
@@ -91,11 +98,8 @@ def _check_settings(n: int, ylag: int, ulag: int, degree: int, criterion: str,
         raise ArgumentError(f"{n} samples are too few for {candidates} candidate terms: the "
                             f"training part ({n_train} samples) needs at least "
                             f"{2 * candidates + lag}")
-    if (n_train - lag) * (candidates + 1) > _MAX_MATRIX:
-        raise ArgumentError(f"the candidate matrix ({n_train - lag} x {candidates + 1}) "
-                            f"exceeds the limit of {_MAX_MATRIX} entries; use fewer samples, "
-                            f"lags or a lower degree")
-    return candidates, n_train
+    n_fit = min(n_train, MAX_MATRIX // (candidates + 1) + lag)
+    return candidates, n_train, n_fit
 
 
 def _check_signal(name: str, values: Any) -> np.ndarray:
@@ -109,6 +113,196 @@ def _check_signal(name: str, values: Any) -> np.ndarray:
         raise ArgumentError(f"{name} has a non-finite value at sample "
                             f"{int(np.argmin(np.isfinite(a)))}")
     return a
+
+
+#: Largest |value| in the data: powers up to the degree of larger values overflow or lose
+#: every digit of the smaller terms; rescale the data (SI units) first.
+MAX_MAGNITUDE = 1e50
+#: Smallest spread (standard deviation) of a signal that is not constant.
+_MIN_SPREAD = 1e-50
+#: What ``missing`` may be in :func:`read_data`.
+MISSING = ("refuse", "drop", "interpolate")
+
+
+def _check_data(y: np.ndarray, u: np.ndarray, degree: int) -> None:
+    """Refuse data no fit can use: too large, constant, or no excitation."""
+    for name, a in (("y", y), ("u", u)):
+        big = float(np.max(np.abs(a)))
+        if big > MAX_MAGNITUDE:
+            raise ArgumentError(f"{name} has values up to {big:.3g}, above the limit "
+                                f"{MAX_MAGNITUDE:g}: regressors of degree {degree} would "
+                                f"overflow; rescale the data (e.g. to SI units)")
+        spread = float(np.std(a))
+        if not spread > _MIN_SPREAD * max(1.0, big):
+            raise ArgumentError(f"{name} is constant ({a[0]:.6g} in every sample of the "
+                                f"training part): no dynamics can be identified from it")
+
+
+def check_rank(columns: np.ndarray, names: list[str]) -> None:
+    """Refuse linearly dependent candidate regressors (columns).
+
+    Raises
+    ------
+    ArgumentError
+        The columns, each scaled to unit norm, have a singular value below 1e-9 of the
+        largest; the message names a dependent regressor.
+    """
+    norms = np.linalg.norm(columns, axis=0)
+    if np.any(norms == 0.0):
+        raise ArgumentError(f"the candidate regressor {names[int(np.argmin(norms))]} is "
+                            f"zero in the training data")
+    scaled = columns / norms
+    s = np.linalg.svd(scaled, compute_uv=False)
+    if s[-1] <= 1e-9 * s[0]:
+        r = np.linalg.qr(scaled, mode="r")
+        diag = np.abs(np.diag(r))
+        worst = names[int(np.argmin(diag))]
+        raise ArgumentError(f"the candidate regressors are linearly dependent (e.g. "
+                            f"{worst} is a combination of the others): the input does not "
+                            f"excite every term of this model; use a lower --degree or an "
+                            f"input with more levels")
+
+
+@dataclass(frozen=True)
+class Data:
+    """Columns of a data file, with what reading them did.
+
+    Attributes
+    ----------
+    y, u : numpy.ndarray
+        Output and input samples.
+    sample_time : float or None
+        The step of the time column, when the file has one.
+    notes : tuple of str
+        Rows dropped or interpolated.
+    """
+
+    y: np.ndarray
+    u: np.ndarray
+    sample_time: float | None
+    notes: tuple[str, ...]
+
+
+def _time_step(t: np.ndarray, path: Path, name: str) -> float:
+    steps = np.diff(t)
+    step = float(np.median(steps))
+    if not step > 0 or np.max(np.abs(steps - step)) > 1e-6 * step + 1e-9 * np.max(np.abs(t)):
+        bad = int(np.argmax(np.abs(steps - step)))
+        raise ArgumentError(f"{path}: column {name!r} is not equally spaced (step "
+                            f"{steps[bad]:.6g} after row {bad + 1}, median {step:.6g})")
+    return float(f"{step:.10g}")  # 0.1, not the 0.09999999999999432 of printed times
+
+
+def _fill(values: np.ndarray, missing: str, path: Path, columns: str, first_line: int
+          ) -> tuple[np.ndarray, list[str]]:
+    """Rows of ``values`` (samples x signals, NaN missing) with the gaps handled."""
+    bad = ~np.all(np.isfinite(values), axis=1)
+    if not np.any(bad):
+        return values, []
+    count = int(np.sum(bad))
+    if missing == "refuse":
+        raise ArgumentError(f"{path}: {count} row(s) with missing or non-numeric values in "
+                            f"{columns} (the first on line {first_line}); give --missing "
+                            f"interpolate (linear, in the sample index) or --missing drop "
+                            f"(keep the longest run of complete rows)")
+    if missing == "drop":
+        edges = np.flatnonzero(np.diff(np.r_[1, bad.astype(int), 1]))
+        runs = list(zip(edges[::2], edges[1::2], strict=True))  # [start, end) of good runs
+        start, end = max(runs, key=lambda r: (r[1] - r[0], -r[0]))
+        return values[start:end], [f"{count} row(s) with missing values: kept the longest run "
+                                   f"of complete rows, data rows {start + 1} to {end}"]
+    good = np.flatnonzero(~bad)
+    if good.size < 2:
+        raise ArgumentError(f"{path}: fewer than two complete rows to interpolate from")
+    out = values[good[0]:good[-1] + 1].copy()
+    index = np.arange(good[0], good[-1] + 1)
+    for j in range(out.shape[1]):
+        ok = np.isfinite(out[:, j])
+        out[:, j] = np.interp(index, index[ok], out[ok, j])
+    dropped = good[0] + values.shape[0] - 1 - good[-1]
+    return out, [f"{count} row(s) with missing values: interpolated linearly in the sample "
+                 f"index" + (f" ({dropped} at the ends dropped)" if dropped else "")]
+
+
+def read_data(path: str | Path, output: str, input: str,  # noqa: A002
+              time: str = "t", missing: str = "refuse") -> Data:
+    """Read the output, input and (if present) time columns of a CSV file with a header row.
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV file: a header naming the columns, then one row per sample.
+    output, input : str
+        Header names of the output and input columns.
+    time : str
+        Header name of the time column (used when present: its step is the sample
+        time, and it must be equally spaced).
+    missing : {"refuse", "drop", "interpolate"}
+        Rows with an empty or non-numeric value: refused (the default), the longest
+        run of complete rows kept, or filled by linear interpolation.
+
+    Returns
+    -------
+    Data
+
+    Raises
+    ------
+    ArgumentError
+        Missing file or column, a missing value (with ``missing="refuse"``), a value
+        that is not a finite number (the message names the line and column), fewer
+        than two rows, more than :data:`MAX_SAMPLES`, a time column not equally spaced.
+    """
+    if missing not in MISSING:
+        raise ArgumentError(f"missing must be one of {', '.join(MISSING)}, got {missing!r}")
+    p = Path(path)
+    if not p.is_file():
+        raise ArgumentError(f"data file {str(p)!r} does not exist")
+    try:
+        with p.open(newline="", encoding="utf-8-sig") as fh:
+            reader = csv.reader(fh)
+            header = [h.strip() for h in next(reader, [])]
+            names = [output, input]
+            for name in names:
+                if name not in header:
+                    raise ArgumentError(f"{p}: no column {name!r}; the header has "
+                                        f"{', '.join(map(repr, header)) or 'nothing'}")
+            if time in header and time not in names:
+                names.append(time)
+            columns = [header.index(name) for name in names]
+            values = np.empty((1024, len(names)))
+            count = 0
+            first_missing = 0
+            for row in reader:
+                if not row or all(not c.strip() for c in row):
+                    continue
+                if count >= MAX_SAMPLES:
+                    raise ArgumentError(f"{p}: more than {MAX_SAMPLES} samples")
+                if count == values.shape[0]:
+                    values = np.resize(values, (2 * count, len(names)))
+                for j, (col, name) in enumerate(zip(columns, names, strict=True)):
+                    text = row[col].strip() if col < len(row) else ""
+                    if not text or text.lower() in ("nan", "na", "null", "none"):
+                        values[count, j] = math.nan
+                        first_missing = first_missing or reader.line_num
+                        continue
+                    try:
+                        value = float(text)
+                    except ValueError:
+                        value = math.nan
+                    if not math.isfinite(value):
+                        raise ArgumentError(f"{p}, line {reader.line_num}, column {name!r}: "
+                                            f"{text!r} is not a finite number")
+                    values[count, j] = value
+                count += 1
+    except (UnicodeDecodeError, csv.Error) as exc:
+        raise ArgumentError(f"{p}: not a readable CSV file: {exc}") from None
+    values = values[:count]
+    values, notes = _fill(values, missing, p, " or ".join(map(repr, names)), first_missing)
+    if values.shape[0] < 2:
+        raise ArgumentError(f"{p}: fewer than two data rows")
+    step = _time_step(values[:, 2], p, time) if len(names) == 3 else None
+    return Data(np.ascontiguousarray(values[:, 0]), np.ascontiguousarray(values[:, 1]),
+                step, tuple(notes))
 
 
 def read_csv(path: str | Path, output: str, input: str  # noqa: A002
@@ -129,41 +323,7 @@ def read_csv(path: str | Path, output: str, input: str  # noqa: A002
     Raises
     ------
     ArgumentError
-        Missing file or column, a value that is not a finite number (the message
-        names the line and column), fewer than two rows, more than :data:`MAX_SAMPLES`.
+        As :func:`read_data` with ``missing="refuse"``.
     """
-    p = Path(path)
-    if not p.is_file():
-        raise ArgumentError(f"data file {str(p)!r} does not exist")
-    y: list[float] = []
-    u: list[float] = []
-    try:
-        with p.open(newline="", encoding="utf-8-sig") as fh:
-            reader = csv.reader(fh)
-            header = [h.strip() for h in next(reader, [])]
-            columns = []
-            for name in (output, input):
-                if name not in header:
-                    raise ArgumentError(f"{p}: no column {name!r}; the header has "
-                                        f"{', '.join(map(repr, header)) or 'nothing'}")
-                columns.append(header.index(name))
-            for row in reader:
-                if not row or all(not c.strip() for c in row):
-                    continue
-                if reader.line_num > MAX_SAMPLES + 1:
-                    raise ArgumentError(f"{p}: more than {MAX_SAMPLES} samples")
-                for target, col, name in ((y, columns[0], output), (u, columns[1], input)):
-                    text = row[col].strip() if col < len(row) else ""
-                    try:
-                        value = float(text)
-                    except ValueError:
-                        value = math.nan
-                    if not math.isfinite(value):
-                        raise ArgumentError(f"{p}, line {reader.line_num}, column {name!r}: "
-                                            f"{text!r} is not a finite number")
-                    target.append(value)
-    except (UnicodeDecodeError, csv.Error) as exc:
-        raise ArgumentError(f"{p}: not a readable CSV file: {exc}") from None
-    if len(y) < 2:
-        raise ArgumentError(f"{p}: fewer than two data rows")
-    return np.asarray(y), np.asarray(u)
+    data = read_data(path, output, input, time="\0")
+    return data.y, data.u

@@ -1,10 +1,14 @@
 """The identification step: sysidentpy's FROLS on input/output data, and the fit's quality.
 
-:func:`identify` fits a polynomial NARX model to input/output data with sysidentpy's
-FROLS (the number of terms chosen by an information criterion, the constant regressor
-left out so that ``y = u = 0`` stays an equilibrium), converts it exactly
-(:mod:`gfrf.identify.narx`), and measures its free-run error (:func:`free_run`) on a
-held-out final part of the data; the result is an :class:`Identification`.
+:func:`identify` fits a polynomial NARMAX model to input/output data with sysidentpy's
+FROLS (the number of terms, and the lags and degree when not given, chosen by an
+information criterion; a constant term among the candidates), re-estimates it with
+noise terms by extended least squares when its residuals are coloured
+(:mod:`gfrf.identify.noise`), rewrites it about its operating point so that the
+deviations ``y = u = 0`` are an equilibrium (:mod:`gfrf.identify.operating`), rounds
+the coefficients, and validates it on a held-out final part of the data (free run,
+:func:`free_run`, and correlation tests, :mod:`gfrf.identify.validate`); the result is
+an :class:`~gfrf.identify.result.Identification`.
 :func:`same_terms` compares two identified models to a relative tolerance.
 
 sysidentpy is the optional extra ``gfrf[identify]``; it is imported only inside
@@ -13,18 +17,34 @@ sysidentpy is the optional extra ``gfrf[identify]``; it is imported only inside
 
 from __future__ import annotations
 
+import itertools
 import math
 import warnings
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 
-from gfrf.errors import ArgumentError, GfrfError
-from gfrf.identify.data import _check_names, _check_sample_time, _check_settings, _check_signal
-from gfrf.identify.narx import _convert, _lead
+from gfrf.errors import ArgumentError, GfrfError, ModelError
+from gfrf.identify.data import (
+    MAX_MATRIX,
+    _check_data,
+    _check_names,
+    _check_sample_time,
+    _check_settings,
+    _check_signal,
+    check_rank,
+)
+from gfrf.identify.narx import _decode, _lead, narx_equation
+from gfrf.identify.noise import extended_least_squares, regressors, residuals
+from gfrf.identify.operating import equilibrium, round_significant, shift
+from gfrf.identify.output_error import refine
+from gfrf.identify.result import Identification
+from gfrf.identify.validate import correlation_tests, judge
 from gfrf.model.equation import Model, Term
+
+Key = tuple[tuple[int, ...], tuple[int, ...]]
 
 __all__ = ["Identification", "identify", "free_run", "same_terms", "SAME_TERMS_RTOL",
            "INSTALL_HINT"]
@@ -119,76 +139,10 @@ def _rrse(measured: np.ndarray, predicted: np.ndarray) -> float:
     return math.sqrt(float(np.sum((measured - predicted) ** 2)) / spread)
 
 
-@dataclass(frozen=True)
-class Identification:
-    """A NARX model identified from data, with its fit settings and quality.
-
-    Attributes
-    ----------
-    model : Model
-        The identified discrete-time model (converted exactly from sysidentpy).
-    settings : dict
-        ``ylag``, ``ulag``, ``degree``, ``criterion``, ``max_terms``, ``holdout``.
-    n_samples, n_train : int
-        Samples in the data and in the training part (the rest is held out).
-    candidates : int
-        Candidate regressors considered (constant excluded).
-    regressors : tuple of dict
-        Per selected regressor in FROLS order: ``codes``, ``theta``, ``err`` (the
-        error reduction ratio).
-    free_run_error : float
-        Root relative squared error of the free-run simulation on the held-out part
-        (``inf`` when the simulation blew up).
-    one_step_error : float
-        Root relative squared error of one-step-ahead prediction on the held-out part.
-    blowup : int or None
-        Held-out sample at which the free run blew up, or None.
-    notes : tuple of str
-        Remarks (dropped noise terms, ...).
-    sysidentpy_version : str
-    """
-
-    model: Model
-    settings: dict[str, Any]
-    n_samples: int
-    n_train: int
-    candidates: int
-    regressors: tuple[dict[str, Any], ...]
-    free_run_error: float
-    one_step_error: float
-    blowup: int | None = None
-    notes: tuple[str, ...] = field(default=())
-    sysidentpy_version: str = ""
-
-    def settings_text(self) -> str:
-        """The fit settings as command-line options."""
-        s = self.settings
-        return (f"--ylag {s['ylag']} --ulag {s['ulag']} --degree {s['degree']} "
-                f"--criterion {s['criterion']} --max-terms {s['max_terms']} "
-                f"--holdout {s['holdout']:g}")
-
-    def quality_text(self) -> str:
-        """One line: terms chosen and the held-out errors."""
-        held = self.n_samples - self.n_train
-        run = (f"free run blew up at held-out sample {self.blowup}" if self.blowup is not None
-               else f"free-run RRSE {self.free_run_error:.4g}")
-        return (f"{len(self.regressors)} of {self.candidates} candidate terms "
-                f"({self.settings['criterion'].upper()}); on the held-out last {held} of "
-                f"{self.n_samples} samples: {run}, one-step RRSE {self.one_step_error:.4g}")
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready description."""
-        return {"model": self.model.to_dict(), "settings": dict(self.settings),
-                "n_samples": self.n_samples, "n_train": self.n_train,
-                "candidates": self.candidates,
-                "regressors": [dict(r) for r in self.regressors],
-                "free_run_error": self.free_run_error, "one_step_error": self.one_step_error,
-                "blowup": self.blowup, "notes": list(self.notes),
-                "sysidentpy_version": self.sysidentpy_version}
-
-
-def _frols(ylag: int, ulag: int, degree: int, criterion: str, max_terms: int) -> Any:
-    """sysidentpy's FROLS with least squares, without the constant regressor."""
+def _frols(ylag: int, ulag: int, degree: int, criterion: str, max_terms: int,
+           constant: bool = False) -> Any:
+    """sysidentpy's FROLS with least squares; the constant regressor a candidate only if
+    ``constant``."""
     try:
         import matplotlib  # sysidentpy imports it anyway
 
@@ -200,15 +154,16 @@ def _frols(ylag: int, ulag: int, degree: int, criterion: str, max_terms: int) ->
             from sysidentpy.parameter_estimation import LeastSquares
     except ImportError:
         raise GfrfError(INSTALL_HINT) from None
+    first = 0 if constant else 1
 
-    class _FrolsWithoutConstant(FROLS):  # type: ignore[misc, valid-type]
-        """FROLS over the candidate regressors minus the constant (column 0)."""
+    class _Frols(FROLS):  # type: ignore[misc, valid-type]
+        """FROLS over the candidate regressors, minus the constant (column 0) unless asked."""
 
         def run_mss_algorithm(self, psi: np.ndarray, y: np.ndarray,
                               process_term_number: int) -> tuple[Any, ...]:
-            err, piv, selected = self.error_reduction_ratio(psi[:, 1:], y,
+            err, piv, selected = self.error_reduction_ratio(psi[:, first:], y,
                                                              process_term_number)
-            return err, np.asarray(piv) + 1, selected
+            return err, np.asarray(piv) + first, selected
 
         def information_criterion(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
             """sysidentpy's criterion for 1..n_info_values terms from one greedy ERR run.
@@ -227,25 +182,160 @@ def _frols(ylag: int, ulag: int, degree: int, criterion: str, max_terms: int) ->
                 residual = target - selected[:, :i + 1] @ theta
                 values[i] = self.info_criteria_function(i + 1, n_samples,
                                                         float(np.var(residual, ddof=1)))
-            return values
+            self.raw_info_values = values
+            # sysidentpy keeps the size before the criterion's first increase, a local
+            # minimum (one term for a lightly damped system); the global minimum is meant:
+            # its distance from it, which first increases after it, selects it
+            return np.abs(np.arange(count, dtype=float) - float(np.argmin(values)))
 
-    return _FrolsWithoutConstant(
+    return _Frols(
         ylag=ylag, xlag=ulag, order_selection=True, info_criteria=criterion,
         n_info_values=max_terms, estimator=LeastSquares(),
         basis_function=Polynomial(degree=degree), model_type="NARMAX")
 
 
-def identify(y: Any, u: Any, sample_time: float, *, ylag: int = 2, ulag: int = 2,
-             degree: int = 3, criterion: str = "bic", max_terms: int = 15,
-             holdout: float = 0.25, output: str = "y", input: str = "u",  # noqa: A002
+#: A mean of u larger than this fraction of its standard deviation is an operating input.
+OFFSET_FRACTION = 0.05
+#: Residuals of root mean square below this fraction of the output's spread are the
+#: rounding errors of an exact fit (noise-free data): not tested for whiteness.
+ROUNDING_FLOOR = 1e-9
+#: Structures compared when lags and degree are not given: (lag, degree), ylag = ulag.
+STRUCTURES = tuple((lag, degree) for degree in (1, 2, 3) for lag in (1, 2, 3))
+
+
+def _candidate_keys(ylag: int, ulag: int, degree: int) -> list[Key]:
+    """The constant and every monomial of degree 1..degree (sysidentpy's candidates)."""
+    factors = [("y", lag) for lag in range(1, ylag + 1)] + \
+        [("u", lag) for lag in range(1, ulag + 1)]
+    keys: list[Key] = [((), ())]
+    for d in range(1, degree + 1):
+        for combo in itertools.combinations_with_replacement(factors, d):
+            keys.append((tuple(sorted(lag for n, lag in combo if n == "y")),
+                         tuple(sorted(lag for n, lag in combo if n == "u"))))
+    return keys
+
+
+def _key_name(key: Key) -> str:
+    ys, us = key
+    return "*".join([f"y[k-{lag}]" for lag in ys] + [f"u[k-{lag}]" for lag in us]) or "1"
+
+
+@dataclass(frozen=True)
+class _Fit:
+    keys: list[Key]
+    theta: np.ndarray
+    frols: Any
+    criterion_value: float
+
+
+def _fit_structure(y: np.ndarray, u: np.ndarray, ylag: int, ulag: int, degree: int,
+                   criterion: str, max_terms: int, constant: bool) -> _Fit:
+    """FROLS on the training window; the selected monomials, theta and the criterion."""
+    lag = max(ylag, ulag)
+    keys = _candidate_keys(ylag, ulag, degree)
+    rows = min(y.size, 20000 + lag)
+    check_rank(regressors(keys if constant else keys[1:], y[:rows], u[:rows], lag),
+               [_key_name(k) for k in (keys if constant else keys[1:])])
+    frols = _frols(ylag, ulag, degree, criterion, max_terms, constant)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        frols.fit(X=u[:, None], y=y[:, None])
+    selected = [_decode(row) for row in frols.final_model]
+    theta = np.ravel(frols.theta)
+    return _Fit(selected, theta, frols, float(np.min(frols.raw_info_values)))
+
+
+def _choose_structure(y: np.ndarray, u: np.ndarray, given: tuple[int | None, ...],
+                      criterion: str, max_terms: int, holdout: float
+                      ) -> tuple[tuple[int, int, int], tuple[dict[str, Any], ...]]:
+    """Lags and degree of the smallest criterion among :data:`STRUCTURES` (the ``given``
+    ylag, ulag, degree held fixed), each fitted on the same training samples."""
+    valid = []
+    first_error: ArgumentError | None = None
+    for lag, degree in STRUCTURES:
+        setting = (given[0] or lag, given[1] or lag, given[2] or degree)
+        if any(v[:3] == setting for v in valid):
+            continue
+        try:
+            valid.append((*setting, *_check_settings(y.size, *setting, criterion, max_terms,
+                                                     holdout)))
+        except ArgumentError as exc:
+            first_error = first_error or exc
+    window = min((v[5] for v in valid), default=0)
+    table = []
+    for ylag, ulag, degree, candidates, _, _ in valid:
+        try:
+            fit = _fit_structure(y[:window], u[:window], ylag, ulag, degree, criterion,
+                                 min(max_terms, candidates), True)
+        except ArgumentError as exc:  # dependent candidates: this degree is not excited
+            first_error = first_error or exc
+            continue
+        table.append({"ylag": ylag, "ulag": ulag, "degree": degree, "terms": len(fit.keys),
+                      criterion: round_significant(fit.criterion_value)})
+    if not table:
+        assert first_error is not None
+        raise first_error
+    # a tie (to 1e-9 relative) goes to the simpler structure: STRUCTURES is in that order
+    low = min(r[criterion] for r in table)
+    best = next(r for r in table if r[criterion] <= low + 1e-9 * max(1.0, abs(low)))
+    for r in table:
+        r["chosen"] = r is best
+    return (best["ylag"], best["ulag"], best["degree"]), tuple(table)
+
+
+def _estimate(y: np.ndarray, u: np.ndarray, ylag: int, ulag: int, degree: int,
+              criterion: str, max_terms: int, noise: bool | None
+              ) -> tuple[_Fit, dict[Key, float], tuple[float, ...], list[str], str]:
+    """FROLS, then a noise model when asked or when the residuals are coloured.
+
+    Returns the fit, the process coefficients, the noise coefficients, notes and the
+    kind of noise model: ``"none"``, ``"narmax"`` (extended least squares) or
+    ``"output error"`` (when extended least squares cannot whiten the residuals:
+    :mod:`gfrf.identify.output_error`).
+    """
+    lag = max(ylag, ulag)
+    fit = _fit_structure(y, u, ylag, ulag, degree, criterion, max_terms, True)
+    theta = dict(zip(fit.keys, (float(v) for v in fit.theta), strict=True))
+    notes: list[str] = []
+    floor = ROUNDING_FLOOR * float(np.std(y))
+
+    def white(th: dict[Key, float], c: tuple[float, ...]) -> bool:
+        return correlation_tests(residuals(th, c, y, u, lag), u[lag:], floor=floor)[0].passed
+
+    if noise is False or (noise is None and white(theta, ())):
+        if noise is None:
+            notes.append("the training residuals are white: no noise terms needed")
+        return fit, theta, (), notes, "none"
+    els, noise_terms = extended_least_squares(fit.keys, y, u, lag, ylag)
+    if any(noise_terms) and (noise or white(els, noise_terms)):
+        return fit, els, noise_terms, notes, "narmax"
+    if noise:
+        notes.append("extended least squares found no invertible noise model: no noise "
+                     "terms")
+        return fit, theta, (), notes, "none"
+    notes.append("extended least squares could not whiten the coloured training residuals: "
+                 "output-error estimate (free-run error minimised on the training part)")
+    return fit, refine(theta, y, u, lag), (), notes, "output error"
+
+
+def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
+             ulag: int | None = 2, degree: int | None = 3, criterion: str = "bic",
+             max_terms: int = 15, holdout: float = 0.25, output: str = "y",
+             input: str = "u", noise: bool | None = None,  # noqa: A002
              ) -> Identification:
-    """Identify a polynomial NARX model from input/output data with sysidentpy's FROLS.
+    """Identify a polynomial NARMAX model from input/output data with sysidentpy's FROLS.
 
     The first ``1 - holdout`` of the samples train the model: FROLS ranks the
-    candidate regressors (monomials of degree 1..``degree`` in ``y(k-1..ylag)`` and
-    ``u(k-1..ulag)``, no constant) by error reduction ratio, the information
+    candidate regressors (the constant and the monomials of degree 1..``degree`` in
+    ``y(k-1..ylag)`` and ``u(k-1..ulag)``) by error reduction ratio, the information
     ``criterion`` picks the number of terms among 1..``max_terms``, least squares
-    estimates theta.  The last ``holdout`` part measures the free-run error.
+    estimates theta.  When the training residuals are not white (``noise`` None) or
+    when ``noise`` is True, extended least squares re-estimates the process terms with
+    ``ylag`` moving-average noise terms.  A fitted constant, or an input mean, makes an
+    operating point: the model is rewritten about its equilibrium there
+    (:mod:`gfrf.identify.operating`).  Coefficients are rounded to
+    :data:`SIGNIFICANT_DIGITS` digits.  The last ``holdout`` part validates the model
+    (:func:`gfrf.identify.validate.judge`).
 
     Parameters
     ----------
@@ -253,8 +343,10 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int = 2, ulag: int = 2
         Output and input samples, equally spaced by ``sample_time`` seconds.
     sample_time : float
         Sample time T in seconds.
-    ylag, ulag, degree : int
-        Largest output lag, largest input lag, polynomial degree.
+    ylag, ulag, degree : int or None
+        Largest output lag, largest input lag, polynomial degree; those None are chosen
+        among :data:`STRUCTURES` (lag 1 to 3, ``ylag = ulag``, degree 1 to 3) by the
+        smallest ``criterion``, the others held fixed.
     criterion : {"bic", "aic", "aicc", "fpe", "lilc"}
         Information criterion for the number of terms (sysidentpy's names).
     max_terms : int
@@ -263,6 +355,8 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int = 2, ulag: int = 2
         Fraction (0.05 to 0.5) of the samples, at the end, held out for validation.
     output, input : str
         Signal names in the model.
+    noise : bool or None
+        Fit noise terms: None (default) when the training residuals are coloured.
 
     Returns
     -------
@@ -271,8 +365,9 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int = 2, ulag: int = 2
     Raises
     ------
     ArgumentError
-        Bad data or settings (non-finite samples, too few samples for the
-        candidates, a limit exceeded); checked before any fitting.
+        Bad data or settings (non-finite or constant samples, values beyond
+        :data:`~gfrf.identify.data.MAX_MAGNITUDE`, linearly dependent candidates, too
+        few samples for the candidates, a limit exceeded); checked before any fitting.
     GfrfError
         sysidentpy is not installed (the message says how to install it).
     """
@@ -282,52 +377,98 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int = 2, ulag: int = 2
         raise ArgumentError(f"y has {y.size} samples and u has {u.size}")
     sample_time = _check_sample_time(sample_time)
     _check_names(output, input)
-    candidates, n_train = _check_settings(y.size, ylag, ulag, degree, criterion, max_terms,
-                                          holdout)
+    given = (ylag, ulag, degree)
+    search = None in given
+    probe = (ylag or 1, ulag or 1, degree or 1)
+    candidates, n_train, n_fit = _check_settings(y.size, *probe, criterion, max_terms,
+                                                 holdout)
+    _check_data(y[:n_train], u[:n_train], degree or 3)
+    mean_u, mean_y = float(np.mean(u[:n_train])), float(np.mean(y[:n_train]))
+    u0 = mean_u if abs(mean_u) > OFFSET_FRACTION * float(np.std(u[:n_train])) else 0.0
+    offset = u0 != 0.0 or abs(mean_y) > OFFSET_FRACTION * float(np.std(y[:n_train]))
+    # the data about a centre: u0 first, then about the first fit's equilibrium, where
+    # an output offset no longer expands y**3 into y**3, y**2, y and 1 (a second fit)
+    cy, cu = 0.0, u0
+    structure: tuple[dict[str, Any], ...] = ()
+    if search:
+        (ylag, ulag, degree), structure = _choose_structure(y - cy, u - cu, given, criterion,
+                                                            max_terms, holdout)
+        candidates, n_train, n_fit = _check_settings(y.size, ylag, ulag, degree, criterion,
+                                                     max_terms, holdout)
+    assert ylag is not None and ulag is not None and degree is not None
     max_terms = min(max_terms, candidates)
-    frols = _frols(ylag, ulag, degree, criterion, max_terms)
+    lag = max(ylag, ulag)
+    fit, theta, noise_terms, notes, kind = _estimate(y[:n_fit], u[:n_fit] - cu, ylag, ulag,
+                                               degree, criterion, max_terms, noise)
+    first_constant = constant = theta.get(((), ()))
+    y0c = 0.0 if constant is None else equilibrium(theta, 0.0, mean_y)
+    if offset and y0c != 0.0:  # the second fit, about the first one's equilibrium
+        cy = y0c
+        fit, theta, noise_terms, notes, kind = _estimate(y[:n_fit] - cy, u[:n_fit] - cu,
+                                                         ylag,
+                                                   ulag, degree, criterion, max_terms, noise)
+        constant = theta.get(((), ()))
+        y0c = 0.0 if constant is None else equilibrium(theta, 0.0, mean_y - cy)
     import sysidentpy
 
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        frols.fit(X=u[:n_train, None], y=y[:n_train, None])
-    model = _convert(frols.final_model, frols.theta, sample_time, output, input)
-    theta = np.ravel(frols.theta)
-    regressors = tuple({"codes": [int(c) for c in row], "theta": float(t), "err": float(e)}
-                       for row, t, e in zip(frols.final_model, theta,
-                                            np.ravel(frols.err)[:theta.size], strict=True))
-    lag = max(ylag, ulag)
-    y_test, u_test = y[n_train:], u[n_train:]
+    about = shift(theta, y0c, 0.0) if constant is not None else dict(theta)
+    y0 = cy + y0c
+    if first_constant is None and u0 == 0.0:
+        how = "no offset: no constant term selected, mean u is zero"
+    else:
+        how = ((f"constant term {first_constant:.6g} fitted" if first_constant is not None
+                else "no constant term selected") + ("; u0 is the mean input" if u0 else
+                                                     "; u0 = 0 (mean input is zero)")
+               + "; y0 is the fitted model's equilibrium at u0" + (
+                   ", the model refitted about it" if cy else ""))
+    about = {k: round_significant(v) for k, v in about.items()}
+    y0, u0 = round_significant(y0), round_significant(u0)
+    noise_terms = tuple(round_significant(c) for c in noise_terms)
+    model = _model(about, sample_time, output, input)
+    y_test, u_test = y[n_train:] - y0, u[n_train:] - u0
     simulated, blowup = free_run(model, u_test, y_test[:lag])
     free = math.inf if blowup is not None else _rrse(y_test[lag:], simulated[lag:])
-    one_step = _one_step(model, y_test, u_test, lag)
-    notes = []
-    if len(regressors) == max_terms < candidates:
+    if kind == "output error":  # its one-step predictor is the free run
+        e = y_test[lag:] - simulated[lag:] if blowup is None else y_test[lag:]
+    else:
+        e = residuals(about, noise_terms, y_test, u_test, lag)
+    one_step = _rrse(y_test[lag:], y_test[lag:] - e)
+    validation = judge(free, one_step, e, u_test[lag:], blowup,
+                       floor=ROUNDING_FLOOR * float(np.std(y_test)))
+    if n_fit < n_train:
+        notes.append(f"the candidate matrix is limited to {MAX_MATRIX} entries: the fit "
+                     f"used the first {n_fit} of the {n_train} training samples")
+    if len(fit.keys) == max_terms < candidates:
         notes.append(f"the criterion chose the largest size considered ({max_terms} terms): "
                      f"a larger max_terms may find a better model")
     if blowup is not None:
         notes.append(f"the identified model's free run blew up at held-out sample {blowup}: "
                      f"it does not reproduce the data")
+    regressor_rows = tuple(
+        {"codes": [int(c) for c in row], "theta": round_significant(float(t)),
+         "err": round_significant(float(e_))}
+        for row, t, e_ in zip(fit.frols.final_model, fit.theta,
+                              np.ravel(fit.frols.err)[:fit.theta.size], strict=True))
     settings = {"ylag": ylag, "ulag": ulag, "degree": degree, "criterion": criterion,
                 "max_terms": max_terms, "holdout": float(holdout)}
-    return Identification(model=model, settings=settings, n_samples=int(y.size),
-                          n_train=n_train, candidates=candidates, regressors=regressors,
-                          free_run_error=free, one_step_error=one_step,
-                          blowup=blowup, notes=tuple(notes),
-                          sysidentpy_version=str(sysidentpy.__version__))
+    return Identification(
+        model=model, settings=settings, n_samples=int(y.size), n_train=n_train,
+        candidates=candidates, regressors=regressor_rows, free_run_error=free,
+        one_step_error=one_step, blowup=blowup, notes=tuple(notes),
+        sysidentpy_version=str(sysidentpy.__version__),
+        operating_point={"u0": u0, "y0": y0, "constant": first_constant, "how": how},
+        noise=noise_terms, validation=validation, structure=structure, n_fit=n_fit,
+        noise_model=kind)
 
 
-def _one_step(model: Model, y: np.ndarray, u: np.ndarray, lag: int) -> float:
-    """RRSE of one-step-ahead prediction (measured past outputs) on samples lag..end."""
-    n = y.size
-    prediction = np.zeros(n - lag)
-    lead = _lead(model)
-    for t in model.terms:
-        if t is lead:
-            continue
-        value = np.full(n - lag, -t.coefficient / lead.coefficient)
-        for name, orders in ((y, t.y_orders), (u, t.u_orders)):
-            for order in orders:
-                value *= name[lag - order:n - order]
-        prediction += value
-    return _rrse(y[lag:], prediction)
+def _model(theta: dict[Key, float], sample_time: float, output: str, input_: str) -> Model:
+    """The gfrf model ``y[k] - sum theta*m = 0`` of a dict without constant."""
+    terms = [Term((0,), (), 1.0, output, input_, True)]
+    terms += [Term(ys, us, -v, output, input_, True) for (ys, us), v in theta.items()
+              if v != 0.0]
+    if not any(t.u_orders for t in terms):
+        raise ModelError(f"the identified model has no input term (a NAR model): its GFRFs "
+                         f"are zero; the output does not respond to {input_!r} in the data")
+    model = Model(terms=tuple(sorted(terms)), sample_time=sample_time, output=output,
+                  input=input_)
+    return replace(model, text=narx_equation(model))

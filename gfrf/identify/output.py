@@ -36,16 +36,19 @@ def model_file_text(result: Identification, data: str, name: str = "",
     source = (f"gfrf identify {data} --output {m.output} --input {m.input} --sample-time "
               f"{m.sample_time!r} {result.settings_text()} (sysidentpy "
               f"{result.sysidentpy_version} FROLS): {result.quality_text()}")
-    lines = ["# Identified from measured data by `gfrf identify` (sysidentpy FROLS).",
+    lines = ["# Identified from measured data by `gfrf identify` (sysidentpy FROLS); "
+             "coefficients rounded to 10 significant digits.",
              f"name = {_toml_string(name or 'NARX identified from ' + Path(data).name)}",
              f"equation = {_toml_string(m.text)}",
              f"sample_time = {m.sample_time!r}"]
     if m.output != "y" or m.input != "u":
         lines += [f"output = {_toml_string(m.output)}", f"input = {_toml_string(m.input)}"]
     lines.append(f"source = {_toml_string(source)}")
-    if description or result.notes:
-        about = " ".join([description, *result.notes]).strip()
-        lines.append(f"description = {_toml_string(about)}")
+    adequacy = (f"Validation: {'adequate' if result.adequate else 'NOT ADEQUATE'} ("
+                f"{result.validation.reason})." if result.validation else "")
+    about = " ".join([description, result.operating_text() + ".", result.noise_text() + ".",
+                      adequacy, *result.notes]).strip()
+    lines.append(f"description = {_toml_string(about)}")
     text = "\n".join(lines) + "\n"
     reread = model_from_dict(tomllib.loads(text)).plant
     if reread.terms != m.terms:  # Term equality includes the coefficient

@@ -1,0 +1,88 @@
+"""NARMAX noise terms: extended least squares, and the residuals of a process + noise model.
+
+Noise on a measured output makes the equation error of a NARX model coloured
+(``v[k] - a1*v[k-1] - ...``), and least squares on such errors biases the process
+terms.  :func:`extended_least_squares` re-estimates the selected process terms
+together with moving-average noise terms ``c_j * e[k-j]`` (the classic NARMAX
+extended least squares: the unmeasured ``e`` is replaced by the residuals of the
+previous iteration); :func:`residuals` runs the process + noise model one step
+ahead and returns ``e``, the residuals the correlation tests judge.
+
+Models are dicts ``{(output lags, input lags): theta}`` of ``y[k] = sum theta*m``; the
+noise model is a tuple ``(c_1, ..., c_q)``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["regressors", "extended_least_squares", "residuals", "ELS_ITERATIONS"]
+
+Key = tuple[tuple[int, ...], tuple[int, ...]]
+#: Most iterations of extended least squares (it stops earlier when no process
+#: coefficient moves by more than 1e-14 of the largest, so that the digits written are
+#: those of the limit: work, never time, decides).
+ELS_ITERATIONS = 200
+
+
+def regressors(keys: list[Key], y: np.ndarray, u: np.ndarray, lag: int) -> np.ndarray:
+    """The columns ``m(y, u)`` at samples ``lag .. n-1`` (rows), one per key."""
+    n = y.size
+    out = np.ones((n - lag, len(keys)))
+    for j, (ys, us) in enumerate(keys):
+        for signal, lags in ((y, ys), (u, us)):
+            for order in lags:
+                out[:, j] *= signal[lag - order:n - order]
+    return out
+
+
+def _ma_filter(r: np.ndarray, noise: tuple[float, ...]) -> np.ndarray:
+    """e with e[k] = r[k] - sum_j c_j e[k-j] (zero before the first sample)."""
+    from scipy.signal import lfilter
+
+    if not noise:
+        return r
+    return lfilter([1.0], [1.0, *noise], r)
+
+
+def residuals(theta: dict[Key, float], noise: tuple[float, ...], y: np.ndarray,
+              u: np.ndarray, lag: int) -> np.ndarray:
+    """One-step residuals ``e[k]`` of the process + noise model at samples ``lag..n-1``."""
+    keys = list(theta)
+    values = np.array([theta[k] for k in keys])
+    r = y[lag:] - regressors(keys, y, u, lag) @ values
+    return _ma_filter(r, noise)
+
+
+def extended_least_squares(keys: list[Key], y: np.ndarray, u: np.ndarray, lag: int,
+                           order: int) -> tuple[dict[Key, float], tuple[float, ...]]:
+    """Process coefficients and ``order`` moving-average noise coefficients by ELS.
+
+    Returns
+    -------
+    theta : dict
+        The process terms ``{key: theta}``.
+    noise : tuple of float
+        ``(c_1, ..., c_order)``: ``y[k] = sum theta*m + sum_j c_j*e[k-j] + e[k]`` with
+        ``e`` white; the noise model is kept invertible (its iteration stops before a
+        step that would make it not).
+    """
+    psi = regressors(keys, y, u, lag)
+    target = y[lag:]
+    theta = np.linalg.lstsq(psi, target, rcond=None)[0]
+    e = target - psi @ theta
+    noise = np.zeros(order)
+    for _iteration in range(ELS_ITERATIONS):
+        lagged = np.column_stack([np.r_[np.zeros(j), e[:e.size - j]]
+                                  for j in range(1, order + 1)])
+        full = np.linalg.lstsq(np.hstack([psi, lagged]), target, rcond=None)[0]
+        if np.any(np.abs(np.roots(np.r_[1.0, full[len(keys):]])) >= 1.0):
+            break  # a noise model that is not invertible: keep the last invertible one
+        done = np.max(np.abs(full[:len(keys)] - theta)) <= 1e-14 * np.max(np.abs(theta))
+        theta, noise = full[:len(keys)], full[len(keys):]
+        if done:
+            break
+        # the residuals of the process + noise model, run one step ahead
+        e = _ma_filter(target - psi @ theta, tuple(noise))
+    return ({k: float(v) for k, v in zip(keys, theta, strict=True)},
+            tuple(float(c) for c in noise))

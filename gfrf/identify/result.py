@@ -1,0 +1,137 @@
+"""The result of :func:`gfrf.identify.fit.identify`: an :class:`Identification`.
+
+The identified process model about its operating point, the noise terms, the fit
+settings and the hold-out validation, with their text and JSON forms.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+from gfrf.identify.operating import SIGNIFICANT_DIGITS
+from gfrf.identify.validate import Validation
+from gfrf.model.equation import Model
+
+__all__ = ["Identification"]
+
+
+@dataclass(frozen=True)
+class Identification:
+    """A NARMAX model identified from data, with its fit settings, operating point and
+    validation.
+
+    Attributes
+    ----------
+    model : Model
+        The process model about the operating point (deviations ``y - y0``,
+        ``u - u0``), coefficients rounded to :data:`SIGNIFICANT_DIGITS` digits.
+    settings : dict
+        ``ylag``, ``ulag``, ``degree``, ``criterion``, ``max_terms``, ``holdout``.
+    n_samples, n_train : int
+        Samples in the data and in the training part (the rest is held out).
+    candidates : int
+        Candidate regressors considered (constant excluded).
+    regressors : tuple of dict
+        Per regressor FROLS selected, in its order: ``codes``, ``theta`` (before the
+        move to the operating point and before extended least squares), ``err``.
+    free_run_error : float
+        Root relative squared error of the free-run simulation on the held-out part
+        (``inf`` when the simulation blew up).
+    one_step_error : float
+        Root relative squared error of one-step-ahead prediction on the held-out part.
+    blowup : int or None
+        Held-out sample at which the free run blew up, or None.
+    notes : tuple of str
+        Remarks (criterion at its limit, training window, ...).
+    sysidentpy_version : str
+    operating_point : dict
+        ``u0``, ``y0``, ``constant`` (the fitted constant term or None) and ``how``.
+    noise : tuple of float
+        Coefficients ``c_j`` of the noise terms ``c_j*e[k-j]`` (empty: none fitted).
+    validation : Validation or None
+        Hold-out validation (free run and correlation tests).
+    structure : tuple of dict
+        The structures compared when lags and degree were chosen by the criterion.
+    n_fit : int
+        Training samples in the candidate matrix.
+    noise_model : str
+        ``"none"``, ``"narmax"`` (the noise terms ``noise``) or ``"output error"``
+        (white noise on the output: coefficients minimise the free-run error).
+    """
+
+    model: Model
+    settings: dict[str, Any]
+    n_samples: int
+    n_train: int
+    candidates: int
+    regressors: tuple[dict[str, Any], ...]
+    free_run_error: float
+    one_step_error: float
+    blowup: int | None = None
+    notes: tuple[str, ...] = field(default=())
+    sysidentpy_version: str = ""
+    operating_point: dict[str, Any] = field(default_factory=dict)
+    noise: tuple[float, ...] = field(default=())
+    validation: Validation | None = None
+    structure: tuple[dict[str, Any], ...] = field(default=())
+    n_fit: int = 0
+    noise_model: str = "none"
+
+    @property
+    def adequate(self) -> bool:
+        """True when the hold-out validation passed."""
+        return self.validation is not None and self.validation.adequate
+
+    def settings_text(self) -> str:
+        """The fit settings as command-line options."""
+        s = self.settings
+        return (f"--ylag {s['ylag']} --ulag {s['ulag']} --degree {s['degree']} "
+                f"--criterion {s['criterion']} --max-terms {s['max_terms']} "
+                f"--holdout {s['holdout']:g}")
+
+    def quality_text(self) -> str:
+        """One line: terms chosen and the held-out errors."""
+        held = self.n_samples - self.n_train
+        run = (f"free run blew up at held-out sample {self.blowup}" if self.blowup is not None
+               else f"free-run RRSE {self.free_run_error:.4g}")
+        return (f"{len(self.regressors)} of {self.candidates} candidate terms "
+                f"({self.settings['criterion'].upper()}); on the held-out last {held} of "
+                f"{self.n_samples} samples: {run}, one-step RRSE {self.one_step_error:.4g}")
+
+    def operating_text(self) -> str:
+        """One line: the operating point the model and its GFRFs are about."""
+        op = self.operating_point
+        return (f"operating point u0 = {op['u0']:.10g}, y0 = {op['y0']:.10g} ({op['how']}); "
+                f"the model, its GFRFs and the verdict are about deviations from it")
+
+    def noise_text(self) -> str:
+        """The noise model, or that there is none."""
+        if self.noise_model == "output error":
+            return ("noise: output error (white noise on the output; the coefficients "
+                    "minimise the free-run error on the training part)")
+        if not self.noise:
+            return "noise terms: none"
+        body = " ".join(f"{'-' if c < 0 else '+'} {abs(c):.6g}*e[k-{j}]"
+                        for j, c in enumerate(self.noise, start=1))
+        return (f"noise terms (extended least squares; not part of the GFRFs): e[k] {body}")
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready description."""
+        validation = self.validation.to_dict() if self.validation else None
+        return {"model": self.model.to_dict(), "settings": dict(self.settings),
+                "n_samples": self.n_samples, "n_train": self.n_train, "n_fit": self.n_fit,
+                "candidates": self.candidates,
+                "regressors": [dict(r) for r in self.regressors],
+                "process_terms": self.model.text,
+                "noise_model": self.noise_model,
+                "noise_terms": [{"term": f"e[k-{j}]", "coefficient": c}
+                                for j, c in enumerate(self.noise, start=1)],
+                "operating_point": dict(self.operating_point),
+                "free_run_error": self.free_run_error, "one_step_error": self.one_step_error,
+                "blowup": self.blowup, "notes": list(self.notes),
+                "structure_search": [dict(s) for s in self.structure],
+                "validation": validation, "adequate": self.adequate,
+                "reason": self.validation.reason if self.validation else "not validated",
+                "significant_digits": SIGNIFICANT_DIGITS,
+                "sysidentpy_version": self.sysidentpy_version}
