@@ -579,13 +579,10 @@ def radius(step: Callable[[np.ndarray, float], np.ndarray], dim: int,
 
 def plant_radius(maj: Majorant) -> Radius:
     """r* of the plant majorant (the radius of the norm series, used by the verdict and by
-    the Volterra prediction); ``proof = "interval"`` when the sups are proven and the
-    supersolution at the certified end passes the ball-arithmetic check rhs(x, r) <= x,
-    ``"none"`` for an estimated majorant."""
-    rad = radius(lambda x, r: maj.rhs(x, r), len(maj.powers))
-    if maj.proof == "none":
-        return dataclasses.replace(rad, proof="none")
-    if (maj.proof == "interval" and maj.exact and rad.solution is not None
-            and rad.certified_below > 0 and maj.proves(rad.solution, rad.certified_below)):
-        return dataclasses.replace(rad, proof="interval")
-    return rad
+    the Volterra prediction), computed on an O(1) rescaled system and scaled back exactly
+    (:func:`gfrf.bounds.radius_scaling.scaled_plant_radius`); ``proof = "interval"`` when
+    the sups are proven and the supersolution passes the ball-arithmetic check
+    rhs(x, r) <= x, ``"none"`` for an estimated majorant."""
+    from gfrf.bounds.radius_scaling import scaled_plant_radius
+
+    return scaled_plant_radius(maj)

@@ -1,0 +1,65 @@
+"""Issue 24: no false sentence at the edges (huge coefficients, poles, pole clusters,
+mixed timebases, exit codes).  Every expected value comes from a closed form, mpmath or
+an exact scaling law, never from the code's own output."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+from gfrf.cli import main
+
+ZETA = 0.1
+PEAK = 1.0 / (2 * ZETA * math.sqrt(1 - ZETA ** 2))  # ||H1|| of 1/(s^2 + 0.2 s + 1)
+
+
+def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def _cubic_radius(c3: float) -> float:
+    """Closed form of the pure-cubic majorant X = v r + v c3 X^3: r* = 2 / (3 v sqrt(3 v c3))."""
+    return 2.0 / (3.0 * PEAK * math.sqrt(3.0 * PEAK * c3))
+
+
+@pytest.mark.parametrize("s", [1e-150, 1e-20, 1e-3, 0.3, 3.7, 1e5, 1e9, 1e14,
+                               math.sqrt(5e27 / 0.5), 1e30, 1e100, 1e150])
+def test_radius_scales_exactly(s: float) -> None:
+    """Item 1: r*(c3 s^2) = r*(c3) / s, at the interval level, for every magnitude."""
+    from gfrf.bounds.majorant import majorant, plant_radius
+    from gfrf.model.equation import parse_model
+
+    c3 = 0.5 * s * s
+    rad = plant_radius(majorant(parse_model(f"D(y,2) + 0.2*D(y) + y + {c3!r}*y**3 = u")))
+    assert rad.proof == "interval"
+    # r* sits 1e-9 relative below the branch point (certify's margin)
+    assert rad.value * s == pytest.approx(_cubic_radius(0.5), rel=3e-9)
+    assert rad.certified_below <= _cubic_radius(c3)
+    assert rad.certified_below == pytest.approx(_cubic_radius(c3), rel=3e-9)
+
+
+def test_radius_power_of_four_bitwise() -> None:
+    """A coefficient scaled by 4^k gives r* exactly 2^-k times the old one."""
+    from gfrf.bounds.majorant import majorant, plant_radius
+    from gfrf.model.equation import parse_model
+
+    base = plant_radius(majorant(parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u")))
+    for k in (-60, -7, 3, 45, 90):
+        c3 = 0.5 * 4.0 ** k
+        rad = plant_radius(majorant(parse_model(f"D(y,2) + 0.2*D(y) + y + {c3!r}*y**3 = u")))
+        assert rad.value == math.ldexp(base.value, -k)
+        assert rad.certified_below == math.ldexp(base.certified_below, -k)
+
+
+def test_verdict_huge_cubic_is_stable(capsys: pytest.CaptureFixture[str]) -> None:
+    """Item 1: the issue's command; the true radius 4.832e-16 > r = 1e-16."""
+    code, out, _ = run(capsys, "verdict", "D(y,2) + 0.2*D(y) + y + 5e27*y**3 = u",
+                       "--amplitude", "1e-16", "--order", "3", "--json")
+    data = json.loads(out)
+    assert code == 0 and data["verdict"] == "stable"
+    assert data["radius"] == pytest.approx(_cubic_radius(5e27), rel=3e-9)
+    assert data["radius_proof"] == "interval"
