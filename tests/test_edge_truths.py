@@ -63,3 +63,32 @@ def test_verdict_huge_cubic_is_stable(capsys: pytest.CaptureFixture[str]) -> Non
     assert code == 0 and data["verdict"] == "stable"
     assert data["radius"] == pytest.approx(_cubic_radius(5e27), rel=3e-9)
     assert data["radius_proof"] == "interval"
+
+
+def test_kernel_far_out_prints_zero(capsys: pytest.CaptureFixture[str]) -> None:
+    """Item 2: |H3| at 1e308 underflows (mpmath: H3 ~ 1/w^6); printed 0, never nan."""
+    import mpmath
+
+    code, out, _ = run(capsys, "kernel", "models/hanging_pendulum.toml", "--order", "3",
+                       "--at", "1e308,1e308,-1e308", "--json")
+    data = json.loads(out)
+    assert code == 0 and data["abs"] == 0.0 and data["re"] == 0.0 and data["im"] == 0.0
+    assert mpmath.mpf(data["abs_decimal"]) < mpmath.mpf("1e-2000")
+    assert "nan" not in out.lower()
+
+
+@pytest.mark.parametrize(("order", "at", "block"), [(3, "1,1,-1", [1]), (1, "1", [1]),
+                                                    (3, "0.25,0.25,0.5", [1, 2, 3]),
+                                                    (2, "-1,3", [1])])
+def test_kernel_at_pole_names_it(capsys: pytest.CaptureFixture[str], order: int, at: str,
+                                 block: list[int]) -> None:
+    """Item 2: at a pole of 1/A (A = s^2 + 1: s = +-j) the command says so, exit 1."""
+    code, out, _ = run(capsys, "kernel", "D(y,2) + y + 0.5*y**3 + 0.1*y**2 = u",
+                       "--order", str(order), "--at", at, "--json")
+    data = json.loads(out)
+    assert code == 1
+    assert data["pole"]["block"] == block and abs(data["pole"]["omega"]) == 1.0
+    assert "nan" not in out.lower() and "null" not in out and "inf" not in out.lower()
+    code, out, _ = run(capsys, "kernel", "D(y,2) + y + 0.5*y**3 + 0.1*y**2 = u",
+                       "--order", str(order), "--at", at)
+    assert code == 1 and "pole" in out and "nan" not in out.lower()
