@@ -92,3 +92,55 @@ def test_kernel_at_pole_names_it(capsys: pytest.CaptureFixture[str], order: int,
     code, out, _ = run(capsys, "kernel", "D(y,2) + y + 0.5*y**3 + 0.1*y**2 = u",
                        "--order", str(order), "--at", at)
     assert code == 1 and "pole" in out and "nan" not in out.lower()
+
+
+def _cluster(zeta: float, k: int) -> list[float]:
+    """Float coefficients of (s^2 + 2 zeta s + 1)^k, highest power first."""
+    import numpy as np
+
+    den = np.array([1.0])
+    for _ in range(k):
+        den = np.polymul(den, [1.0, 2 * zeta, 1.0])
+    return [float(c) for c in den]
+
+
+@pytest.mark.parametrize("k", [2, 3])
+@pytest.mark.parametrize("zeta", [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8])
+def test_float_level_lower_end_is_evaluated(zeta: float, k: int) -> None:
+    """Item 3: on pole clusters the float path may refuse its upper end, but its lower
+    end is a value of |H1| at an evaluated point: <= the 60-digit sup, never inf."""
+    from mp_reference import mp_sup
+
+    from gfrf.bounds.rational import rational_sup
+
+    den = _cluster(zeta, k)
+    floated = rational_sup([1.0], den, proof="float")
+    proven = rational_sup([1.0], den, proof="interval")
+    if "pole on the imaginary axis" in proven.reason:  # the rounded floats of k = 3,
+        assert floated.lower == math.inf == proven.lower  # zeta = 1e-8: a root at s = j
+        return
+    ref = mp_sup([1.0], den)
+    assert proven.lower <= ref <= proven.upper
+    assert math.isfinite(floated.lower) and math.isfinite(floated.omega)
+    assert floated.lower <= ref * (1 + 1e-15)
+    assert floated.lower > 0.0
+    if k == 2:  # a double cluster stays resolvable: the witness sits at its peak
+        assert floated.lower >= 0.99 * float(ref)
+    if math.isfinite(floated.upper):
+        assert abs(floated.upper / float(ref) - 1) <= 1e-8
+
+
+def test_norm_float_cluster_json(capsys: pytest.CaptureFixture[str]) -> None:
+    """Item 3: the issue's command: lower end 250000.25 (mpmath), never inf, no nan witness."""
+    from mp_reference import mp_sup
+
+    model = ("D(y,4) + 0.004*D(y,3) + 2.000004*D(y,2) + 0.004*D(y) + 1.0*y "
+             "+ 0.1*y**3 = u")
+    code, out, _ = run(capsys, "norm", model, "--order", "1", "--proof", "float", "--json")
+    bound = json.loads(out)
+    ref = float(mp_sup([1.0], [1.0, 0.004, 2.000004, 0.004, 1.0]))
+    assert bound["lower"] <= ref and bound["lower"] == pytest.approx(ref, rel=1e-6)
+    assert "nan" not in out.lower()
+    code, out, _ = run(capsys, "verdict", model, "--order", "3", "--proof", "float",
+                       "--amplitude", "1e-8")
+    assert "diverges" not in out and "certifies no input amplitude r > 0" in out

@@ -324,7 +324,8 @@ def majorant(model: Model, proof: str = "interval") -> Majorant:
         exact = exact and h1.exact and inv_a.exact
         for name, res in ((f"sup|s^{ell} H1|", h1), (f"sup|s^{ell}/A|", inv_a)):
             if res.reason:
-                reasons.append(f"{name} infinite: {res.reason}")
+                what = "infinite" if res.lower == math.inf else "has no finite upper bound"
+                reasons.append(f"{name} {what}: {res.reason}")
     terms = []
     for t in nonlinear:
         unbounded = not discrete and any(k > 0 for k in t.u_orders)

@@ -259,6 +259,10 @@ def _series_condition(name: str, rad: Radius, amplitude: float, exact: bool,
         return Condition(name, True if exact else None, rad.value,
                          f"majorant converges for r < r* = {rad.value:.6g} ({label}); "
                          f"r = {amplitude:g} is inside{est}")
+    if rad.value == 0.0:  # an infinite majorant entry: nothing certified, nothing refuted
+        return Condition(name, None, rad.value,
+                         f"not established: the majorant certifies no amplitude r > 0 "
+                         f"(r* = 0: it has an infinite entry, see the H_n condition){est}")
     return Condition(name, None, rad.value,
                      f"not established: the majorant diverges for r >= r* = {rad.value:.6g} "
                      f"({label}) and r = {amplitude:g} is outside{est}")
@@ -272,6 +276,9 @@ def _summary(result: str, theorem: int, rad: Radius, amplitude: float,
     text = (f"Theorem {theorem}: {result}. The {kind} norm series converges for every "
             f"input amplitude r < r* = {rad.value:.6g}; r = {amplitude:g} is "
             f"{'inside' if amplitude < rad.certified_below else 'outside'}.")
+    if rad.value == 0.0:
+        text = (f"Theorem {theorem}: {result}. The {kind} majorant certifies no input "
+                f"amplitude r > 0 (r* = 0).")
     if failed:
         text += " Failed: " + "; ".join(failed) + "."
     if open_:
