@@ -144,3 +144,43 @@ def test_norm_float_cluster_json(capsys: pytest.CaptureFixture[str]) -> None:
     code, out, _ = run(capsys, "verdict", model, "--order", "3", "--proof", "float",
                        "--amplitude", "1e-8")
     assert "diverges" not in out and "certifies no input amplitude r > 0" in out
+
+
+@pytest.mark.parametrize("coefficient", ["tan(pi/2)", "tan(-3*pi/2)", "tan(2*atan(1))",
+                                         "1/cos(pi/2)", "1/sin(pi)", "1/tan(pi)"])
+def test_coefficient_at_a_pole_is_an_error(coefficient: str) -> None:
+    """Item 4: sympy's exact value is zoo (tan(pi/2)) or the divisor is exactly 0."""
+    import sympy as sp
+
+    from gfrf.errors import ModelError
+    from gfrf.model.equation import parse_model
+
+    with pytest.raises(ModelError):
+        parse_model(f"D(y,2) + D(y) + y + {coefficient}*y**3 = u")
+    with pytest.raises(ModelError):
+        parse_model(f"D(y,2) + D(y) + y + y**3/({coefficient.replace('1/', '')}) = u")
+    assert sp.tan(sp.pi / 2) == sp.zoo and sp.cos(sp.pi / 2) == 0  # the exact facts
+
+
+@pytest.mark.parametrize(("coefficient", "value"), [("tan(pi/4)", 1.0), ("cos(pi/3)", 0.5),
+                                                    ("tan(1.5707963267948966)",
+                                                     1.633123935319537e16)])
+def test_coefficient_near_a_pole_is_a_number(coefficient: str, value: float) -> None:
+    """A float argument is not pi/2: tan(fl(pi/2)) = 1/cos(fl(pi/2)) is a finite number."""
+    from gfrf.model.equation import parse_model
+
+    model = parse_model(f"D(y,2) + D(y) + y + {coefficient}*y**3 = u")
+    (term,) = model.nonlinear_terms
+    assert term.coefficient == pytest.approx(value, rel=1e-12)
+
+
+def test_parameter_at_a_pole_is_an_error(tmp_path: object, capsys: pytest.CaptureFixture[str]
+                                         ) -> None:
+    """Item 4 in a model file: a parameter tan(pi/2) is refused, exit 2."""
+    from pathlib import Path
+
+    path = Path(str(tmp_path)) / "m.toml"
+    path.write_text('equation = "D(y,2) + c*D(y) + y + 0.5*y**3 = u"\n'
+                    '[parameters]\nc = "tan(pi/2)"\n')
+    code, _, err = run(capsys, "show", str(path))
+    assert code == 2 and "pole" in err
