@@ -184,3 +184,38 @@ def test_parameter_at_a_pole_is_an_error(tmp_path: object, capsys: pytest.Captur
                     '[parameters]\nc = "tan(pi/2)"\n')
     code, _, err = run(capsys, "show", str(path))
     assert code == 2 and "pole" in err
+
+
+@pytest.mark.parametrize("dt", [0.1, True])
+def test_api_refuses_a_discrete_controller_on_a_continuous_plant(dt: object) -> None:
+    """Item 5: python-control itself refuses to connect these; so does gfrf."""
+    import control
+
+    import gfrf
+    from gfrf.errors import ArgumentError
+
+    plant = gfrf.load_model("models/duffing.toml")
+    controller = control.tf([1], [1, -0.5], dt)
+    with pytest.raises(ValueError):  # the independent reference
+        control.feedback(gfrf.linear_part(plant), controller)
+    with pytest.raises(ArgumentError, match=r"dt = (0\.1|True).*dt = 0"):
+        gfrf.verdict(plant, order=2, controller=controller)
+
+
+@pytest.mark.parametrize(("top", "controller", "words"), [
+    ("", "sample_time = 0.1\n", ["discrete-time (dt = 0.1 s)", "continuous-time (dt = 0)"]),
+    ("sample_time = 0.1\n", "", ["continuous-time (dt = 0)", "discrete-time (dt = 0.1 s)"]),
+    ("sample_time = 0.1\n", "sample_time = 0.2\n", ["dt = 0.2 s", "dt = 0.1 s"])])
+def test_model_file_refuses_mixed_timebases(tmp_path: object, capsys: pytest.CaptureFixture[str],
+                                            top: str, controller: str, words: list[str]) -> None:
+    """Item 5 in model files: a [controller] sample_time that differs from the plant's."""
+    from pathlib import Path
+
+    equation = ("y[k] - 0.5*y[k-1] + 0.1*y[k-1]**3 = u[k-1]" if top else
+                "D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u")
+    path = Path(str(tmp_path)) / "m.toml"
+    path.write_text(f'equation = "{equation}"\n{top}[controller]\nnum = [0.1]\n'
+                    f'den = [1, -0.5]\n{controller}')
+    code, _, err = run(capsys, "verdict", str(path), "--order", "2")
+    assert code == 2 and "mixed timebases" in err
+    assert all(w in err for w in words)
