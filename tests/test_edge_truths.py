@@ -219,3 +219,30 @@ def test_model_file_refuses_mixed_timebases(tmp_path: object, capsys: pytest.Cap
     code, _, err = run(capsys, "verdict", str(path), "--order", "2")
     assert code == 2 and "mixed timebases" in err
     assert all(w in err for w in words)
+
+
+def test_sweep_with_no_successful_point_exits_1(tmp_path: object,
+                                                capsys: pytest.CaptureFixture[str]) -> None:
+    """Item 7: every grid point fails (log of a negative parameter): exit 1, the cause named
+    (not 'invalid model' for every failure)."""
+    from pathlib import Path
+
+    path = Path(str(tmp_path)) / "m.toml"
+    path.write_text('equation = "D(y,2) + 0.2*D(y) + y + log(c)*y**3 = u"\n'
+                    '[parameters]\nc = 2\n')
+    code, out, err = run(capsys, "sweep", str(path), "--param", "c=-2:-1:3")
+    assert code == 1
+    assert "no grid point succeeded" in err and "not a real number" in err
+    assert "3 of 3 point(s) failed" in out
+    code, out, err = run(capsys, "sweep", str(path), "--param", "c=1:2:2")
+    assert code == 0 and "failed" not in out
+
+
+def test_norm_of_unstable_linear_part_says_l_infinity(capsys: pytest.CaptureFixture[str]
+                                                       ) -> None:
+    """Item 7: A = s^2 - 0.2 s + 1 is unstable; the bracket is of the L-infinity norm."""
+    code, out, _ = run(capsys, "norm", "D(y,2) - 0.2*D(y) + y + 0.5*y**3 = u", "--order", "3")
+    bracket = next(line for line in out.splitlines() if "||H3|| in" in line)
+    assert code == 1 and "L-infinity" in bracket and "not H-infinity" in bracket
+    code, out, _ = run(capsys, "norm", "D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u", "--order", "3")
+    assert code == 0 and "L-infinity" not in out

@@ -13,7 +13,8 @@ stability proven; 1: not proven or unstable; 2: bad input.
 ``gfrf norm MODEL --order N [--tol T] [--asymmetric] [--proof LEVEL] [--json]`` prints
 the bracket [lower, upper] of ||H_N||_inf (symmetric kernel unless ``--asymmetric``),
 its relative gap and how each end is established.  Infinite norms print as ``inf``
-(JSON ``"inf"``).
+(JSON ``"inf"``).  Exit code 1 when the linear part is not asymptotically stable: the
+bracket is then of the L-infinity norm on the axis, which the line says.
 
 ``--proof none|float|interval`` (default ``interval``: it costs about as much as the
 float path, see ``gfrf bench``, section "Proof levels") chooses the level of proof;
@@ -116,7 +117,10 @@ def _bound_label(b: Bound) -> str:
 
 def _bound_line(b: Bound) -> str:
     gap = "inf" if math.isinf(b.gap) else f"{b.gap:.2e}"
-    return f"  ||H{b.order}|| in [{_num(b.lower)}, {_num(b.upper)}]  gap {gap}  {_bound_label(b)}"
+    kind = ("" if b.stable else
+            "  (L-infinity norm on the axis, not H-infinity: linear part unstable)")
+    return (f"  ||H{b.order}|| in [{_num(b.lower)}, {_num(b.upper)}]  gap {gap}  "
+            f"{_bound_label(b)}{kind}")
 
 
 def _check_order(order: int) -> None:
@@ -148,7 +152,7 @@ def _norm(args: argparse.Namespace) -> int:
         lines.append(f"  python-control norm(sys, 'inf'): {b.reference:.10g}")
     lines += [f"  note: {note}" for note in b.notes]
     emit(args, {"model": mf.name, "proof_level": args.proof, **b.to_dict()}, "\n".join(lines))
-    return 0
+    return 0 if b.stable else 1  # an L-infinity value is no H-infinity norm: as verdict
 
 
 def _mark(passed: bool | None) -> str:
