@@ -246,3 +246,52 @@ def test_norm_of_unstable_linear_part_says_l_infinity(capsys: pytest.CaptureFixt
     assert code == 1 and "L-infinity" in bracket and "not H-infinity" in bracket
     code, out, _ = run(capsys, "norm", "D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u", "--order", "3")
     assert code == 0 and "L-infinity" not in out
+
+
+def _loop_file(tmp_path: object, k: float) -> str:
+    from pathlib import Path
+
+    path = Path(str(tmp_path)) / f"loop_{k:g}.toml"
+    path.write_text('name = "Duffing in a loop"\n'
+                    'equation = "D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"\n'
+                    f"[controller]\nnum = [{k!r}]\nden = [1]\n")
+    return str(path)
+
+
+@pytest.mark.parametrize("k", [0.001, 0.3, 4.0])
+def test_theorem2_prints_the_loop_and_its_upper_bound(tmp_path: object, k: float,
+                                                      capsys: pytest.CaptureFixture[str]
+                                                      ) -> None:
+    """Item 6: the loop u = C(r - y) in the header; the loop's proven upper radius in units
+    of r is the fold of (1 + k) y + y^3/2 = k r: |r| = 2 sqrt(2) (1 + k)^1.5 / (3 sqrt(3) k),
+    and r* (units of r) lies below it; the plant's 0.544 is labelled the plant's."""
+    code, out, _ = run(capsys, "verdict", _loop_file(tmp_path, k), "--order", "3")
+    assert "loop: u = C(r - y), C(s) = " in out.splitlines()[1]
+    fold = 2 * math.sqrt(2) * (1 + k) ** 1.5 / (3 * math.sqrt(3) * k)
+    code, out, _ = run(capsys, "verdict", _loop_file(tmp_path, k), "--order", "3", "--json")
+    data = json.loads(out)
+    assert data["loop_radius_upper"] == pytest.approx(fold, rel=1e-9)
+    assert data["loop"].startswith("u = C(r - y)")
+    assert data["radius"] <= data["loop_radius_upper"]
+    assert "plant's own" in data["estimate_of"] and "units of u" in data["estimate_of"]
+    assert data["radius_upper"] == pytest.approx(2 * math.sqrt(2) / (3 * math.sqrt(3)),
+                                                 rel=1e-9)  # the plant's: k -> u
+
+
+def test_theorem2_plot_log_axis_labelled_legend_off_data(tmp_path: object) -> None:
+    """Item 6: Verdict.plot for Theorem 2: log amplitude axis, every line labelled with
+    its units, legends outside the axes."""
+    import gfrf
+
+    v = gfrf.verdict(gfrf.load_model(_loop_file(tmp_path, 0.001)), order=3)
+    figure = v.plot()
+    figure.canvas.draw()
+    left, right = figure.axes[:2]
+    assert right.get_yscale() == "log"
+    labels = [line.get_label() for line in right.get_lines()]
+    assert all(not label.startswith("_") for label in labels)
+    assert any("plant true radius" in x and "units of u" in x for x in labels)
+    assert any("loop r*" in x and "units of r" in x for x in labels)
+    for ax in (left, right):
+        legend = ax.get_legend().get_window_extent()
+        assert legend.x0 >= ax.get_window_extent().x1  # beside the axes, not on the data

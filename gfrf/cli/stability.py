@@ -162,12 +162,16 @@ def _mark(passed: bool | None) -> str:
 def _verdict_text(name: str, v: Verdict, proof: str = "") -> list[str]:
     kind = "open loop" if v.theorem == 1 else "closed loop"
     level = f", proof level {proof}" if proof else ""
-    lines = [f"{name}: Theorem {v.theorem} ({kind}), amplitude r = {v.amplitude:g}{level}", "",
-             "Conditions:"]
+    lines = [f"{name}: Theorem {v.theorem} ({kind}), amplitude r = {v.amplitude:g}{level}",
+             *([f"loop: {v.loop}"] if v.loop else []), "", "Conditions:"]
     lines += [f"  [{_mark(c.passed)}] {c.name}: {c.detail}" for c in v.conditions]
+    plant = "the plant's " if v.loop else ""  # Theorem 2: these are the plant's numbers
     if v.norms:
-        lines += ["", "Norms (symmetric kernels, rad/s):"] + [_bound_line(b) for b in v.norms]
-    lines += ["", "Series (majorant M_n >= ||H_n||, term M_n r^n):"]
+        lines += ["", f"Norms ({plant}symmetric kernels, rad/s):"] + [_bound_line(b)
+                                                                      for b in v.norms]
+    lines += ["", f"Series ({plant}majorant M_n >= ||H_n||, term M_n r^n"
+              + (" at plant input amplitude r; loop: theta_n rho_1^n r^n, reference r):"
+                 if v.loop else "):")]
     for row in v.series:
         extra = (f"  theta_n rho_1^n r^n = {_num(row['theta_term'])}"
                  if "theta_term" in row else "")
@@ -175,7 +179,11 @@ def _verdict_text(name: str, v: Verdict, proof: str = "") -> list[str]:
                      f"term = {_num(row['majorant_term'])}{extra}")
     kind = ({"interval": "proven", "float": "certified (float)"}.get(v.radius_proof, "estimate")
             if v.radius_certified else "estimate")
-    lines += ["", f"radius (lower bound r*, {kind}): {_num(v.radius)}"]
+    lines += ["", f"radius (lower bound r*, {kind}): {_num(v.radius)}"
+              + (" (units of the reference r)" if v.loop else "")]
+    if v.loop_radius_upper is not None:
+        lines.append(f"loop radius_upper (proven upper bound of the loop's true radius, units "
+                     f"of r): {_num(v.loop_radius_upper)}")
     if v.radius_upper is not None:
         lines.append(f"radius_upper (proven upper bound of the {v.estimate_of}): "
                      f"{_num(v.radius_upper)}")

@@ -46,7 +46,8 @@ import numpy as np
 from gfrf.bounds.exact import arb_upper
 from gfrf.model.equation import Model
 
-__all__ = ["StaticBound", "static_polynomial", "static_series", "radius_upper"]
+__all__ = ["StaticBound", "static_polynomial", "static_series", "radius_upper",
+           "loop_radius_upper"]
 
 #: Most pieces of the segment the branch tracking may use (a work count, not a time).
 MAX_TRACK_STEPS = 4000
@@ -363,9 +364,56 @@ def radius_upper(model: Model) -> StaticBound | None:
         None when the static map has no finite gain (A(0) = 0), is linear, or no
         candidate branch point could be proven singular within the work budget.
     """
+    return _upper_of(_static_terms(model), "u", "||H_n|| >= |H_n(0,..,0)|")
+
+
+def loop_radius_upper(model: Model, gain: Fraction, feedback: int) -> StaticBound | None:
+    """Proven upper bound on the true radius, in units of the reference r, of the norm
+    series of the closed loop u = C(r + feedback * y) with static controller gain C(0).
+
+    At zero frequency the loop's kernels from r to y are the Taylor coefficients of the
+    branch y(r) of P(y, C(0) (r + feedback y)) = 0 (P the plant's static equation), so
+    the static fold of that map bounds the loop's true radius as :func:`radius_upper`
+    bounds the plant's.  Exact: the substitution is done on the rational coefficients.
+
+    Parameters
+    ----------
+    model : Model
+        The plant.
+    gain : Fraction
+        The controller's static gain C(0) (finite).
+    feedback : {-1, 1}
+
+    Returns
+    -------
+    StaticBound or None
+        As :func:`radius_upper`; ``value`` is in units of r.
+
+    Examples
+    --------
+    >>> from gfrf.model.equation import parse_model
+    >>> m = parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u")
+    >>> k = Fraction(1, 1000)  # (1 + k) y + y^3/2 = k r: |r| = 2 sqrt(2) (1 + k)^1.5 / (3 sqrt(3) k)
+    >>> b = loop_radius_upper(m, k, -1)
+    >>> abs(b.value - 2 * 2 ** 0.5 * 1.001 ** 1.5 / (3 * 3 ** 0.5 * 0.001)) < 1e-9 * b.value
+    True
+    """
+    loop: dict[tuple[int, int], Fraction] = {}
+    for (i, j), c in _static_terms(model).items():
+        for m in range(j + 1):  # (k r + k f y)^j = sum_m C(j, m) (k r)^m (k f y)^(j - m)
+            key = (i + j - m, m)
+            loop[key] = (loop.get(key, Fraction(0))
+                         + c * math.comb(j, m) * gain ** j * Fraction(feedback) ** (j - m))
+    loop = {k: v for k, v in loop.items() if v != 0}
+    return _upper_of(loop, "r", "the loop's ||G_n|| >= |G_n(0,..,0)| (r to y)") \
+        if loop else None
+
+
+def _upper_of(p: dict[tuple[int, int], Fraction], variable: str,
+              why: str) -> StaticBound | None:
+    """The proven static branch point of P(y, v) = sum p_ij y^i v^j = 0 (v = ``variable``)."""
     from flint import ctx
 
-    p = _static_terms(model)
     if p.get((1, 0), Fraction(0)) == 0 or (0, 0) in p or max(i for i, _ in p) < 2:
         return None
     saved = ctx.prec
@@ -391,9 +439,9 @@ def radius_upper(model: Model) -> StaticBound | None:
                 exact = value <= nearest * (1 + 1e-12)
                 s = complex(sigma.mid())
                 return StaticBound(value, s, y0, exact,
-                                   f"static branch point u = {_fmt(s)} (|u| = {value:.6g}): "
-                                   f"the static branch y(u) folds at y = {_fmt(y0)}, proven in "
-                                   "ball arithmetic; ||H_n|| >= |H_n(0,..,0)|")
+                                   f"static branch point {variable} = {_fmt(s)} (|{variable}| = "
+                                   f"{value:.6g}): the static branch y({variable}) folds at y = "
+                                   f"{_fmt(y0)}, proven in ball arithmetic; {why}")
         return None
     finally:
         ctx.prec = saved

@@ -167,7 +167,7 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
                        {"controller_majorant_at_1": c_at_1, "plant_radius": plant_rad.value},
                        f"the series is the plant majorant at amplitude C(1) = {c_at_1:.6g} "
                        f"(C = controller majorant; lambda_1 for a linear controller), "
-                       f"plant radius {plant_rad.value:.6g}")
+                       f"plant radius {plant_rad.value:.6g} (units of the plant input u)")
         rad = _loop_radius(maj, lam_up, rho1_up, cmaj)
     else:
         c4 = Condition("sum phi_m lambda_1^m converges", False, {"lambda_1": lam},
@@ -193,13 +193,42 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
     result = ("stable" if all(c.passed for c in conditions) else
               "unstable" if loop.outside else "inconclusive")
     summary = _summary(result, 2, rad, amplitude, conditions, exact)
+    from gfrf.stability.loops import loop_text
+
+    loop_upper, loop_detail = _loop_upper(model_file, level != "none" and proof == "interval")
+    if loop_upper is not None:
+        summary += (f" In units of the reference r (loop {loop_text(controller)}): the loop's "
+                    f"true radius is proven <= {loop_upper:.6g} ({loop_detail}).")
     if radii.upper is not None or radii.estimate is not None:
-        summary += (" The plant's own norm series sum ||h_n|| r^n (not the loop):"
-                    + radii.text().lstrip(";") + ".")
+        summary += (" The plant's own norm series sum ||h_n|| u^n, in units of the plant "
+                    "input u (not the loop):" + radii.text().lstrip(";") + ".")
     return Verdict(result, 2, rad.value, exact, float(amplitude), conditions, norms, rows,
                    radii.estimate, summary, rad.proof, radii.upper, radii.detail,
-                   "plant norm series sum ||h_n|| r^n (not the loop series)",
-                   radii.lower if level != "none" else None)
+                   "plant's own norm series sum ||h_n|| u^n, in units of u (not the loop)",
+                   radii.lower if level != "none" else None, loop_text(controller),
+                   loop_upper, loop_detail)
+
+
+def _loop_upper(model_file: ModelFile, wanted: bool) -> tuple[float | None, str]:
+    """The loop's proven upper radius in reference units (static fold of the loop's static
+    map, :func:`gfrf.stability.static.loop_radius_upper`), or None with the reason."""
+    from fractions import Fraction
+
+    from gfrf.stability.static import loop_radius_upper
+
+    controller = model_file.controller
+    if not wanted or controller is None:
+        return None, "not computed (proof level 'interval' and norms on only)"
+    if not controller.is_linear:
+        return None, "not computed for a polynomial controller"
+    num, den = controller.num or (1.0,), controller.den or (1.0,)
+    if den[-1] == 0:
+        return None, "C(0) is infinite (integral action): statically y = r, no fold"
+    bound = loop_radius_upper(model_file.plant, Fraction(num[-1]) / Fraction(den[-1]),
+                              controller.feedback)
+    if bound is None:
+        return None, "no static branch point of the loop's static map proven"
+    return bound.value, bound.detail
 
 
 def _controller_output(cmaj: Majorant) -> float:
