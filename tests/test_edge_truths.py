@@ -295,3 +295,19 @@ def test_theorem2_plot_log_axis_labelled_legend_off_data(tmp_path: object) -> No
     for ax in (left, right):
         legend = ax.get_legend().get_window_extent()
         assert legend.x0 >= ax.get_window_extent().x1  # beside the axes, not on the data
+
+
+def test_resonance_is_the_exact_peak_of_h1() -> None:
+    """Item 8: eq (2), rho = 0.8: A = s^2 + 0.05 s + 2.45 peaks at sqrt(2.45 - 0.05^2 / 2)
+    = 1.564848 rad/s, not at the grid point 1.563148 the reports called the resonance."""
+    import gfrf
+    from gfrf.sim.validation import resonance, resonance_label
+
+    plant = gfrf.load_model("models/hanging_pendulum_eq2.toml").plant
+    exact = math.sqrt(2.45 - 0.05 ** 2 / 2)
+    assert resonance(plant) == pytest.approx(exact, rel=1e-12)
+    assert abs(resonance(plant) - 1.563148) > 1e-3
+    assert "exact peak" in resonance_label(plant)
+    # no finite peak (|H1| maximal at w = 0): the grid value, named as such
+    narx = gfrf.load_model("models/narx_example.toml").plant
+    assert "grid" in resonance_label(narx)

@@ -26,7 +26,8 @@ Examples
 >>> from gfrf.model.equation import parse_model
 >>> from gfrf.bounds.majorant import majorant
 >>> a = scaled_plant_radius(majorant(parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u")))
->>> b = scaled_plant_radius(majorant(parse_model(f"D(y,2) + 0.2*D(y) + y + {0.5 * 4.0 ** 40!r}*y**3 = u")))
+>>> c3 = 0.5 * 4.0 ** 40
+>>> b = scaled_plant_radius(majorant(parse_model(f"D(y,2) + 0.2*D(y) + y + {c3!r}*y**3 = u")))
 >>> a.value == b.value * 2.0 ** 40, b.proof
 (True, 'interval')
 """
@@ -35,10 +36,11 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from typing import Any
 
 import numpy as np
 
-from gfrf.bounds.majorant import Majorant, MajorantTerm, Radius, radius
+from gfrf.bounds.fixed_point import Radius, radius
 
 __all__ = ["scaled_majorant", "scaled_plant_radius"]
 
@@ -61,13 +63,13 @@ def _exact(value: float, exponent: int) -> float | None:
     return out
 
 
-def scaled_majorant(maj: Majorant) -> tuple[Majorant, int, dict[int, int]] | None:
+def scaled_majorant(maj: Any) -> tuple[Any, int, dict[int, int]] | None:
     """The rho-system of ``maj`` (module docstring) with the exponents of beta and alpha_l.
 
     Parameters
     ----------
-    maj : Majorant
-        A finite majorant.
+    maj : gfrf.bounds.majorant.Majorant
+        A finite majorant (this module does not import it: :mod:`.majorant` imports this).
 
     Returns
     -------
@@ -102,18 +104,18 @@ def scaled_majorant(maj: Majorant) -> tuple[Majorant, int, dict[int, int]] | Non
         w = _exact(t.weight, shift * t.q + sum(alpha[i] for i in t.y_orders))
         if w is None:
             return None
-        terms.append(MajorantTerm(w, t.q, t.y_orders, t.text))
+        terms.append(dataclasses.replace(t, weight=w))
     if any(v is None for v in (*linear.values(), *gains.values())):
         return None
     scaled = dataclasses.replace(maj, linear=linear, gains=gains, terms=tuple(terms))
     return scaled, shift, alpha
 
 
-def scaled_plant_radius(maj: Majorant) -> Radius:
+def scaled_plant_radius(maj: Any) -> Radius:
     """r* of the plant majorant, computed on the rho-system and scaled back exactly.
 
     ``proof = "interval"`` when the sups are proven and the rho-system's supersolution
-    passes the ball check (:meth:`Majorant.proves`, the same real inequality as for
+    passes the ball check (``Majorant.proves``, the same real inequality as for
     ``maj``), ``"none"`` for an estimated majorant, else ``"float"``.  Without a usable
     scaling (:func:`scaled_majorant` None) the radius is computed on ``maj`` itself.
     """

@@ -393,7 +393,7 @@ def loop_radius_upper(model: Model, gain: Fraction, feedback: int) -> StaticBoun
     --------
     >>> from gfrf.model.equation import parse_model
     >>> m = parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u")
-    >>> k = Fraction(1, 1000)  # (1 + k) y + y^3/2 = k r: |r| = 2 sqrt(2) (1 + k)^1.5 / (3 sqrt(3) k)
+    >>> k = Fraction(1, 1000)  # (1+k) y + y^3/2 = k r: |r| = 2 sqrt(2) (1+k)^1.5 / (3 sqrt(3) k)
     >>> b = loop_radius_upper(m, k, -1)
     >>> abs(b.value - 2 * 2 ** 0.5 * 1.001 ** 1.5 / (3 * 3 ** 0.5 * 0.001)) < 1e-9 * b.value
     True
