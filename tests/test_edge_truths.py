@@ -311,3 +311,24 @@ def test_resonance_is_the_exact_peak_of_h1() -> None:
     # no finite peak (|H1| maximal at w = 0): the grid value, named as such
     narx = gfrf.load_model("models/narx_example.toml").plant
     assert "grid" in resonance_label(narx)
+
+
+@pytest.mark.parametrize("s", [1e-20, 1e14, 1e100])
+def test_upper_and_estimate_scale_too(s: float, capsys: pytest.CaptureFixture[str]) -> None:
+    """Item 1: radius_upper (the static fold of y + c3 y^3 = u: |u| = (2/3) / sqrt(3 c3))
+    and the estimate follow r*(c3 s^2) = r*(c3) / s; no overflow warning."""
+    import warnings
+
+    c3 = 0.5 * s * s
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        code, out, _ = run(capsys, "verdict", f"D(y,2) + 0.2*D(y) + y + {c3!r}*y**3 = u",
+                           "--amplitude", f"{0.01 / s!r}", "--order", "3", "--json")
+    data = json.loads(out)
+    assert code == 0 and data["verdict"] == "stable"
+    assert data["radius_upper"] == pytest.approx((2 / 3) / math.sqrt(3 * c3), rel=1e-12)
+    assert data["radius_upper"] >= (2 / 3) / math.sqrt(3 * c3) * (1 - 1e-15)
+    _, base, _ = run(capsys, "verdict", "D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u",
+                     "--amplitude", "0.01", "--order", "3", "--json")
+    assert data["radius_estimate"] * s == pytest.approx(json.loads(base)["radius_estimate"],
+                                                        rel=1e-6)

@@ -42,7 +42,7 @@ import numpy as np
 
 from gfrf.bounds.fixed_point import Radius, radius
 
-__all__ = ["scaled_majorant", "scaled_plant_radius"]
+__all__ = ["scaled_majorant", "scaled_plant_radius", "amplitude_shift"]
 
 _TINY = 2.0 ** -1000
 """Smallest magnitude a scaled coefficient may have (far above the subnormals)."""
@@ -139,3 +139,12 @@ def scaled_plant_radius(maj: Any) -> Radius:
                              for y, ell in zip(rad.solution, work.powers, strict=True)])
     return Radius(math.ldexp(rad.value, shift), math.ldexp(rad.certified_below, shift),
                   solution, proof)
+
+
+def amplitude_shift(maj: Any) -> int:
+    """b of beta = 2^b, the amplitude unit in which ``maj``'s problem is O(1) (0 when
+    :func:`scaled_majorant` finds no scaling): the shift for
+    :func:`gfrf.model.scaling.amplitude_scaled` and
+    :func:`gfrf.stability.static.radius_upper`."""
+    found = scaled_majorant(maj)
+    return 0 if found is None else found[1]

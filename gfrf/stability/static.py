@@ -351,12 +351,17 @@ def _end_stage(polys: list[Any], sigma: Any, t: float, current: tuple[complex, f
     return not _eval_p(_derivative_u(polys), disc_ball, sigma).contains(0)
 
 
-def radius_upper(model: Model) -> StaticBound | None:
+def radius_upper(model: Model, shift: int = 0) -> StaticBound | None:
     """Proven upper bound on the true radius of sum ||H_n|| r^n from the static map.
 
     Parameters
     ----------
     model : Model
+    shift : int
+        Work on the amplitude-scaled map y = 2^shift Y, u = 2^shift U (exact on the
+        rational coefficients: c_ij -> c_ij 2^(shift (i + j - 1))) and scale the branch
+        point back; :func:`gfrf.bounds.radius_scaling.amplitude_shift` gives the shift
+        that makes the problem O(1) (a cubic coefficient 5e27 puts the fold at 5e-15).
 
     Returns
     -------
@@ -364,7 +369,7 @@ def radius_upper(model: Model) -> StaticBound | None:
         None when the static map has no finite gain (A(0) = 0), is linear, or no
         candidate branch point could be proven singular within the work budget.
     """
-    return _upper_of(_static_terms(model), "u", "||H_n|| >= |H_n(0,..,0)|")
+    return _upper_of(_static_terms(model), "u", "||H_n|| >= |H_n(0,..,0)|", shift)
 
 
 def loop_radius_upper(model: Model, gain: Fraction, feedback: int) -> StaticBound | None:
@@ -410,12 +415,14 @@ def loop_radius_upper(model: Model, gain: Fraction, feedback: int) -> StaticBoun
 
 
 def _upper_of(p: dict[tuple[int, int], Fraction], variable: str,
-              why: str) -> StaticBound | None:
-    """The proven static branch point of P(y, v) = sum p_ij y^i v^j = 0 (v = ``variable``)."""
+              why: str, shift: int = 0) -> StaticBound | None:
+    """The proven static branch point of P(y, v) = sum p_ij y^i v^j = 0 (v = ``variable``),
+    found on the map scaled by 2^shift in y and v and scaled back exactly."""
     from flint import ctx
 
     if p.get((1, 0), Fraction(0)) == 0 or (0, 0) in p or max(i for i, _ in p) < 2:
         return None
+    p = {(i, j): c * Fraction(2) ** (shift * (i + j - 1)) for (i, j), c in p.items()}
     saved = ctx.prec
     ctx.prec = PRECISION
     try:
@@ -435,9 +442,11 @@ def _upper_of(p: dict[tuple[int, int], Fraction], variable: str,
         for sigma in candidates:
             y0 = _certify(polys, sigma)
             if y0 is not None:
-                value = arb_upper(abs(sigma))
-                exact = value <= nearest * (1 + 1e-12)
-                s = complex(sigma.mid())
+                value = math.ldexp(arb_upper(abs(sigma)), shift)
+                exact = value <= math.ldexp(nearest, shift) * (1 + 1e-12)
+                mid = complex(sigma.mid())
+                s = complex(math.ldexp(mid.real, shift), math.ldexp(mid.imag, shift))
+                y0 = complex(math.ldexp(y0.real, shift), math.ldexp(y0.imag, shift))
                 return StaticBound(value, s, y0, exact,
                                    f"static branch point {variable} = {_fmt(s)} (|{variable}| = "
                                    f"{value:.6g}): the static branch y({variable}) folds at y = "
