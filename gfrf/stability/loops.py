@@ -101,7 +101,8 @@ def loop_text(controller: Controller) -> str:
         what = f"C(s) = {num}" if den == "1" else f"C(s) = ({num}) / ({den})"
     else:
         what = f"C: {controller.model.equation()}"  # type: ignore[union-attr]
-    return f"u = C(r {sign} y), {what}; r is the reference, in units of y"
+    return (f"u = C(r {sign} y), {what}; r is the reference, in units of y (the simulator's "
+            f"closed loop is u = r {sign} C[y], another r)")
 
 
 def _poly_s(c: np.ndarray) -> str:
