@@ -93,12 +93,22 @@ def verdict_markdown(verdict: Any) -> str:
     kind = (f"certified, {verdict.radius_proof}" if verdict.radius_certified
             else "estimate, not certified")
     held = {True: "yes", False: "no", None: "not established"}
-    parts = [f"**Theorem {verdict.theorem}: {verdict.verdict}**",
-             markdown_table(("quantity", "value"), [
-                 (f"r* ({kind})", verdict.radius),
-                 ("amplitude r", verdict.amplitude),
-                 ("proven upper bound on the true radius", verdict.radius_upper),
-                 ("estimate of the true radius (not a proof)", verdict.radius_estimate)]),
+    loop = getattr(verdict, "loop", "")
+    rows = ([(f"r* ({kind})", verdict.radius), ("amplitude r", verdict.amplitude),
+             ("proven upper bound on the true radius", verdict.radius_upper),
+             ("estimate of the true radius (not a proof)", verdict.radius_estimate)]
+            if not loop else
+            [(f"r* ({kind}), units of the reference r", verdict.radius),
+             ("amplitude r (reference)", verdict.amplitude),
+             ("loop: proven upper bound on the true radius (units of r)",
+              verdict.loop_radius_upper),
+             ("plant: proven upper bound on its true radius (units of u)",
+              verdict.radius_upper),
+             ("plant: estimate of its true radius (units of u; not a proof)",
+              verdict.radius_estimate)])
+    parts = [f"**Theorem {verdict.theorem}: {verdict.verdict}**"
+             + (f" (loop {loop})" if loop else ""),
+             markdown_table(("quantity", "value"), rows),
              markdown_table(("condition", "holds"),
                             [(c.name, held[c.passed]) for c in verdict.conditions])]
     if verdict.norms:
