@@ -334,3 +334,42 @@ def test_upper_and_estimate_scale_too(s: float, capsys: pytest.CaptureFixture[st
                      "--amplitude", "0.01", "--order", "3", "--json")
     assert data["radius_estimate"] * s == pytest.approx(json.loads(base)["radius_estimate"],
                                                         rel=1e-6)
+
+
+def _loop_closed_form(lam: float, c3: float) -> float:
+    """r* of the loop majorant X = v lam E + g X^3, E = rho r + rho g X^3 (g = v c3, v = ||H1||,
+    rho = sup|A / (A + lam)| by mpmath): with a = v lam rho / (1 + v lam rho) the fold of
+    r = (X (1 - a) - g X^3) / a is at X^2 = (1 - a) / (3 g), r* = 2 (1 - a) X / (3 a)."""
+    import mpmath as mp
+
+    with mp.workdps(30):
+        def minus_s(w: mp.mpf) -> mp.mpf:
+            a_jw = (1 - w ** 2) + 0.2j * w
+            return -abs(a_jw / (a_jw + lam))
+
+        w0 = min((mp.mpf(i) / 1000 for i in range(500, 1500)), key=minus_s)
+        rho = -minus_s(mp.findroot(lambda w: mp.diff(minus_s, w), w0))
+        g = PEAK * c3
+        a = PEAK * lam * rho / (1 + PEAK * lam * rho)
+        x = mp.sqrt((1 - a) / (3 * g))
+        return float(2 * (1 - a) * x / (3 * a))
+
+
+def test_loop_radius_scales_exactly(tmp_path: object) -> None:
+    """Item 1 for Theorem 2: under y -> s y (u, r alike) the loop's r* is r*(c3) / s too
+    (the 5e27 loop gave 1.29e-14, 37x below 4.81e-13, before the loop was rescaled)."""
+    from pathlib import Path
+
+    import gfrf
+
+    def loop_radius(c3: float) -> float:
+        path = Path(str(tmp_path)) / "loop.toml"
+        path.write_text(f'equation = "D(y,2) + 0.2*D(y) + y + {c3!r}*y**3 = u"\n'
+                        "[controller]\nnum = [0.001]\nden = [1]\n")
+        return gfrf.verdict(gfrf.load_model(str(path)), order=2, amplitude=1e-30,
+                            with_norms=False).radius
+
+    base = loop_radius(0.5)
+    assert base == pytest.approx(_loop_closed_form(0.001, 0.5), rel=3e-9)
+    for s in (1e-10, 1e14, 1e100):
+        assert loop_radius(0.5 * s * s) * s == pytest.approx(base, rel=3e-9)

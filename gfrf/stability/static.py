@@ -372,7 +372,8 @@ def radius_upper(model: Model, shift: int = 0) -> StaticBound | None:
     return _upper_of(_static_terms(model), "u", "||H_n|| >= |H_n(0,..,0)|", shift)
 
 
-def loop_radius_upper(model: Model, gain: Fraction, feedback: int) -> StaticBound | None:
+def loop_radius_upper(model: Model, gain: Fraction, feedback: int,
+                      shift: int = 0) -> StaticBound | None:
     """Proven upper bound on the true radius, in units of the reference r, of the norm
     series of the closed loop u = C(r + feedback * y) with static controller gain C(0).
 
@@ -388,6 +389,8 @@ def loop_radius_upper(model: Model, gain: Fraction, feedback: int) -> StaticBoun
     gain : Fraction
         The controller's static gain C(0) (finite).
     feedback : {-1, 1}
+    shift : int
+        As for :func:`radius_upper` (y = 2^shift Y, r = 2^shift R, exact).
 
     Returns
     -------
@@ -410,7 +413,7 @@ def loop_radius_upper(model: Model, gain: Fraction, feedback: int) -> StaticBoun
             loop[key] = (loop.get(key, Fraction(0))
                          + c * math.comb(j, m) * gain ** j * Fraction(feedback) ** (j - m))
     loop = {k: v for k, v in loop.items() if v != 0}
-    return _upper_of(loop, "r", "the loop's ||G_n|| >= |G_n(0,..,0)| (r to y)") \
+    return _upper_of(loop, "r", "the loop's ||G_n|| >= |G_n(0,..,0)| (r to y)", shift) \
         if loop else None
 
 
