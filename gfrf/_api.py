@@ -66,8 +66,9 @@ def linear_part(model: Model | ModelFile) -> control.TransferFunction:
     return linear_plant(as_plant(model))
 
 
-def _controller(controller: Any, feedback: int) -> Any:
-    """A :class:`gfrf.model.modelfile.Controller` from a SISO python-control system."""
+def _controller(controller: Any, feedback: int, plant: Any) -> Any:
+    """A :class:`gfrf.model.modelfile.Controller` from a SISO python-control system with
+    the timebase of ``plant`` (ArgumentError naming both dt's otherwise)."""
     import control
     import numpy as np
 
@@ -80,6 +81,12 @@ def _controller(controller: Any, feedback: int) -> Any:
                             f"got {type(controller).__name__}")
     if controller.ninputs != 1 or controller.noutputs != 1:
         raise ArgumentError("controller must be single-input single-output")
+    plant_dt = plant.sample_time if plant.is_discrete else 0
+    dt = controller.dt
+    if dt is not None and not (dt == plant_dt or (dt is True and plant_dt)):
+        raise ArgumentError(f"mixed timebases: the controller has dt = {dt!r} and the plant "
+                            f"dt = {plant_dt!r} (0: continuous-time); python-control refuses "
+                            "to connect them: give a controller of the plant's timebase")
     if feedback not in (-1, 1):
         raise ArgumentError(f"feedback must be -1 (negative) or +1, got {feedback!r}")
     num, den = (np.atleast_1d(np.asarray(c[0][0], dtype=float)) for c in
@@ -128,7 +135,7 @@ def verdict(model: Model | ModelFile, order: int = 5, amplitude: float = 1.0,
 
     if controller is not None:
         base = model if isinstance(model, ModelFile) else ModelFile(as_plant(model))
-        model = replace(base, controller=_controller(controller, feedback))
+        model = replace(base, controller=_controller(controller, feedback, base.plant))
     elif not isinstance(model, ModelFile):
         model = as_plant(model)
     return criteria_verdict(model, order, amplitude, with_norms, proof, norms=norms)

@@ -93,12 +93,22 @@ def verdict_markdown(verdict: Any) -> str:
     kind = (f"certified, {verdict.radius_proof}" if verdict.radius_certified
             else "estimate, not certified")
     held = {True: "yes", False: "no", None: "not established"}
-    parts = [f"**Theorem {verdict.theorem}: {verdict.verdict}**",
-             markdown_table(("quantity", "value"), [
-                 (f"r* ({kind})", verdict.radius),
-                 ("amplitude r", verdict.amplitude),
-                 ("proven upper bound on the true radius", verdict.radius_upper),
-                 ("estimate of the true radius (not a proof)", verdict.radius_estimate)]),
+    loop = getattr(verdict, "loop", "")
+    rows = ([(f"r* ({kind})", verdict.radius), ("amplitude r", verdict.amplitude),
+             ("proven upper bound on the true radius", verdict.radius_upper),
+             ("estimate of the true radius (not a proof)", verdict.radius_estimate)]
+            if not loop else
+            [(f"r* ({kind}), units of the reference r", verdict.radius),
+             ("amplitude r (reference)", verdict.amplitude),
+             ("loop: proven upper bound on the true radius (units of r)",
+              verdict.loop_radius_upper),
+             ("plant: proven upper bound on its true radius (units of u)",
+              verdict.radius_upper),
+             ("plant: estimate of its true radius (units of u; not a proof)",
+              verdict.radius_estimate)])
+    parts = [f"**Theorem {verdict.theorem}: {verdict.verdict}**"
+             + (f" (loop {loop})" if loop else ""),
+             markdown_table(("quantity", "value"), rows),
              markdown_table(("condition", "holds"),
                             [(c.name, held[c.passed]) for c in verdict.conditions])]
     if verdict.norms:
@@ -109,33 +119,50 @@ def verdict_markdown(verdict: Any) -> str:
 
 def verdict_figure(verdict: Any) -> Any:
     """The norm series of a verdict: ||H_n|| and the majorant against n, and the root-test
-    radii c_n^(-1/n) of the majorant with r*, r and the radius bounds."""
+    radii c_n^(-1/n) of the majorant with r*, r and the radius bounds, on a log amplitude
+    axis (r* = 5e-4 is not on the zero line), every line labelled (for Theorem 2 with the
+    units it is in: the plant's in units of u, the loop's in units of the reference r),
+    the legends beside the axes, off the data."""
     from matplotlib.ticker import MaxNLocator
 
-    figure, axes = new_figure(1, 2, (9.0, 3.6))
+    loop = verdict.theorem == 2
+    figure, axes = new_figure(1, 2, (12.0, 3.8))
     left, right = axes[0]
     rows = [row for row in verdict.series if row["majorant"] > 0]
     n = [row["order"] for row in rows]
     majorant = [row["majorant"] for row in rows]
-    left.semilogy(n, majorant, "o-", label="certified majorant c_n")
+    plant = "plant " if loop else ""
+    left.semilogy(n, majorant, "o-", label=f"{plant}certified majorant c_n")
     if any(row["lower"] is not None for row in rows):
         left.semilogy(n, [row["upper"] for row in rows], "v", label="‖H_n‖ upper")
         left.semilogy(n, [row["lower"] if row["lower"] else float("nan") for row in rows],
                       "^", label="‖H_n‖ lower")
     left.set(xlabel="order n", ylabel="‖H_n‖ (plant)", title="kernel norms")
+    u_units, r_units = (" (units of u)", " (units of r)") if loop else ("", "")
     right.plot(n, [c ** (-1.0 / k) for k, c in zip(n, majorant, strict=True)], "o-",
-               label="c_n^(-1/n)")
-    right.axhline(verdict.radius, color="#2b8a3e", label=f"r* = {verdict.radius:.4g}")
-    right.axhline(verdict.amplitude, color="black", linestyle="--",
-                  label=f"r = {verdict.amplitude:.4g}")
+               label=f"{plant}c_n^(-1/n){u_units}")
+    lines = [(verdict.radius, {"color": "#2b8a3e"},
+              f"{'loop ' if loop else ''}r* = {verdict.radius:.4g}{r_units}"),
+             (verdict.amplitude, {"color": "black", "linestyle": "--"},
+              f"r = {verdict.amplitude:.4g}{r_units}")]
     if verdict.radius_upper is not None:
-        right.axhline(verdict.radius_upper, color="#c92a2a", linestyle=":",
-                      label=f"true radius <= {verdict.radius_upper:.4g}")
-    right.set(xlabel="order n", ylabel="amplitude r",
+        lines.append((verdict.radius_upper, {"color": "#c92a2a", "linestyle": ":"},
+                      f"{plant}true radius <= {verdict.radius_upper:.4g}{u_units}"))
+    if getattr(verdict, "loop_radius_upper", None) is not None:
+        lines.append((verdict.loop_radius_upper, {"color": "#862e9c", "linestyle": "-."},
+                      f"loop true radius <= {verdict.loop_radius_upper:.4g}{r_units}"))
+    for value, style, label in lines:
+        if 0 < value < float("inf"):
+            right.axhline(value, label=label, **style)
+        else:  # 0 or inf has no place on a log axis: in the legend only
+            right.plot([], [], label=f"{label} (not drawn)", **style)
+    right.set_yscale("log")
+    right.set(xlabel="order n", ylabel="amplitude" + (" (see units)" if loop else " r"),
               title=f"Theorem {verdict.theorem}: {verdict.verdict}")
     for ax in (left, right):
         ax.xaxis.set_major_locator(MaxNLocator(integer=True))
-        ax.legend(fontsize="small")
+        ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0),
+                  borderaxespad=0.0)
     return figure
 
 

@@ -9,7 +9,7 @@ import mpmath
 import numpy as np
 import pytest
 
-import gfrf.bounds.majorant as majorant_module
+import gfrf.bounds.fixed_point as fixed_point
 from gfrf.bounds.majorant import majorant, radius
 from gfrf.bounds.norms import h1_norm, kernel_norm
 from gfrf.errors import ArgumentError
@@ -196,14 +196,14 @@ def test_branch_point_radius_matches_bisection(name: str, monkeypatch: pytest.Mo
     model = load_model(source).plant if source.endswith(".toml") else parse_model(source)
     maj = majorant(model)
     calls: list[float] = []
-    fold = majorant_module._fold
+    fold = fixed_point._fold
 
     def counted(*args: object) -> object:
         result = fold(*args)  # type: ignore[arg-type]
         calls.append(math.nan if result is None else result[0])
         return result
 
-    monkeypatch.setattr(majorant_module, "_fold", counted)
+    monkeypatch.setattr(fixed_point, "_fold", counted)
     fast = radius(lambda x, r: maj.rhs(x, r), len(maj.powers))
     slow = radius(lambda x, r: maj.rhs(x, r), len(maj.powers), fold=False)
     assert len(calls) == 1 and math.isfinite(calls[0])  # the fast path ran, bisection did not
@@ -218,7 +218,7 @@ def test_branch_point_of_quadratic_closed_form() -> None:
     # B = beta1 r + g B^2: the branch point 1 = 2 g B gives B = 1/(2 g), r* = 1/(4 g beta1).
     maj = majorant(parse_model("D(y,2) + 0.3*D(y) + y + 0.4*y**2 = u"))
     beta1 = peak(0.3, 1.0)
-    point = majorant_module._fold(lambda x, r: maj.rhs(x, r), 1, 0.01, np.array([0.01 * beta1]))
+    point = fixed_point._fold(lambda x, r: maj.rhs(x, r), 1, 0.01, np.array([0.01 * beta1]))
     assert point is not None
     assert point[0] == pytest.approx(1 / (4 * 0.4 * beta1**2), rel=1e-12)
     assert point[1][0] == pytest.approx(1 / (2 * 0.4 * beta1), rel=1e-6)
@@ -227,7 +227,7 @@ def test_branch_point_of_quadratic_closed_form() -> None:
 def test_failed_branch_point_falls_back_to_bisection(monkeypatch: pytest.MonkeyPatch) -> None:
     maj = majorant(parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"))
     slow = radius(lambda x, r: maj.rhs(x, r), 1, fold=False)
-    monkeypatch.setattr(majorant_module, "_fold", lambda *args: None)
+    monkeypatch.setattr(fixed_point, "_fold", lambda *args: None)
     fallback = radius(lambda x, r: maj.rhs(x, r), 1)
     assert (fallback.value, fallback.certified_below) == (slow.value, slow.certified_below)
 

@@ -1,7 +1,6 @@
 """CLI contract of ``gfrf transition`` and ``gfrf periodic``."""
 
 import json
-from contextlib import nullcontext
 
 import pytest
 
@@ -40,18 +39,26 @@ def test_periodic_json_max_error(capsys):
     ["transition", "--eps", "0.1", "--amplitude", "0.5", "--method", "galerkin"],
     ["periodic", "--eps", "0.1", "--amplitude", "0.5", "--branch", "0", "--method", "energy"],
     ["transition", "--eps", "0.4", "--amplitude", "0.5", "--method", "energy"],
-    ["periodic", "--eps", "0.2", "--amplitude", "0.1", "--delta", "0.1", "--method",
-     "perturbation"],
 ])
 def test_bad_input_exit_2(argv, capsys):
-    with pytest.warns(UserWarning) if "--delta" in argv else nullcontext():
-        try:
-            code = main(argv)
-        except SystemExit as exc:  # argparse usage error
-            code = exc.code
+    try:
+        code = main(argv)
+    except SystemExit as exc:  # argparse usage error
+        code = exc.code
     assert code == 2
     err = capsys.readouterr().err
     assert err.startswith("gfrf: error:") and len(err.strip().splitlines()) == 1
+
+
+def test_no_convergence_is_exit_1(capsys):
+    """Valid input whose shooting finds no orbit: exit 1 (2 is bad input only)."""
+    argv = ["periodic", "--eps", "0.2", "--amplitude", "0.1", "--delta", "0.1", "--method",
+            "perturbation"]
+    with pytest.warns(UserWarning):
+        code = main(argv)
+    assert code == 1
+    err = capsys.readouterr().err
+    assert err.startswith("gfrf: error:") and "did not converge" in err
 
 
 def test_eps_out_of_range_warns_but_computes(capsys):

@@ -1,7 +1,9 @@
 """Bounds: everything that bounds a number, with the kind of proof it carries.
 
 Owns exact polynomial algebra and ball arithmetic (:mod:`.exact`, :mod:`.exact_sup`,
-:mod:`.rational`), majorants of the kernels (:mod:`.majorant`) and of their tails
+:mod:`.rational`), majorants of the kernels (:mod:`.majorant`; the radius of their
+fixed-point system in :mod:`.fixed_point`, computed on an O(1) rescaled system by
+:mod:`.radius_scaling`) and of their tails
 (:mod:`.tail`), box enclosures (:mod:`.enclosure`, numba loops in :mod:`.jet_kernels`),
 proven witnesses (:mod:`.witness`), the branch-and-bound (:mod:`.branch_bound`), its
 start points and local search (:mod:`.starts`, :mod:`.simplex`), and the norm brackets

@@ -222,7 +222,9 @@ def _float_finish(num: Any, den: Any, cancelled: tuple[complex, ...]) -> ExactSu
     It fails closed: where the a-priori Horner error bounds of P and Q at a candidate
     could change the sup by more than ``_FLOAT_RTOL`` relative, or the float
     stationary points cluster (their positions are then unreliable, and a peak can be
-    missed), the result is ``inf`` with the reason, never a wrong finite number.
+    missed), the upper end is ``inf`` with the reason, never a wrong finite number.
+    The lower end is then the value at an evaluated witness (:func:`_witness_lower`),
+    never the failed root-finder's inf.
     """
     if num.degree() < 0:
         return ExactSup(0.0, 0.0, 0.0, 0.0, cancelled=cancelled)
@@ -240,7 +242,8 @@ def _float_finish(num: Any, den: Any, cancelled: tuple[complex, ...]) -> ExactSu
         np.fill_diagonal(gaps, np.inf)
         if roots.size > 1 and np.any(gaps < _FLOAT_RTOL * (1 + np.abs(roots))[:, None]):
             return _refused("stationary points of |N/D|^2 cluster closer than "
-                            f"{_FLOAT_RTOL:g} relative", cancelled)
+                            f"{_FLOAT_RTOL:g} relative", cancelled,
+                            _witness_lower(num, den, [0.0, *roots.real]))
         candidates += [float(r.real) for r in roots
                        if abs(r.imag) <= 1e-6 * (1 + abs(r)) and r.real > 0]
     xs = np.array(candidates)
@@ -249,14 +252,15 @@ def _float_finish(num: Any, den: Any, cancelled: tuple[complex, ...]) -> ExactSu
     p_err, q_err = gamma * np.polyval(np.abs(pf), xs), gamma * np.polyval(np.abs(qf), xs)
     if np.any(qv - q_err <= 0):
         return _refused("|D(j w)|^2 at a stationary point is below its rounding error",
-                        cancelled)
+                        cancelled, _witness_lower(num, den, candidates))
     values = pv / qv
     best = int(np.argmax(values))
     value, omega = math.sqrt(max(float(values[best]), 0.0)), math.sqrt(candidates[best])
     worst = (pv + p_err) / (qv - q_err)
     if np.any(worst > (1 + _FLOAT_RTOL) * max(float(values[best]), 0.0)):
         return _refused("rounding could change the sup by more than "
-                        f"{_FLOAT_RTOL:g} relative", cancelled)
+                        f"{_FLOAT_RTOL:g} relative", cancelled,
+                        _witness_lower(num, den, candidates))
     if p.degree() == q.degree():
         limit = math.sqrt(float(p.coeffs()[-1] / q.coeffs()[-1]))
         if limit > value:
@@ -264,10 +268,46 @@ def _float_finish(num: Any, den: Any, cancelled: tuple[complex, ...]) -> ExactSu
     return ExactSup(value, value, value, omega, cancelled=cancelled)
 
 
-def _refused(why: str, cancelled: tuple[complex, ...]) -> ExactSup:
-    return ExactSup(math.inf, math.inf, math.inf, math.nan,
+def _refused(why: str, cancelled: tuple[complex, ...],
+             witness: tuple[float, float]) -> ExactSup:
+    lower, omega = witness
+    return ExactSup(lower, math.inf, math.inf, omega,
                     f"ill-conditioned in double precision ({why}); the interval level "
                     "(proof='interval') encloses it", cancelled)
+
+
+def _witness_lower(num: Any, den: Any, xs: list[float]) -> tuple[float, float]:
+    """(lower end, omega): the largest |N/D| found at an evaluated w >= 0.
+
+    Start points: w = sqrt(x) for the candidates x and |Im p| for the float poles p of D
+    (a lightly damped cluster peaks near them); the best is refined by a pattern search
+    in w.  Each value is evaluated in ball arithmetic at the exact float w (its lower end
+    rounded down), so it is a value of |N/D| the sup is at least: the lower end of a
+    refused float sup comes from an evaluated point, never from the failed roots.
+    """
+    flint = _flint()
+    with _precision(_PREC):
+        pa, qa = _arb_poly(_abs2_in_x(num)), _arb_poly(_abs2_in_x(den))
+
+        def value(w: float) -> float:
+            if not (math.isfinite(w) and w >= 0.0):
+                return 0.0
+            xb = flint.arb(w) * flint.arb(w)  # w exactly, x = w^2 in a ball
+            qx = qa(xb)
+            return _down((pa(xb) / qx).sqrt()) if qx > 0 else 0.0
+
+        poles = np.roots([float(c) for c in reversed(den.coeffs())]) if den.degree() > 0 else []
+        starts = [math.sqrt(x) for x in xs if math.isfinite(x) and x >= 0.0]
+        starts += [abs(float(p.imag)) for p in poles if np.isfinite(p)]
+        best, omega = max(((value(w), w) for w in starts), default=(0.0, 0.0))
+        step = 1e-2 * max(omega, 1e-3)
+        while step > 1e-17 * max(omega, 1e-300):
+            left, right = value(omega - step), value(omega + step)
+            if max(left, right) > best:
+                best, omega = max((left, omega - step), (right, omega + step))
+            else:
+                step *= 0.5
+    return best, omega
 
 
 def _reduced(num: tuple[Fraction, ...], den: tuple[Fraction, ...]

@@ -226,7 +226,9 @@ def h1_norm(model: Model, proof: str = "interval", cross_check: bool = False) ->
                   if model.is_discrete else control.tf(num, den))
         reference = _control_norm(system)
         method += ", cross-checked with control.norm"
-    notes += [f"||H1|| = inf: {note}" if note == sup.reason else note for note in sup.notes]
+    no_upper = ("||H1|| = inf: " if sup.lower == math.inf else
+                f"no finite upper end at proof level {proof!r}: ")
+    notes += [no_upper + note if note == sup.reason else note for note in sup.notes]
     return Bound(sup.lower, sup.upper, (sup.omega,), proof != "none", method, 1, True, stable,
                  tuple(notes), reference, proof)
 

@@ -3,7 +3,8 @@
 Each feature registers its sub-commands from its own module (``gfrf.cli.<feature>``),
 listed in :data:`COMMAND_MODULES`.  Every command that prints results accepts
 ``--json``.  Exit codes: 0 success (for ``verdict``: stability proven), 1 a
-negative or inconclusive answer, 2 bad input.
+negative or inconclusive answer or a computation that found no answer (a
+:class:`gfrf.errors.ConvergenceError`: the input was valid), 2 bad input only.
 
 May import: everything (it is the top layer); nothing imports it.
 """
@@ -20,7 +21,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from gfrf import __version__
-from gfrf.errors import GfrfError
+from gfrf.errors import ConvergenceError, GfrfError
 
 __all__ = ["main", "build_parser", "COMMAND_MODULES"]
 
@@ -77,6 +78,9 @@ def _run(argv: Sequence[str] | None) -> int:
     args = parser.parse_args(argv)
     try:
         return int(args.func(args))
+    except ConvergenceError as exc:  # valid input, the computation found no answer: exit 1
+        print(f"gfrf: error: {exc}", file=sys.stderr)
+        return 1
     except GfrfError as exc:
         print(f"gfrf: error: {_one_line(str(exc))}", file=sys.stderr)
         return 2

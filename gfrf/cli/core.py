@@ -101,16 +101,36 @@ def _parse_omegas(text: str, order: int) -> list[float]:
 def _kernel(args: argparse.Namespace) -> int:
     import numpy as np
 
+    from gfrf.kernels.pointwise import point_value
     from gfrf.kernels.recursion import kernel
 
     mf = resolve_model(args)
     k = kernel(mf.plant, args.order, not args.asymmetric)
     omega = _parse_omegas(args.at, args.order)
-    value = complex(k(*omega))
-    payload = {"order": args.order, "omega": omega, "re": value.real, "im": value.imag,
-               "abs": abs(value), "phase_deg": float(np.degrees(np.angle(value))),
-               "symmetric": not args.asymmetric, "model": mf.name}
-    text = (f"H{args.order}(j*{omega} rad/s) = {value.real:.12g} {value.imag:+.12g}j"
+    point = point_value(k, omega)
+    head = f"H{args.order}(j*{omega} rad/s)"
+    payload: dict[str, object] = {"order": args.order, "omega": omega,
+                                  "symmetric": not args.asymmetric, "model": mf.name,
+                                  "method": point.method}
+    if point.pole is not None:  # valid input, no finite value: exit 1
+        sentence = point.pole.text(mf.plant.is_discrete)
+        payload["pole"] = {"block": [i + 1 for i in point.pole.block],
+                           "omega": point.pole.omega, "exact": point.pole.exact,
+                           "detail": sentence}
+        emit(args, payload, f"{head}: no value, H{args.order} has a pole there: {sentence}")
+        return 1
+    if point.value is None:
+        payload["abs_decimal"] = point.magnitude
+        emit(args, payload, f"{head}: |H| = {point.magnitude} exceeds the float range")
+        return 1
+    value = point.value
+    payload.update({"re": value.real, "im": value.imag, "abs": abs(value),
+                    "phase_deg": float(np.degrees(np.angle(value)))})
+    if point.method == "mpmath" and value == 0:
+        payload["abs_decimal"] = point.magnitude
+    text = (f"{head} = {value.real:.12g} {value.imag:+.12g}j"
             f"   |H| = {abs(value):.12g}, phase = {payload['phase_deg']:.6g} deg")
+    if point.method == "mpmath":
+        text += f"  (evaluated in 50-digit mpmath: |H| = {point.magnitude})"
     emit(args, payload, text)
     return 0

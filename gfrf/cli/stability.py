@@ -13,7 +13,8 @@ stability proven; 1: not proven or unstable; 2: bad input.
 ``gfrf norm MODEL --order N [--tol T] [--asymmetric] [--proof LEVEL] [--json]`` prints
 the bracket [lower, upper] of ||H_N||_inf (symmetric kernel unless ``--asymmetric``),
 its relative gap and how each end is established.  Infinite norms print as ``inf``
-(JSON ``"inf"``).
+(JSON ``"inf"``).  Exit code 1 when the linear part is not asymptotically stable: the
+bracket is then of the L-infinity norm on the axis, which the line says.
 
 ``--proof none|float|interval`` (default ``interval``: it costs about as much as the
 float path, see ``gfrf bench``, section "Proof levels") chooses the level of proof;
@@ -119,7 +120,10 @@ def _bound_label(b: Bound) -> str:
 
 def _bound_line(b: Bound) -> str:
     gap = "inf" if math.isinf(b.gap) else f"{b.gap:.2e}"
-    return f"  ||H{b.order}|| in [{_num(b.lower)}, {_num(b.upper)}]  gap {gap}  {_bound_label(b)}"
+    kind = ("" if b.stable else
+            "  (L-infinity norm on the axis, not H-infinity: linear part unstable)")
+    return (f"  ||H{b.order}|| in [{_num(b.lower)}, {_num(b.upper)}]  gap {gap}  "
+            f"{_bound_label(b)}{kind}")
 
 
 def _check_order(order: int) -> None:
@@ -151,7 +155,7 @@ def _norm(args: argparse.Namespace) -> int:
         lines.append(f"  python-control norm(sys, 'inf'): {b.reference:.10g}")
     lines += [f"  note: {note}" for note in b.notes]
     emit(args, {"model": mf.name, "proof_level": args.proof, **b.to_dict()}, "\n".join(lines))
-    return 0
+    return 0 if b.stable else 1  # an L-infinity value is no H-infinity norm: as verdict
 
 
 def _mark(passed: bool | None) -> str:
@@ -161,12 +165,16 @@ def _mark(passed: bool | None) -> str:
 def _verdict_text(name: str, v: Verdict, proof: str = "") -> list[str]:
     kind = "open loop" if v.theorem == 1 else "closed loop"
     level = f", proof level {proof}" if proof else ""
-    lines = [f"{name}: Theorem {v.theorem} ({kind}), amplitude r = {v.amplitude:g}{level}", "",
-             "Conditions:"]
+    lines = [f"{name}: Theorem {v.theorem} ({kind}), amplitude r = {v.amplitude:g}{level}",
+             *([f"loop: {v.loop}"] if v.loop else []), "", "Conditions:"]
     lines += [f"  [{_mark(c.passed)}] {c.name}: {c.detail}" for c in v.conditions]
+    plant = "the plant's " if v.loop else ""  # Theorem 2: these are the plant's numbers
     if v.norms:
-        lines += ["", "Norms (symmetric kernels, rad/s):"] + [_bound_line(b) for b in v.norms]
-    lines += ["", "Series (majorant M_n >= ||H_n||, term M_n r^n):"]
+        lines += ["", f"Norms ({plant}symmetric kernels, rad/s):"] + [_bound_line(b)
+                                                                      for b in v.norms]
+    lines += ["", f"Series ({plant}majorant M_n >= ||H_n||, term M_n r^n"
+              + (" at plant input amplitude r; loop: theta_n rho_1^n r^n, reference r):"
+                 if v.loop else "):")]
     for row in v.series:
         extra = (f"  theta_n rho_1^n r^n = {_num(row['theta_term'])}"
                  if "theta_term" in row else "")
@@ -174,7 +182,11 @@ def _verdict_text(name: str, v: Verdict, proof: str = "") -> list[str]:
                      f"term = {_num(row['majorant_term'])}{extra}")
     kind = ({"interval": "proven", "float": "certified (float)"}.get(v.radius_proof, "estimate")
             if v.radius_certified else "estimate")
-    lines += ["", f"radius (lower bound r*, {kind}): {_num(v.radius)}"]
+    lines += ["", f"radius (lower bound r*, {kind}): {_num(v.radius)}"
+              + (" (units of the reference r)" if v.loop else "")]
+    if v.loop_radius_upper is not None:
+        lines.append(f"loop radius_upper (proven upper bound of the loop's true radius, units "
+                     f"of r): {_num(v.loop_radius_upper)}")
     if v.radius_upper is not None:
         lines.append(f"radius_upper (proven upper bound of the {v.estimate_of}): "
                      f"{_num(v.radius_upper)}")

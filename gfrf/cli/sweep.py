@@ -4,13 +4,15 @@
 bounded] [--scheduler local|processes|ADDRESS] [--out FILE.csv|.parquet] [--plot FILE.png]
 [--json]`` evaluates the quantity at every grid point (see :mod:`gfrf.sweep.run`), prints
 a summary (points per class, range of r*, throughput), writes the table and the
-stability map.  Exit code 0 when the sweep ran (whatever the verdicts), 2 on bad input.
+stability map.  Exit code 0 when the sweep ran (whatever the verdicts), 1 when no grid
+point succeeded (stderr names the cause), 2 on bad input.
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+import sys
 from collections import Counter
 
 from gfrf.cli._output import add_json_flag, check_output_file, check_plot_path, emit
@@ -69,7 +71,9 @@ def _summary(name: str, result: SweepResult) -> list[str]:
     for key in ("verdict", "bounded", "linear_stable"):
         if key in result.columns:
             counts = Counter(str(r.get(key)) for r in rows if not r["error"])
-            lines.append(f"  {key}: " + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
+            if counts:
+                lines.append(f"  {key}: "
+                             + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
     radii = [r["radius"] for r in rows if not r["error"] and "radius" in r]
     if radii:
         finite = [x for x in radii if math.isfinite(x)]
@@ -107,4 +111,7 @@ def _sweep(args: argparse.Namespace) -> int:
 
         lines.append(f"  map: {plot_stability_map(result, args.plot, mf.name)}")
     emit(args, payload, "\n".join(lines))
+    if result.rows and all(r["error"] for r in result.rows):  # nothing was computed
+        print(f"gfrf: error: no grid point succeeded; {result.notes[0]}", file=sys.stderr)
+        return 1
     return 0

@@ -2,7 +2,8 @@
 
 Owns the Billings / Peyton Jones recursion with symmetrisation (:mod:`.recursion`), the
 generated straight-line evaluators and their numba / on-disk cache (:mod:`.compiled`),
-the multiset and composition counting they share (:mod:`.combinatorics`), and harmonic
+the multiset and composition counting they share (:mod:`.combinatorics`), one value never
+nan (a pole named, beyond the float range in mpmath: :mod:`.pointwise`), and harmonic
 probing, the independent method that checks the recursion (:mod:`.probing`).
 
 May import: :mod:`gfrf.model`, :mod:`gfrf.errors`, :mod:`gfrf._atomic`, :mod:`gfrf._cache`.

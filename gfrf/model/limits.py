@@ -252,6 +252,10 @@ def _raise(ctx: _Context, base: _Node, exponent: int, column: int) -> _Node:
                  base.varying, base.nesting)
 
 
+_EXACT_OPS = 40
+"""Largest operation count of a constant argument that gets sympy's exact evaluation."""
+
+
 def _apply(ctx: _Context, name: str, arg: _Node, column: int) -> _Node:
     if arg.varying and ctx.series:
         if name == "log":
@@ -271,7 +275,20 @@ def _apply(ctx: _Context, name: str, arg: _Node, column: int) -> _Node:
         return _Node(ctx.functions[name](arg.expr), arg.degree, arg.monomials, True, True,
                      arg.nesting + 1)
     argument = arg.expr
+    if name == "tan" and argument.is_number and sp.cos(argument) == 0:
+        # decided exactly on the parser's tree (cos(pi/2) is 0): 30 digits of pi/2
+        # would give tan = 1.2e31, a number, where the function has a pole
+        raise ctx.fail("tan() of its argument is at a pole (the cosine of the argument is "
+                       "exactly 0)", column)
     if argument.is_number and not (argument.is_Rational or argument.is_Float):
+        if sp.count_ops(argument) <= _EXACT_OPS:
+            # sympy's exact special values first (cos(pi/2) = 0, log(exp(0)) = 0): a zero
+            # must stay 0, not the 1e-31 of 30 digits (1 / cos(pi/2) would be 1.6e31)
+            exact = ctx.functions[name](argument)
+            if exact == 0:
+                return _Node(sp.Integer(0), 0, 1, arg.analytic, False, arg.nesting)
+            if exact.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
+                raise ctx.fail(f"{name}() of its argument is at a pole (exact)", column)
         # An irrational number (sin(1) + ... + sin(2000)): one numeric evaluation here,
         # so nested calls never re-evaluate a large exact tree.
         argument = argument.evalf(30)

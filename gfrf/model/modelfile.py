@@ -22,7 +22,9 @@ controller          table: ``num``/``den`` (transfer function, highest power fir
                     :func:`control.tf`; entries may be parameter expressions) or
                     ``equation`` (a polynomial controller whose input is the plant
                     output and whose output is the plant input); ``feedback`` = -1
-                    (default, u = r - C[y]) or +1; ``name``, ``source``, ``description``
+                    (default, u = r - C[y]) or +1; ``name``, ``source``, ``description``;
+                    ``sample_time`` (a discrete controller: it must equal the plant's, a
+                    continuous controller on a discrete plant or the reverse is refused)
 =================== =====================================================================
 """
 
@@ -58,7 +60,7 @@ MAX_CONTROLLER_COEFFICIENTS = 64
 _TOP_KEYS = {"equation", "sample_time", "truncation", "physical_equation", "output", "input",
              "parameters", "name", "source", "description", "kind", "paper", "controller"}
 _CONTROLLER_KEYS = {"num", "den", "equation", "feedback", "name", "source", "description",
-                    "parameters"}
+                    "parameters", "sample_time"}
 
 
 @dataclass(frozen=True)
@@ -318,6 +320,7 @@ def _controller(table: Any, parameters: dict[str, float], plant: Model) -> Contr
         raise ModelError(f"unknown controller key(s) {', '.join(map(repr, unknown))}; "
                          f"allowed: {', '.join(sorted(_CONTROLLER_KEYS))}")
     values = {**parameters, **_parameters(table.get("parameters"), "controller.parameters")}
+    _check_timebase(table, values, plant)
     feedback = table.get("feedback", -1)
     if feedback not in (-1, 1) or isinstance(feedback, bool):
         raise ModelError(f"controller.feedback must be -1 or +1, got {feedback!r}")
@@ -345,6 +348,33 @@ def _controller(table: Any, parameters: dict[str, float], plant: Model) -> Contr
     model = parse_model(table["equation"], sample_time=plant.sample_time, parameters=values,
                         output=plant.input, input=plant.output)
     return Controller(model=model, feedback=feedback, **text)
+
+
+def _check_timebase(table: dict[str, Any], values: dict[str, float], plant: Model) -> None:
+    """Refuse a controller whose timebase differs from the plant's (as python-control does).
+
+    A transfer-function controller is continuous unless it has ``sample_time``; an
+    equation controller or a static gain (num and den of one entry each) takes the
+    plant's timebase unless it gives another.
+    """
+    given = table.get("sample_time")
+    dt = None if given is None else parse_number(given, "controller.sample_time", values)
+    if dt is not None and not (math.isfinite(dt) and dt > 0):
+        raise ModelError(f"controller.sample_time must be a positive number of seconds, "
+                         f"got {given!r}")
+    static = all(isinstance(table.get(k, [1]), list) and len(table.get(k, [1])) == 1
+                 for k in ("num", "den"))
+    if dt is None and ("equation" in table or static):  # no timebase of its own
+        return
+    plant_dt = plant.sample_time
+    if dt != plant_dt:
+        raise ModelError(f"mixed timebases: the controller is {_timebase(dt)} but the plant is "
+                         f"{_timebase(plant_dt)}; give both the same sample_time "
+                         "(python-control refuses to connect them too)")
+
+
+def _timebase(dt: float | None) -> str:
+    return "continuous-time (dt = 0)" if dt is None else f"discrete-time (dt = {dt:g} s)"
 
 
 def as_plant(model: Model | ModelFile) -> Model:

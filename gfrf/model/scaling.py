@@ -34,7 +34,7 @@ from functools import lru_cache
 
 from gfrf.model.equation import Model
 
-__all__ = ["normalized", "scale_of"]
+__all__ = ["normalized", "scale_of", "amplitude_scaled"]
 
 
 def scale_of(model: Model) -> float:
@@ -70,3 +70,33 @@ def normalized(model: Model) -> Model:
 
         physical = physical * sp.Rational(Fraction(1.0 / scale))
     return dataclasses.replace(model, terms=terms, physical=physical)
+
+
+def amplitude_scaled(model: Model, shift: int) -> Model | None:
+    """``model`` in the amplitude units y = 2^shift Y, u = 2^shift U (exactly).
+
+    A term of degree d = p + q gets the coefficient c 2^(shift (d - 1)) (the equation
+    divided by 2^shift), so the linear part and H1 are unchanged, H_n(Y) = 2^(shift (n - 1))
+    H_n(y), and every radius in U is the radius in u divided by 2^shift.  None when some
+    coefficient would leave the exact float range (overflow or subnormal).
+
+    Parameters
+    ----------
+    model : Model
+    shift : int
+
+    Returns
+    -------
+    Model or None
+        The same object for ``shift`` 0.
+    """
+    if shift == 0:
+        return model
+    terms = []
+    for t in model.terms:
+        c = math.ldexp(t.coefficient, shift * (t.degree - 1))
+        if t.coefficient != 0.0 and (not math.isfinite(c) or abs(c) < 2.0 ** -1000
+                                     or math.ldexp(c, -shift * (t.degree - 1)) != t.coefficient):
+            return None
+        terms.append(dataclasses.replace(t, coefficient=c))
+    return dataclasses.replace(model, terms=tuple(terms), physical=None)

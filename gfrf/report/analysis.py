@@ -96,7 +96,8 @@ class ModelAnalysis:
         At the paper's amplitude r = 1, with norm brackets up to ``order``.
     order : int
     resonance : float
-        Peak of |H1| (rad/s) on the grid of :func:`gfrf.sim.validation.resonance`.
+        Drive frequency (rad/s) of :func:`gfrf.sim.validation.resonance`: the exact peak
+        of |H1| (the witness of ||H1||), or a grid argmax where |H1| has no finite peak.
     trial_scale : float
         The amplitude the trials are multiples of: r* when positive, else the
         uncertified root-test estimate (``trial_scale_certified`` False), else 0.

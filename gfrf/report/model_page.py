@@ -22,7 +22,7 @@ from gfrf.model.safetext import markdown_text
 from gfrf.report._figures import frequency_scale, h1_figure, h3_slice_figure, response_figure
 from gfrf.report._format import cell, code, header, mark, num, table
 from gfrf.report.analysis import MARGIN_OCTAVES, ModelAnalysis, analyse
-from gfrf.sim.validation import linear_vs_nonlinear
+from gfrf.sim.validation import linear_vs_nonlinear, resonance_label
 
 __all__ = ["write", "summary_lines", "command_path"]
 
@@ -243,8 +243,8 @@ def _simulation_section(a: ModelAnalysis, out_dir: Path) -> list[str]:
     scale = ("r*" if a.trial_scale_certified else
              "the uncertified radius estimate (r* = 0)")
     out += [f"Trials of `gfrf.sim.validation.validate` at multiples of {scale} = "
-            f"{num(a.trial_scale)} (and at the paper's r = 1); fixed seed 0, resonance "
-            f"{num(val.resonance)} rad/s.", "",
+            f"{num(a.trial_scale)} (and at the paper's r = 1); fixed seed 0, drive "
+            f"frequency w_r = {resonance_label(a.model_file.plant)}.", "",
             table(["input", "amplitude", "below scale", "bounded", "peak |y|", "blow-up time (s)"],
                   [[t.kind, t.amplitude, t.below_radius, t.bounded, t.peak, t.blowup_time]
                    for t in val.trials])]

@@ -67,7 +67,7 @@ from gfrf.stability.verdicts import Verdict
 ESTIMATE_FACTORS = (1.0, 2.0, 10.0)
 
 __all__ = ["ESTIMATE_FACTORS", "Trial", "ValidationResult", "validate", "resonance",
-           "random_input", "spectrum_size", "linear_vs_nonlinear"]
+           "resonance_label", "random_input", "spectrum_size", "linear_vs_nonlinear"]
 
 
 @dataclass(frozen=True)
@@ -159,9 +159,35 @@ class ValidationResult:
 
 
 def resonance(model: Any) -> float:
-    """Angular frequency (rad/s) of the peak of |H1| on a 1e-2..1e2 rad/s grid."""
-    w = np.geomspace(1e-2, 1e2, 4001)
-    return float(w[np.argmax(np.abs(kernel(model, 1)(w)))])
+    """Angular frequency (rad/s) of the peak of |H1|: the witness of ||H1||.
+
+    The witness of :func:`gfrf.bounds.norms.h1_norm` (exact rational algebra, the
+    stationary point enclosed in ball arithmetic) wherever |H1| peaks at a finite
+    nonzero frequency, so "resonance" is the resonance, not a point of a grid.  Where it
+    has no such peak (maximal at 0 or as w -> inf, or unbounded) the argmax of |H1| on a
+    4001-point log grid 1e-2..1e2 rad/s, a grid value, is the drive frequency instead.
+    """
+    return _resonance(model)[0]
+
+
+def resonance_label(model: Any) -> str:
+    """What :func:`resonance` returns for ``model``, in words (for report text)."""
+    w, exact = _resonance(model)
+    if exact:
+        return f"{w:.7g} rad/s, the exact peak of |H1| (the witness of ||H1||)"
+    return (f"{w:.7g} rad/s, the argmax of |H1| on a 4001-point log grid 1e-2..1e2 rad/s "
+            "(|H1| has no peak at a finite nonzero frequency)")
+
+
+def _resonance(model: Any) -> tuple[float, bool]:
+    from gfrf.bounds.norms import h1_norm
+
+    bound = h1_norm(model)
+    w = float(bound.argmax[0]) if bound.argmax else math.nan
+    if math.isfinite(bound.upper) and math.isfinite(w) and w > 0:
+        return w, True
+    grid = np.geomspace(1e-2, 1e2, 4001)
+    return float(grid[np.argmax(np.abs(kernel(model, 1)(grid)))]), False
 
 
 def spectrum_size(values: np.ndarray) -> float:

@@ -53,7 +53,7 @@ from gfrf.model.modelfile import Controller, ModelFile
 if TYPE_CHECKING:  # python-control (~1 s to import) is imported where a tf is built
     import control
 
-__all__ = ["ClosedLoop", "linear_plant", "controller_tf", "controller_polynomials",
+__all__ = ["ClosedLoop", "linear_plant", "controller_tf", "controller_polynomials", "loop_text",
            "closed_loop", "characteristic", "characteristic_exact", "with_lags"]
 
 
@@ -86,6 +86,39 @@ def controller_polynomials(controller: Controller) -> tuple[np.ndarray, np.ndarr
         return np.asarray(controller.num, dtype=float), np.asarray(controller.den, dtype=float)
     _continuous(controller.model, "the controller")  # type: ignore[arg-type]
     return linear_polynomials(controller.model)  # type: ignore[arg-type]
+
+
+def loop_text(controller: Controller) -> str:
+    """The loop as an equation, where the reference r enters: ``u = C(r - y), C(s) = ...``.
+
+    Theorem 2 bounds the loop error e = r - y (r + y for positive feedback) driven by the
+    reference r, so r, r* and the amplitude are in the units of y (the reference), not
+    of the plant input u.
+    """
+    sign = "-" if controller.feedback == -1 else "+"
+    if controller.is_linear:
+        num, den = (_poly_s(np.asarray(c, dtype=float)) for c in (controller.num, controller.den))
+        what = f"C(s) = {num}" if den == "1" else f"C(s) = ({num}) / ({den})"
+    else:
+        what = f"C: {controller.model.equation()}"  # type: ignore[union-attr]
+    return (f"u = C(r {sign} y), {what}; r is the reference, in units of y (the simulator's "
+            f"closed loop is u = r {sign} C[y], another r)")
+
+
+def _poly_s(c: np.ndarray) -> str:
+    """Polynomial in s, highest power first, as short text (``0.001``, ``2 s + 1``)."""
+    nz = np.flatnonzero(c)
+    c = c[nz[0]:] if nz.size else np.zeros(1)
+    degree = c.size - 1
+    parts = []
+    for i, v in enumerate(c):
+        if v == 0:
+            continue
+        power = degree - i
+        var = "" if power == 0 else ("s" if power == 1 else f"s^{power}")
+        coef = f"{abs(v):g}" if (abs(v) != 1 or not power) else ""
+        parts.append(("- " if v < 0 else "+ ") + f"{coef} {var}".strip())
+    return " ".join(parts).removeprefix("+ ") if parts else "0"
 
 
 def controller_tf(controller: Controller) -> control.TransferFunction:

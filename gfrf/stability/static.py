@@ -46,7 +46,8 @@ import numpy as np
 from gfrf.bounds.exact import arb_upper
 from gfrf.model.equation import Model
 
-__all__ = ["StaticBound", "static_polynomial", "static_series", "radius_upper"]
+__all__ = ["StaticBound", "static_polynomial", "static_series", "radius_upper",
+           "loop_radius_upper"]
 
 #: Most pieces of the segment the branch tracking may use (a work count, not a time).
 MAX_TRACK_STEPS = 4000
@@ -350,12 +351,17 @@ def _end_stage(polys: list[Any], sigma: Any, t: float, current: tuple[complex, f
     return not _eval_p(_derivative_u(polys), disc_ball, sigma).contains(0)
 
 
-def radius_upper(model: Model) -> StaticBound | None:
+def radius_upper(model: Model, shift: int = 0) -> StaticBound | None:
     """Proven upper bound on the true radius of sum ||H_n|| r^n from the static map.
 
     Parameters
     ----------
     model : Model
+    shift : int
+        Work on the amplitude-scaled map y = 2^shift Y, u = 2^shift U (exact on the
+        rational coefficients: c_ij -> c_ij 2^(shift (i + j - 1))) and scale the branch
+        point back; :func:`gfrf.bounds.radius_scaling.amplitude_shift` gives the shift
+        that makes the problem O(1) (a cubic coefficient 5e27 puts the fold at 5e-15).
 
     Returns
     -------
@@ -363,11 +369,63 @@ def radius_upper(model: Model) -> StaticBound | None:
         None when the static map has no finite gain (A(0) = 0), is linear, or no
         candidate branch point could be proven singular within the work budget.
     """
+    return _upper_of(_static_terms(model), "u", "||H_n|| >= |H_n(0,..,0)|", shift)
+
+
+def loop_radius_upper(model: Model, gain: Fraction, feedback: int,
+                      shift: int = 0) -> StaticBound | None:
+    """Proven upper bound on the true radius, in units of the reference r, of the norm
+    series of the closed loop u = C(r + feedback * y) with static controller gain C(0).
+
+    At zero frequency the loop's kernels from r to y are the Taylor coefficients of the
+    branch y(r) of P(y, C(0) (r + feedback y)) = 0 (P the plant's static equation), so
+    the static fold of that map bounds the loop's true radius as :func:`radius_upper`
+    bounds the plant's.  Exact: the substitution is done on the rational coefficients.
+
+    Parameters
+    ----------
+    model : Model
+        The plant.
+    gain : Fraction
+        The controller's static gain C(0) (finite).
+    feedback : {-1, 1}
+    shift : int
+        As for :func:`radius_upper` (y = 2^shift Y, r = 2^shift R, exact).
+
+    Returns
+    -------
+    StaticBound or None
+        As :func:`radius_upper`; ``value`` is in units of r.
+
+    Examples
+    --------
+    >>> from gfrf.model.equation import parse_model
+    >>> m = parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u")
+    >>> k = Fraction(1, 1000)  # (1+k) y + y^3/2 = k r: |r| = 2 sqrt(2) (1+k)^1.5 / (3 sqrt(3) k)
+    >>> b = loop_radius_upper(m, k, -1)
+    >>> abs(b.value - 2 * 2 ** 0.5 * 1.001 ** 1.5 / (3 * 3 ** 0.5 * 0.001)) < 1e-9 * b.value
+    True
+    """
+    loop: dict[tuple[int, int], Fraction] = {}
+    for (i, j), c in _static_terms(model).items():
+        for m in range(j + 1):  # (k r + k f y)^j = sum_m C(j, m) (k r)^m (k f y)^(j - m)
+            key = (i + j - m, m)
+            loop[key] = (loop.get(key, Fraction(0))
+                         + c * math.comb(j, m) * gain ** j * Fraction(feedback) ** (j - m))
+    loop = {k: v for k, v in loop.items() if v != 0}
+    return _upper_of(loop, "r", "the loop's ||G_n|| >= |G_n(0,..,0)| (r to y)", shift) \
+        if loop else None
+
+
+def _upper_of(p: dict[tuple[int, int], Fraction], variable: str,
+              why: str, shift: int = 0) -> StaticBound | None:
+    """The proven static branch point of P(y, v) = sum p_ij y^i v^j = 0 (v = ``variable``),
+    found on the map scaled by 2^shift in y and v and scaled back exactly."""
     from flint import ctx
 
-    p = _static_terms(model)
     if p.get((1, 0), Fraction(0)) == 0 or (0, 0) in p or max(i for i, _ in p) < 2:
         return None
+    p = {(i, j): c * Fraction(2) ** (shift * (i + j - 1)) for (i, j), c in p.items()}
     saved = ctx.prec
     ctx.prec = PRECISION
     try:
@@ -387,13 +445,15 @@ def radius_upper(model: Model) -> StaticBound | None:
         for sigma in candidates:
             y0 = _certify(polys, sigma)
             if y0 is not None:
-                value = arb_upper(abs(sigma))
-                exact = value <= nearest * (1 + 1e-12)
-                s = complex(sigma.mid())
+                value = math.ldexp(arb_upper(abs(sigma)), shift)
+                exact = value <= math.ldexp(nearest, shift) * (1 + 1e-12)
+                mid = complex(sigma.mid())
+                s = complex(math.ldexp(mid.real, shift), math.ldexp(mid.imag, shift))
+                y0 = complex(math.ldexp(y0.real, shift), math.ldexp(y0.imag, shift))
                 return StaticBound(value, s, y0, exact,
-                                   f"static branch point u = {_fmt(s)} (|u| = {value:.6g}): "
-                                   f"the static branch y(u) folds at y = {_fmt(y0)}, proven in "
-                                   "ball arithmetic; ||H_n|| >= |H_n(0,..,0)|")
+                                   f"static branch point {variable} = {_fmt(s)} (|{variable}| = "
+                                   f"{value:.6g}): the static branch y({variable}) folds at y = "
+                                   f"{_fmt(y0)}, proven in ball arithmetic; {why}")
         return None
     finally:
         ctx.prec = saved

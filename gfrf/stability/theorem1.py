@@ -183,14 +183,15 @@ def _radii(model: Model, maj: Majorant, lower: float, with_estimate: bool,
     if pole is not None:  # ||H1|| = inf: the series diverges for every r > 0
         return _Radii(0.0 if proof == "interval" else None,
                       f"||H1|| = inf, {pole.split(': ', 1)[1]}", None, lower)
-    from gfrf.stability.estimate import radius_estimate
+    from gfrf.bounds.radius_scaling import amplitude_shift
     from gfrf.stability.static import radius_upper
 
-    bound = radius_upper(model)
+    shift = amplitude_shift(maj)  # both on the O(1) problem, scaled back exactly
+    bound = radius_upper(model, shift)
     upper = None if bound is None else bound.value
     detail = ("no static branch point proven (no finite static gain, a polynomial static "
               "map, or the tracking budget ran out)" if bound is None else bound.detail)
-    est = radius_estimate(model, lower, upper)
+    est = _scaled_estimate(model, lower, upper, shift)
     if proof != "interval":
         upper, detail = None, f"not reported at proof level {proof!r} (use 'interval')"
     if est is None:
@@ -199,6 +200,25 @@ def _radii(model: Model, maj: Majorant, lower: float, with_estimate: bool,
              f"; the fit gave {est.fitted:.4g}, clamped to the "
              f"{'upper' if est.value < est.fitted else 'lower'} bound")
     return _Radii(upper, detail, est.value, lower, clamp)
+
+
+def _scaled_estimate(model: Model, lower: float, upper: float | None, shift: int) -> Any:
+    """:func:`gfrf.stability.estimate.radius_estimate` computed in the amplitude units
+    2^shift (:func:`gfrf.model.scaling.amplitude_scaled`) and scaled back exactly."""
+    import dataclasses
+
+    from gfrf.model.scaling import amplitude_scaled
+    from gfrf.stability.estimate import radius_estimate
+
+    scaled = amplitude_scaled(model, shift)
+    if scaled is None:
+        scaled, shift = model, 0
+    est = radius_estimate(scaled, math.ldexp(lower, -shift),
+                          None if upper is None else math.ldexp(upper, -shift))
+    if est is None or shift == 0:
+        return est
+    return dataclasses.replace(est, value=math.ldexp(est.value, shift),
+                               fitted=math.ldexp(est.fitted, shift), lower=lower, upper=upper)
 
 
 def theorem1(model: Model, order: int = 5, amplitude: float = 1.0,
@@ -259,6 +279,10 @@ def _series_condition(name: str, rad: Radius, amplitude: float, exact: bool,
         return Condition(name, True if exact else None, rad.value,
                          f"majorant converges for r < r* = {rad.value:.6g} ({label}); "
                          f"r = {amplitude:g} is inside{est}")
+    if rad.value == 0.0:  # an infinite majorant entry: nothing certified, nothing refuted
+        return Condition(name, None, rad.value,
+                         f"not established: the majorant certifies no amplitude r > 0 "
+                         f"(r* = 0: it has an infinite entry, see the H_n condition){est}")
     return Condition(name, None, rad.value,
                      f"not established: the majorant diverges for r >= r* = {rad.value:.6g} "
                      f"({label}) and r = {amplitude:g} is outside{est}")
@@ -272,6 +296,9 @@ def _summary(result: str, theorem: int, rad: Radius, amplitude: float,
     text = (f"Theorem {theorem}: {result}. The {kind} norm series converges for every "
             f"input amplitude r < r* = {rad.value:.6g}; r = {amplitude:g} is "
             f"{'inside' if amplitude < rad.certified_below else 'outside'}.")
+    if rad.value == 0.0:
+        text = (f"Theorem {theorem}: {result}. The {kind} majorant certifies no input "
+                f"amplitude r > 0 (r* = 0).")
     if failed:
         text += " Failed: " + "; ".join(failed) + "."
     if open_:

@@ -32,13 +32,13 @@ How the ambiguous symbols are read
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from typing import Any
 
 import numpy as np
 
 from gfrf.bounds.majorant import Majorant, Radius, certify, majorant, plant_radius, radius
+from gfrf.bounds.radius_scaling import scaled_majorant
 from gfrf.bounds.rational import check_proof, rational_sup
 from gfrf.errors import ArgumentError
 from gfrf.model.modelfile import ModelFile
@@ -167,7 +167,7 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
                        {"controller_majorant_at_1": c_at_1, "plant_radius": plant_rad.value},
                        f"the series is the plant majorant at amplitude C(1) = {c_at_1:.6g} "
                        f"(C = controller majorant; lambda_1 for a linear controller), "
-                       f"plant radius {plant_rad.value:.6g}")
+                       f"plant radius {plant_rad.value:.6g} (units of the plant input u)")
         rad = _loop_radius(maj, lam_up, rho1_up, cmaj)
     else:
         c4 = Condition("sum phi_m lambda_1^m converges", False, {"lambda_1": lam},
@@ -193,13 +193,46 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
     result = ("stable" if all(c.passed for c in conditions) else
               "unstable" if loop.outside else "inconclusive")
     summary = _summary(result, 2, rad, amplitude, conditions, exact)
+    from gfrf.stability.loops import loop_text
+
+    loop_upper, loop_detail = _loop_upper(model_file, level != "none" and proof == "interval",
+                                          maj)
+    if loop_upper is not None:
+        summary += (f" In units of the reference r (loop {loop_text(controller)}): the loop's "
+                    f"true radius is proven <= {loop_upper:.6g} ({loop_detail}).")
     if radii.upper is not None or radii.estimate is not None:
-        summary += (" The plant's own norm series sum ||h_n|| r^n (not the loop):"
-                    + radii.text().lstrip(";") + ".")
+        summary += (" The plant's own norm series sum ||h_n|| u^n, in units of the plant "
+                    "input u (not the loop):" + radii.text().lstrip(";") + ".")
     return Verdict(result, 2, rad.value, exact, float(amplitude), conditions, norms, rows,
                    radii.estimate, summary, rad.proof, radii.upper, radii.detail,
-                   "plant norm series sum ||h_n|| r^n (not the loop series)",
-                   radii.lower if level != "none" else None)
+                   "plant's own norm series sum ||h_n|| u^n, in units of u (not the loop)",
+                   radii.lower if level != "none" else None, loop_text(controller),
+                   loop_upper, loop_detail)
+
+
+def _loop_upper(model_file: ModelFile, wanted: bool,
+                maj: Majorant) -> tuple[float | None, str]:
+    """The loop's proven upper radius in reference units (static fold of the loop's static
+    map, :func:`gfrf.stability.static.loop_radius_upper`, on the plant's O(1) amplitude
+    scale), or None with the reason."""
+    from fractions import Fraction
+
+    from gfrf.bounds.radius_scaling import amplitude_shift
+    from gfrf.stability.static import loop_radius_upper
+
+    controller = model_file.controller
+    if not wanted or controller is None:
+        return None, "not computed (proof level 'interval' and norms on only)"
+    if not controller.is_linear:
+        return None, "not computed for a polynomial controller"
+    num, den = controller.num or (1.0,), controller.den or (1.0,)
+    if den[-1] == 0:
+        return None, "C(0) is infinite (integral action): statically y = r, no fold"
+    bound = loop_radius_upper(model_file.plant, Fraction(num[-1]) / Fraction(den[-1]),
+                              controller.feedback, amplitude_shift(maj))
+    if bound is None:
+        return None, "no static branch point of the loop's static map proven"
+    return bound.value, bound.detail
 
 
 def _controller_output(cmaj: Majorant) -> float:
@@ -244,25 +277,39 @@ def _loop_radius(maj: Majorant, lam: float, rho1: float,
     """
     dim = len(maj.powers)
     cdim = 0 if cmaj is None else len(cmaj.powers)
-    beta1 = maj.linear[0]
+    # A linear controller: solve on the plant's O(1) amplitude scale (x = alpha X,
+    # e = 2^b E, r = 2^b R; :mod:`gfrf.bounds.radius_scaling`), exact powers of two.
+    found = scaled_majorant(maj) if cmaj is None else None
+    work, shift, alpha = (maj, 0, {ell: 0 for ell in maj.powers}) if found is None else found
+    factor = math.ldexp(1.0, alpha[0] - shift)  # K_0 G(x, y) / 2^b in the scaled units
+    beta1 = work.linear[0]
 
     def step(z: np.ndarray, r: float) -> np.ndarray:
         x, xc, e = z[:dim], z[dim:dim + cdim], z[-1]
         y = lam * e if cmaj is None else xc[0]
-        x_new = maj.rhs(x, y)
+        x_new = work.rhs(x, y)
         xc_new = np.zeros(0) if cmaj is None else cmaj.rhs(xc, e)
-        e_new = rho1 * r + rho1 * (beta1 * (y - lam * e) + maj.gains[0] * maj.nonlinear(x, y))
+        e_new = rho1 * r + rho1 * (beta1 * (y - lam * e)
+                                   + factor * work.gains[0] * work.nonlinear(x, y))
         return np.concatenate([x_new, xc_new, [e_new]])
 
     rad = radius(step, dim + cdim + 1)
+    proof = rad.proof
     levels = {maj.proof} | ({cmaj.proof} if cmaj is not None else set())
     if "none" in levels:
-        return dataclasses.replace(rad, proof="none")
-    if levels == {"interval"} and rad.solution is not None and rad.certified_below > 0:
+        proof = "none"
+    elif levels == {"interval"} and rad.solution is not None and 0 < rad.certified_below < math.inf:
         for z in _slack_candidates(step, rad.solution, rad.certified_below):
-            if _loop_proves(maj, lam, rho1, cmaj, z, rad.certified_below):
-                return dataclasses.replace(rad, proof="interval")
-    return rad
+            if _loop_proves(work, lam, rho1, cmaj, z, rad.certified_below, factor):
+                proof = "interval"
+                break
+    solution = None
+    if rad.solution is not None:
+        solution = np.array([*(math.ldexp(float(v), alpha[ell]) for v, ell in
+                               zip(rad.solution[:dim], work.powers, strict=True)),
+                             *rad.solution[dim:-1], math.ldexp(float(rad.solution[-1]), shift)])
+    return Radius(math.ldexp(rad.value, shift), math.ldexp(rad.certified_below, shift),
+                  solution, proof)
 
 
 def _slack_candidates(step: Any, z: np.ndarray, r: float) -> list[np.ndarray]:
@@ -294,7 +341,7 @@ def _slack_candidates(step: Any, z: np.ndarray, r: float) -> list[np.ndarray]:
 
 
 def _loop_proves(maj: Majorant, lam: float, rho1: float, cmaj: Majorant | None,
-                 z: np.ndarray, r: float) -> bool:
+                 z: np.ndarray, r: float, factor: float = 1.0) -> bool:
     """Whether step(z, r) <= z holds for the loop system in Arb ball arithmetic.
 
     The same step as :func:`_loop_radius` with every operation rounded outward
@@ -316,5 +363,6 @@ def _loop_proves(maj: Majorant, lam: float, rho1: float, cmaj: Majorant | None,
     if cmaj is not None:
         new += cmaj.rhs_ball(xc, e, e)
     extra = arb(0) if cmaj is None else arb(maj.linear[0]) * (y - lam_b * e)
-    new.append(rho_b * arb(r) + rho_b * (extra + arb(maj.gains[0]) * maj.nonlinear_ball(x, y)))
+    new.append(rho_b * arb(r) + rho_b * (extra + arb(factor) * arb(maj.gains[0])
+                                         * maj.nonlinear_ball(x, y)))
     return all(a <= b for a, b in zip(new, zs, strict=True))

@@ -87,6 +87,14 @@ class Verdict:
     estimate_lower : float or None
         The proven lower bound of that series the estimate was clamped to (r* for
         Theorem 1, the plant majorant's radius for Theorem 2).
+    loop : str
+        Theorem 2: the loop, where the reference enters (``u = C(r - y), C(s) = ...``);
+        r, r* and ``loop_radius_upper`` are in units of the reference.  Empty for Theorem 1.
+    loop_radius_upper : float or None
+        Theorem 2: proven upper bound on the loop's true radius in units of r (static fold
+        of the loop's static map, :func:`gfrf.stability.static.loop_radius_upper`).
+    loop_radius_upper_detail : str
+        Where ``loop_radius_upper`` comes from, or why absent.
     """
 
     verdict: str
@@ -104,6 +112,9 @@ class Verdict:
     radius_upper_detail: str = ""
     estimate_of: str = ""
     estimate_lower: float | None = None
+    loop: str = ""
+    loop_radius_upper: float | None = None
+    loop_radius_upper_detail: str = ""
 
     def __repr__(self) -> str:
         return short_repr(self, "verdict", "theorem", "radius", "amplitude")
@@ -133,6 +144,8 @@ class Verdict:
                 "radius_upper": self.radius_upper,
                 "radius_upper_detail": self.radius_upper_detail,
                 "estimate_of": self.estimate_of, "estimate_lower": self.estimate_lower,
+                "loop": self.loop, "loop_radius_upper": self.loop_radius_upper,
+                "loop_radius_upper_detail": self.loop_radius_upper_detail,
                 "radius_kinds": {
                     "radius": f"lower bound r* of the {_SERIES[self.theorem]}, "
                               + (_label(self.radius_proof) if self.radius_certified

@@ -5,7 +5,7 @@ point coloured by its class, the amplitude r as a dashed line (the verdict is
 ``stable`` where r* lies above it), and the parameter ranges where the linear part is
 unstable shaded.  Two swept parameters: the plane coloured by class, with contours of
 log10 r*.  Classes: Theorem 1/2 proves stability; not proven (inconclusive); linear
-part unstable; invalid model at that point.  ``norm`` sweeps plot ||H1|| and the
+part unstable; the point failed (its error column says why).  ``norm`` sweeps plot ||H1|| and the
 majorants; ``bounded`` sweeps colour points by bounded / blown-up simulations.
 """
 
@@ -29,7 +29,7 @@ CLASSES = {
     "linear unstable": ("linear part unstable", "#c92a2a"),
     "bounded": ("simulation bounded", "#2b8a3e"),
     "blowup": ("simulation blew up", "#c92a2a"),
-    "error": ("invalid model", "#868e96"),
+    "error": ("failed (see the error column)", "#868e96"),
 }
 
 

@@ -53,6 +53,7 @@ import os
 import re
 import time
 import warnings
+from collections import Counter
 from collections.abc import Iterator, Mapping, Sequence
 from concurrent.futures import Executor, Future, ThreadPoolExecutor, as_completed
 from dataclasses import dataclass, field
@@ -195,6 +196,14 @@ def evaluate_point(task: _Task, point: Mapping[str, float]) -> dict[str, Any]:
         row["path"], row["error"] = task.path, (f"at {where}: the model is not real-valued "
                                                 f"here ({type(exc).__name__}: {exc})")
     return row
+
+
+def _failure_notes(rows: list[dict[str, Any]]) -> list[str]:
+    """One note per distinct failure message (the real cause: an invalid model, a work
+    budget, no convergence...), with its count, most frequent first."""
+    causes = Counter(r["error"] for r in rows if r["error"])
+    return [f"{count} of {len(rows)} point(s) failed: {cause}"
+            for cause, count in sorted(causes.items(), key=lambda kv: (-kv[1], kv[0]))[:5]]
 
 
 def _simulate(mf: Any, task: _Task) -> dict[str, Any]:
@@ -531,8 +540,7 @@ def sweep(data: Mapping[str, Any], axes: Sequence[Axis], *, what: str = "verdict
                 bar.update(len(results[futures[future]]))
         seconds = time.perf_counter() - start
     rows = [row for chunk in results for row in chunk]
-    notes = [f"{sum(1 for r in rows if r['error'])} point(s) with an invalid model"] \
-        if any(r["error"] for r in rows) else []
+    notes = _failure_notes(rows)
     if template is None:
         notes.append(f"no template for this model ({no_template}): every point re-parsed "
                      f"the file (path 'rebuild')")
