@@ -160,6 +160,8 @@ class _Runner:
         self.runs += 1
         if self.discrete or self.module is None:
             return self._simulate(tones, "dop853", 1e-7)[0]
+        from gfrf.sim.fastsim import _rk4
+
         steps, h = self.steps * refine, self.h / refine
         t = np.arange(2 * steps + 1) * (0.5 * h)
         V = np.zeros((t.size, len(self.orders)))
@@ -168,9 +170,8 @@ class _Runner:
                 V[:, j] += a * w**k * np.cos(w * t + p + k * math.pi / 2)
         z0 = np.zeros(self.system.n_states)
         with np.errstate(all="ignore"):
-            Z, _, _, done = self.module.rk4(z0, np.array([steps], dtype=np.int64),
-                                            np.array([h]), V, V[-1:].copy(), steps,
-                                            ESCAPE_LEVEL)
+            Z, _, _, done = _rk4(self.module, z0, np.array([steps], dtype=np.int64),
+                                 np.array([h]), V, V[-1:].copy(), steps, ESCAPE_LEVEL)
         return not abs(Z[done, 0]) < ESCAPE_LEVEL
 
     def _simulate(self, tones: list[Tone], method: str, rtol: float
