@@ -206,7 +206,7 @@ def test_the_layout_honours_xdg_cache_home(tmp_path: Path, warm: Path,
     from gfrf.sim import fastsim
 
     shutil.copytree(warm, tmp_path / "xdg" / "gfrf", symlinks=True)
-    monkeypatch.delenv("GFRF_CACHE_DIR")
+    monkeypatch.delenv("GFRF_CACHE_DIR", raising=False)
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
     monkeypatch.setattr(fastsim, "_MODULES", {})
     folder = tmp_path / "xdg" / "gfrf" / "fastsim"

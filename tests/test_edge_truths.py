@@ -204,11 +204,13 @@ def test_api_refuses_a_discrete_controller_on_a_continuous_plant(dt: object) -> 
 
 @pytest.mark.parametrize(("top", "controller", "words"), [
     ("", "sample_time = 0.1\n", ["discrete-time (dt = 0.1 s)", "continuous-time (dt = 0)"]),
-    ("sample_time = 0.1\n", "", ["continuous-time (dt = 0)", "discrete-time (dt = 0.1 s)"]),
+    ("sample_time = 0.1\n", "sample_time = 0\n",
+     ["continuous-time (dt = 0)", "discrete-time (dt = 0.1 s)"]),
     ("sample_time = 0.1\n", "sample_time = 0.2\n", ["dt = 0.2 s", "dt = 0.1 s"])])
 def test_model_file_refuses_mixed_timebases(tmp_path: object, capsys: pytest.CaptureFixture[str],
                                             top: str, controller: str, words: list[str]) -> None:
-    """Item 5 in model files: a [controller] sample_time that differs from the plant's."""
+    """Item 5 in model files: a [controller] sample_time that differs from the plant's
+    (``sample_time = 0`` marks a continuous controller; without it, the plant's timebase)."""
     from pathlib import Path
 
     equation = ("y[k] - 0.5*y[k-1] + 0.1*y[k-1]**3 = u[k-1]" if top else

@@ -353,23 +353,22 @@ def _controller(table: Any, parameters: dict[str, float], plant: Model) -> Contr
 def _check_timebase(table: dict[str, Any], values: dict[str, float], plant: Model) -> None:
     """Refuse a controller whose timebase differs from the plant's (as python-control does).
 
-    A transfer-function controller is continuous unless it has ``sample_time``; an
-    equation controller or a static gain (num and den of one entry each) takes the
-    plant's timebase unless it gives another.
+    A controller without ``sample_time`` is read in the plant's timebase (s for an ODE
+    plant, z for a NARX plant, as before); ``sample_time = 0`` marks it continuous-time and
+    a positive ``sample_time`` discrete-time, and either must then match the plant's.
     """
     given = table.get("sample_time")
-    dt = None if given is None else parse_number(given, "controller.sample_time", values)
-    if dt is not None and not (math.isfinite(dt) and dt > 0):
-        raise ModelError(f"controller.sample_time must be a positive number of seconds, "
-                         f"got {given!r}")
-    static = all(isinstance(table.get(k, [1]), list) and len(table.get(k, [1])) == 1
-                 for k in ("num", "den"))
-    if dt is None and ("equation" in table or static):  # no timebase of its own
+    if given is None:
         return
+    dt = parse_number(given, "controller.sample_time", values)
+    if not (math.isfinite(dt) and dt >= 0):
+        raise ModelError(f"controller.sample_time must be 0 (continuous-time) or a positive "
+                         f"number of seconds, got {given!r}")
+    controller_dt = dt or None
     plant_dt = plant.sample_time
-    if dt != plant_dt:
-        raise ModelError(f"mixed timebases: the controller is {_timebase(dt)} but the plant is "
-                         f"{_timebase(plant_dt)}; give both the same sample_time "
+    if controller_dt != plant_dt:
+        raise ModelError(f"mixed timebases: the controller is {_timebase(controller_dt)} but "
+                         f"the plant is {_timebase(plant_dt)}; give both the same sample_time "
                          "(python-control refuses to connect them too)")
 
 
