@@ -124,6 +124,8 @@ class Bound:
         the upper end is proven by the ball-arithmetic majorant (``"float"`` where the
         float branch-and-bound lowered it) and the lower end by |H_n| at ``argmax`` in
         ball arithmetic (``"float"`` if that ball is too wide, see ``notes``).
+    boxes : int
+        Boxes the branch-and-bound evaluated (0 when it did not run): the work spent.
     """
 
     lower: float
@@ -139,6 +141,7 @@ class Bound:
     proof: str = "float"
     upper_proof: str = ""
     lower_proof: str = ""
+    boxes: int = 0
 
     @property
     def gap(self) -> float:
@@ -370,10 +373,12 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = DEFAU
               + " + resonance-start Nelder-Mead (lower: "
               + ("witness re-evaluated in ball arithmetic)" if proof != "none"
                  else "float witness)"))
+    boxes = 0
     if (max_boxes != 0 and (upper == math.inf or upper - lower > tol * upper)
             and not model.is_discrete and n <= MAX_ORDER and proof != "none"):
         bb, skipped = _refine(model, n, symmetric, lower, argmax, tol, max_boxes, progress,
                               upper)
+        boxes = 0 if bb is None else bb.boxes
         if bb is None:
             notes.append(skipped)
         else:
@@ -403,7 +408,8 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = DEFAU
         upper = lower
     weakest = min(upper_proof, lower_proof, key=("none", "float", "interval").index)
     return Bound(lower, upper, argmax, maj.certified, method, n, symmetric, stable,
-                 tuple(notes), proof=weakest, upper_proof=upper_proof, lower_proof=lower_proof)
+                 tuple(notes), proof=weakest, upper_proof=upper_proof, lower_proof=lower_proof,
+                 boxes=boxes)
 
 
 #: Range of the majorant within which the double-precision box enclosures of the
