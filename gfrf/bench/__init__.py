@@ -47,6 +47,7 @@ SECTION_MODULES: tuple[str, ...] = (
     "gfrf.bench.simulation",
     "gfrf.bench.norms",
     "gfrf.bench.brackets",
+    "gfrf.bench.limits",
     "gfrf.bench.proof",
     "gfrf.bench.periodic",
     "gfrf.bench.sweep",
