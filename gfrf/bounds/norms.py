@@ -310,8 +310,9 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = DEFAU
         enclosures on one core, from the kernel's size.  The search stops on this work
         count or on ``tol``, never on time.  Measured on a 2-core 2026 machine
         (``gfrf bench``, section "Tight brackets"): ||H5|| of every bundled model closes to
-        ``tol = 1e-3`` within the default budget (the hanging pendulum in 54,683 boxes,
-        the cart-pole plant in 25,695).
+        ``tol = 1e-3`` within the default budget (the hanging pendulum in about 55,000
+        boxes, the cart-pole plant in about 26,000; the counts may differ between CPUs
+        in the last bits of floating point).
     proof : {"interval", "float", "none"}
         ``"interval"`` (default): the majorant's upper end in ball arithmetic on proven
         sups (``upper_proof = "interval"``) and the witness |H_n(argmax)| in ball
