@@ -169,3 +169,16 @@ def test_bench_runs_from_any_directory_and_writes_nothing(tmp_path: Path) -> Non
     payload = json.loads(out.stdout)
     assert payload["report"] is None and payload["sections"][0]["rows"]
     assert list(tmp_path.iterdir()) == []  # no reports/ left behind
+
+
+def test_a_budget_above_the_default_is_announced_with_its_time() -> None:
+    from gfrf.bounds.branch_bound import budget_note
+
+    m = load_model(MODELS / "cartpole_reduced.toml").plant
+    cap = default_budget(m, 3)
+    assert budget_note(m, 3, True, cap) is None
+    note = budget_note(m, 3, True, 100 * cap)
+    assert note is not None and "allows up to about" in note and str(cap) in note
+    seconds = float(note.split("about ")[1].split(" s")[0])
+    default_seconds = float(note.split("about ")[2].split(" s")[0])
+    assert seconds == pytest.approx(100 * default_seconds, rel=0.1)

@@ -56,7 +56,8 @@ from gfrf.kernels.recursion import GFRFGenerator, generator
 from gfrf.model.equation import Model
 
 __all__ = ["BranchBoundResult", "branch_and_bound", "box_bounds", "MAX_ORDER",
-           "MAX_BOXES", "BOX_LIMIT", "MAX_OPEN", "check_budget", "box_work", "default_budget"]
+           "MAX_BOXES", "BOX_LIMIT", "MAX_OPEN", "check_budget", "box_work", "default_budget",
+           "budget_note"]
 
 #: Highest kernel order searched (the enclosure costs 2^n vertices and n^2 Hessian bounds).
 MAX_ORDER = 5
@@ -268,6 +269,26 @@ def default_budget(model: Model, n: int, symmetric: bool = True) -> int:
     A count of work, so the bracket never depends on the machine's speed.
     """
     return min(BOX_LIMIT, max(LEAST_BUDGET, DEFAULT_WORK // box_work(model, n, symmetric)))
+
+
+#: CPU seconds per unit of work (jet operation on one box) used to announce a budget's
+#: cost: DEFAULT_WORK is about 8 s on one core of the 2-core machine under load.
+SECONDS_PER_WORK = 8.0 / DEFAULT_WORK
+
+
+def budget_note(model: Model, n: int, symmetric: bool, max_boxes: int) -> str | None:
+    """A line announcing, before the search, that ``max_boxes`` allows more work than the
+    default cap (with its time estimate), or None when it does not."""
+    if model.is_discrete or not 2 <= n <= MAX_ORDER:
+        return None
+    default = default_budget(model, n, symmetric)
+    if max_boxes <= default:
+        return None
+    seconds = max_boxes * box_work(model, n, symmetric) * SECONDS_PER_WORK
+    return (f"max_boxes {max_boxes} allows up to about {seconds:.3g} s of branch-and-bound "
+            f"on one core (the default cap is {default} boxes, about "
+            f"{default * box_work(model, n, symmetric) * SECONDS_PER_WORK:.2g} s); the "
+            "search stops sooner when the gap reaches tol")
 
 
 def check_budget(max_boxes: object, least: int) -> int:

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 from typing import TYPE_CHECKING
 
 from gfrf.cli._models import add_model_argument, resolve_model
@@ -132,12 +133,16 @@ def _check_order(order: int) -> None:
 def _norm(args: argparse.Namespace) -> int:
     _check_order(args.order)
     mf = resolve_model(args)
-    from gfrf.bounds.branch_bound import BOX_LIMIT
+    from gfrf.bounds.branch_bound import BOX_LIMIT, budget_note
     from gfrf.bounds.norms import kernel_norm
 
     if args.max_boxes is not None and not 0 <= args.max_boxes <= BOX_LIMIT:
         raise ArgumentError(f"--max-boxes must be between 0 and {BOX_LIMIT}, got "
                             f"{args.max_boxes}")
+    note = None if args.max_boxes is None else budget_note(mf.plant, args.order,
+                                                           not args.asymmetric, args.max_boxes)
+    if note:  # said before the work starts (stderr: stdout stays the result)
+        print(f"gfrf: note: --{note.replace('_', '-', 1)}", file=sys.stderr, flush=True)
     b = kernel_norm(mf.plant, args.order, not args.asymmetric, args.tol,
                     max_boxes=args.max_boxes,
                     proof=args.proof, cross_check=args.cross_check, progress=None)
