@@ -24,6 +24,7 @@ from gfrf.bounds.branch_bound import (
 )
 from gfrf.bounds.norms import DEFAULT_TOL, kernel_norm
 from gfrf.kernels.recursion import kernel
+from gfrf.model.equation import parse_model
 from gfrf.model.modelfile import load_model
 from gfrf.model.signals import FAST_TONES, parse_input
 from gfrf.model.tones import read_tone_sum
@@ -182,3 +183,31 @@ def test_a_budget_above_the_default_is_announced_with_its_time() -> None:
     seconds = float(note.split("about ")[1].split(" s")[0])
     default_seconds = float(note.split("about ")[2].split(" s")[0])
     assert seconds == pytest.approx(100 * default_seconds, rel=0.1)
+
+
+def test_a_kernel_order_beyond_about_10_s_is_refused_before_the_work() -> None:
+    from gfrf.errors import ArgumentError
+    from gfrf.kernels.recursion import MAX_PLAN_TERMS
+
+    m = parse_model("D(y,2)+0.2*D(y)+y+0.3*y**2+0.1*D(y)**2+0.2*y*D(y)+0.1*y**3 = u")
+    start = time.process_time()
+    with pytest.raises(ArgumentError, match="largest order that fits is 8") as info:
+        kernel(m, 12)  # killed after 600 s before issue 28
+    assert time.process_time() - start < 5.0
+    assert f"MAX_PLAN_TERMS = {MAX_PLAN_TERMS}" in str(info.value) and "--max-work" in str(
+        info.value)
+    assert kernel(m, 5)(1.0, 1.0, 1.0, 1.0, -1.0) is not None  # small orders still answer
+
+
+def test_tight_verdict_orders_share_one_work_cap(monkeypatch: pytest.MonkeyPatch) -> None:
+    import gfrf.stability.theorem1 as theorem1
+    from gfrf.stability.criteria import verdict
+
+    m = load_model(MODELS / "cartpole_reduced.toml").plant
+    monkeypatch.setattr(theorem1, "DEFAULT_WORK", 50 * box_work(m, 3) + box_work(m, 5))
+    v = verdict(m, 5, 0.1, norms="tight")
+    spent = sum(b.boxes * box_work(m, b.order) for b in v.norms if 2 <= b.order <= 5)
+    assert 0 < spent <= 50 * box_work(m, 3) + box_work(m, 5) + 2 * 2048 * box_work(m, 5)
+    assert all(b.upper >= b.lower for b in v.norms)
+    assert v.norms[2].lower <= _reduced_cartpole_h3() * (1 + 1e-12) <= v.norms[2].upper * (
+        1 + 1e-12)
