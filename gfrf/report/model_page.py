@@ -81,7 +81,10 @@ def summary_lines(a: ModelAnalysis) -> list[str]:
 
 
 def _bracket(lower: float, upper: float) -> str:
-    return f"= {num(upper)}" if lower == upper else f"in [{num(lower)}, {num(upper)}]"
+    if lower == upper:
+        return f"= {num(upper)}"
+    low, high, _ = bracket_cells(lower, upper)  # outward, to the digits it proves
+    return f"in [{low}, {high}]"
 
 
 def _latex(a: ModelAnalysis, n: int) -> str:
