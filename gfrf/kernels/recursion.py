@@ -583,6 +583,7 @@ def kernel(model: Model, n: int, symmetric: bool = True, max_terms: int | None =
         raise ArgumentError(f"kernel order {n} exceeds the limit {MAX_KERNEL_ORDER}")
     if max_terms is not None and (isinstance(max_terms, bool) or not isinstance(
             max_terms, (int, np.integer)) or max_terms < 1):
-        raise ArgumentError(f"max_terms must be a positive integer, got {max_terms!r}")
+        raise ArgumentError(f"max_terms (gfrf kernel --max-work) must be a positive integer, "
+                            f"got {max_terms!r}")
     check_recursion_work(model, int(n), bool(symmetric), max_terms)
     return Kernel(model, int(n), bool(symmetric), generator(model))
