@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from decimal import ROUND_CEILING, ROUND_FLOOR, Decimal
+from decimal import ROUND_CEILING, Decimal
 from pathlib import Path
 from typing import Any
 
@@ -21,6 +21,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
 from gfrf._atomic import atomic_path  # noqa: E402
+from gfrf._results import outward_bracket  # noqa: E402
 
 __all__ = ["num", "bracket_cells", "cell", "table", "header", "save_figure", "mark", "code",
            "DPI"]
@@ -43,15 +44,10 @@ def num(x: float | None, digits: int = 6) -> str:
     return f"{x:.{digits}g}"
 
 
-def _outward(x: float, digits: int, rounding: str) -> Decimal:
-    """``x`` rounded to ``digits`` significant digits in the direction ``rounding``."""
-    exact = Decimal(x)  # the binary value, exactly
-    return exact.quantize(Decimal(1).scaleb(exact.adjusted() - digits + 1), rounding=rounding)
-
-
 def bracket_cells(lower: float, upper: float, most: int = 6) -> tuple[str, str, str]:
     """(lower, upper, relative gap) of a bracket as printed: rounded outward to the
-    digits the bracket proves, so the text does not depend on the last bits of a float.
+    digits the bracket proves (:func:`gfrf._results.outward_bracket`), so the text does
+    not depend on the last bits of a float.
 
     A bracket of relative gap g keeps ``2 + ceil(-log10 g)`` significant digits:
     lower rounded down, upper rounded up, the gap that of the printed numbers rounded up
@@ -62,15 +58,15 @@ def bracket_cells(lower: float, upper: float, most: int = 6) -> tuple[str, str, 
     >>> bracket_cells(0.0111398, 0.0209773)
     ('0.0111', '0.021', '0.48')
     """
-    finite = math.isfinite(lower) and math.isfinite(upper) and 0 < lower < upper
-    digits = 2 + math.ceil(-math.log10((upper - lower) / upper)) if finite else most + 1
-    if digits > most:
+    rounded = outward_bracket(lower, upper, most)
+    if rounded is None:
         gap = 0.0 if upper == lower else (math.inf if math.isinf(upper) else
                                            (upper - lower) / upper if upper else math.nan)
         return num(lower, most), num(upper, most), num(gap, most)
-    low, high = _outward(lower, digits, ROUND_FLOOR), _outward(upper, digits, ROUND_CEILING)
-    gap = _outward(float((high - low) / high), 2, ROUND_CEILING)
-    return num(float(low), digits), num(float(high), digits), num(float(gap), 2)
+    low, high, digits = rounded
+    gap = Decimal((high - low) / high)  # of the printed numbers: deterministic
+    gap = gap.quantize(Decimal(1).scaleb(gap.adjusted() - 1), rounding=ROUND_CEILING)
+    return num(low, digits), num(high, digits), num(float(gap), 2)
 
 
 def cell(value: Any) -> str:
