@@ -15,16 +15,25 @@ $(STAMP): $(BIN)/python pyproject.toml
 	$(BIN)/python -m pip install --quiet -e ".[test,fast,dask,identify]"
 	@touch $(STAMP)
 
-# Verdicts exit 1 when stability is not proven: the demo shows them and goes on.
+# Verdicts exit 1 when stability is not proven: the demo shows them and goes on.  One
+# "[demo i/N]" line per step (also in a log, where no progress bar shows); the reports go
+# to build/reports (REPORTS=reports/ writes the tracked ones: that is `make report`).
+REPORTS ?= build/reports
 demo: $(STAMP)
-	@for m in models/*.toml; do \
-	  if grep -q '^kind = "parametric"' $$m; then continue; fi; \
-	  echo "== gfrf verdict $$m"; $(BIN)/gfrf verdict $$m || true; echo; \
-	done
-	@echo "== the parametric pendulum (models/parametric_pendulum.toml), eps = 0.2, x(0) = 0.5"
-	@for method in exact perturbation homotopy energy averaging; do \
-	  $(BIN)/gfrf transition --eps 0.2 --amplitude 0.5 --branch 1/4 --method $$method; \
-	done
+	@models=$$(for m in models/*.toml; do grep -q '^kind = "parametric"' $$m || echo $$m; done); \
+	total=$$(( $$(echo $$models | wc -w) + 2 )); i=0; \
+	for m in $$models; do \
+	  i=$$((i + 1)); echo "== [demo $$i/$$total] gfrf verdict $$m"; $(BIN)/gfrf verdict $$m || true; echo; \
+	done; \
+	echo "== [demo $$((i + 1))/$$total] the parametric pendulum (models/parametric_pendulum.toml), eps = 0.2, x(0) = 0.5"; \
+	for method in exact perturbation homotopy energy averaging; do \
+	  $(BIN)/gfrf transition --eps 0.2 --amplitude 0.5 --branch 1/4 --method $$method || exit 1; \
+	done; \
+	echo "== [demo $$total/$$total] gfrf report --out $(REPORTS)"; \
+	$(BIN)/gfrf report --out $(REPORTS)
+
+# Regenerate the tracked reports (reports/*.md and their figures).
+report: $(STAMP)
 	$(BIN)/gfrf report --out reports/
 
 # The layers first (import-linter, contracts in pyproject.toml: a few seconds), then the suite.

@@ -15,10 +15,37 @@ R(radius=0.125)
 
 from __future__ import annotations
 
+import math
+from decimal import ROUND_CEILING, ROUND_FLOOR, Decimal
 from typing import Any
 
-__all__ = ["short_repr", "plain", "markdown_table", "new_figure", "verdict_markdown",
-           "verdict_figure", "simulation_markdown", "simulation_figure"]
+__all__ = ["outward_bracket", "short_repr", "plain", "markdown_table", "new_figure",
+           "verdict_markdown", "verdict_figure", "simulation_markdown", "simulation_figure"]
+
+
+def outward_bracket(lower: float, upper: float, most: int = 6
+                    ) -> tuple[float, float, int] | None:
+    """``(lower, upper, digits)`` of an open bracket rounded outward to the significant
+    digits it proves, ``2 + ceil(-log10 gap)`` (lower down, upper up): printed figures
+    that do not depend on the last bits of a float; None when the bracket is closed to
+    more than ``most`` digits, a point, or has a zero, negative or infinite end.
+
+    >>> outward_bracket(0.0111398, 0.0209773)
+    (0.0111, 0.021, 3)
+    """
+    if not (math.isfinite(lower) and math.isfinite(upper) and 0 < lower < upper):
+        return None
+    digits = 2 + math.ceil(-math.log10((upper - lower) / upper))
+    if digits > most:
+        return None
+    return (float(_round(lower, digits, ROUND_FLOOR)), float(_round(upper, digits, ROUND_CEILING)),
+            digits)
+
+
+def _round(x: float, digits: int, rounding: str) -> Decimal:
+    """``x`` (exactly, as a binary number) rounded to ``digits`` significant digits."""
+    exact = Decimal(x)
+    return exact.quantize(Decimal(1).scaleb(exact.adjusted() - digits + 1), rounding=rounding)
 
 
 def _value(value: Any) -> str:

@@ -95,12 +95,16 @@ def test_cartpole_h3_exact_value_inside_bracket() -> None:
     m = load_model("models/cartpole_reduced.toml").plant
     beta1 = 39.3185 / 67.578
     exact = (19.66 * beta1**2 - 11.2455 * beta1**3) / 67.578
-    bound = kernel_norm(m, 3)
+    bound = kernel_norm(m, 3, tol=1e-6)
     assert bound.lower == pytest.approx(exact, rel=1e-9)
     assert bound.upper >= exact
     # the branch-and-bound closes the majorant's gap ((11.2455 beta1^3 + 19.66 beta1^2)
-    # / 67.578, twice the sup) to the default tolerance
+    # / 67.578, twice the sup) to the asked tolerance ...
     assert bound.upper <= exact / (1 - 1e-6) and bound.gap <= 1e-6
+    # ... and to the default one (1e-3) without any argument
+    default = kernel_norm(m, 3)
+    assert exact <= default.upper <= exact / (1 - 1e-3) and default.gap <= 1e-3
+    assert default.lower <= exact * (1 + 1e-12)
 
 
 def test_bracket_contains_random_grid_max() -> None:

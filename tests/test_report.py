@@ -9,7 +9,7 @@ import pytest
 from gfrf.cli import main
 from gfrf.papers.gfrf_paper import coefficient_rows, paper_checks
 from gfrf.report import MODELS_DIR, bundled_models, paper_gfrf, write_reports
-from gfrf.report._format import cell, table
+from gfrf.report._format import bracket_cells, cell, table
 from gfrf.report.analysis import analyse
 from gfrf.report.paper_gfrf import check_table
 from gfrf.stability.criteria import parameter_margin
@@ -62,8 +62,11 @@ def test_model_page_numbers_come_from_the_verdict(built: Path) -> None:
     a = analyse(str(MODELS_DIR / "hanging_pendulum.toml"), True)
     text = (built / "models" / "hanging_pendulum.md").read_text(encoding="utf-8")
     assert f"r* = **{cell(a.verdict.radius)}**" in text
-    for b in a.verdict.norms:
-        assert f"| {b.order} | {cell(b.lower)} | {cell(b.upper)} |" in text
+    for b in a.verdict.norms:  # rounded outward to the digits the bracket proves
+        lower, upper, gap = bracket_cells(b.lower, b.upper)
+        assert f"| {b.order} | {lower} | {upper} | {gap} |" in text
+        if b.gap > 1e-4:  # an open bracket: rounded outward (closed ones: nearest)
+            assert float(lower) <= b.lower and float(upper) >= b.upper
     for c in a.verdict.conditions:
         assert cell(c.detail) in text
 

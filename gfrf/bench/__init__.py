@@ -27,8 +27,18 @@ from tqdm import tqdm
 
 from gfrf._atomic import atomic_write_text
 
-__all__ = ["BenchSection", "SECTION_MODULES", "best_of", "figure_dir", "load_note",
-           "machine_description", "run_all", "write_report", "gfrf_command"]
+__all__ = ["BenchSection", "SECTION_MODULES", "MODELS_DIR", "best_of", "bundled_model",
+           "figure_dir", "load_note", "machine_description", "run_all", "write_report",
+           "gfrf_command"]
+
+#: The bundled model files, found next to the package (a source checkout or an editable
+#: install), so ``gfrf bench`` runs from any directory.
+MODELS_DIR = Path(__file__).resolve().parents[2] / "models"
+
+
+def bundled_model(name: str) -> str:
+    """Absolute path of the bundled model file ``name`` (e.g. ``"cartpole.toml"``)."""
+    return str(MODELS_DIR / name)
 
 #: Modules that each define ``run(quick: bool) -> BenchSection``.
 SECTION_MODULES: tuple[str, ...] = (
@@ -37,6 +47,7 @@ SECTION_MODULES: tuple[str, ...] = (
     "gfrf.bench.simulation",
     "gfrf.bench.norms",
     "gfrf.bench.brackets",
+    "gfrf.bench.limits",
     "gfrf.bench.proof",
     "gfrf.bench.periodic",
     "gfrf.bench.sweep",
@@ -139,16 +150,28 @@ def figure_dir() -> Path:
 
 
 def run_all(quick: bool = False, only: list[str] | None = None,
-            out_dir: str | Path = "reports") -> list[BenchSection]:
+            out_dir: str | Path | None = "reports") -> list[BenchSection]:
     """Run every benchmark section (or those whose module name contains an ``only`` entry).
 
-    Figures go to ``out_dir`` (sections read it through :func:`figure_dir`).
+    Figures go to ``out_dir`` (sections read it through :func:`figure_dir`); None writes
+    them to a temporary folder that is removed afterwards (nothing is left behind).
     """
-    os.environ["GFRF_REPORT_DIR"] = str(out_dir)
-    Path(out_dir).mkdir(parents=True, exist_ok=True)
+    import tempfile
+
     names = [n for n in SECTION_MODULES if not only or any(o in n for o in only)]
-    return [importlib.import_module(name).run(quick)
-            for name in tqdm(names, desc="bench", disable=None)]
+    with tempfile.TemporaryDirectory(prefix="gfrf-bench-") as scratch:
+        folder = Path(scratch if out_dir is None else out_dir)
+        folder.mkdir(parents=True, exist_ok=True)
+        previous = os.environ.get("GFRF_REPORT_DIR")
+        os.environ["GFRF_REPORT_DIR"] = str(folder)
+        try:
+            return [importlib.import_module(name).run(quick)
+                    for name in tqdm(names, desc="bench", disable=None)]
+        finally:
+            if previous is None:
+                os.environ.pop("GFRF_REPORT_DIR", None)
+            else:
+                os.environ["GFRF_REPORT_DIR"] = previous
 
 
 def write_report(sections: list[BenchSection], out_dir: str | Path) -> Path:

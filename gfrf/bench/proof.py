@@ -28,7 +28,7 @@ import math
 from collections.abc import Callable
 from typing import Any
 
-from gfrf.bench import BenchSection, best_of
+from gfrf.bench import BenchSection, best_of, bundled_model
 
 __all__ = ["run", "LEVELS"]
 
@@ -50,7 +50,7 @@ def _cases() -> list[tuple[str, str, Callable[[str], Any], Callable[[Any], float
     cases: list[tuple[str, str, Callable[[str], Any], Callable[[Any], float]]] = []
     for name in ("hanging_pendulum", "hanging_pendulum_damped", "duffing", "cartpole",
                  "narx_example"):
-        mf = load_model(f"models/{name}.toml")
+        mf = load_model(bundled_model(f"{name}.toml"))
         plant = mf.plant
         num, den = linear_polynomials(plant)
         if plant.is_discrete:
@@ -69,7 +69,7 @@ def _cases() -> list[tuple[str, str, Callable[[str], Any], Callable[[Any], float
         cases.append((name if name != "cartpole" else "cartpole (plant)", "r*",
                       lambda level, m=target: verdict(m, 1, 0.01, False, level),
                       lambda v: v.radius))
-    loop = with_lags(load_model("models/cartpole_reduced.toml"), LAGS)
+    loop = with_lags(load_model(bundled_model("cartpole_reduced.toml")), LAGS)
     cases.append(("cart-pole loop, lags 0.01 s", "r* (Theorem 2)",
                   lambda level: verdict(loop, 1, 0.01, False, level), lambda v: v.radius))
     return cases

@@ -56,7 +56,8 @@ from gfrf.kernels.recursion import GFRFGenerator, generator
 from gfrf.model.equation import Model
 
 __all__ = ["BranchBoundResult", "branch_and_bound", "box_bounds", "MAX_ORDER",
-           "MAX_BOXES", "BOX_LIMIT", "check_budget"]
+           "MAX_BOXES", "BOX_LIMIT", "MAX_OPEN", "check_budget", "box_work", "default_budget",
+           "budget_note"]
 
 #: Highest kernel order searched (the enclosure costs 2^n vertices and n^2 Hessian bounds).
 MAX_ORDER = 5
@@ -73,8 +74,24 @@ COMPILED_FROM = 5_000
 #: Budget from which the fused loops are used from the first box (a search given that
 #: much work is expected to need more than COMPILED_FROM boxes).
 COMPILED_BUDGET = 100_000
+#: Lowest order whose searches start with the fused loops whatever the budget: every
+#: bundled model's H5 search to 1e-3 evaluates more than COMPILED_FROM boxes (7,191
+#: to 54,683), so a numpy phase (about 2x slower per box) never pays there; at orders
+#: <= 3 they take a few hundred boxes (the cart-pole's H3: 415) and never load numba.
+COMPILED_ORDER = 5
 #: Most boxes any search may be given (bounds the cost of every input: about 10 min).
 BOX_LIMIT = 20_000_000
+#: Most open (undecided) boxes a search keeps: about 100 bytes each at order 5, so
+#: about 50 MB.  When a split would exceed it the search stops with the bracket it has
+#: (sound: the open boxes' bounds are still in the upper end).
+MAX_OPEN = 500_000
+#: Work of the default budget (:func:`default_budget`), in jet operations times boxes:
+#: about 8 s of enclosures on one core of the 2-core 2026 machine, where one jet
+#: operation on one box takes 0.2-0.3 us with the fused loops (measured on the
+#: pendulum's and the cart-pole's H5, ``gfrf bench``).
+DEFAULT_WORK = 36_000_000
+#: Fewest boxes a default budget gives (a small kernel's search is cheap anyway).
+LEAST_BUDGET = 20_000
 #: Nelder-Mead polishings of a new best box centre per search.
 MAX_POLISHES = 20
 
@@ -100,6 +117,10 @@ class BranchBoundResult:
         Half-width W (rad/s) of the searched box [-W, W]^n.
     tail : float
         Certified bound of |H_n| outside that box.
+    stop : str
+        Why the search stopped: ``"tol"`` (converged or no box left), ``"budget"``
+        (``max_boxes`` reached), ``"open boxes"`` (:data:`MAX_OPEN` undecided boxes) or
+        ``"tail"`` (the tail bound is not below the majorant: no search).
     """
 
     lower: float
@@ -109,6 +130,7 @@ class BranchBoundResult:
     boxes: int
     width: float
     tail: float
+    stop: str = "tol"
 
 
 def _taylor_source(gen: GFRFGenerator, n: int, symmetric: bool) -> str:
@@ -197,6 +219,76 @@ def box_bounds(model: Model, n: int, lo: np.ndarray, hi: np.ndarray, symmetric: 
 def _input_free(model: Model) -> bool:
     """No input in a nonlinear term: every term of H_n holds each H1(w_i) once."""
     return not any(t.q for t in majorant(model).terms)
+
+
+class _Count:
+    """Stands for a jet in the straight-line code of H_n and counts the jet operations."""
+
+    def __init__(self, tally: list[int]) -> None:
+        self.tally = tally
+
+    def _op(self, _other: object = None) -> _Count:
+        self.tally[0] += 1
+        return self
+
+    __add__ = __radd__ = __sub__ = __rsub__ = __mul__ = __rmul__ = _op
+
+    def __neg__(self) -> _Count:
+        return self._op()
+
+
+@lru_cache(maxsize=32)
+def _operations(gen: GFRFGenerator, n: int, symmetric: bool) -> int:
+    """Jet operations of one enclosure of H_n: the code's sums and products, and 1/A
+    factors counted as 4 (their value, derivatives and sup bounds cost about that)."""
+    tally = [0]
+
+    def inv_a(_block: tuple[int, ...]) -> _Count:
+        tally[0] += 4
+        return _Count(tally)
+
+    _compiled(gen, n, symmetric)[0]([_Count(tally) for _ in range(n)], inv_a)
+    return max(tally[0], 1)
+
+
+def box_work(model: Model, n: int, symmetric: bool = True) -> int:
+    """Jet operations per box of the branch-and-bound of H_n (both enclosures of a box).
+
+    A count from the kernel's straight-line code, independent of the machine: the cost
+    of a box is about proportional to it (0.2-0.3 us per operation on one core of a
+    2-core 2026 machine, fused loops).
+    """
+    return 2 * _operations(generator(model), n, symmetric)
+
+
+def default_budget(model: Model, n: int, symmetric: bool = True) -> int:
+    """Boxes the default search of H_n may evaluate: :data:`DEFAULT_WORK` divided by
+    :func:`box_work` (about 8 s of enclosures on one core), at least
+    :data:`LEAST_BUDGET`.  The order enters through the kernel's size; the tolerance
+    through where the search stops (on ``tol`` or on this budget, whichever is first).
+    A count of work, so the bracket never depends on the machine's speed.
+    """
+    return min(BOX_LIMIT, max(LEAST_BUDGET, DEFAULT_WORK // box_work(model, n, symmetric)))
+
+
+#: CPU seconds per unit of work (jet operation on one box) used to announce a budget's
+#: cost: DEFAULT_WORK is about 8 s on one core of the 2-core machine under load.
+SECONDS_PER_WORK = 8.0 / DEFAULT_WORK
+
+
+def budget_note(model: Model, n: int, symmetric: bool, max_boxes: int) -> str | None:
+    """A line announcing, before the search, that ``max_boxes`` allows more work than the
+    default cap (with its time estimate), or None when it does not."""
+    if model.is_discrete or not 2 <= n <= MAX_ORDER:
+        return None
+    default = default_budget(model, n, symmetric)
+    if max_boxes <= default:
+        return None
+    seconds = max_boxes * box_work(model, n, symmetric) * SECONDS_PER_WORK
+    return (f"max_boxes {max_boxes} allows up to about {seconds:.3g} s of branch-and-bound "
+            f"on one core (the default cap is {default} boxes, about "
+            f"{default * box_work(model, n, symmetric) * SECONDS_PER_WORK:.2g} s); the "
+            "search stops sooner when the gap reaches tol")
 
 
 def check_budget(max_boxes: object, least: int) -> int:
@@ -300,6 +392,7 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
         raise ArgumentError(f"branch-and-bound order must be in 2..{MAX_ORDER}, got {n}")
     max_boxes = check_budget(max_boxes, 1)
     gen = generator(model)
+    fused_start = max_boxes >= COMPILED_BUDGET or n >= COMPILED_ORDER
     taylor, point = _compiled(gen, n, symmetric)
     _, den = linear_polynomials(model)
     inverse = _inverse(tuple(den.tolist()))
@@ -319,12 +412,11 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
     ceiling = float(maj.coefficients(n)[n, 0])
     if not tail < ceiling:
         return BranchBoundResult(best, max(ceiling, best), tuple(float(x) for x in best_x),
-                                 False, 0, width, tail)
+                                 False, 0, width, tail, "tail")
     lo, hi = -width * np.ones((1, n)), width * np.ones((1, n))
     leaves = _input_free(model)
-    bound, value, split = enclose(taylor, inverse, lo, hi, max_boxes >= COMPILED_BUDGET,
-                                  leaves)
-    boxes, pruned, polishes = 1, 0.0, 0
+    bound, value, split = enclose(taylor, inverse, lo, hi, fused_start, leaves)
+    boxes, pruned, polishes, stop = 1, 0.0, 0, "tol"
     from tqdm import tqdm
 
     bar = tqdm(total=max_boxes, initial=1, unit="box", desc=f"||H{n}|| bracket", leave=False,
@@ -337,7 +429,10 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
             lo, hi, bound, split = lo[keep], hi[keep], bound[keep], split[keep]
             upper = max(tail, pruned, float(np.max(bound, initial=0.0)))
             bar.set_postfix_str(f"gap {1 - best / upper if upper > 0 else 0.0:.2e}", refresh=False)
-            if not bound.size or boxes >= max_boxes:
+            if not bound.size:
+                break
+            if boxes >= max_boxes or bound.size + min(bound.size, BATCH) > MAX_OPEN:
+                stop = "budget" if boxes >= max_boxes else "open boxes"
                 break
             take = np.argsort(bound)[::-1][:BATCH]
             rest = np.ones(bound.size, bool)
@@ -352,8 +447,8 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
             inside = _in_domain(c_lo, c_hi, symmetric)
             c_lo, c_hi = c_lo[inside], c_hi[inside]
             c_bound, c_value, c_split = enclose(taylor, inverse, c_lo, c_hi,
-                                                max_boxes >= COMPILED_BUDGET
-                                                or boxes >= COMPILED_FROM, leaves)
+                                                fused_start or boxes >= COMPILED_FROM,
+                                                leaves)
             boxes += c_lo.shape[0]
             bar.update(c_lo.shape[0])
             magnitude = c_value.copy()
@@ -371,5 +466,6 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
             bound = np.concatenate([bound[rest], c_bound])
             split = np.concatenate([split[rest], c_split])
     upper = max(min(upper, ceiling), best)
-    return BranchBoundResult(best, upper, tuple(float(x) for x in best_x),
-                             upper - best <= tol * upper, boxes, width, tail)
+    converged = upper - best <= tol * upper
+    return BranchBoundResult(best, upper, tuple(float(x) for x in best_x), converged, boxes,
+                             width, tail, "tol" if converged else stop)

@@ -267,7 +267,11 @@ class _Boxes:
                  fused: Any = None) -> None:
         self.c, self.r, self.inverse, self.fused = centre, radius, inverse, fused
         self._radii: dict[tuple[int, ...], np.ndarray] = {}
+        # jets of 1/A per block with their centre errors: the second evaluation of
+        # :func:`enclose` reuses them (the same numbers, not recomputed)
+        self._inverses: dict[tuple[int, ...], tuple[Jet, np.ndarray]] = {}
         self.error = np.zeros(centre.shape[0])  # sum of the factors' relative errors
+        self._last_error = self.error
 
     def block(self, names: tuple[int, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(sigma, rho, error) of a block: the rounded sum of its centres, a half-width
@@ -308,8 +312,15 @@ class _Boxes:
         return self._factor(block, self.inverse.modulus_point, self.inverse.modulus_bounds)
 
     def inv_a(self, block: tuple[int, ...]) -> Jet:
-        """1 / A(j sigma_B), sigma_B = sum of the block's w_i."""
-        return self._factor(block, self.inverse.point, self.inverse.bounds)
+        """1 / A(j sigma_B), sigma_B = sum of the block's w_i (computed once per block)."""
+        names = tuple(sorted(block))
+        if names in self._inverses:
+            jet, error = self._inverses[names]
+            self.error += np.where(error <= _POINT_RTOL, error, 0.0)  # as block() adds it
+            return jet
+        jet = self._factor(names, self.inverse.point, self.inverse.bounds)
+        self._inverses[names] = (jet, self._last_error)
+        return jet
 
     def _factor(self, block: tuple[int, ...], point: Callable[..., tuple[np.ndarray, ...]],
                 bounds: Callable[..., np.ndarray]) -> Jet:
@@ -317,6 +328,7 @@ class _Boxes:
         and the sups of |f| and of its first three derivatives over the interval of sigma_B."""
         names = tuple(sorted(block))
         sigma, rho, error = self.block(names)
+        self._last_error = error
         value, slope, curve = (np.asarray(x, complex) for x in point(sigma, error))
         sups = bounds(sigma - rho, sigma + rho)
         m = len(names)
@@ -517,14 +529,14 @@ def enclose(kernel_code: Callable[..., Any], inverse: InverseA, lo: np.ndarray,
     radius = np.nextafter(np.maximum(hi - centre, centre - lo), np.inf)  # covers [lo, hi]
     fused = _fused_kernels() if compiled else None
     n = centre.shape[1]
-    bound, modulus, split = _evaluate(kernel_code, _Boxes(centre, radius, inverse, fused),
-                                      lambda block: False)
+    boxes = _Boxes(centre, radius, inverse, fused)
+    bound, modulus, split = _evaluate(kernel_code, boxes, lambda block: False)
     if n >= 2:  # the common factors by their moduli: far better for moderate damping,
         # worse where the interval of a sum is wide against a tiny damping: keep the least
         common = (lambda block: len(block) in (1, n)) if modulus_leaves else (
             lambda block: len(block) == n)
-        other, _, other_split = _evaluate(kernel_code, _Boxes(centre, radius, inverse, fused),
-                                          common)
+        boxes.error = np.zeros(centre.shape[0])  # the errors of this evaluation's factors
+        other, _, other_split = _evaluate(kernel_code, boxes, common)
         split = np.where(other < bound, other_split, split)
         bound = np.minimum(bound, other)
     return bound, modulus, split

@@ -22,8 +22,10 @@ Stability of A is decided exactly (Routh's test in rationals, :mod:`gfrf.bounds.
   is not attained (the cart-pole's theta^3 and theta^2 u partly cancel; resonances
   that cannot coincide) a continuous model of order n <= 5 is refined by the
   certified branch-and-bound of :mod:`gfrf.bounds.branch_bound` (majorant tail outside a
-  box, third-order Taylor enclosures on sub-boxes) within a budget of
-  :data:`BOX_BUDGET` boxes; the bracket stays open where that budget is too small.
+  box, third-order Taylor enclosures on sub-boxes) until the gap is below ``tol``
+  (default 1e-3) or a work cap of about 8 s of enclosures
+  (:func:`gfrf.bounds.branch_bound.default_budget`) is spent; the bracket stays open
+  (honestly) where that budget is too small.
 * ``lower`` is the best value found: |H_n| evaluated at all start points built from the
   resonance frequencies of the linear part (each w_i in {0, +-damped natural
   frequencies, +-peak frequencies of |H1| and |1/A|}, plus points whose sum hits a
@@ -60,7 +62,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from gfrf._results import markdown_table, short_repr
-from gfrf.bounds.branch_bound import MAX_ORDER, BranchBoundResult, branch_and_bound, check_budget
+from gfrf.bounds.branch_bound import (
+    MAX_OPEN,
+    MAX_ORDER,
+    BranchBoundResult,
+    branch_and_bound,
+    check_budget,
+    default_budget,
+)
 from gfrf.bounds.exact import PoleReport, format_roots, poles
 from gfrf.bounds.majorant import linear_polynomials, majorant
 from gfrf.bounds.rational import check_proof, discrete_rational_sup, rational_sup
@@ -75,9 +84,8 @@ if TYPE_CHECKING:
 
 __all__ = ["Bound", "h1_norm", "kernel_norm", "linear_poles", "linear_stability"]
 
-#: Boxes the branch-and-bound may evaluate per kernel norm (order 5: about 2.5 s for the
-#: pendulum, 5 s for the cart-pole on a 2-core 2026 machine).
-BOX_BUDGET = 20_000
+#: Default relative gap of :func:`kernel_norm` (and ``gfrf norm --tol``).
+DEFAULT_TOL = 1e-3
 
 
 @dataclass(frozen=True)
@@ -116,6 +124,8 @@ class Bound:
         the upper end is proven by the ball-arithmetic majorant (``"float"`` where the
         float branch-and-bound lowered it) and the lower end by |H_n| at ``argmax`` in
         ball arithmetic (``"float"`` if that ball is too wide, see ``notes``).
+    boxes : int
+        Boxes the branch-and-bound evaluated (0 when it did not run): the work spent.
     """
 
     lower: float
@@ -131,6 +141,7 @@ class Bound:
     proof: str = "float"
     upper_proof: str = ""
     lower_proof: str = ""
+    boxes: int = 0
 
     @property
     def gap(self) -> float:
@@ -276,8 +287,8 @@ def _frequencies(model: Model, proof: str) -> tuple[list[float], float]:
     return rounded, scale
 
 
-def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
-                max_boxes: int = BOX_BUDGET, proof: str = "interval",
+def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = DEFAULT_TOL,
+                max_boxes: int | None = None, proof: str = "interval",
                 cross_check: bool = False, searches: int | None = None,
                 progress: bool | None = False) -> Bound:
     """Bracket ||H_n||_inf over R^n (rad/s): certified upper, best-found lower bound.
@@ -290,15 +301,20 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
     symmetric : bool, optional
         Symmetric kernel (default) or the asymmetric kernel of the recursion.
     tol : float, optional
-        Target relative gap; more local searches are run while the gap exceeds it.
-    max_boxes : int, optional
+        Target relative gap (default :data:`DEFAULT_TOL` = 1e-3); more local searches
+        are run, and the branch-and-bound goes on, while the gap exceeds it.
+    max_boxes : int or None, optional
         Budget of the branch-and-bound (boxes evaluated, at most
         :data:`gfrf.bounds.branch_bound.BOX_LIMIT`), used when the majorant leaves a gap above
         ``tol`` (continuous model, n <= 5); 0 skips it (the majorant's upper end and the
-        local search only).  The search stops on this work count or on ``tol``, never on
-        time.  Measured on a 2-core 2026 machine (``gfrf bench``, section "Tight
-        brackets"): ||H5|| of the hanging pendulum closes to ``tol = 1e-3`` in about
-        1.1e5 boxes (~6 s on one core), of the cart-pole plant in about 6e4 (~11 s).
+        local search only); None (default) is
+        :func:`gfrf.bounds.branch_bound.default_budget`: a work cap of about 8 s of
+        enclosures on one core, from the kernel's size.  The search stops on this work
+        count or on ``tol``, never on time.  Measured on a 2-core 2026 machine
+        (``gfrf bench``, section "Tight brackets"): ||H5|| of every bundled model closes to
+        ``tol = 1e-3`` within the default budget (the hanging pendulum in about 55,000
+        boxes, the cart-pole plant in about 26,000; the counts may differ between CPUs
+        in the last bits of floating point).
     proof : {"interval", "float", "none"}
         ``"interval"`` (default): the majorant's upper end in ball arithmetic on proven
         sups (``upper_proof = "interval"``) and the witness |H_n(argmax)| in ball
@@ -327,7 +343,8 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
     if searches is not None and (isinstance(searches, bool) or not isinstance(searches, int)
                                  or searches < 0):
         raise ArgumentError(f"searches must be a non-negative integer, got {searches!r}")
-    max_boxes = check_budget(max_boxes, 0)
+    if max_boxes is not None:
+        max_boxes = check_budget(max_boxes, 0)
     check_proof(proof)
     k = kernel(model, n, symmetric)
     if n == 1:
@@ -359,10 +376,12 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
               + " + resonance-start Nelder-Mead (lower: "
               + ("witness re-evaluated in ball arithmetic)" if proof != "none"
                  else "float witness)"))
+    boxes = 0
     if (max_boxes != 0 and (upper == math.inf or upper - lower > tol * upper)
             and not model.is_discrete and n <= MAX_ORDER and proof != "none"):
         bb, skipped = _refine(model, n, symmetric, lower, argmax, tol, max_boxes, progress,
                               upper)
+        boxes = 0 if bb is None else bb.boxes
         if bb is None:
             notes.append(skipped)
         else:
@@ -372,6 +391,7 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
                 upper, upper_proof = bb.upper, "float"
             notes.append(f"branch-and-bound: {bb.boxes} boxes; |H_{n}| <= {bb.tail:.6g} "
                          f"where some |w_i| > {bb.width:.6g} rad/s (tail bound)")
+            notes += [_stop_note(bb, max_boxes)] if bb.stop in ("budget", "open boxes") else []
             method = (f"branch-and-bound, {bb.boxes} boxes in [-{bb.width:.4g}, "
                       f"{bb.width:.4g}]^{n} rad/s + majorant tail (certified upper); local "
                       "search (lower)")
@@ -391,7 +411,8 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
         upper = lower
     weakest = min(upper_proof, lower_proof, key=("none", "float", "interval").index)
     return Bound(lower, upper, argmax, maj.certified, method, n, symmetric, stable,
-                 tuple(notes), proof=weakest, upper_proof=upper_proof, lower_proof=lower_proof)
+                 tuple(notes), proof=weakest, upper_proof=upper_proof, lower_proof=lower_proof,
+                 boxes=boxes)
 
 
 #: Range of the majorant within which the double-precision box enclosures of the
@@ -399,8 +420,20 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = 1e-6,
 _FLOAT_RANGE = (1e-280, 1e280)
 
 
+def _stop_note(bb: BranchBoundResult, max_boxes: int | None) -> str:
+    """Why the branch-and-bound stopped before ``tol``, and how to go further."""
+    if bb.stop == "open boxes":
+        return (f"branch-and-bound stopped at {MAX_OPEN} open boxes (the memory cap "
+                "MAX_OPEN); the bracket is sound, a larger tol closes sooner")
+    which = "the default work cap (about 8 s of enclosures on one core)" if max_boxes is None \
+        else "the budget --max-boxes / max_boxes"
+    return (f"branch-and-bound stopped at {bb.boxes} boxes, {which}; a larger "
+            "max_boxes (gfrf norm --max-boxes N) goes further, taking about as much "
+            "longer")
+
+
 def _refine(model: Model, n: int, symmetric: bool, lower: float, argmax: tuple[float, ...],
-            tol: float, max_boxes: int, progress: bool | None, upper: float
+            tol: float, max_boxes: int | None, progress: bool | None, upper: float
             ) -> tuple[BranchBoundResult | None, str]:
     """(branch-and-bound result, "") or (None, why it was not run)."""
     if math.isfinite(upper) and not _FLOAT_RANGE[0] < upper < _FLOAT_RANGE[1]:
@@ -408,8 +441,9 @@ def _refine(model: Model, n: int, symmetric: bool, lower: float, argmax: tuple[f
                       f"[{_FLOAT_RANGE[0]:g}, {_FLOAT_RANGE[1]:g}], where its double-"
                       "precision enclosures would underflow or overflow")
     try:
+        budget = default_budget(model, n, symmetric) if max_boxes is None else max_boxes
         return branch_and_bound(model, n, symmetric, lower, argmax, tol,
-                                max_boxes=max_boxes, progress=progress), ""
+                                max_boxes=budget, progress=progress), ""
     except OverflowError:
         return None, ("branch-and-bound skipped: the linear part's coefficients (and the "
                       "derivatives of |A(j w)|^2) overflow double precision")

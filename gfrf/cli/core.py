@@ -40,6 +40,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     value.add_argument("--asymmetric", action="store_true",
                        help="evaluate the asymmetric kernel instead of the symmetric one")
     add_json_flag(value)
+    value.add_argument("--max-work", type=int, default=None, metavar="TERMS",
+                       help="most symbolic terms of the recursion (default 6000, about 9 s "
+                            "on one core; a larger order is refused before the work with "
+                            "its estimate)")
     value.set_defaults(func=_kernel)
 
 
@@ -105,7 +109,7 @@ def _kernel(args: argparse.Namespace) -> int:
     from gfrf.kernels.recursion import kernel
 
     mf = resolve_model(args)
-    k = kernel(mf.plant, args.order, not args.asymmetric)
+    k = kernel(mf.plant, args.order, not args.asymmetric, max_terms=args.max_work)
     omega = _parse_omegas(args.at, args.order)
     point = point_value(k, omega)
     head = f"H{args.order}(j*{omega} rad/s)"

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 from typing import TYPE_CHECKING
 
 from gfrf.cli._models import add_model_argument, resolve_model
@@ -85,11 +86,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "certified upper bound, best-found lower bound.")
     add_model_argument(n)
     n.add_argument("--order", type=int, required=True, help="kernel order n >= 1")
-    n.add_argument("--tol", type=float, default=1e-6, help="target relative gap (default 1e-6)")
+    n.add_argument("--tol", type=float, default=1e-3, help="target relative gap (default 1e-3)")
     n.add_argument("--max-boxes", type=int, default=None, metavar="N",
-                   help="work budget of the branch-and-bound, in boxes evaluated (default "
-                        "20000; 0 skips it; at most 20000000): the bracket depends on it, "
-                        "never on time")
+                   help="work budget of the branch-and-bound, in boxes evaluated (default: "
+                        "a cap of about 8 s of work on one core, from the kernel's size; 0 "
+                        "skips it; at most 20000000): the bracket depends on it, never on "
+                        "time")
     n.add_argument("--asymmetric", action="store_true",
                    help="norm of the asymmetric kernel of the recursion (default symmetric)")
     n.add_argument("--cross-check", action="store_true",
@@ -138,13 +140,18 @@ def _check_order(order: int) -> None:
 def _norm(args: argparse.Namespace) -> int:
     _check_order(args.order)
     mf = resolve_model(args)
-    from gfrf.bounds.branch_bound import BOX_LIMIT
-    from gfrf.bounds.norms import BOX_BUDGET, kernel_norm
+    from gfrf.bounds.branch_bound import BOX_LIMIT, budget_note
+    from gfrf.bounds.norms import kernel_norm
 
-    budget = BOX_BUDGET if args.max_boxes is None else args.max_boxes
-    if not 0 <= budget <= BOX_LIMIT:
-        raise ArgumentError(f"--max-boxes must be between 0 and {BOX_LIMIT}, got {budget}")
-    b = kernel_norm(mf.plant, args.order, not args.asymmetric, args.tol, max_boxes=budget,
+    if args.max_boxes is not None and not 0 <= args.max_boxes <= BOX_LIMIT:
+        raise ArgumentError(f"--max-boxes must be between 0 and {BOX_LIMIT}, got "
+                            f"{args.max_boxes}")
+    note = None if args.max_boxes is None else budget_note(mf.plant, args.order,
+                                                           not args.asymmetric, args.max_boxes)
+    if note:  # said before the work starts (stderr: stdout stays the result)
+        print(f"gfrf: note: --{note.replace('_', '-', 1)}", file=sys.stderr, flush=True)
+    b = kernel_norm(mf.plant, args.order, not args.asymmetric, args.tol,
+                    max_boxes=args.max_boxes,
                     proof=args.proof, cross_check=args.cross_check, progress=None)
     kind = "symmetric" if not args.asymmetric else "asymmetric"
     lines = [f"{mf.name}: {kind} kernel, angular frequencies in rad/s, proof level "

@@ -40,6 +40,7 @@ from scipy.interpolate import CubicSpline
 from gfrf.errors import ArgumentError, ModelError
 from gfrf.model.expr import SIGNAL_FUNCTIONS, UnknownNames, parse_expression
 from gfrf.model.limits import quote
+from gfrf.model.tones import ToneTerm, read_tone_sum, tone_sum_function
 
 __all__ = ["InputSignal", "parse_input", "zero_input", "tones_input", "T", "MAX_BREAKPOINTS"]
 
@@ -53,6 +54,9 @@ _NUMPY_MODULES = [{"Heaviside": lambda x, _h0=1.0: np.heaviside(x, 1.0),
                    "DiracDelta": lambda x, _k=0: np.zeros_like(np.asarray(x, dtype=float))},
                   "numpy"]
 
+#: Tones above which a plain sum of tones is read by :mod:`gfrf.model.tones` (linear
+#: time, numpy evaluation, ``expr`` None) instead of sympy (milliseconds a term).
+FAST_TONES = 32
 #: Most breakpoints :meth:`InputSignal.breakpoints` reports (more: None, unknown).
 MAX_BREAKPOINTS = 100_000
 #: Functions of the input grammar that are smooth wherever they are finite.
@@ -233,12 +237,17 @@ def parse_input(text: str, *, max_derivative: int = 0) -> InputSignal:
     stripped = text.strip()
     if stripped.startswith("csv:") or stripped.lower().endswith(".csv"):
         return _csv_input(stripped.removeprefix("csv:"), max_derivative)
+    terms = read_tone_sum(stripped)
+    if terms is not None and len(terms) > FAST_TONES:
+        return InputSignal(stripped, None, max_derivative, _float_tones(terms),
+                           tuple(tone_sum_function(terms, k) for k in range(max_derivative + 1)),
+                           lambda t_end: np.zeros(0))
     expr = _parse_expression(stripped)
-    funcs = []
+    funcs = [sp.lambdify(T, expr, modules=_NUMPY_MODULES)]
     current = expr
-    for _ in range(max_derivative + 1):
-        funcs.append(sp.lambdify(T, current, modules=_NUMPY_MODULES))
+    for _ in range(max_derivative):  # no derivative beyond the last one asked for
         current = sp.diff(current, T)
+        funcs.append(sp.lambdify(T, current, modules=_NUMPY_MODULES))
     return InputSignal(stripped, expr, max_derivative, _tones(expr), tuple(funcs))
 
 
@@ -260,6 +269,20 @@ def _parse_expression(text: str) -> sp.Expr:
     if expr.has(sp.I):
         raise ArgumentError(f"the input {quote(text)} is complex: u(t) must be real")
     return expr
+
+
+def _float_tones(terms: list[ToneTerm]) -> tuple[Tone, ...]:
+    """The (A, w, phi) of A*cos(w*t + phi) of read tone terms (as :func:`_tones` gives)."""
+    tones = []
+    for amp, function, w, phi in terms:
+        if function == "sin":
+            phi -= math.pi / 2
+        if w < 0:
+            w, phi = -w, -phi
+        if amp < 0:
+            amp, phi = -amp, phi + math.pi
+        tones.append((amp, w, math.remainder(phi, 2 * math.pi)))
+    return tuple(tones)
 
 
 def _tones(expr: sp.Expr) -> tuple[Tone, ...] | None:

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import importlib
 import importlib.util
+import sys
 import tomllib
 from collections.abc import Callable
 from functools import partial
@@ -80,6 +81,18 @@ def write_index(out_dir: Path, models: list[str], quick: bool) -> Path:
     return atomic_write_text(path, "\n".join(text))
 
 
+def _steps(jobs: list[tuple[str, Callable[[], Path]]]) -> list[Path]:
+    """Run the jobs: a tqdm bar on a terminal, else one line per step on stderr (a log
+    that shows where a long build is, e.g. under ``make demo``)."""
+    if sys.stderr.isatty():
+        return [job() for _, job in tqdm(jobs, desc="report")]
+    written = []
+    for i, (label, job) in enumerate(jobs, 1):
+        print(f"gfrf report: step {i}/{len(jobs)}: {label}", file=sys.stderr, flush=True)
+        written.append(job())
+    return written
+
+
 def write_reports(out_dir: str | Path = "reports", models: list[str] | None = None,
                   quick: bool = False) -> list[Path]:
     """Regenerate reports into ``out_dir``.
@@ -102,18 +115,20 @@ def write_reports(out_dir: str | Path = "reports", models: list[str] | None = No
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     if models:
-        return [model_page.write(m, out, quick) for m in tqdm(models, desc="report",
-                                                               disable=None)]
+        return _steps([(f"model page of {m}", partial(model_page.write, m, out, quick))
+                       for m in models])
     paths = bundled_models()
-    jobs: list[Callable[[], Path]] = [partial(model_page.write, m, out, quick) for m in paths]
-    jobs.append(partial(paper_gfrf.write, out, quick))
-    jobs.append(partial(thresholds.write, out, paths, quick))
+    jobs: list[tuple[str, Callable[[], Path]]] = [
+        (f"model page of models/{Path(m).name}", partial(model_page.write, m, out, quick))
+        for m in paths]
+    jobs.append(("paper-gfrf.md", partial(paper_gfrf.write, out, quick)))
+    jobs.append(("thresholds.md", partial(thresholds.write, out, paths, quick)))
     if importlib.util.find_spec("gfrf.report.periodic") is not None:
         periodic = importlib.import_module("gfrf.report.periodic")
-        jobs.append(partial(periodic.write, out, quick=quick))
+        jobs.append(("paper-periodic.md", partial(periodic.write, out, quick=quick)))
     if importlib.util.find_spec("sysidentpy") is not None:  # the `identify` extra
         from gfrf.report import identified as identify_report
-        jobs.append(partial(identify_report.write, out, quick))
-    written = [job() for job in tqdm(jobs, desc="report", disable=None)]
+        jobs.append(("identified-example.md", partial(identify_report.write, out, quick)))
+    written = _steps(jobs)
     written.append(write_index(out, paths, quick))
     return written

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from decimal import ROUND_CEILING, Decimal
 from pathlib import Path
 from typing import Any
 
@@ -20,8 +21,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
 from gfrf._atomic import atomic_path  # noqa: E402
+from gfrf._results import outward_bracket  # noqa: E402
 
-__all__ = ["num", "cell", "table", "header", "save_figure", "mark", "code", "DPI"]
+__all__ = ["num", "bracket_cells", "cell", "table", "header", "save_figure", "mark", "code",
+           "DPI"]
 
 #: Resolution of every report figure (small PNGs that still read well on a code host).
 DPI = 100
@@ -39,6 +42,31 @@ def num(x: float | None, digits: int = 6) -> str:
     if x == 0:
         return "0"
     return f"{x:.{digits}g}"
+
+
+def bracket_cells(lower: float, upper: float, most: int = 6) -> tuple[str, str, str]:
+    """(lower, upper, relative gap) of a bracket as printed: rounded outward to the
+    digits the bracket proves (:func:`gfrf._results.outward_bracket`), so the text does
+    not depend on the last bits of a float.
+
+    A bracket of relative gap g keeps ``2 + ceil(-log10 g)`` significant digits:
+    lower rounded down, upper rounded up, the gap that of the printed numbers rounded up
+    to two digits.  A bracket closed to rounding (more than ``most`` digits: the proven
+    exact-algebra and ball-arithmetic values, deterministic), a point value, zero, a
+    negative or an infinite end prints as :func:`num` does.
+
+    >>> bracket_cells(0.0111398, 0.0209773)
+    ('0.0111', '0.021', '0.48')
+    """
+    rounded = outward_bracket(lower, upper, most)
+    if rounded is None:
+        gap = 0.0 if upper == lower else (math.inf if math.isinf(upper) else
+                                           (upper - lower) / upper if upper else math.nan)
+        return num(lower, most), num(upper, most), num(gap, most)
+    low, high, digits = rounded
+    gap = Decimal((high - low) / high)  # of the printed numbers: deterministic
+    gap = gap.quantize(Decimal(1).scaleb(gap.adjusted() - 1), rounding=ROUND_CEILING)
+    return num(low, digits), num(high, digits), num(float(gap), 2)
 
 
 def cell(value: Any) -> str:

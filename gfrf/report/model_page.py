@@ -11,6 +11,7 @@ each is printed with the ``gfrf`` command that reproduces it.
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 import sympy as sp
@@ -20,11 +21,25 @@ from gfrf.bounds.norms import linear_poles
 from gfrf.kernels.recursion import kernel
 from gfrf.model.safetext import markdown_text
 from gfrf.report._figures import frequency_scale, h1_figure, h3_slice_figure, response_figure
-from gfrf.report._format import cell, code, header, mark, num, table
+from gfrf.report._format import bracket_cells, cell, code, header, mark, num, table
 from gfrf.report.analysis import MARGIN_OCTAVES, ModelAnalysis, analyse
 from gfrf.sim.validation import linear_vs_nonlinear, resonance_label
 
 __all__ = ["write", "summary_lines", "command_path"]
+
+#: Parts of a norm's notes computed in floating point whose last bits may differ between
+#: CPUs (box counts, the float gap): the pages leave the numbers out.
+_FLOAT_PARTS = ((re.compile(r"branch-and-bound: \d+ boxes; "), "branch-and-bound: "),
+                (re.compile(r"stopped at \d+ boxes"), "stopped"),
+                (re.compile(r"relative gap \S+ > tol"), "relative gap > tol"))
+
+
+def _stable_note(note: str) -> str:
+    """``note`` without the CPU-dependent numbers of :data:`_FLOAT_PARTS`."""
+    for pattern, text in _FLOAT_PARTS:
+        note = pattern.sub(text, note)
+    return note
+
 
 #: Longest explicit symbolic kernel shown in full; longer ones are shown recursively.
 MAX_EXPLICIT = 700
@@ -67,7 +82,10 @@ def summary_lines(a: ModelAnalysis) -> list[str]:
 
 
 def _bracket(lower: float, upper: float) -> str:
-    return f"= {num(upper)}" if lower == upper else f"in [{num(lower)}, {num(upper)}]"
+    if lower == upper:
+        return f"= {num(upper)}"
+    low, high, _ = bracket_cells(lower, upper)  # outward, to the digits it proves
+    return f"in [{low}, {high}]"
 
 
 def _latex(a: ModelAnalysis, n: int) -> str:
@@ -150,15 +168,17 @@ def _norm_section(a: ModelAnalysis) -> list[str]:
     p = command_path(a.path)
     rows = []
     for b in a.verdict.norms:
-        rows.append([b.order, b.lower, b.upper, b.gap, "certified" if b.certified else
-                     "estimate", list(b.argmax), code(f"gfrf norm {p} --order {b.order}")])
+        rows.append([b.order, *bracket_cells(b.lower, b.upper), "certified" if b.certified
+                     else "estimate", list(b.argmax), code(f"gfrf norm {p} --order {b.order}")])
     out = ["## Norms", "",
            "||H_n|| = sup over all frequencies of |H_n(jw_1, ..., jw_n)|. The lower bound is a "
            "value of |H_n| actually attained (at the listed frequencies); the upper bound is "
            "a proven majorant. Equal bounds mean the norm is known exactly.", "",
            table(["n", "lower", "upper", "relative gap", "upper bound", "attained at (rad/s)",
                   "check"], rows)]
-    notes = sorted({note for b in a.verdict.norms for note in b.notes})
+    # box counts and the tail bound's digits come from floating point whose last bits
+    # may differ between CPUs: the page names the method, not the count
+    notes = sorted({_stable_note(note) for b in a.verdict.norms for note in b.notes})
     out += [f"- {note}" for note in notes]
     return out + [""]
 

@@ -32,7 +32,7 @@ from gfrf.papers.cartpole import (
 from gfrf.papers.cartpole_trials import has_physical_equation, lagged_simulation, loop_drive
 from gfrf.papers.gfrf_paper import AlphaRow, CheckRow, alpha_variants, paper_checks, theta_readings
 from gfrf.report._figures import frequency_scale, h1_figure, h3_slice_figure
-from gfrf.report._format import cell, code, header, num, table
+from gfrf.report._format import bracket_cells, cell, code, header, num, table
 from gfrf.report.analysis import MODELS_DIR, ModelAnalysis, analyse, settings
 from gfrf.report.model_page import command_path
 from gfrf.sim.validation import resonance
@@ -146,9 +146,10 @@ def _figures(out_dir: Path, quick: bool) -> list[str]:
                "stable low-pass." if unstable else "") + flat, "",
             f"![Figs 3-4]({fig34})", "",
             f"![Fig 5]({fig5}) ![Fig 6]({fig6})", "",
-            f"The largest |H3| found is {num(b3.lower)} at "
+            f"The largest |H3| found is {bracket_cells(b3.lower, b3.upper)[0]} at "
             f"{cell([w / (2 * np.pi) for w in b3.argmax])} Hz, with certified upper bound "
-            f"{num(b3.upper)} ({code('gfrf norm models/cartpole_reduced.toml --order 3')}); "
+            f"{bracket_cells(b3.lower, b3.upper)[1]} "
+            f"({code('gfrf norm models/cartpole_reduced.toml --order 3')}); "
             "the paper's beta_3 = 2.56 is not in this bracket (see the table).", ""]
 
 

@@ -37,6 +37,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+from gfrf.bounds.branch_bound import DEFAULT_WORK, MAX_ORDER, box_work
 from gfrf.bounds.exact import format_roots
 from gfrf.bounds.majorant import Majorant, Radius, majorant, plant_radius
 from gfrf.bounds.norms import Bound, kernel_norm, linear_poles
@@ -52,7 +53,9 @@ __all__ = ["theorem1", "NORM_LEVELS", "DEFAULT_NORMS"]
 #: radius estimate (the series rows carry the majorant only); ``"fast"``: the certified
 #: majorant as upper end and one local search from the best resonance start as lower end
 #: (no branch-and-bound); ``"tight"``: the full :func:`gfrf.bounds.norms.kernel_norm`
-#: (branch-and-bound within its box budget, every local search).  ``radius_upper`` and
+#: to its default tol 1e-3 (branch-and-bound, every local search), the orders sharing
+#: one default work cap (:data:`gfrf.bounds.branch_bound.DEFAULT_WORK`, about 8 s of
+#: enclosures: the boxes an order spends are not available to the next).  ``radius_upper`` and
 #: ``radius_estimate`` are computed at ``fast`` and ``tight``.  The conclusions
 #: (conditions, verdict, r* and its proof label) never depend on the level.
 #: ``with_norms=False`` (sweeps, margins) is ``norms="none"``.
@@ -124,10 +127,17 @@ def _norms_and_series(model: Model, maj: Majorant, order: int, amplitude: float,
     """The brackets at ``level`` (each computed once) and the majorant rows of the series."""
     coefficients = maj.coefficients(order)[:, 0]
     norms, rows = [], []
+    work = DEFAULT_WORK  # the tight brackets of all orders share one default work cap
     for n in range(1, order + 1):
+        budget = None
+        if level == "tight" and 2 <= n <= MAX_ORDER and not model.is_discrete:
+            budget = max(0, work // box_work(model, n))
         bound = (None if level == "none" else
-                 kernel_norm(model, n, proof=maj.proof, progress=None) if level == "tight" else
+                 kernel_norm(model, n, proof=maj.proof, max_boxes=budget, progress=None)
+                 if level == "tight" else
                  kernel_norm(model, n, proof=maj.proof, max_boxes=0, searches=FAST_SEARCHES))
+        if budget is not None and bound is not None:
+            work -= bound.boxes * box_work(model, n)
         if bound is not None:
             norms.append(bound)
         upper = bound.upper if bound is not None else float(coefficients[n])
