@@ -54,7 +54,8 @@ import numpy as np
 import sympy as sp
 
 from gfrf.errors import ArgumentError
-from gfrf.kernels.combinatorics import compositions, ordered_set_partitions, recursion_work
+from gfrf.kernels.combinatorics import compositions, ordered_set_partitions
+from gfrf.kernels.work import MAX_PLAN_TERMS, MAX_RECURSION_WORK, check_recursion_work
 from gfrf.model.equation import Model, Term
 from gfrf.model.scaling import normalized
 
@@ -63,15 +64,6 @@ __all__ = ["Kernel", "GFRFGenerator", "generator", "kernel", "MAX_KERNEL_ORDER",
 
 #: Largest kernel order the generator accepts (the symbolic sums grow like p! S(n, p)).
 MAX_KERNEL_ORDER = 12
-#: Largest a-priori recursion size (:func:`gfrf.kernels.combinatorics.recursion_work`) accepted:
-#: order 11 of the cart-pole (1.0e6, about a minute) fits, its order 12 (3.1e6) does not.
-MAX_RECURSION_WORK = 2_000_000
-#: Most symbolic terms (summed over the recursion plans of orders 2..n) a kernel may need
-#: by default: its plans and compiled numerators cost about 1.1-1.5 ms a term on one core
-#: of a 2-core 2026 machine (the pendulum's H11: 8,303 terms, 10.7 s), so about 9 s.
-MAX_PLAN_TERMS = 6_000
-#: CPU seconds per symbolic term, for the refusal message (measured as above).
-SECONDS_PER_TERM = 1.5e-3  # (the pendulum: 1.3e-3, the slowest measured: 1.5e-3)
 #: Terms per lambdified chunk of a recursion numerator (Python's compiler nests sums).
 _CHUNK = 500
 #: Points per slice of a numeric evaluation: the recursion's temporaries (a few per term)
@@ -525,52 +517,6 @@ class Kernel:
         return self._gen.ufunc(self.order, self.symmetric)
 
 
-def check_recursion_work(model: Model, n: int, symmetric: bool = True,
-                         max_terms: int | None = None) -> None:
-    """Refuse an order whose recursion would take more than about 10 s, before that work.
-
-    First the a-priori bound :data:`MAX_RECURSION_WORK` on the block assignments.  Then
-    the plans of orders 2..n are built in turn (memoised: the kernel needs them) while
-    their symbolic terms stay within ``max_terms`` (default :data:`MAX_PLAN_TERMS`); the
-    next plan's terms are predicted, before it is built, as the last nonzero plan's
-    times the growth of :func:`gfrf.kernels.combinatorics.recursion_work` (above the
-    measured counts of every bundled model by 6-25 %).
-
-    Raises
-    ------
-    ArgumentError
-        The estimate is too big; the message names it, its time, the largest order that
-        fits and ``max_terms`` (``gfrf kernel --max-work``) to go on anyway.
-    """
-    degrees = [t.degree for t in model.terms]
-    work = recursion_work(degrees, n)
-    if work > MAX_RECURSION_WORK:
-        fits = max((m for m in range(1, n)
-                    if recursion_work(degrees, m) <= MAX_RECURSION_WORK), default=1)
-        raise ArgumentError(f"kernel order {n} of this model needs about {work:.3g} block "
-                            f"assignments, more than MAX_RECURSION_WORK = "
-                            f"{MAX_RECURSION_WORK:.3g} (minutes of symbolic work); the "
-                            f"largest order that fits is {fits}")
-    limit = MAX_PLAN_TERMS if max_terms is None else max_terms
-    gen, total, last = generator(model), 0, None
-    for m in range(2, n + 1):
-        if not gen.structurally_nonzero(m):
-            continue
-        if last is not None and (m, symmetric) not in gen._plans:
-            predicted = total + last[1] * recursion_work(degrees, m) // max(
-                recursion_work(degrees, last[0]), 1)
-            if predicted > limit:
-                raise ArgumentError(
-                    f"kernel order {n} of this model needs about {predicted} symbolic terms "
-                    f"(order {m} alone about {predicted - total}), more than "
-                    f"{'MAX_PLAN_TERMS = ' if max_terms is None else 'max_terms = '}{limit} "
-                    f"(about {predicted * SECONDS_PER_TERM:.0f} s of symbolic work on one "
-                    f"core); the largest order that fits is {m - 1}; "
-                    f"gfrf kernel --max-work {predicted} (max_terms) goes on anyway")
-        size = len(sp.Add.make_args(gen.plan(m, symmetric).numerator))
-        total, last = total + size, (m, size)
-
-
 def kernel(model: Model, n: int, symmetric: bool = True, max_terms: int | None = None
            ) -> Kernel:
     """The n-th order GFRF of ``model``.
@@ -600,5 +546,5 @@ def kernel(model: Model, n: int, symmetric: bool = True, max_terms: int | None =
             max_terms, (int, np.integer)) or max_terms < 1):
         raise ArgumentError(f"max_terms (gfrf kernel --max-work) must be a positive integer, "
                             f"got {max_terms!r}")
-    check_recursion_work(model, int(n), bool(symmetric), max_terms)
+    check_recursion_work(generator(model), int(n), bool(symmetric), max_terms)
     return Kernel(model, int(n), bool(symmetric), generator(model))
