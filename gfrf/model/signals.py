@@ -237,7 +237,10 @@ def parse_input(text: str, *, max_derivative: int = 0) -> InputSignal:
     stripped = text.strip()
     if stripped.startswith("csv:") or stripped.lower().endswith(".csv"):
         return _csv_input(stripped.removeprefix("csv:"), max_derivative)
-    terms = read_tone_sum(stripped)
+    try:
+        terms = read_tone_sum(stripped)
+    except ModelError as exc:  # the tokenizer's refusal, worded as the general parser's
+        raise ArgumentError(f"cannot parse the input: {exc}") from None
     if terms is not None and len(terms) > FAST_TONES:
         return InputSignal(stripped, None, max_derivative, _float_tones(terms),
                            tuple(tone_sum_function(terms, k) for k in range(max_derivative + 1)),

@@ -70,8 +70,8 @@ def threshold_figure(results: dict[str, Threshold], path: Path) -> str:
     ax.set_yticks(range(len(results)), list(results))
     ax.invert_yaxis()
     ax.set_xlabel("input amplitude (sum of tone amplitudes; reference in a loop)")
-    ax.set_title("green: stability proven; gray: unknown; red: from the amplitude of an "
-                 "escaping witness on; |: static bound", fontsize=9)
+    ax.set_title("green: stability proven;  gray: unknown;  |: static bound (of the series)\n"
+                 "red: from upper on (a sum of tones of that amplitude escapes)", fontsize=9)
     fig.tight_layout()
     return save_figure(fig, path)
 
