@@ -39,7 +39,7 @@ from gfrf.identify.data import (
 from gfrf.identify.narx import _decode, _lead, narx_equation
 from gfrf.identify.noise import extended_least_squares, regressors, residuals
 from gfrf.identify.operating import equilibrium, round_significant, shift
-from gfrf.identify.output_error import refine
+from gfrf.identify.output_error import recurse, refine
 from gfrf.identify.result import Identification
 from gfrf.identify.validate import correlation_tests, judge
 from gfrf.model.equation import Model, Term
@@ -77,39 +77,11 @@ def free_run(model: Model, u: np.ndarray, y_initial: np.ndarray) -> tuple[np.nda
         input magnitude (at least 1), or None.
     """
     lead = _lead(model)
-    a0 = lead.coefficient
-    n = len(u)
-    start = len(y_initial)
-    y = np.full(n, np.nan)
-    y[:start] = y_initial
-    forced = np.zeros(n)
-    dynamic = []
-    for t in model.terms:
-        if t is lead:
-            continue
-        factor = np.full(n, -t.coefficient / a0)
-        for lag in t.u_orders:
-            factor[lag:] *= u[:n - lag]
-            factor[:lag] = 0.0
-        if t.y_orders:
-            dynamic.append((list(t.y_orders), factor.tolist()))
-        else:
-            forced += factor
+    terms = [(tuple(t.y_orders), tuple(t.u_orders), -t.coefficient / lead.coefficient)
+             for t in model.terms if t is not lead]
     limit = _BLOWUP * max(1.0, float(np.max(np.abs(y_initial), initial=0.0)),
                           float(np.max(np.abs(u), initial=0.0)))
-    values = y.tolist()
-    forced_list = forced.tolist()
-    for k in range(start, n):
-        total = forced_list[k]
-        for lags, factor in dynamic:
-            term = factor[k]
-            for lag in lags:
-                term *= values[k - lag]
-            total += term
-        if not abs(total) <= limit:
-            return np.asarray(values), k
-        values[k] = total
-    return np.asarray(values), None
+    return recurse(terms, np.asarray(u, dtype=float), np.asarray(y_initial, dtype=float), limit)
 
 
 #: Relative tolerance of :func:`same_terms`: least squares on another CPU (another BLAS

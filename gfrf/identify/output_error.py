@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-__all__ = ["refine", "simulate", "WINDOW", "MAX_EVALUATIONS"]
+__all__ = ["refine", "simulate", "recurse", "WINDOW", "MAX_EVALUATIONS"]
 
 Key = tuple[tuple[int, ...], tuple[int, ...]]
 #: Training samples the refinement simulates (the first ones): bounds its work.
@@ -34,12 +34,25 @@ def simulate(keys: list[Key], theta: np.ndarray, u: np.ndarray, y_initial: np.nd
              limit: float) -> np.ndarray | None:
     """Free run of ``y[k] = sum theta_i m_i`` from the measured first outputs; None when
     ``|y|`` exceeds ``limit``."""
+    values, blowup = recurse([(ys, us, float(c)) for (ys, us), c in
+                              zip(keys, theta, strict=True)], u, y_initial, limit)
+    return None if blowup is not None else values
+
+
+def recurse(terms: list[tuple[tuple[int, ...], tuple[int, ...], float]], u: np.ndarray,
+            y_initial: np.ndarray, limit: float) -> tuple[np.ndarray, int | None]:
+    """Free run of ``y[k] = sum c * prod y[k - ys] * prod u[k - us]`` over ``terms``
+    ``(ys, us, c)``, from the measured first outputs ``y_initial``.
+
+    Returns the outputs (NaN from a blow-up on) and the first sample whose ``|y|``
+    exceeds ``limit``, or None.
+    """
     n = u.size
     start = y_initial.size
     forced = np.zeros(n)
     dynamic = []
-    for (ys, us), c in zip(keys, theta, strict=True):
-        factor = np.full(n, float(c))
+    for ys, us, c in terms:
+        factor = np.full(n, c)
         for lag in us:
             factor[lag:] *= u[:n - lag]
             factor[:lag] = 0.0
@@ -47,7 +60,7 @@ def simulate(keys: list[Key], theta: np.ndarray, u: np.ndarray, y_initial: np.nd
             dynamic.append((ys, factor.tolist()))
         else:
             forced += factor
-    values = np.zeros(n).tolist()
+    values = np.full(n, np.nan).tolist()
     values[:start] = y_initial.tolist()
     forced_list = forced.tolist()
     for k in range(start, n):
@@ -58,9 +71,9 @@ def simulate(keys: list[Key], theta: np.ndarray, u: np.ndarray, y_initial: np.nd
                 term *= values[k - lag]
             total += term
         if not abs(total) <= limit:
-            return None
+            return np.asarray(values), k
         values[k] = total
-    return np.asarray(values)
+    return np.asarray(values), None
 
 
 def free_run_rrse(theta: dict[Key, float], y: np.ndarray, u: np.ndarray, lag: int) -> float:

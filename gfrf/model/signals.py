@@ -298,15 +298,8 @@ def _tones(expr: sp.Expr) -> tuple[Tone, ...] | None:
         if poly is None or poly.degree() != 1:
             return None
         w, phi = (float(c) for c in poly.all_coeffs())
-        amp = float(coeff)
-        if isinstance(rest, sp.sin):
-            phi -= math.pi / 2
-        if w < 0:
-            w, phi = -w, -phi
-        if amp < 0:
-            amp, phi = -amp, phi + math.pi
-        tones.append((amp, w, math.remainder(phi, 2 * math.pi)))
-    return tuple(tones)
+        tones.append((float(coeff), "sin" if isinstance(rest, sp.sin) else "cos", w, phi))
+    return _float_tones(tones)
 
 
 def _csv_input(path_text: str, max_derivative: int) -> InputSignal:
