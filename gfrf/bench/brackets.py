@@ -49,10 +49,13 @@ def _bracket(path: str, n: int, tol: float, budget: int | None
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     wall = time.perf_counter()
     budget_args = [] if budget is None else ["--max-boxes", str(budget)]
-    out = subprocess.run(gfrf_command(["norm", bundled_model(path), "--order", str(n),
-                                       "--tol", repr(tol), *budget_args, "--json"]),
-                         capture_output=True, text=True, check=True,
-                         env={**os.environ, **_ONE_CORE}).stdout
+    proc = subprocess.run(gfrf_command(["norm", bundled_model(path), "--order", str(n),
+                                        "--tol", repr(tol), *budget_args, "--json"]),
+                          capture_output=True, text=True, env={**os.environ, **_ONE_CORE})
+    if proc.returncode not in (0, 1):  # 1: a bracket of the L-infinity norm (unstable A)
+        raise subprocess.CalledProcessError(proc.returncode, proc.args, proc.stdout,
+                                            proc.stderr)
+    out = proc.stdout
     wall = time.perf_counter() - wall
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
