@@ -223,3 +223,19 @@ def test_r_star_of_an_unstable_linear_part_proves_nothing() -> None:
     assert t.certificates[0].radius == 0.0 and t.lower == 0.0
     assert "linear part" in t.certificates[0].detail
     assert t.answer.startswith("stability is proven at no amplitude")
+
+
+def test_a_linear_model_with_an_unstable_pole_gets_a_witness(capsys) -> None:
+    """A purely linear model has infinite radii: the search cap must come from finite scales
+    (it was inf, the falsifier built 'inf*cos(...)' and the command exited 2).  y' = y + u
+    escapes for every nonzero input: closed form y = int e^(t-s) u(s) ds."""
+    code, data = _json(capsys, "D(y) - y = u")
+    assert code == 0
+    _check_contract(data)
+    assert data["lower"] == 0 and data["lower_proof"] == "none"
+    assert all(c["proof"] in ("interval", "float", "none") for c in data["certificates"])
+    (a, w, p), = data["witness"]["tones"]
+    t_escape = data["witness"]["t_escape"]
+    sol = solve_ivp(lambda t, y: [y[0] + a * math.cos(w * t + p)], (0, 1.05 * t_escape), [0.0],
+                    method="DOP853", rtol=1e-10, atol=1e-14)
+    assert abs(sol.y[0, -1]) > 1e6

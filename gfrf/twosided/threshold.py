@@ -141,7 +141,9 @@ class Threshold:
             "lower_proof": self.lower_proof,
             "upper": None if self.upper is None else float(self.upper),
             "upper_method": self.upper_method, "witness": self.witness,
-            "certificates": [{k: v for k, v in c.to_dict().items() if k != "detail"}
+            # proof levels of the contract ("exact" rational checks count as "interval")
+            "certificates": [{**{k: v for k, v in c.to_dict().items() if k != "detail"},
+                              "proof": _LOWER_PROOF.get(c.proof, c.proof)}
                              for c in self.certificates],
             "answer": self.answer, "model": self.name, "theorem": self.theorem,
             "upper_proof": "estimate" if self.upper is not None else None,
@@ -217,21 +219,25 @@ def threshold(model: ModelFile | Model, *, order: int = 5,
         if energy is not None:
             certs.append(energy)
     proven = [c for c in certs if c.proof in _LOWER_PROOF]
-    best = max(proven, key=lambda c: c.radius) if proven else None
+    # the largest radius; of equal ones, the higher proof level
+    best = max(proven, key=lambda c: (c.radius, _LOWER_PROOF[c.proof] == "interval"),
+               default=None)
     lower = best.radius if best else 0.0
     static = radius_upper(mf.plant)
     static_bound = None if static is None else float(static.value)
     falsification = None
     upper = None
     if not math.isinf(lower):
-        ref = max(static_bound or 0.0, v.radius)
-        cap = CAP_FACTOR * (ref if ref > 0 else 1.0)
+        # the cap from the finite scales only (a linear model's radii are infinite)
+        ref = max((x for x in (static_bound, float(v.radius))
+                   if x is not None and 0 < x < math.inf), default=1.0)
+        cap = CAP_FACTOR * ref
         falsification = falsify(mf, cap, closed_loop=closed, progress=progress)
         upper = falsification.upper
     return Threshold(
         name=getattr(mf, "name", "") or "", lower=lower,
         lower_method=best.method if best else "none",
-        lower_proof=_LOWER_PROOF[best.proof] if best else "none", upper=upper,
+        lower_proof=_LOWER_PROOF[best.proof] if best and lower > 0 else "none", upper=upper,
         upper_method=UPPER_METHOD if upper is not None else None,
         certificates=tuple(certs), falsification=falsification,
         static_bound=static_bound, theorem=v.theorem)
