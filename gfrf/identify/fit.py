@@ -21,12 +21,12 @@ import itertools
 import math
 import warnings
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from gfrf.errors import ArgumentError, GfrfError, ModelError
+from gfrf.errors import ArgumentError, GfrfError
 from gfrf.identify.data import (
     MAX_MATRIX,
     _check_data,
@@ -36,7 +36,7 @@ from gfrf.identify.data import (
     _check_signal,
     check_rank,
 )
-from gfrf.identify.narx import _decode, _lead, narx_equation
+from gfrf.identify.narx import _decode, _lead, narx_model
 from gfrf.identify.noise import extended_least_squares, regressors, residuals
 from gfrf.identify.operating import equilibrium, round_significant, shift
 from gfrf.identify.output_error import recurse, refine
@@ -438,9 +438,6 @@ def _model(theta: dict[Key, float], sample_time: float, output: str, input_: str
     terms = [Term((0,), (), 1.0, output, input_, True)]
     terms += [Term(ys, us, -v, output, input_, True) for (ys, us), v in theta.items()
               if v != 0.0]
-    if not any(t.u_orders for t in terms):
-        raise ModelError(f"the identified model has no input term (a NAR model): its GFRFs "
-                         f"are zero; the output does not respond to {input_!r} in the data")
-    model = Model(terms=tuple(sorted(terms)), sample_time=sample_time, output=output,
-                  input=input_)
-    return replace(model, text=narx_equation(model))
+    return narx_model(terms, sample_time, output, input_,
+                      f"the identified model has no input term (a NAR model): its GFRFs "
+                      f"are zero; the output does not respond to {input_!r} in the data")

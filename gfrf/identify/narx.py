@@ -40,7 +40,7 @@ from gfrf.errors import ArgumentError, ModelError
 from gfrf.identify.data import _check_names, _check_sample_time
 from gfrf.model.equation import MAX_DEGREE, MAX_DERIVATIVE_ORDER, Model, Term
 
-__all__ = ["from_sysidentpy", "narx_equation"]
+__all__ = ["from_sysidentpy", "narx_equation", "narx_model"]
 
 
 def _codes_and_theta(final_model: Any, theta: Any) -> tuple[np.ndarray, np.ndarray]:
@@ -151,9 +151,23 @@ def _convert(final_model: Any, theta: Any, sample_time: Any, output: str, input_
         seen[(y_lags, u_lags)] = _describe(row)
         if value != 0.0:
             terms.append(Term(y_lags, u_lags, -float(value), output, input_, True))
+    return narx_model(terms, sample_time, output, input_,
+                      f"the model has no input term with a nonzero coefficient (a NAR "
+                      f"model): its GFRFs are zero; fit it with the input {input_!r}")
+
+
+def narx_model(terms: list[Term], sample_time: float, output: str, input_: str,
+               no_input: str) -> Model:
+    """The NARX :class:`Model` of ``terms`` (sorted, its text written by :func:`narx_equation`).
+
+    Raises
+    ------
+    ModelError
+        With the message ``no_input`` when no term has an input factor (a NAR model,
+        whose GFRFs are all zero).
+    """
     if not any(t.u_orders for t in terms):
-        raise ModelError(f"the model has no input term with a nonzero coefficient (a NAR "
-                         f"model): its GFRFs are zero; fit it with the input {input_!r}")
+        raise ModelError(no_input)
     model = Model(terms=tuple(sorted(terms)), sample_time=sample_time, output=output,
                   input=input_)
     return replace(model, text=narx_equation(model))
