@@ -98,7 +98,8 @@ def _ofrf(args: argparse.Namespace) -> int:
              f"sum P_k * {o.parameter}**k:",
              "  k   P_k"]
     lines += [f"  {k:<3d} {_pair(c)}" for k, c in enumerate(o.coefficients)]
-    lines.append(f"  at {o.parameter} = {o.value:.6g}: amplitude {abs(at):.6g}, phase "
+    lines.append(f"  at {o.parameter} = {o.value:.6g} (estimate: the series truncated at "
+                 f"order {o.order}): amplitude {abs(at):.6g}, phase "
                  f"{cmath.phase(at):+.6f} rad; input amplitude "
                  f"{o.amplitude:.6g}, series radius r* = {o.radius:.6g}")
     lines.append(f"  NOFRFs G_n(j{o.omega:.6g}) = Y_n/U_n at {o.parameter} = {o.value:.6g}:")

@@ -62,21 +62,23 @@ def _plot(args: argparse.Namespace) -> int:
     k = kernel(mf.plant, args.order)
     mark = None
     sup = None
+    sup_proof = None
     if not args.no_mark and not k.is_zero:
         from gfrf.bounds.norms import kernel_norm
 
         bound = kernel_norm(mf.plant, args.order, proof="float")
         if bound.argmax and all(abs(w) < float("inf") for w in bound.argmax):
-            mark, sup = tuple(bound.argmax), bound.lower
+            mark, sup, sup_proof = tuple(bound.argmax), bound.lower, bound.lower_proof
     fig = k.plot(omega_range=args.omega_range, what=args.what, mark=mark)
     with atomic_path(args.out) as tmp:
         fig.savefig(tmp, format=args.out.rsplit(".", 1)[-1].lower(), dpi=110)
     payload: dict[str, Any] = {"model": mf.name, "order": args.order, "what": args.what,
                                "out": args.out, "zero": k.is_zero, "sup_at": mark,
-                               "sup": sup}
+                               "sup": sup, "sup_proof": sup_proof}
     text = f"{mf.name}: H{args.order} ({args.what}) written to {args.out}"
     if mark is not None:
         text += (f"; sup |H{args.order}| = {sup:.6g} at "
-                 f"({', '.join(f'{w:.6g}' for w in mark)}) rad/s (gfrf norm) marked")
+                 f"({', '.join(f'{w:.6g}' for w in mark)}) rad/s marked (the witness of "
+                 f"gfrf norm: a lower bound of ||H{args.order}||, {sup_proof})")
     emit(args, payload, text)
     return 0
