@@ -25,6 +25,10 @@ Time and frequency domain
     simulate, SimulationResult, build_system, predict, VolterraPrediction,
     to_nlsys (the plant or closed loop as a ``control.NonlinearIOSystem``), ofrf, OFRF
     (the output at one frequency as a polynomial in a parameter, and the NOFRFs)
+Measurements without a model
+    multisine, Multisine (odd random-phase multisine designs), estimate_gfrf, Estimate
+    (the best linear approximation with its noise and distortion levels, nonparametric
+    H2 and H3 from periodic data)
 Sweeps
     :mod:`gfrf.sweep.run` (``gfrf.sweep.run.sweep``), SweepResult
 Errors
@@ -76,6 +80,8 @@ _LAZY = {
     "VolterraPrediction": "gfrf.sim.volterra",
     "SweepResult": "gfrf.sweep.run",
     "from_sysidentpy": "gfrf.identify.narx",
+    "multisine": "gfrf.identify.multisine", "Multisine": "gfrf.identify.multisine",
+    "estimate_gfrf": "gfrf.identify.nonparametric", "Estimate": "gfrf.identify.nonparametric",
     "linear_part": "gfrf._api", "verdict": "gfrf._api",
     "to_nlsys": "gfrf.sim.nlsys",
     "ofrf": "gfrf.sim.ofrf", "OFRF": "gfrf.sim.ofrf",

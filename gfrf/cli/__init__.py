@@ -35,6 +35,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "gfrf.cli.periodic",
     "gfrf.cli.sweep",
     "gfrf.cli.identify",
+    "gfrf.cli.estimate",
     "gfrf.cli.ofrf",
     "gfrf.cli.plot",
     "gfrf.cli.threshold",

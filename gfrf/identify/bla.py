@@ -1,0 +1,303 @@
+"""The best linear approximation (BLA) from periodic data, with its noise and distortion levels.
+
+The robust method of Pintelon and Schoukens: each realisation m (a random-phase
+multisine) measured over P periods gives ``G_m = mean_p Y / mean_p U`` on the excited
+lines, with a noise variance from the period-to-period variation of
+``Y - G_m U``; the BLA is the mean of the ``G_m``; the variance of that mean is
+estimated twice, from the realisation-to-realisation spread (noise plus the stochastic
+nonlinear distortion, which changes with the phases) and from the periods (noise
+only); their difference is the distortion's share.
+
+Every standard deviation here is one of the BLA *estimate* (the mean over M
+realisations): ``bla_std**2 = noise_std**2 + distortion_std**2``.  The level of the
+stochastic nonlinear distortion in one realisation's FRF is ``sqrt(M) *
+distortion_std`` (:attr:`BLA.distortion_level`).  With one realisation the
+distortion is taken from the non-excited lines next to each excited line (the fast
+method); with one period the noise is not separated (None).
+
+The excited lines are those where the input is significantly non-zero: in every
+realisation above 1e-3 of the largest line and, with two periods or more, 10 times
+above the input's own period-to-period spread.  The detection lines are the
+non-excited lines below the Nyquist line, even and odd.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from gfrf._results import markdown_table, new_figure, short_repr
+from gfrf.errors import ArgumentError
+
+__all__ = ["BLA", "best_linear_approximation", "excited_lines", "RELATIVE_FLOOR"]
+
+#: An excited line's input amplitude exceeds this fraction of the largest line's.
+RELATIVE_FLOOR = 1e-3
+#: ... and its power exceeds this multiple of its period-to-period variance.
+SNR_FLOOR = 100.0
+
+
+def _between(x: np.ndarray) -> np.ndarray:
+    """Variance of the mean over axis 1 (periods): sum |x - mean|^2 / (P (P - 1))."""
+    p = x.shape[1]
+    return np.sum(np.abs(x - x.mean(axis=1, keepdims=True)) ** 2, axis=1) / (p * (p - 1))
+
+
+def excited_lines(u_spectra: np.ndarray, period: int) -> np.ndarray:
+    """Indices of the lines (1 .. below N/2) where the input is significantly non-zero.
+
+    Parameters
+    ----------
+    u_spectra : numpy.ndarray
+        Input DFT lines, shape (realisations, periods, N // 2 + 1).
+    period : int
+        N (for even N the Nyquist line, a real coefficient, is never used).
+
+    Returns
+    -------
+    numpy.ndarray
+        Line indices in increasing order.
+    """
+    mean = u_spectra.mean(axis=1)
+    power = np.min(np.abs(mean) ** 2, axis=0)
+    power[0] = 0.0
+    if period % 2 == 0:
+        power[-1] = 0.0
+    significant = power > RELATIVE_FLOOR ** 2 * np.max(power)
+    if u_spectra.shape[1] >= 2:
+        spread = np.max(_between(u_spectra), axis=0)
+        significant &= power > SNR_FLOOR * spread
+    return np.flatnonzero(significant)
+
+
+@dataclass(frozen=True, kw_only=True)
+class BLA:
+    """The best linear approximation on the excited lines, and the detection levels.
+
+    Attributes
+    ----------
+    omega : numpy.ndarray
+        Excited lines' angular frequencies (rad/s).
+    lines : numpy.ndarray
+        Excited line indices k (omega = k w0, w0 = 2 pi / (N T)).
+    bla : numpy.ndarray
+        The BLA (complex).
+    bla_std, noise_std, distortion_std : numpy.ndarray or None
+        Standard deviations of the BLA estimate: total, noise share, stochastic
+        nonlinear distortion share (None where the data cannot separate them).
+    realisations, periods, period : int
+        M, P (after skipping) and N.
+    sample_time : float
+        T in s.
+    output_level, output_noise : numpy.ndarray
+        RMS over realisations of the period-averaged output on every line 0..N/2, and
+        the noise standard deviation of that average (None with one period).
+    detection : dict
+        Mean output power over noise power on the even and odd non-excited lines
+        (``even_ratio``, ``odd_ratio``; None without such lines or noise estimate),
+        and whether each exceeds the noise by 4 standard deviations of that mean.
+    """
+
+    omega: np.ndarray
+    lines: np.ndarray
+    bla: np.ndarray
+    bla_std: np.ndarray | None
+    noise_std: np.ndarray | None
+    distortion_std: np.ndarray | None
+    realisations: int
+    periods: int
+    period: int
+    sample_time: float
+    output_level: np.ndarray
+    output_noise: np.ndarray | None
+    detection: dict[str, Any]
+
+    @property
+    def distortion_level(self) -> np.ndarray | None:
+        """Standard deviation of the stochastic nonlinear distortion in one realisation's
+        FRF: ``sqrt(M) * distortion_std`` (one realisation: the fast method's level)."""
+        if self.distortion_std is None:
+            return None
+        return self.distortion_std * math.sqrt(self.realisations)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The contract fields (omega, bla as [re, im], the three std) and the detection."""
+        def listed(a: np.ndarray | None) -> list[float] | None:
+            return None if a is None else [float(v) for v in a]
+
+        level = self.distortion_level
+        return {"omega": listed(self.omega),
+                "bla": [[float(v.real), float(v.imag)] for v in self.bla],
+                "bla_std": listed(self.bla_std), "noise_std": listed(self.noise_std),
+                "distortion_std": listed(self.distortion_std),
+                "distortion_level": listed(level),
+                "lines": [int(k) for k in self.lines], "realisations": self.realisations,
+                "periods": self.periods, "period": self.period,
+                "sample_time": self.sample_time, "detection": dict(self.detection)}
+
+    def __repr__(self) -> str:
+        return short_repr(self, "realisations", "periods", "period", lines=len(self.lines))
+
+    def _repr_markdown_(self) -> str:
+        def db(a: np.ndarray | None, i: int) -> float | None:
+            return None if a is None else float(20 * np.log10(max(a[i], 1e-300)))
+
+        rows = [(float(self.omega[i]), float(20 * np.log10(abs(self.bla[i]))),
+                 float(np.angle(self.bla[i])), db(self.bla_std, i), db(self.noise_std, i),
+                 db(self.distortion_std, i)) for i in range(min(len(self.lines), 20))]
+        return markdown_table(("ω (rad/s)", "|BLA| (dB)", "phase (rad)", "total std (dB)",
+                               "noise std (dB)", "distortion std (dB)"), rows)
+
+    def plot(self, ax: Any = None) -> Any:
+        """The BLA (dB) with its total, noise and distortion standard deviations against
+        rad/s, and (when ``ax`` is None) beside it the detection plot: the output on the
+        excited, odd and even non-excited lines with the noise level."""
+        if ax is None:
+            figure, axes = new_figure(1, 2, (12.0, 4.0))
+            self.draw(axes[0][0])
+            self.draw_detection(axes[0][1])
+            return figure
+        self.draw(ax)
+        return ax.figure
+
+    def draw(self, ax: Any) -> None:
+        """Draw the BLA and its standard deviations (dB against rad/s) on ``ax``."""
+        ax.plot(self.omega, _db(self.bla), "-", color="black", label="BLA")
+        for values, style, label in (
+                (self.bla_std, {"marker": "o", "markerfacecolor": "none", "color": "#1971c2"},
+                 "total std (noise + distortion)"),
+                (self.noise_std, {"marker": "x", "color": "#e8590c"}, "noise std"),
+                (self.distortion_std, {"marker": "+", "color": "#2b8a3e"}, "distortion std")):
+            if values is not None:
+                ax.plot(self.omega, _db(values), linestyle="none", markersize=5, label=label,
+                        **style)
+        ax.set(xlabel="ω (rad/s)", ylabel="dB",
+               title=f"best linear approximation (M = {self.realisations}, "
+                     f"P = {self.periods})")
+        ax.legend(fontsize="small", loc="best")
+
+    def draw_detection(self, ax: Any) -> None:
+        """Draw the output on the excited, odd and even non-excited lines and the noise
+        level (dB against rad/s) on ``ax``."""
+        w0 = 2 * math.pi / (self.period * self.sample_time)
+        k = np.arange(1, (self.period + 1) // 2)
+        excited = np.isin(k, self.lines)
+        odd = ~excited & (k % 2 == 1)
+        even = ~excited & (k % 2 == 0)
+        for mask, style, label in ((excited, "o", "excited lines"),
+                                   (odd, "^", "odd non-excited lines"),
+                                   (even, "s", "even non-excited lines")):
+            if np.any(mask):
+                ax.plot(k[mask] * w0, _db(self.output_level[k[mask]]), style, markersize=3,
+                        label=label)
+        if self.output_noise is not None:
+            ax.plot(k * w0, _db(self.output_noise[k]), "-", color="0.5", linewidth=0.8,
+                    label="noise level (std of the period mean)")
+        ax.set(xlabel="ω (rad/s)", ylabel="|Y| (dB)",
+               title="output spectrum: distortion detection")
+        ax.legend(fontsize="small", loc="best")
+
+
+def _db(a: np.ndarray) -> np.ndarray:
+    """20 log10 |a|, NaN (not drawn) where a is zero."""
+    magnitude = np.abs(a)
+    return np.where(magnitude > 0, 20 * np.log10(np.where(magnitude > 0, magnitude, 1.0)),
+                    np.nan)
+
+
+def _fast_distortion(y_mean: np.ndarray, y_var: np.ndarray | None, lines: np.ndarray,
+                     u_mean: np.ndarray, n: int) -> np.ndarray | None:
+    """Distortion variance at each excited line from the two nearest non-excited lines on
+    each side of the same parity (odd lines for an odd design, any otherwise)."""
+    k = np.arange(1, (n + 1) // 2)
+    odd_design = bool(np.all(lines % 2 == 1))
+    free = k[~np.isin(k, lines) & ((k % 2 == 1) if odd_design else True)]
+    if free.size == 0:
+        return None
+    power = np.abs(y_mean[free]) ** 2 - (0.0 if y_var is None else y_var[free])
+    out = np.empty(lines.size)
+    for i, line in enumerate(lines):
+        near = np.argsort(np.abs(free - line), kind="stable")[:4]
+        out[i] = max(float(np.mean(power[near])), 0.0) / abs(u_mean[line]) ** 2
+    return out
+
+
+def best_linear_approximation(u_spectra: np.ndarray, y_spectra: np.ndarray,
+                              period: int, sample_time: float,
+                              lines: np.ndarray | None = None) -> BLA:
+    """The BLA by the robust method (several realisations and periods).
+
+    Parameters
+    ----------
+    u_spectra, y_spectra : numpy.ndarray
+        DFT lines of input and output, shape (realisations M, periods P, N // 2 + 1),
+        as :func:`gfrf.identify.measured.spectra` gives them.
+    period : int
+        N, samples per period.
+    sample_time : float
+        T in s.
+    lines : numpy.ndarray, optional
+        The excited lines (default: :func:`excited_lines`).
+
+    Returns
+    -------
+    BLA
+
+    Raises
+    ------
+    ArgumentError
+        No excited line (the input has no periodic content with this period).
+    """
+    m, p, _ = u_spectra.shape
+    n = period
+    lines = excited_lines(u_spectra, n) if lines is None else lines
+    if lines.size == 0:
+        raise ArgumentError("the input has no significantly excited line at this period")
+    u_mean, y_mean = u_spectra.mean(axis=1), y_spectra.mean(axis=1)
+    g = y_mean[:, lines] / u_mean[:, lines]
+    bla = g.mean(axis=0)
+    noise_var = None
+    y_var = None
+    if p >= 2:
+        residual = y_spectra[:, :, lines] - g[:, None, :] * u_spectra[:, :, lines]
+        g_var = _between(residual) / np.abs(u_mean[:, lines]) ** 2
+        noise_var = g_var.sum(axis=0) / m ** 2
+        y_var = _between(y_spectra)
+    if m >= 2:
+        total = np.sum(np.abs(g - bla) ** 2, axis=0) / (m * (m - 1))
+        distortion = None if noise_var is None else np.maximum(total - noise_var, 0.0)
+    else:
+        fast = _fast_distortion(y_mean[0], None if y_var is None else y_var[0], lines,
+                                u_mean[0], n)
+        distortion = fast
+        total = None if noise_var is None else noise_var + (0.0 if fast is None else fast)
+    level = np.sqrt(np.mean(np.abs(y_mean) ** 2, axis=0))
+    noise = None if y_var is None else np.sqrt(np.mean(y_var, axis=0))
+    w0 = 2 * math.pi / (n * sample_time)
+    return BLA(omega=lines * w0, lines=lines, bla=bla,
+               bla_std=None if total is None else np.sqrt(total),
+               noise_std=None if noise_var is None else np.sqrt(noise_var),
+               distortion_std=None if distortion is None else np.sqrt(distortion),
+               realisations=m, periods=p, period=n, sample_time=sample_time,
+               output_level=level, output_noise=noise,
+               detection=_detection(level, y_var, lines, m, n))
+
+
+def _detection(level: np.ndarray, y_var: np.ndarray | None, lines: np.ndarray, m: int,
+               n: int) -> dict[str, Any]:
+    k = np.arange(1, (n + 1) // 2)
+    out: dict[str, Any] = {}
+    for name, parity in (("even", 0), ("odd", 1)):
+        free = k[~np.isin(k, lines) & (k % 2 == parity)]
+        out[f"{name}_lines"] = int(free.size)
+        if free.size == 0 or y_var is None:
+            out[f"{name}_ratio"], out[f"{name}_detected"] = None, None
+            continue
+        noise = float(np.mean(np.mean(y_var, axis=0)[free]))
+        ratio = float(np.mean(level[free] ** 2)) / noise if noise > 0 else math.inf
+        out[f"{name}_ratio"] = ratio
+        out[f"{name}_detected"] = bool(ratio > 1 + 4 / math.sqrt(free.size * m))
+    return out
