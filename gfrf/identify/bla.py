@@ -38,6 +38,9 @@ __all__ = ["BLA", "best_linear_approximation", "excited_lines", "RELATIVE_FLOOR"
 RELATIVE_FLOOR = 1e-3
 #: ... and its power exceeds this multiple of its period-to-period variance.
 SNR_FLOOR = 100.0
+#: Distortion is detected only above this fraction of the excited lines' output power
+#: (-100 dB: rounding errors of noise-free data are not distortion).
+ROUNDOFF = 1e-10
 
 
 def _between(x: np.ndarray) -> np.ndarray:
@@ -98,7 +101,8 @@ class BLA:
     detection : dict
         Mean output power over noise power on the even and odd non-excited lines
         (``even_ratio``, ``odd_ratio``; None without such lines or noise estimate),
-        and whether each exceeds the noise by 4 standard deviations of that mean.
+        and whether each exceeds the noise by 4 standard deviations of that mean and
+        :data:`ROUNDOFF` times the output power on the excited lines.
     """
 
     omega: np.ndarray
@@ -297,7 +301,9 @@ def _detection(level: np.ndarray, y_var: np.ndarray | None, lines: np.ndarray, m
             out[f"{name}_ratio"], out[f"{name}_detected"] = None, None
             continue
         noise = float(np.mean(np.mean(y_var, axis=0)[free]))
-        ratio = float(np.mean(level[free] ** 2)) / noise if noise > 0 else math.inf
+        power = float(np.mean(level[free] ** 2))
+        ratio = power / noise if noise > 0 else math.inf
         out[f"{name}_ratio"] = ratio
-        out[f"{name}_detected"] = bool(ratio > 1 + 4 / math.sqrt(free.size * m))
+        out[f"{name}_detected"] = bool(ratio > 1 + 4 / math.sqrt(free.size * m)
+                                       and power > ROUNDOFF * float(np.mean(level[lines] ** 2)))
     return out

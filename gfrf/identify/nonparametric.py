@@ -289,7 +289,7 @@ def amplitude_levels(u_spectra: np.ndarray, lines: np.ndarray) -> list[np.ndarra
         if rms[i] > (1 + LEVEL_TOLERANCE) * rms[groups[-1][0]]:
             groups.append([])
         groups[-1].append(int(i))
-    return [np.array(g) for g in groups]
+    return [np.sort(np.array(g)) for g in groups]
 
 
 def _as_lines(bla: BLA) -> KernelLines:
