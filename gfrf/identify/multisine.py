@@ -44,7 +44,7 @@ MAX_PERIOD = 1 << 20
 #: Largest number of samples of a whole excitation (realisations x periods x period).
 MAX_SIGNAL = 2_000_000
 #: Most excited lines whose two- and three-line combinations are enumerated.
-MAX_COMBINED_LINES = 100
+MAX_COMBINED_LINES = 40
 
 
 @dataclass(frozen=True)
@@ -129,21 +129,31 @@ def combination_lines(lines: tuple[int, ...] | list[int], n: int, orders: tuple[
 
 
 def _isolating_lines(max_line: int, n: int) -> list[int]:
-    """Odd lines, greedily from 1, each kept when its combinations keep every line's
-    reach to one (orders 1-3, below the Nyquist line)."""
+    """Odd lines, greedily from 1, each kept when the combinations of one to three lines
+    it takes part in fall on new lines, each on its own, below the Nyquist line (at most
+    :data:`MAX_COMBINED_LINES` lines)."""
     chosen: list[int] = []
-    used: set[int] = set()
-    for candidate in range(1, max_line + 1, 2):
-        trial = chosen + [candidate]
-        signed = sorted({*trial, *(-k for k in trial)})
-        new = [candidate]
-        for m in (2, 3):
-            new += [sum(c) for c in _multisets(signed, m)
-                    if candidate in c or -candidate in c]
-        if max(new) >= n / 2 or len(set(new)) < len(new) or used & set(new):
+    used = np.zeros(n // 2 + 1, dtype=bool)  # lines reached so far (below n / 2)
+    signed = np.zeros(0, dtype=np.int64)  # +-chosen
+    pairs = np.zeros(0, dtype=np.int64)  # sums of two of them, no x + (-x)
+    for c in range(1, max_line + 1, 2):
+        if 3 * c >= n / 2:
+            break
+        if used[c]:
             continue
-        chosen.append(candidate)
-        used |= set(new)
+        new = np.abs(np.concatenate([[c, 2 * c, 3 * c], c + signed, 2 * c + signed,
+                                     c + pairs]))
+        new = new[new != 0]
+        if new.max() >= n / 2 or np.any(used[new]) or np.unique(new).size < new.size:
+            continue
+        chosen.append(c)
+        used[new] = True
+        signed = np.array(chosen + [-k for k in chosen], dtype=np.int64)
+        i, j = np.triu_indices(signed.size)
+        keep = signed[i] != -signed[j]
+        pairs = signed[i][keep] + signed[j][keep]
+        if len(chosen) == MAX_COMBINED_LINES:
+            break
     return chosen
 
 
