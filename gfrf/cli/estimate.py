@@ -190,8 +190,12 @@ def _text(result: Any, payload: dict[str, Any], plot: str | None) -> list[str]:
     if comparison:
         for name in ("h1", "h2", "h3"):
             if name in comparison and comparison[name].get("within") is not None:
-                of = (f" (compared: the {comparison[name]['estimate']})" if name == "h1"
-                      else "")
+                of = ""
+                if name == "h1":
+                    of = (" (H1 extrapolated to zero amplitude)"
+                          if comparison[name]["estimate"] != "bla" else
+                          " (the BLA: it differs from H1 by terms growing with the "
+                          "amplitude; measure at two levels, --levels 1,0.5)")
                 lines.append(f"model {name.upper()}: {100 * comparison[name]['within']:.1f} % "
                              f"of the estimates within {comparison['sigmas']:g} standard "
                              f"deviations{of}")

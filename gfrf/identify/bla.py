@@ -9,7 +9,10 @@ nonlinear distortion, which changes with the phases) and from the periods (noise
 only); their difference is the distortion's share.
 
 Every standard deviation here is one of the BLA *estimate* (the mean over M
-realisations): ``bla_std**2 = noise_std**2 + distortion_std**2``.  The level of the
+realisations): ``bla_std**2 = noise_std**2 + distortion_std**2``, the distortion's
+share being the realisation spread less the noise, or 0 where the spread (an estimate
+with ``2 (M - 1)`` degrees of freedom) is below the noise (then ``bla_std`` is the noise
+level).  The level of the
 stochastic nonlinear distortion in one realisation's FRF is ``sqrt(M) *
 distortion_std`` (:attr:`BLA.distortion_level`).  With one realisation the
 distortion is taken from the non-excited lines next to each excited line (the fast
@@ -272,7 +275,10 @@ def best_linear_approximation(u_spectra: np.ndarray, y_spectra: np.ndarray,
         y_var = _between(y_spectra)
     if m >= 2:
         total = np.sum(np.abs(g - bla) ** 2, axis=0) / (m * (m - 1))
-        distortion = None if noise_var is None else np.maximum(total - noise_var, 0.0)
+        distortion = None
+        if noise_var is not None:
+            distortion = np.maximum(total - noise_var, 0.0)
+            total = noise_var + distortion  # never below the noise variance
     else:
         fast = _fast_distortion(y_mean[0], None if y_var is None else y_var[0], lines,
                                 u_mean[0], n)

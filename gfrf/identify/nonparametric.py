@@ -132,7 +132,10 @@ def kernel_lines(u_spectra: np.ndarray, y_spectra: np.ndarray, combos: list[Comb
         noise_var = np.sum(spread / np.abs(product_mean) ** 2, axis=0) / m ** 2
     if m >= 2:
         total = np.sum(np.abs(h - value) ** 2, axis=0) / (m * (m - 1))
-        distortion = None if noise_var is None else np.maximum(total - noise_var, 0.0)
+        distortion = None
+        if noise_var is not None:
+            distortion = np.maximum(total - noise_var, 0.0)
+            total = noise_var + distortion
     else:
         total, distortion = noise_var, None
     return KernelLines(order=order, omega=out_lines * w0, frequencies=factors * w0,
@@ -312,7 +315,8 @@ def _extrapolate(estimates: list[KernelLines], x: list[float]) -> KernelLines:
 
     first = estimates[0]
     return KernelLines(order=first.order, omega=first.omega, frequencies=first.frequencies,
-                       value=sum(w * e.value for w, e in zip(weights, estimates, strict=True)),
+                       value=np.sum([w * e.value for w, e in zip(weights, estimates, strict=True)],
+                                    axis=0),
                        value_std=combined("value_std"), noise_std=combined("noise_std"),
                        distortion_std=combined("distortion_std"))
 
@@ -384,7 +388,8 @@ def estimate_gfrf(data: str | Path | Periodic, period: int | None = None, *,
         x = [(v / levels[-1]) ** 2 for v in levels]
         h1 = _extrapolate([_as_lines(b) for b, _ in per_level], x)
         kernels = {m: None if kernels[m] is None else
-                   _extrapolate([k[m] for _, k in per_level], x) for m in (2, 3)}
+                   _extrapolate([k for _, level in per_level if (k := level[m]) is not None], x)
+                   for m in (2, 3)}
         notes.append(f"{len(groups)} input levels (RMS {', '.join(f'{v:.4g}' for v in levels)}): "
                      f"H1, H2, H3 extrapolated to zero amplitude; the BLA is the highest "
                      f"level's")
