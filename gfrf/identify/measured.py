@@ -201,7 +201,21 @@ def periodic(t: np.ndarray, u: np.ndarray, y: np.ndarray, starts: np.ndarray, pe
     uu = np.stack([u[a + skip_periods * period: a + whole * period] for a, _ in bounds])
     yy = np.stack([y[a + skip_periods * period: a + whole * period] for a, _ in bounds])
     shape = (len(bounds), keep, period)
-    return Periodic(uu.reshape(shape), yy.reshape(shape), float(f"{step:.10g}"), tuple(notes))
+    yy = yy.reshape(shape)
+    if keep >= 3 and _transient(yy):
+        notes.append("the first period differs from the others by more than their spread: "
+                     "a transient? give --skip-periods 1")
+    return Periodic(uu.reshape(shape), yy, float(f"{step:.10g}"), tuple(notes))
+
+
+def _transient(y: np.ndarray) -> bool:
+    """True if the first period of the output lies farther from the mean of the later
+    ones than 4 times the typical distance of a later period from that mean."""
+    later = y[:, 1:, :]
+    mean = later.mean(axis=1)
+    spread = float(np.sqrt(np.mean((later - mean[:, None, :]) ** 2)))
+    first = float(np.sqrt(np.mean((y[:, 0, :] - mean) ** 2)))
+    return first > 4 * spread + 1e-9 * float(np.max(np.abs(y)))
 
 
 def spectra(x: np.ndarray) -> np.ndarray:

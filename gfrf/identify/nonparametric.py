@@ -62,6 +62,9 @@ class KernelLines:
     noise_std: np.ndarray | None
     distortion_std: np.ndarray | None
 
+    def __repr__(self) -> str:
+        return short_repr(self, "order", lines=int(self.omega.size))
+
     def to_dict(self) -> dict[str, Any]:
         """The BLA's fields (``bla`` holds H_n's estimate) and the frequencies."""
         def listed(a: np.ndarray | None) -> list[float] | None:

@@ -166,3 +166,36 @@ def test_multisine_command_writes_what_estimate_reads(tmp_path: Path, capsys) ->
     code, _, err = run(capsys, "multisine", "--period", "256", "--sample-time", "0.01",
                        "--out", str(out_csv), "--levels", "1,x")
     assert code == 2 and "--levels" in err
+
+
+@pytest.mark.slow
+def test_a_million_samples_are_estimated_within_a_gigabyte(tmp_path: Path) -> None:
+    """10^6 samples: the answer is right and the process stays under 1 GB (its CPU time
+    is measured, not asserted: the README gives it)."""
+    import subprocess
+    import sys
+
+    design = multisine(8192, 0.1, realisations=8, periods=16, rms=0.3, seed=1)
+    measured, _ = measure(design, "narx", noise=0.01, skip=0)
+    rows = design.u.shape[0]
+    path = _write(tmp_path / "big.csv", {
+        "t": np.tile(np.arange(design.u.shape[1]) * 0.1, rows), "u": measured.u.ravel(),
+        "y": measured.y.ravel(), "realisation": np.repeat(np.arange(rows),
+                                                          design.u.shape[1])})
+    assert measured.u.size == 8 * 16 * 8192 > 1_000_000
+    script = ("import resource, sys; from gfrf.cli import main; code = main(sys.argv[1:]); "
+              "use = resource.getrusage(resource.RUSAGE_SELF); "
+              "print(use.ru_maxrss, use.ru_utime + use.ru_stime, file=sys.stderr); "
+              "sys.exit(code)")
+    done = subprocess.run([sys.executable, "-c", script, "estimate", str(path), "--period",
+                           "8192", "--skip-periods", "1", "--json"], capture_output=True,
+                          text=True, check=False)
+    assert done.returncode == 0, done.stderr
+    rss_kb, _cpu = done.stderr.split()[-2:]
+    assert int(rss_kb) < 1_000_000
+    payload = json.loads(done.stdout)
+    assert len(payload["omega"]) == len(design.lines)
+    q = np.exp(-1j * np.array(payload["omega"]) * 0.1)
+    h1 = (0.5 * q + 0.3 * q ** 2) / (1 - 0.6 * q + 0.2 * q ** 2)
+    bla = np.array([complex(*v) for v in payload["bla"]])
+    assert np.median(np.abs(bla - h1) / np.abs(h1)) < 0.05
