@@ -150,7 +150,9 @@ def _estimate(args: argparse.Namespace) -> int:
 
 
 def _db(value: float | None) -> str:
-    return "-" if value is None else f"{20 * math.log10(max(value, 1e-300)):.1f}"
+    if value is None:
+        return "-"
+    return f"{20 * math.log10(value):.1f}" if value > 0 else "-inf"
 
 
 def _text(result: Any, payload: dict[str, Any], plot: str | None) -> list[str]:

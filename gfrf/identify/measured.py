@@ -10,6 +10,7 @@ scaled so that ``u(t) = sum_k X_k exp(j k w0 t)`` over positive and negative k.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -25,6 +26,8 @@ COLUMNS = ("t", "u", "y", "realisation")
 MAX_ROWS = 2_000_000
 #: Most realisations.
 MAX_REALISATIONS = 10_000
+#: Largest data file in bytes (2,000,000 rows of four numbers in full precision fit).
+MAX_BYTES = 400_000_000
 
 
 @dataclass(frozen=True)
@@ -58,7 +61,14 @@ def _header(path: Path) -> list[str]:
             first = fh.readline(10_000)
     except UnicodeDecodeError as exc:
         raise ArgumentError(f"{path}: not a readable text file: {exc}") from None
-    header = [h.strip() for h in first.strip().split(",")]
+    if not first.strip():
+        raise ArgumentError(f"{path}: no header row (need t, u, y [, realisation])")
+    header = [h.strip().strip('"').strip() for h in first.strip().split(",")]
+    if len(header) == 1 and any(c in header[0] for c in ";\t "):
+        raise ArgumentError(f"{path}: the header {header[0]!r} is not comma-separated")
+    if "" in header:
+        raise ArgumentError(f"{path}: an empty column name in the header "
+                            f"{','.join(header)!r}")
     missing = [c for c in COLUMNS[:3] if c not in header]
     extra = [c for c in header if c not in COLUMNS]
     if extra:
@@ -95,19 +105,27 @@ def read_periodic(path: str | Path, period: int, skip_periods: int = 0) -> Perio
     ------
     ArgumentError
         A missing file, other columns (MISO/MIMO data), a value that is not a finite
-        number, more than :data:`MAX_ROWS` rows, a non-integer realisation, a time
-        column not equally spaced, fewer than one period per realisation.
+        number, more than :data:`MAX_ROWS` rows or :data:`MAX_BYTES` bytes, a
+        non-integer realisation, a time column not equally spaced, fewer than one
+        period per realisation.
     """
     p = Path(path)
     if not p.is_file():
-        raise ArgumentError(f"data file {str(p)!r} does not exist")
+        raise ArgumentError(f"data file {str(p)!r} does not exist or is not a regular file")
+    size = p.stat().st_size
+    if size > MAX_BYTES:
+        raise ArgumentError(f"{p}: {size} bytes, above the limit {MAX_BYTES}")
     header = _header(p)
     try:
-        values = np.loadtxt(p, delimiter=",", skiprows=1, ndmin=2, max_rows=MAX_ROWS + 1,
-                            encoding="utf-8-sig")
+        with warnings.catch_warnings():  # "no data", blank lines: handled below
+            warnings.simplefilter("ignore", UserWarning)
+            values = np.loadtxt(p, delimiter=",", skiprows=1, ndmin=2,
+                                max_rows=MAX_ROWS + 1, encoding="utf-8-sig")
     except ValueError as exc:
         raise ArgumentError(f"{p}: not a table of numbers: {str(exc).splitlines()[0]}"
                             ) from None
+    if values.size == 0:
+        raise ArgumentError(f"{p}: no data rows")
     if values.shape[0] > MAX_ROWS:
         raise ArgumentError(f"{p}: more than {MAX_ROWS} data rows")
     if values.shape[1] != len(header):

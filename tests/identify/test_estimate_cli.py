@@ -113,6 +113,11 @@ def test_bad_input_exits_2_with_one_line(tmp_path: Path, capsys) -> None:
     good = {"t": np.arange(64) * 0.1, "u": np.sin(np.arange(64)), "y": np.ones(64)}
     cases = {
         "missing.csv": None,
+        "empty.csv": "",
+        "header_only.csv": "t,u,y\n",
+        "semicolons.csv": "t;u;y\n0;1;2\n",
+        "empty_name.csv": "t,u,y,\n0,1,2,\n",
+        "binary.csv": "\udcff",
         "text.csv": "t,u,y\n0,1,abc\n0.1,2,3\n",
         "nan.csv": "t,u,y\n0,1,nan\n0.1,2,3\n",
         "no_y.csv": "t,u\n0,1\n0.1,2\n",
@@ -126,7 +131,7 @@ def test_bad_input_exits_2_with_one_line(tmp_path: Path, capsys) -> None:
     for name, text in cases.items():
         path = tmp_path / name
         if text is not None:
-            path.write_text(text)
+            path.write_bytes(text.encode("utf-8", "surrogateescape"))
         code, out, err = run(capsys, "estimate", str(path), "--period", "16", "--json")
         assert code == 2 and out == "", name
         assert err.startswith("gfrf: error:") and len(err.strip().splitlines()) == 1, name
