@@ -166,9 +166,9 @@ def _text(result: Any, payload: dict[str, Any], plot: str | None) -> list[str]:
         return None if values is None else float(sorted(values)[len(values) // 2])
 
     lines.append(f"BLA: |G| from {_db(min(abs(bla.bla)))} to {_db(max(abs(bla.bla)))} dB; "
-                 f"median standard deviations of the estimate: total "
-                 f"{_db(median(bla.bla_std))} dB, noise {_db(median(bla.noise_std))} dB, "
-                 f"distortion {_db(median(bla.distortion_std))} dB")
+                 f"median std of the estimate {_db(median(bla.bla_std))} dB (noise "
+                 f"{_db(median(bla.noise_std))} dB); median std of the nonlinear "
+                 f"distortion of one realisation {_db(median(bla.distortion_std))} dB")
     d = bla.detection
     for name in ("even", "odd"):
         ratio = d[f"{name}_ratio"]

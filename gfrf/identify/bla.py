@@ -8,15 +8,16 @@ estimated twice, from the realisation-to-realisation spread (noise plus the stoc
 nonlinear distortion, which changes with the phases) and from the periods (noise
 only); their difference is the distortion's share.
 
-Every standard deviation here is one of the BLA *estimate* (the mean over M
-realisations): ``bla_std**2 = noise_std**2 + distortion_std**2``, the distortion's
-share being the realisation spread less the noise, or 0 where the spread (an estimate
-with ``2 (M - 1)`` degrees of freedom) is below the noise (then ``bla_std`` is the noise
-level).  The level of the
-stochastic nonlinear distortion in one realisation's FRF is ``sqrt(M) *
-distortion_std`` (:attr:`BLA.distortion_level`).  With one realisation the
-distortion is taken from the non-excited lines next to each excited line (the fast
-method); with one period the noise is not separated (None).
+``bla_std`` and ``noise_std`` are standard deviations of the BLA *estimate* (the mean
+over M realisations): total and noise.  ``distortion_std`` is the standard deviation of
+the stochastic nonlinear distortion ``G_S`` of *one* realisation's FRF (the level of the
+distortion the system makes at this input, whatever M), ``var G_S = M (bla_std**2 -
+noise_std**2)`` as in Pintelon and Schoukens' robust method, so
+``bla_std**2 = noise_std**2 + distortion_std**2 / M``; where the realisation spread (an
+estimate with ``2 (M - 1)`` degrees of freedom) is below the noise, the distortion is 0
+and ``bla_std`` the noise level.  With one realisation the distortion is taken from the
+non-excited lines next to each excited line (the fast method); with one period the
+noise is not separated (None).
 
 The excited lines are those where the input is significantly non-zero: in every
 realisation above 1e-3 of the largest line and, with two periods or more, 10 times
@@ -91,9 +92,12 @@ class BLA:
         Excited line indices k (omega = k w0, w0 = 2 pi / (N T)).
     bla : numpy.ndarray
         The BLA (complex).
-    bla_std, noise_std, distortion_std : numpy.ndarray or None
-        Standard deviations of the BLA estimate: total, noise share, stochastic
-        nonlinear distortion share (None where the data cannot separate them).
+    bla_std, noise_std : numpy.ndarray or None
+        Standard deviations of the BLA estimate: total, and its noise share (None
+        where the data cannot separate them).
+    distortion_std : numpy.ndarray or None
+        Standard deviation of the stochastic nonlinear distortion of one realisation's
+        FRF (its share in ``bla_std`` is ``distortion_std / sqrt(M)``).
     realisations, periods, period : int
         M, P (after skipping) and N.
     sample_time : float
@@ -122,25 +126,15 @@ class BLA:
     output_noise: np.ndarray | None
     detection: dict[str, Any]
 
-    @property
-    def distortion_level(self) -> np.ndarray | None:
-        """Standard deviation of the stochastic nonlinear distortion in one realisation's
-        FRF: ``sqrt(M) * distortion_std`` (one realisation: the fast method's level)."""
-        if self.distortion_std is None:
-            return None
-        return self.distortion_std * math.sqrt(self.realisations)
-
     def to_dict(self) -> dict[str, Any]:
         """The contract fields (omega, bla as [re, im], the three std) and the detection."""
         def listed(a: np.ndarray | None) -> list[float] | None:
             return None if a is None else [float(v) for v in a]
 
-        level = self.distortion_level
         return {"omega": listed(self.omega),
                 "bla": [[float(v.real), float(v.imag)] for v in self.bla],
                 "bla_std": listed(self.bla_std), "noise_std": listed(self.noise_std),
                 "distortion_std": listed(self.distortion_std),
-                "distortion_level": listed(level),
                 "lines": [int(k) for k in self.lines], "realisations": self.realisations,
                 "periods": self.periods, "period": self.period,
                 "sample_time": self.sample_time, "detection": dict(self.detection)}
@@ -156,7 +150,7 @@ class BLA:
                  float(np.angle(self.bla[i])), db(self.bla_std, i), db(self.noise_std, i),
                  db(self.distortion_std, i)) for i in range(min(len(self.lines), 20))]
         return markdown_table(("ω (rad/s)", "|BLA| (dB)", "phase (rad)", "total std (dB)",
-                               "noise std (dB)", "distortion std (dB)"), rows)
+                               "noise std (dB)", "distortion std, one realisation (dB)"), rows)
 
     def plot(self, ax: Any = None) -> Any:
         """The BLA (dB) with its total, noise and distortion standard deviations against
@@ -177,7 +171,8 @@ class BLA:
                 (self.bla_std, {"marker": "o", "markerfacecolor": "none", "color": "#1971c2"},
                  "total std (noise + distortion)"),
                 (self.noise_std, {"marker": "x", "color": "#e8590c"}, "noise std"),
-                (self.distortion_std, {"marker": "+", "color": "#2b8a3e"}, "distortion std")):
+                (self.distortion_std, {"marker": "+", "color": "#2b8a3e"},
+                 "distortion std (one realisation)")):
             if values is not None:
                 ax.plot(self.omega, _db(values), linestyle="none", markersize=5, label=label,
                         **style)
@@ -277,8 +272,8 @@ def best_linear_approximation(u_spectra: np.ndarray, y_spectra: np.ndarray,
         total = np.sum(np.abs(g - bla) ** 2, axis=0) / (m * (m - 1))
         distortion = None
         if noise_var is not None:
-            distortion = np.maximum(total - noise_var, 0.0)
-            total = noise_var + distortion  # never below the noise variance
+            total = np.maximum(total, noise_var)  # never below the noise variance
+            distortion = m * (total - noise_var)
     else:
         fast = _fast_distortion(y_mean[0], None if y_var is None else y_var[0], lines,
                                 u_mean[0], n)

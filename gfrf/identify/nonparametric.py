@@ -137,8 +137,8 @@ def kernel_lines(u_spectra: np.ndarray, y_spectra: np.ndarray, combos: list[Comb
         total = np.sum(np.abs(h - value) ** 2, axis=0) / (m * (m - 1))
         distortion = None
         if noise_var is not None:
-            distortion = np.maximum(total - noise_var, 0.0)
-            total = noise_var + distortion
+            total = np.maximum(total, noise_var)
+            distortion = m * (total - noise_var)
     else:
         total, distortion = noise_var, None
     return KernelLines(order=order, omega=out_lines * w0, frequencies=factors * w0,
