@@ -269,11 +269,23 @@ def _compare(estimate: Estimate, model: Any, sample_time: float
 
 
 #: Realisations whose input RMS values differ by less than this fraction share a level.
-LEVEL_TOLERANCE = 0.05
+LEVEL_TOLERANCE = 0.02
+#: Levels are told apart only when each is at least this factor above the one below.
+LEVEL_GAP = 1.2
+
+
+def _rms(u_spectra: np.ndarray, lines: np.ndarray) -> np.ndarray:
+    """RMS over the excited lines of each realisation's period-averaged input."""
+    return np.sqrt(2 * np.sum(np.abs(u_spectra.mean(axis=1)[:, lines]) ** 2, axis=1))
 
 
 def amplitude_levels(u_spectra: np.ndarray, lines: np.ndarray) -> list[np.ndarray]:
     """Realisations grouped by input level (RMS over the excited lines), lowest first.
+
+    Levels are told apart only in a designed experiment: every realisation within
+    :data:`LEVEL_TOLERANCE` of its level's lowest, at least two realisations a level,
+    and each level :data:`LEVEL_GAP` times the one below.  Anything else (realisations
+    scaled to a peak value, say, whose RMS values scatter) is one level.
 
     Parameters
     ----------
@@ -285,16 +297,19 @@ def amplitude_levels(u_spectra: np.ndarray, lines: np.ndarray) -> list[np.ndarra
     Returns
     -------
     list of numpy.ndarray
-        Realisation indices of each level; levels more than :data:`LEVEL_TOLERANCE`
-        apart.
+        Realisation indices of each level.
     """
-    rms = np.sqrt(2 * np.sum(np.abs(u_spectra.mean(axis=1)[:, lines]) ** 2, axis=1))
+    rms = _rms(u_spectra, lines)
     order = np.argsort(rms, kind="stable")
     groups = [[int(order[0])]]
     for i in order[1:]:
         if rms[i] > (1 + LEVEL_TOLERANCE) * rms[groups[-1][0]]:
             groups.append([])
         groups[-1].append(int(i))
+    designed = all(len(g) >= 2 for g in groups) and all(
+        rms[b[0]] >= LEVEL_GAP * rms[a[-1]] for a, b in zip(groups, groups[1:], strict=False))
+    if not designed:
+        return [np.arange(rms.size)]
     return [np.sort(np.array(g)) for g in groups]
 
 
@@ -328,8 +343,8 @@ def estimate_gfrf(data: str | Path | Periodic, period: int | None = None, *,
                   skip_periods: int = 0, model: Any = None) -> Estimate:
     """Nonparametric H1 (the BLA), H2 and H3 from periodic multisine data.
 
-    With realisations at two or more input levels (RMS values more than
-    :data:`LEVEL_TOLERANCE` apart, ``gfrf.multisine(levels=...)``), each estimate is
+    With realisations at two or more input levels (:func:`amplitude_levels`,
+    ``gfrf.multisine(levels=...)``), each estimate is
     made per level and extrapolated to zero amplitude (a polynomial in the squared
     level through the levels' values): that removes the amplitude-dependent bias
     (H1 + 3 H3(w, w', -w') |U'|^2 + ... for the BLA), at the price of a larger
@@ -385,8 +400,11 @@ def estimate_gfrf(data: str | Path | Periodic, period: int | None = None, *,
                                 if isolated[m] else None for m in (2, 3)}))
     bla, kernels = per_level[-1]
     h1 = None
-    levels = [float(np.sqrt(2 * np.mean(np.sum(np.abs(u_spectra[g].mean(axis=1)[:, lines]) ** 2,
-                                                axis=1)))) for g in groups]
+    rms = _rms(u_spectra, lines)
+    levels = [float(np.sqrt(np.mean(rms[g] ** 2))) for g in groups]
+    if len(groups) == 1 and rms.max() > (1 + LEVEL_TOLERANCE) * rms.min():
+        notes.append(f"the input RMS varies between realisations ({rms.min():.4g} to "
+                     f"{rms.max():.4g}) without distinct levels: one level, the BLA of them all")
     if len(groups) >= 2:
         x = [(v / levels[-1]) ** 2 for v in levels]
         h1 = _extrapolate([_as_lines(b) for b, _ in per_level], x)

@@ -90,3 +90,17 @@ def test_levels_are_told_apart_and_one_level_gives_no_extrapolation() -> None:
     single = multisine(256, 0.1, realisations=3, periods=3, seed=1)
     result = estimate_gfrf(measure(single, "narx")[0])
     assert result.h1 is None and len(result.levels) == 1
+
+
+def test_realisations_scaled_to_a_peak_value_are_one_level() -> None:
+    # a user's generator: each realisation scaled to max |u| = 0.5, so the RMS values
+    # scatter; these are not amplitude levels, and every realisation makes the BLA
+    design = multisine(512, 0.1, realisations=6, periods=3, seed=4)
+    scaled = design.u * (0.5 / np.max(np.abs(design.u), axis=1, keepdims=True))
+    peak = type(design)(**{**design.__dict__, "u": scaled})
+    measured, _ = measure(peak, "narx", noise=0.01)
+    rms = np.std(scaled, axis=1)
+    assert rms.max() > 1.05 * rms.min()
+    result = estimate_gfrf(measured)
+    assert result.h1 is None and result.bla.realisations == 6
+    assert any("without distinct levels" in n for n in result.notes)
