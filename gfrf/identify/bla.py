@@ -36,7 +36,8 @@ import numpy as np
 from gfrf._results import markdown_table, new_figure, short_repr
 from gfrf.errors import ArgumentError
 
-__all__ = ["BLA", "best_linear_approximation", "excited_lines", "RELATIVE_FLOOR"]
+__all__ = ["BLA", "best_linear_approximation", "excited_lines", "significant_lines",
+           "RELATIVE_FLOOR"]
 
 #: An excited line's input amplitude exceeds this fraction of the largest line's.
 RELATIVE_FLOOR = 1e-3
@@ -68,16 +69,34 @@ def excited_lines(u_spectra: np.ndarray, period: int) -> np.ndarray:
     numpy.ndarray
         Line indices in increasing order.
     """
-    mean = u_spectra.mean(axis=1)
-    power = np.min(np.abs(mean) ** 2, axis=0)
-    power[0] = 0.0
+    return np.flatnonzero(np.all(significant_lines(u_spectra, period), axis=0))
+
+
+def significant_lines(u_spectra: np.ndarray, period: int) -> np.ndarray:
+    """Where the input is significantly non-zero, realisation by realisation.
+
+    Parameters
+    ----------
+    u_spectra : numpy.ndarray
+        Input DFT lines, shape (realisations, periods, N // 2 + 1).
+    period : int
+        N.
+
+    Returns
+    -------
+    numpy.ndarray
+        Booleans, shape (realisations, N // 2 + 1): above :data:`RELATIVE_FLOOR` of the
+        realisation's largest line and (two periods or more) :data:`SNR_FLOOR` times the
+        line's period-to-period variance; DC and the Nyquist line never.
+    """
+    power = np.abs(u_spectra.mean(axis=1)) ** 2
+    power[:, 0] = 0.0
     if period % 2 == 0:
-        power[-1] = 0.0
-    significant = power > RELATIVE_FLOOR ** 2 * np.max(power)
+        power[:, -1] = 0.0
+    significant = power > RELATIVE_FLOOR ** 2 * np.max(power, axis=1, keepdims=True)
     if u_spectra.shape[1] >= 2:
-        spread = np.max(_between(u_spectra), axis=0)
-        significant &= power > SNR_FLOOR * spread
-    return np.flatnonzero(significant)
+        significant &= power > SNR_FLOOR * _between(u_spectra)
+    return significant
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -102,6 +121,9 @@ class BLA:
         M, P (after skipping) and N.
     sample_time : float
         T in s.
+    partial : numpy.ndarray
+        Lines excited in some realisations only (a grid drawn anew per realisation):
+        neither in the BLA nor detection lines.
     output_level, output_noise : numpy.ndarray
         RMS over realisations of the period-averaged output on every line 0..N/2, and
         the noise standard deviation of that average (None with one period).
@@ -122,6 +144,7 @@ class BLA:
     periods: int
     period: int
     sample_time: float
+    partial: np.ndarray
     output_level: np.ndarray
     output_noise: np.ndarray | None
     detection: dict[str, Any]
@@ -135,7 +158,9 @@ class BLA:
                 "bla": [[float(v.real), float(v.imag)] for v in self.bla],
                 "bla_std": listed(self.bla_std), "noise_std": listed(self.noise_std),
                 "distortion_std": listed(self.distortion_std),
-                "lines": [int(k) for k in self.lines], "realisations": self.realisations,
+                "lines": [int(k) for k in self.lines],
+                "partial_lines": [int(k) for k in self.partial],
+                "realisations": self.realisations,
                 "periods": self.periods, "period": self.period,
                 "sample_time": self.sample_time, "detection": dict(self.detection)}
 
@@ -187,8 +212,9 @@ class BLA:
         w0 = 2 * math.pi / (self.period * self.sample_time)
         k = np.arange(1, (self.period + 1) // 2)
         excited = np.isin(k, self.lines)
-        odd = ~excited & (k % 2 == 1)
-        even = ~excited & (k % 2 == 0)
+        free = ~excited & ~np.isin(k, self.partial)
+        odd = free & (k % 2 == 1)
+        even = free & (k % 2 == 0)
         for mask, style, label in ((excited, "o", "excited lines"),
                                    (odd, "^", "odd non-excited lines"),
                                    (even, "s", "even non-excited lines")):
@@ -211,12 +237,13 @@ def _db(a: np.ndarray) -> np.ndarray:
 
 
 def _fast_distortion(y_mean: np.ndarray, y_var: np.ndarray | None, lines: np.ndarray,
-                     u_mean: np.ndarray, n: int) -> np.ndarray | None:
+                     u_mean: np.ndarray, n: int, partial: np.ndarray) -> np.ndarray | None:
     """Distortion variance at each excited line from the two nearest non-excited lines on
     each side of the same parity (odd lines for an odd design, any otherwise)."""
     k = np.arange(1, (n + 1) // 2)
     odd_design = bool(np.all(lines % 2 == 1))
-    free = k[~np.isin(k, lines) & ((k % 2 == 1) if odd_design else True)]
+    free = k[~np.isin(k, lines) & ~np.isin(k, partial)
+             & ((k % 2 == 1) if odd_design else True)]
     if free.size == 0:
         return None
     power = np.abs(y_mean[free]) ** 2 - (0.0 if y_var is None else y_var[free])
@@ -255,7 +282,9 @@ def best_linear_approximation(u_spectra: np.ndarray, y_spectra: np.ndarray,
     """
     m, p, _ = u_spectra.shape
     n = period
-    lines = excited_lines(u_spectra, n) if lines is None else lines
+    significant = significant_lines(u_spectra, n)
+    lines = np.flatnonzero(np.all(significant, axis=0)) if lines is None else lines
+    partial = np.setdiff1d(np.flatnonzero(np.any(significant, axis=0)), lines)
     if lines.size == 0:
         raise ArgumentError("the input has no significantly excited line at this period")
     u_mean, y_mean = u_spectra.mean(axis=1), y_spectra.mean(axis=1)
@@ -276,7 +305,7 @@ def best_linear_approximation(u_spectra: np.ndarray, y_spectra: np.ndarray,
             distortion = m * (total - noise_var)
     else:
         fast = _fast_distortion(y_mean[0], None if y_var is None else y_var[0], lines,
-                                u_mean[0], n)
+                                u_mean[0], n, partial)
         distortion = fast
         total = None if noise_var is None else noise_var + (0.0 if fast is None else fast)
     level = np.sqrt(np.mean(np.abs(y_mean) ** 2, axis=0))
@@ -288,15 +317,15 @@ def best_linear_approximation(u_spectra: np.ndarray, y_spectra: np.ndarray,
                distortion_std=None if distortion is None else np.sqrt(distortion),
                realisations=m, periods=p, period=n, sample_time=sample_time,
                output_level=level, output_noise=noise,
-               detection=_detection(level, y_var, lines, m, n))
+               partial=partial, detection=_detection(level, y_var, lines, m, n, partial))
 
 
 def _detection(level: np.ndarray, y_var: np.ndarray | None, lines: np.ndarray, m: int,
-               n: int) -> dict[str, Any]:
+               n: int, partial: np.ndarray) -> dict[str, Any]:
     k = np.arange(1, (n + 1) // 2)
     out: dict[str, Any] = {}
     for name, parity in (("even", 0), ("odd", 1)):
-        free = k[~np.isin(k, lines) & (k % 2 == parity)]
+        free = k[~np.isin(k, lines) & ~np.isin(k, partial) & (k % 2 == parity)]
         out[f"{name}_lines"] = int(free.size)
         if free.size == 0 or y_var is None:
             out[f"{name}_ratio"], out[f"{name}_detected"] = None, None

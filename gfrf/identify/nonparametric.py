@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from gfrf._results import markdown_table, new_figure, short_repr
-from gfrf.identify.bla import BLA, best_linear_approximation, excited_lines
+from gfrf.identify.bla import BLA, best_linear_approximation, excited_lines, significant_lines
 from gfrf.identify.measured import Periodic, read_periodic, spectra
 from gfrf.identify.multisine import MAX_COMBINED_LINES, Combination, combination_lines
 
@@ -388,6 +388,12 @@ def estimate_gfrf(data: str | Path | Periodic, period: int | None = None, *,
                             f"({n} samples): is --period right?")
     notes = list(measured.notes)
     isolated = combination_lines([int(k) for k in lines], n)
+    partial = np.setdiff1d(np.flatnonzero(np.any(significant_lines(u_spectra, n), axis=0)), lines)
+    if partial.size:
+        notes.append(f"{partial.size} lines are excited in some realisations only: left out "
+                     f"of the BLA and of the detection lines; no H2, H3 (their combinations "
+                     f"are not known to be isolated)")
+        isolated = {2: [], 3: []}
     if lines.size > MAX_COMBINED_LINES:
         notes.append(f"{lines.size} excited lines: H2 and H3 are estimated only from "
                      f"sparse excitations (gfrf multisine --grid isolating)")

@@ -127,3 +127,20 @@ def test_plot_is_in_db_against_rad_per_second_with_legends() -> None:
     labels = [t.get_text() for t in left.get_legend().get_texts()]
     assert labels[:4] == ["BLA", "total std (noise + distortion)", "noise std",
                           "distortion std (one realisation)"]
+
+
+def test_a_grid_drawn_anew_in_each_realisation_keeps_its_lines_out_of_the_detection() -> None:
+    # a user's random-odd grid, new left-out lines in every realisation: lines excited in
+    # some realisations only are neither BLA lines nor detection lines
+    rows = [multisine(512, 0.1, realisations=1, periods=3, seed=s).u[0] for s in range(4)]
+    design = multisine(512, 0.1, realisations=4, periods=3, seed=0)
+    mixed = type(design)(**{**design.__dict__, "u": np.stack(rows)})
+    measured, _ = _linear(mixed, 0.01)
+    bla = _bla(measured)
+    grids = [set(multisine(512, 0.1, realisations=1, periods=1, seed=s).lines)
+             for s in range(4)]
+    assert bla.lines.tolist() == sorted(set.intersection(*grids))
+    assert bla.partial.tolist() == sorted(set.union(*grids) - set.intersection(*grids))
+    assert bla.detection["odd_detected"] is False and bla.detection["even_detected"] is False
+    z = np.abs(bla.bla - _h1(bla.omega, 0.1)) / bla.bla_std
+    assert np.mean(z <= 3) >= 0.95
