@@ -237,7 +237,9 @@ def _agreement(estimate: np.ndarray, std: np.ndarray | None, model: np.ndarray
                ) -> dict[str, Any]:
     error = np.abs(estimate - model)
     out: dict[str, Any] = {"model": [[float(v.real), float(v.imag)] for v in model],
-                           "relative_error": [float(e) for e in error / np.abs(model)]}
+                           "relative_error": [float(e) for e in np.divide(
+                               error, np.abs(model), out=np.full(error.size, math.inf),
+                               where=np.abs(model) > 0)]}
     if std is not None:
         z = np.divide(error, std, out=np.full(error.size, math.inf), where=std > 0)
         out["sigmas"] = [float(v) for v in z]
