@@ -30,7 +30,7 @@ MAX_REALISATIONS = 10_000
 MAX_BYTES = 400_000_000
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Periodic:
     """Measured periods.
 
@@ -223,7 +223,8 @@ def periodic(t: np.ndarray, u: np.ndarray, y: np.ndarray, starts: np.ndarray, pe
     if keep >= 3 and _transient(yy):
         notes.append("the first period differs from the others by more than their spread: "
                      "a transient? give --skip-periods 1")
-    return Periodic(uu.reshape(shape), yy, float(f"{step:.10g}"), tuple(notes))
+    return Periodic(u=uu.reshape(shape), y=yy, sample_time=float(f"{step:.10g}"),
+                    notes=tuple(notes))
 
 
 def _transient(y: np.ndarray) -> bool:

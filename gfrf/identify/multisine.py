@@ -47,7 +47,7 @@ MAX_SIGNAL = 2_000_000
 MAX_COMBINED_LINES = 40
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Combination:
     """One output line reached by exactly one combination of excited lines.
 
