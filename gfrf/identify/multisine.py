@@ -246,7 +246,10 @@ class Multisine:
         spectrum = np.fft.rfft(self.u[0, :self.period]) / self.period
         w = np.arange(spectrum.size) * 2 * math.pi / (self.period * self.sample_time)
         level = 20 * np.log10(np.maximum(np.abs(spectrum), 1e-300))
-        ax.plot(w, np.maximum(level, level.max() - 200), ".", color="0.6", label="all lines")
+        others = np.ones(w.size, dtype=bool)
+        others[list(self.lines)] = False
+        ax.plot(w[others], np.maximum(level[others], level.max() - 100), ".", color="0.6",
+                markersize=2, label="other lines (drawn 100 dB below the top when lower)")
         ax.plot(self.omega, level[list(self.lines)], "o", label="excited lines")
         ax.set(xlabel="ω (rad/s)", ylabel="|U| (dB)", title=f"{self.grid} multisine")
         ax.legend(fontsize="small")

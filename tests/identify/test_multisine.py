@@ -96,4 +96,5 @@ def test_plot_shows_the_excited_lines() -> None:
     figure = multisine(256, 0.1).plot()
     ax = figure.axes[0]
     assert "rad/s" in ax.get_xlabel() and "dB" in ax.get_ylabel()
-    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["all lines", "excited lines"]
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert labels == ["other lines (drawn 100 dB below the top when lower)", "excited lines"]
