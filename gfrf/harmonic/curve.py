@@ -1,0 +1,408 @@
+"""Frequency response curves: :func:`frc` and its result, :class:`FrequencyResponseCurve`.
+
+:func:`frc` balances the model with H harmonics (:mod:`.balance`), solves it at the
+start of the range by Newton (from H1 times the forcing, or by raising the forcing in
+steps when that fails), follows the branch by pseudo-arclength continuation through its
+folds (:mod:`.continuation`), decides the stability of every point by Hill's method
+(:mod:`.hill`) and adds the backbone of the unforced undamped system (:mod:`.backbone`).
+Every number is an ``estimate``: a truncated Fourier series solved in floating point;
+the result reports how far the neglected harmonics are from zero (the time-domain
+residual above H divided by the linear part there) so the user knows when to raise H.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from gfrf._results import markdown_table, new_figure, short_repr
+from gfrf.errors import ArgumentError, ConvergenceError
+from gfrf.harmonic.backbone import backbone_curve
+from gfrf.harmonic.balance import Balance
+from gfrf.harmonic.continuation import Point, Tracer, newton_fixed
+from gfrf.harmonic.hill import floquet_multipliers
+from gfrf.model.equation import Model
+
+__all__ = ["frc", "FrequencyResponseCurve", "CurvePoint", "DEFAULT_HARMONICS",
+           "MAX_POINTS"]
+
+#: Harmonics kept by default: odd and even up to the 9th, enough for the textbook
+#: Duffing curves to 1e-6 relative (the reported truncation estimate says when not).
+DEFAULT_HARMONICS = 9
+#: Most points of one continuation.
+MAX_POINTS = 20_000
+#: Most harmonics times points (bounds the work: each point costs about (2H+1)^3).
+MAX_WORK = 2_000_000
+
+
+@dataclass(frozen=True, kw_only=True)
+class CurvePoint:
+    """One periodic solution on the curve.
+
+    Attributes
+    ----------
+    omega : float
+        Forcing frequency, rad/s.
+    forcing : float
+        Forcing amplitude A of ``u = A cos(omega t)``.
+    coefficients : ndarray
+        ``(a0, a1, b1, ..., aH, bH)``.
+    stable : bool
+        Every Floquet multiplier inside the unit circle (Hill's method).
+    multipliers : tuple of complex
+        The Floquet multipliers over one forcing period (empty when undefined).
+    tail : float
+        Estimated amplitude of the neglected harmonics above H.
+    """
+
+    omega: float
+    forcing: float
+    coefficients: np.ndarray
+    stable: bool
+    multipliers: tuple[complex, ...]
+    tail: float
+
+    @property
+    def amplitude(self) -> float:
+        """Magnitude of the first harmonic, sqrt(a1^2 + b1^2)."""
+        return float(math.hypot(self.coefficients[1], self.coefficients[2]))
+
+    def pairs(self) -> list[list[float]]:
+        """``[[a0, 0], [a1, b1], ..., [aH, bH]]``."""
+        c = self.coefficients
+        return [[float(c[0]), 0.0]] + [[float(c[i]), float(c[i + 1])]
+                                       for i in range(1, c.size, 2)]
+
+    def to_dict(self) -> dict[str, Any]:
+        """The contract's point: omega, amplitude, stable, coefficients."""
+        return {"omega": self.omega, "amplitude": self.amplitude, "stable": self.stable,
+                "coefficients": self.pairs()}
+
+
+@dataclass(frozen=True, kw_only=True)
+class FrequencyResponseCurve:
+    """A branch of periodic steady states under ``u = A cos(omega t)`` (harmonic balance).
+
+    Attributes
+    ----------
+    equation : str
+        The model's equation.
+    harmonics : int
+        H.
+    samples : int
+        Time samples per period of the alternating frequency-time scheme.
+    vary : str
+        ``"omega"`` or ``"amplitude"``: the continuation parameter.
+    points : tuple of CurvePoint
+        In continuation order.
+    folds : tuple of CurvePoint
+        Saddle-node points (the tangent's parameter component vanishes).
+    period_doublings : tuple of dict
+        ``{omega, forcing, amplitude}`` where a multiplier crosses -1 (interpolated).
+    backbone : tuple of (float, float)
+        (omega, first-harmonic amplitude) of the unforced undamped system; empty when
+        there is none (discrete model, no undamped linear resonance).
+    complete : bool
+        The branch reached the end of the range.
+    residual : float
+        Largest residual of the balanced harmonics, relative to the equation's terms.
+    truncation : float
+        Largest estimated amplitude of the harmonics above H, relative to the
+        first-harmonic amplitude at that point.
+    notes : tuple of str
+        Caveats.
+    """
+
+    equation: str
+    harmonics: int
+    samples: int
+    vary: str
+    points: tuple[CurvePoint, ...]
+    folds: tuple[CurvePoint, ...]
+    period_doublings: tuple[dict[str, float], ...] = ()
+    backbone: tuple[tuple[float, float], ...] = ()
+    complete: bool = True
+    residual: float = 0.0
+    truncation: float = 0.0
+    notes: tuple[str, ...] = field(default_factory=tuple)
+
+    def __repr__(self) -> str:
+        return short_repr(self, "harmonics", points=len(self.points), folds=len(self.folds),
+                          complete=self.complete)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready: the contract's keys (harmonics, points, folds) and the extras."""
+        return {
+            "harmonics": self.harmonics,
+            "points": [p.to_dict() for p in self.points],
+            "folds": [{"omega": f.omega, "amplitude": f.amplitude} for f in self.folds],
+            "kind": "estimate",
+            "equation": self.equation,
+            "vary": self.vary,
+            "forcing": [p.forcing for p in self.points],
+            "fold_forcing": [f.forcing for f in self.folds],
+            "period_doublings": list(self.period_doublings),
+            "backbone": [{"omega": w, "amplitude": a} for w, a in self.backbone],
+            "complete": self.complete,
+            "samples": self.samples,
+            "residual": self.residual,
+            "truncation": self.truncation,
+            "notes": list(self.notes),
+        }
+
+    def summary_rows(self) -> list[tuple[str, Any]]:
+        """(quantity, value) rows of the summary."""
+        stable = sum(p.stable for p in self.points)
+        peak = max(self.points, key=lambda p: p.amplitude)
+        rows: list[tuple[str, Any]] = [
+            ("harmonics H (samples per period)", f"{self.harmonics} ({self.samples})"),
+            ("points (stable / unstable)", f"{len(self.points)} ({stable} / "
+                                           f"{len(self.points) - stable})"),
+            ("largest first-harmonic amplitude",
+             f"{peak.amplitude:.6g} at omega = {peak.omega:.6g} rad/s"),
+            ("neglected harmonics above H (estimate, relative)", self.truncation),
+            ("balance residual (relative)", self.residual)]
+        rows += [(f"fold {i + 1}", f"omega = {f.omega:.6g} rad/s, A = {f.forcing:.6g}, "
+                                   f"amplitude {f.amplitude:.6g}")
+                 for i, f in enumerate(self.folds)]
+        rows += [(f"period doubling {i + 1}", f"omega = {d['omega']:.6g} rad/s, "
+                                              f"amplitude {d['amplitude']:.6g}")
+                 for i, d in enumerate(self.period_doublings)]
+        return rows
+
+    def _repr_markdown_(self) -> str:
+        head = (f"**Frequency response curve** (harmonic balance, estimate) of "
+                f"`{self.equation}`" + ("" if self.complete else ", **incomplete**"))
+        return head + "\n\n" + markdown_table(("quantity", "value"), self.summary_rows())
+
+    def plot(self, ax: Any = None) -> Any:
+        """First-harmonic amplitude against omega (or A): stable solid, unstable dashed,
+        folds marked, backbone dotted.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Draw into these axes; default a new figure.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        if ax is None:
+            figure, axes = new_figure(1, 1, (7.0, 4.5))
+            ax = axes[0][0]
+        else:
+            figure = ax.figure
+        xs = np.array([p.omega if self.vary == "omega" else p.forcing for p in self.points])
+        ys = np.array([p.amplitude for p in self.points])
+        stable = np.array([p.stable for p in self.points])
+        labelled = {True: False, False: False}
+        start = 0
+        for i in range(1, len(xs) + 1):
+            if i == len(xs) or stable[i] != stable[start]:
+                flag = bool(stable[start])
+                ax.plot(xs[start:i + 1], ys[start:i + 1], "-" if flag else "--",
+                        color="#1c7ed6" if flag else "#e8590c",
+                        label=None if labelled[flag] else ("stable" if flag else "unstable"))
+                labelled[flag] = True
+                start = i
+        if self.folds:
+            ax.plot([f.omega if self.vary == "omega" else f.forcing for f in self.folds],
+                    [f.amplitude for f in self.folds], "ko", label="folds")
+        if self.backbone and self.vary == "omega":
+            ax.plot([w for w, _ in self.backbone], [a for _, a in self.backbone], ":",
+                    color="#495057", label="backbone")
+        ax.set(xlabel="ω (rad/s)" if self.vary == "omega" else "forcing amplitude A",
+               ylabel="first-harmonic amplitude",
+               title=f"harmonic balance, H = {self.harmonics}")
+        ax.legend(fontsize="small")
+        return figure
+
+
+def _check_range(name: str, value: Any, positive: bool) -> tuple[float, float]:
+    try:
+        lo, hi = (float(v) for v in value)
+    except (TypeError, ValueError):
+        raise ArgumentError(f"{name} must be a pair (low, high) of numbers, got "
+                            f"{value!r}") from None
+    if not (math.isfinite(lo) and math.isfinite(hi)) or not lo < hi:
+        raise ArgumentError(f"{name} range must be finite with low < high, got {lo!r}:{hi!r}")
+    if lo < 0 or (positive and lo == 0):
+        raise ArgumentError(f"{name} must be {'positive' if positive else 'non-negative'}, "
+                            f"got {lo!r}")
+    return lo, hi
+
+
+def _check_number(name: str, value: Any, positive: bool) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) \
+            or not math.isfinite(value) or value < 0 or (positive and value == 0):
+        raise ArgumentError(f"{name} must be a finite {'positive' if positive else 'non-negative'}"
+                            f" number, got {value!r}")
+    return float(value)
+
+
+def _first_point(balance: Balance, omega: float, amplitude: float, scale: float) -> Point:
+    """The solution at the start: Newton from the linear response, else raising A."""
+    point = newton_fixed(balance, balance.linear_guess(omega, amplitude), omega, amplitude,
+                         scale)
+    steps = 1
+    while point is None and steps < 64:
+        steps *= 2
+        x = np.zeros(balance.size)
+        for i in range(1, steps + 1):
+            a = amplitude * i / steps
+            guess = x if i > 1 else balance.linear_guess(omega, a)
+            step = newton_fixed(balance, guess, omega, a, scale)
+            if step is None:
+                break
+            x = step.x
+            point = step if i == steps else None
+    if point is None:
+        raise ConvergenceError(f"harmonic balance found no periodic solution at omega = "
+                               f"{omega:.6g} rad/s, A = {amplitude:.6g} (Newton from the "
+                               f"linear response and from raising A in up to 64 steps)")
+    return point
+
+
+def _tail(balance: Balance, point: Point) -> tuple[float, float]:
+    """(estimated amplitude of harmonics above H, in-band residual) at a point, both
+    relative: to the first harmonic and to the largest term of the equation."""
+    h, d = balance.harmonics, balance.degree
+    count = 2 * (d * h + 1)
+    r, biggest = balance.residual_samples(point.x, point.omega, point.amplitude, count)
+    spectrum = np.fft.rfft(r) / count * 2.0
+    scale = max(float(np.max(biggest)), 1e-300)
+    inband = float(np.max(np.abs(spectrum[:h + 1]))) / scale
+    neglected = 0.0
+    for k in range(h + 1, d * h + 1):
+        lin = abs(balance.linear_factor(k, point.omega))
+        neglected += (abs(spectrum[k]) / lin) ** 2 if lin > 0 else math.inf
+    first = max(math.hypot(point.x[1], point.x[2]), 1e-300)
+    return math.sqrt(neglected) / first, inband
+
+
+def _period_doublings(points: list[CurvePoint]) -> list[dict[str, float]]:
+    out = []
+    for a, b in zip(points, points[1:], strict=False):
+        if not a.multipliers or not b.multipliers:
+            continue
+        ra = max(a.multipliers, key=abs)
+        rb = max(b.multipliers, key=abs)
+        la, lb = math.log(abs(ra)), math.log(abs(rb))
+        if la * lb < 0 and ra.real < 0 and rb.real < 0 \
+                and abs(ra.imag) < 1e-6 * abs(ra) + 1e-9 and abs(rb.imag) < 1e-6 * abs(rb) + 1e-9:
+            s = la / (la - lb)
+            out.append({"omega": a.omega + s * (b.omega - a.omega),
+                        "forcing": a.forcing + s * (b.forcing - a.forcing),
+                        "amplitude": a.amplitude + s * (b.amplitude - a.amplitude)})
+    return out
+
+
+def frc(model: Model, amplitude: float | tuple[float, float],
+        omega: float | tuple[float, float], *, harmonics: int = DEFAULT_HARMONICS,
+        vary: str = "omega", step: float = 0.02, max_points: int = 5000,
+        backbone: bool = True) -> FrequencyResponseCurve:
+    """The frequency response curve of ``model`` under ``u = A cos(omega t)``.
+
+    Parameters
+    ----------
+    model : Model
+        A polynomial model (continuous ODE or discrete NARX).
+    amplitude : float or (float, float)
+        The forcing amplitude A; a range (low, high) with ``vary="amplitude"``.
+    omega : (float, float) or float
+        The frequency range in rad/s; one frequency with ``vary="amplitude"``.  A
+        discrete model's frequencies must not exceed Nyquist, pi / T.
+    harmonics : int, optional
+        H, the highest harmonic kept (default :data:`DEFAULT_HARMONICS`).
+    vary : {"omega", "amplitude"}
+        The continuation parameter.
+    step : float, optional
+        Largest arclength step in the scaled variables (smaller: denser curve).
+    max_points : int, optional
+        Most points; the result is marked incomplete when they run out.
+    backbone : bool, optional
+        Also compute the backbone of the unforced undamped system.
+
+    Returns
+    -------
+    FrequencyResponseCurve
+
+    Raises
+    ------
+    ArgumentError
+        Bad ranges, harmonics, step or point count, or too much work.
+    ConvergenceError
+        No periodic solution found at the start of the range.
+    """
+    if vary not in ("omega", "amplitude"):
+        raise ArgumentError(f"vary must be 'omega' or 'amplitude', got {vary!r}")
+    if vary == "omega":
+        lo, hi = _check_range("omega", omega, True)
+        forcing = _check_number("amplitude", amplitude, True)
+        fixed_omega = lo
+    else:
+        lo, hi = _check_range("amplitude", amplitude, False)
+        fixed_omega = _check_number("omega", omega, True)
+        forcing = lo
+    if isinstance(max_points, bool) or not isinstance(max_points, int) \
+            or not 2 <= max_points <= MAX_POINTS:
+        raise ArgumentError(f"max_points must be an integer from 2 to MAX_POINTS = "
+                            f"{MAX_POINTS}, got {max_points!r}")
+    step = _check_number("step", step, True)
+    balance = Balance(model.terms, harmonics, sample_time=model.sample_time)
+    if harmonics * max_points > MAX_WORK:
+        raise ArgumentError(f"harmonics x max_points = {harmonics * max_points} exceeds "
+                            f"MAX_WORK = {MAX_WORK}: use fewer harmonics or points")
+    top = hi if vary == "omega" else fixed_omega
+    if model.sample_time is not None and top > math.pi / model.sample_time * (1 + 1e-12):
+        raise ArgumentError(f"omega {top:.6g} rad/s is above the Nyquist frequency "
+                            f"pi/T = {math.pi / model.sample_time:.6g} rad/s of the "
+                            f"discrete model")
+    _, biggest = balance.residual_samples(balance.linear_guess(fixed_omega, forcing or hi),
+                                          fixed_omega, forcing or hi, balance.samples)
+    term_scale = max(float(np.max(biggest)), 1e-300)
+    first = _first_point(balance, fixed_omega, forcing, term_scale)
+    grid = np.linspace(lo, hi, 101) if vary == "omega" else np.array([fixed_omega])
+    peak = max(math.hypot(*balance.linear_guess(float(w), hi if vary == "amplitude"
+                                                else forcing)[1:3]) for w in grid)
+    own = max(float(np.max(np.abs(first.x))), 1e-12)
+    x_scale = max(own, min(peak, 100 * own)) if math.isfinite(peak) else own
+    tracer = Tracer(balance, vary, x_scale, hi - lo, term_scale)
+    raw, fold_points, complete = tracer.trace(first, hi, step=step, max_points=max_points,
+                                              accept=lambda p: None)
+    tails = [_tail(balance, p) for p, _ in raw]
+    points = [_curve_point(balance, p, t) for (p, _), (t, _) in zip(raw, tails, strict=True)]
+    folds = tuple(_curve_point(balance, f, _tail(balance, f)[0]) for f in fold_points)
+    notes = []
+    if any(not p.multipliers for p in points):
+        notes.append("the leading coefficient of the linearised equation is singular on "
+                     "some orbits: their stability is undefined and reported unstable")
+    if not complete:
+        notes.append(f"the continuation stopped before the end of the range "
+                     f"({len(points)} points; max_points = {max_points})")
+    truncation = max(t for t, _ in tails)
+    if truncation > 1e-6:
+        notes.append(f"the neglected harmonics above H = {harmonics} are estimated at "
+                     f"{truncation:.2g} of the first harmonic: raise the harmonics")
+    curve_backbone: tuple[tuple[float, float], ...] = ()
+    if backbone and model.sample_time is None:
+        top_amp = max(p.amplitude for p in points)
+        curve_backbone = backbone_curve(model, harmonics, 1.1 * top_amp)
+    return FrequencyResponseCurve(
+        equation=model.equation(), harmonics=harmonics, samples=balance.samples, vary=vary,
+        points=tuple(points), folds=folds, period_doublings=tuple(_period_doublings(points)),
+        backbone=curve_backbone, complete=complete,
+        residual=max(r for _, r in tails), truncation=truncation, notes=tuple(notes))
+
+
+def _curve_point(balance: Balance, point: Point, tail: float) -> CurvePoint:
+    rho = floquet_multipliers(balance, point.evaluation.partials, point.omega)
+    multipliers = () if rho is None else tuple(complex(r) for r in rho)
+    stable = bool(multipliers) and max(abs(r) for r in multipliers) < 1.0
+    return CurvePoint(omega=float(point.omega), forcing=float(point.amplitude),
+                      coefficients=point.x.copy(), stable=stable, multipliers=multipliers,
+                      tail=tail)
