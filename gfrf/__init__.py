@@ -25,6 +25,9 @@ Time and frequency domain
     simulate, SimulationResult, build_system, predict, VolterraPrediction,
     to_nlsys (the plant or closed loop as a ``control.NonlinearIOSystem``), ofrf, OFRF
     (the output at one frequency as a polynomial in a parameter, and the NOFRFs)
+Beyond the series radius
+    frc (frequency response curve by harmonic balance and continuation: stable and
+    unstable branches, folds, backbone), FrequencyResponseCurve
 Sweeps
     :mod:`gfrf.sweep.run` (``gfrf.sweep.run.sweep``), SweepResult
 Errors
@@ -81,12 +84,14 @@ _LAZY = {
     "ofrf": "gfrf.sim.ofrf", "OFRF": "gfrf.sim.ofrf",
     "from_tf": "gfrf.model.from_control", "from_nlsys": "gfrf.model.from_control",
     "threshold": "gfrf.twosided.threshold", "Threshold": "gfrf.twosided.threshold",
+    "FrequencyResponseCurve": "gfrf.harmonic.curve",
 }
 #: Functions of a plant model re-exported so that they also take a ModelFile.
 _PLANT = {
     "kernel": "gfrf.kernels.recursion", "h1_norm": "gfrf.bounds.norms",
     "kernel_norm": "gfrf.bounds.norms",
     "predict": "gfrf.sim.volterra", "probe_kernel": "gfrf.kernels.probing",
+    "frc": "gfrf.harmonic.curve",
 }
 
 __all__ = [

@@ -42,8 +42,9 @@ def _linear_resonance(terms: tuple) -> float | None:
 
 
 def backbone_curve(model: Model, harmonics: int, top: float
-                   ) -> tuple[tuple[float, float], ...]:
-    """(omega, a1) points of the backbone from a1 = 0 up to ``top``; empty if none."""
+                   ) -> tuple[tuple[float, float, float], ...]:
+    """(omega, a1, peak) points of the backbone from a1 = 0 up to ``top``, peak = y(0) =
+    a0 + a1 + ... + aH the largest displacement; empty if there is no backbone."""
     terms = tuple(t for t in model.terms
                   if not t.u_orders and all(o % 2 == 0 for o in t.y_orders))
     if not terms or not any(t.is_linear_output for t in terms) or not top > 0:
@@ -54,7 +55,7 @@ def backbone_curve(model: Model, harmonics: int, top: float
     balance = Balance(terms, harmonics)
     cos = [0] + [2 * k - 1 for k in range(1, harmonics + 1)]
     free = [i for i in cos if i != 1]
-    out = [(omega0, 0.0)]
+    out = [(omega0, 0.0, 0.0)]
     x = np.zeros(balance.size)
     omega = omega0
     previous: tuple[np.ndarray, float] | None = None
@@ -72,7 +73,7 @@ def backbone_curve(model: Model, harmonics: int, top: float
         x, omega = solved
         if not omega > 0:
             break
-        out.append((float(omega), float(a1)))
+        out.append((float(omega), float(a1), float(np.sum(x[cos]))))
     return tuple(out)
 
 

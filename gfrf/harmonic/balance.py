@@ -32,8 +32,9 @@ from gfrf.model.equation import Term
 
 __all__ = ["Balance", "Evaluation", "MAX_HARMONICS", "samples_needed"]
 
-#: Largest number of harmonics accepted (the Newton systems are dense, 2H + 2 square).
-MAX_HARMONICS = 200
+#: Largest number of harmonics accepted (the Newton systems are dense, 2H + 2 square,
+#: and Hill's eigenproblem d (2H + 1) square).
+MAX_HARMONICS = 100
 
 
 def samples_needed(degree: int, harmonics: int) -> int:

@@ -192,10 +192,11 @@ class Tracer:
 
     def trace(self, first: Point, end: float, *, step: float, max_points: int,
               accept: Callable[[Point], None]) -> tuple[list[tuple[Point, np.ndarray]],
-                                                         list[Point], bool]:
+                                                         list[tuple[Point, int]], bool]:
         """Follow the branch from ``first`` until the parameter reaches ``end``.
 
-        Returns the points with their tangents, the located folds, and whether the end
+        Returns the points with their tangents, the located folds with the sign of the
+        parameter's direction just before each (+1: p was increasing), and whether the end
         was reached (False when ``max_points`` ran out or the step shrank to nothing).
         ``accept`` is called on every new point (for a progress count).
         """
@@ -203,7 +204,7 @@ class Tracer:
         if (end - self.param(first)) * t[-1] < 0:
             t = -t
         points = [(first, t)]
-        folds: list[Point] = []
+        folds: list[tuple[Point, int]] = []
         ds = step / 4
         low, high = sorted((self.param(first), end))
         while len(points) < max_points:
@@ -230,7 +231,7 @@ class Tracer:
             if t[-1] * t_new[-1] < 0:
                 fold = self.fold(point, t, ds)
                 if fold is not None:
-                    folds.append(fold)
+                    folds.append((fold, 1 if t[-1] > 0 else -1))
             points.append((new, t_new))
             accept(new)
             if iterations <= 3 and angle < 0.05:

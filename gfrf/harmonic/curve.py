@@ -34,8 +34,10 @@ __all__ = ["frc", "FrequencyResponseCurve", "CurvePoint", "DEFAULT_HARMONICS",
 DEFAULT_HARMONICS = 9
 #: Most points of one continuation.
 MAX_POINTS = 20_000
-#: Most harmonics times points (bounds the work: each point costs about (2H+1)^3).
-MAX_WORK = 2_000_000
+#: Most work of one curve: points times (d (2H + 1))^3, d the output order or largest
+#: lag (each point's Hill eigenproblem; 400 points of a Duffing curve with H = 9 are
+#: about 2e7 and take about a second).
+MAX_WORK = 1_000_000_000
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -100,11 +102,15 @@ class FrequencyResponseCurve:
         In continuation order.
     folds : tuple of CurvePoint
         Saddle-node points (the tangent's parameter component vanishes).
+    fold_sweeps : tuple of str
+        For each fold, ``"up"`` when the parameter increased along the branch before it
+        (a slow up-sweep on that branch jumps there), else ``"down"``.
     period_doublings : tuple of dict
         ``{omega, forcing, amplitude}`` where a multiplier crosses -1 (interpolated).
-    backbone : tuple of (float, float)
-        (omega, first-harmonic amplitude) of the unforced undamped system; empty when
-        there is none (discrete model, no undamped linear resonance).
+    backbone : tuple of (float, float, float)
+        (omega, first-harmonic amplitude, peak displacement) of the free oscillations of
+        the unforced undamped system; empty when there is none (discrete model, no
+        undamped linear resonance, or ``vary="amplitude"``).
     complete : bool
         The branch reached the end of the range.
     residual : float
@@ -122,8 +128,9 @@ class FrequencyResponseCurve:
     vary: str
     points: tuple[CurvePoint, ...]
     folds: tuple[CurvePoint, ...]
+    fold_sweeps: tuple[str, ...] = ()
     period_doublings: tuple[dict[str, float], ...] = ()
-    backbone: tuple[tuple[float, float], ...] = ()
+    backbone: tuple[tuple[float, float, float], ...] = ()
     complete: bool = True
     residual: float = 0.0
     truncation: float = 0.0
@@ -144,8 +151,9 @@ class FrequencyResponseCurve:
             "vary": self.vary,
             "forcing": [p.forcing for p in self.points],
             "fold_forcing": [f.forcing for f in self.folds],
+            "fold_sweeps": list(self.fold_sweeps),
             "period_doublings": list(self.period_doublings),
-            "backbone": [{"omega": w, "amplitude": a} for w, a in self.backbone],
+            "backbone": [{"omega": w, "amplitude": a, "peak": y} for w, a, y in self.backbone],
             "complete": self.complete,
             "samples": self.samples,
             "residual": self.residual,
@@ -165,9 +173,9 @@ class FrequencyResponseCurve:
              f"{peak.amplitude:.6g} at omega = {peak.omega:.6g} rad/s"),
             ("neglected harmonics above H (estimate, relative)", self.truncation),
             ("balance residual (relative)", self.residual)]
-        rows += [(f"fold {i + 1}", f"omega = {f.omega:.6g} rad/s, A = {f.forcing:.6g}, "
-                                   f"amplitude {f.amplitude:.6g}")
-                 for i, f in enumerate(self.folds)]
+        rows += [(f"fold {i + 1} ({sweep}-sweep jump)",
+                  f"omega = {f.omega:.6g} rad/s, A = {f.forcing:.6g}, amplitude {f.amplitude:.6g}")
+                 for i, (f, sweep) in enumerate(zip(self.folds, self.fold_sweeps, strict=True))]
         rows += [(f"period doubling {i + 1}", f"omega = {d['omega']:.6g} rad/s, "
                                               f"amplitude {d['amplitude']:.6g}")
                  for i, d in enumerate(self.period_doublings)]
@@ -213,7 +221,7 @@ class FrequencyResponseCurve:
             ax.plot([f.omega if self.vary == "omega" else f.forcing for f in self.folds],
                     [f.amplitude for f in self.folds], "ko", label="folds")
         if self.backbone and self.vary == "omega":
-            ax.plot([w for w, _ in self.backbone], [a for _, a in self.backbone], ":",
+            ax.plot([b[0] for b in self.backbone], [b[1] for b in self.backbone], ":",
                     color="#495057", label="backbone")
         ax.set(xlabel="ω (rad/s)" if self.vary == "omega" else "forcing amplitude A",
                ylabel="first-harmonic amplitude",
@@ -303,8 +311,8 @@ def _period_doublings(points: list[CurvePoint]) -> list[dict[str, float]]:
 
 def frc(model: Model, amplitude: float | tuple[float, float],
         omega: float | tuple[float, float], *, harmonics: int = DEFAULT_HARMONICS,
-        vary: str = "omega", step: float = 0.02, max_points: int = 5000,
-        backbone: bool = True) -> FrequencyResponseCurve:
+        vary: str = "omega", step: float = 0.02,
+        backbone: bool = True, max_points: int | None = None) -> FrequencyResponseCurve:
     """The frequency response curve of ``model`` under ``u = A cos(omega t)``.
 
     Parameters
@@ -322,10 +330,11 @@ def frc(model: Model, amplitude: float | tuple[float, float],
         The continuation parameter.
     step : float, optional
         Largest arclength step in the scaled variables (smaller: denser curve).
-    max_points : int, optional
-        Most points; the result is marked incomplete when they run out.
     backbone : bool, optional
         Also compute the backbone of the unforced undamped system.
+    max_points : int, optional
+        Most points; the result is marked incomplete when they run out.  Default 5000
+        or fewer, as :data:`MAX_WORK` allows.
 
     Returns
     -------
@@ -348,15 +357,19 @@ def frc(model: Model, amplitude: float | tuple[float, float],
         lo, hi = _check_range("amplitude", amplitude, False)
         fixed_omega = _check_number("omega", omega, True)
         forcing = lo
+    step = _check_number("step", step, True)
+    balance = Balance(model.terms, harmonics, sample_time=model.sample_time)
+    per_point = (max(1, *balance.y_orders) * balance.size) ** 3
+    if max_points is None:
+        max_points = max(2, min(5000, MAX_WORK // per_point))
     if isinstance(max_points, bool) or not isinstance(max_points, int) \
             or not 2 <= max_points <= MAX_POINTS:
         raise ArgumentError(f"max_points must be an integer from 2 to MAX_POINTS = "
                             f"{MAX_POINTS}, got {max_points!r}")
-    step = _check_number("step", step, True)
-    balance = Balance(model.terms, harmonics, sample_time=model.sample_time)
-    if harmonics * max_points > MAX_WORK:
-        raise ArgumentError(f"harmonics x max_points = {harmonics * max_points} exceeds "
-                            f"MAX_WORK = {MAX_WORK}: use fewer harmonics or points")
+    if max_points * per_point > MAX_WORK:
+        raise ArgumentError(f"{max_points} points with {harmonics} harmonics are "
+                            f"{max_points * per_point:.3g} units of work, more than "
+                            f"MAX_WORK = {MAX_WORK:.3g}: use fewer harmonics or points")
     top = hi if vary == "omega" else fixed_omega
     if model.sample_time is not None and top > math.pi / model.sample_time * (1 + 1e-12):
         raise ArgumentError(f"omega {top:.6g} rad/s is above the Nyquist frequency "
@@ -376,7 +389,7 @@ def frc(model: Model, amplitude: float | tuple[float, float],
                                               accept=lambda p: None)
     tails = [_tail(balance, p) for p, _ in raw]
     points = [_curve_point(balance, p, t) for (p, _), (t, _) in zip(raw, tails, strict=True)]
-    folds = tuple(_curve_point(balance, f, _tail(balance, f)[0]) for f in fold_points)
+    folds = tuple(_curve_point(balance, f, _tail(balance, f)[0]) for f, _ in fold_points)
     notes = []
     if any(not p.multipliers for p in points):
         notes.append("the leading coefficient of the linearised equation is singular on "
@@ -388,13 +401,14 @@ def frc(model: Model, amplitude: float | tuple[float, float],
     if truncation > 1e-6:
         notes.append(f"the neglected harmonics above H = {harmonics} are estimated at "
                      f"{truncation:.2g} of the first harmonic: raise the harmonics")
-    curve_backbone: tuple[tuple[float, float], ...] = ()
-    if backbone and model.sample_time is None:
+    curve_backbone: tuple[tuple[float, float, float], ...] = ()
+    if backbone and model.sample_time is None and vary == "omega":
         top_amp = max(p.amplitude for p in points)
         curve_backbone = backbone_curve(model, harmonics, 1.1 * top_amp)
     return FrequencyResponseCurve(
         equation=model.equation(), harmonics=harmonics, samples=balance.samples, vary=vary,
-        points=tuple(points), folds=folds, period_doublings=tuple(_period_doublings(points)),
+        points=tuple(points), folds=folds,
+        fold_sweeps=tuple("up" if d > 0 else "down" for _, d in fold_points), period_doublings=tuple(_period_doublings(points)),
         backbone=curve_backbone, complete=complete,
         residual=max(r for _, r in tails), truncation=truncation, notes=tuple(notes))
 
