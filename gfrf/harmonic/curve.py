@@ -408,7 +408,8 @@ def frc(model: Model, amplitude: float | tuple[float, float],
     return FrequencyResponseCurve(
         equation=model.equation(), harmonics=harmonics, samples=balance.samples, vary=vary,
         points=tuple(points), folds=folds,
-        fold_sweeps=tuple("up" if d > 0 else "down" for _, d in fold_points), period_doublings=tuple(_period_doublings(points)),
+        fold_sweeps=tuple("up" if d > 0 else "down" for _, d in fold_points),
+        period_doublings=tuple(_period_doublings(points)),
         backbone=curve_backbone, complete=complete,
         residual=max(r for _, r in tails), truncation=truncation, notes=tuple(notes))
 
