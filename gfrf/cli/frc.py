@@ -78,6 +78,15 @@ def _range(option: str, text: str) -> tuple[float, float]:
     return _number(option, parts[0]), _number(option, parts[1])
 
 
+def _size(value: object) -> str:
+    """A summary value: text as it is, a relative size to 2 digits (below 1e-12: the
+    last bits of floating point, printed as such so the text is the same everywhere)."""
+    if isinstance(value, str):
+        return value
+    assert isinstance(value, float)
+    return "below 1e-12" if value < 1e-12 else f"{value:.2g}"
+
+
 def _frc(args: argparse.Namespace) -> int:
     check_plot_path(args.plot)
     if args.vary == "omega":
@@ -99,8 +108,7 @@ def _frc(args: argparse.Namespace) -> int:
     lines = [f"{curve.equation}: frequency response curve under {what}",
              f"  harmonic balance (estimate), H = {curve.harmonics}, {curve.samples} samples "
              f"per period; stability from Floquet multipliers (Hill's method)"]
-    lines += [f"  {name}: {value if isinstance(value, str) else f'{value:.2g}'}"
-              for name, value in curve.summary_rows()[1:]]
+    lines += [f"  {name}: {_size(value)}" for name, value in curve.summary_rows()[1:]]
     if curve.backbone:
         w, a, _ = curve.backbone[-1]
         lines.append(f"  backbone (unforced, undamped): omega = {curve.backbone[0][0]:.6g} "
