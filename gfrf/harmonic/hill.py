@@ -16,7 +16,9 @@ companion eigenproblem of size d (2H + 1), d the output order (or largest lag). 
 true exponent appears 2H + 1 times, shifted by j n omega; the d physically relevant
 ones are those whose eigenvector's harmonic weight is centred on harmonic 0 (the
 eigenvector criterion of Lazarus and Thomas, 2010), the others are copies or
-artefacts of the truncation.  The multipliers over one forcing period are
+artefacts of the truncation; a copy has the same multiplier, so of candidates with
+equal multipliers one is kept (a multiplier -1 has the two copies lambda +- j omega/2
+equally centred).  The multipliers over one forcing period are
 ``rho = exp(lambda 2 pi / omega)`` (discrete: ``mu^(2 pi / (omega T))``); the solution is
 stable when every ``|rho| < 1``, a fold has a multiplier crossing +1 and a
 period-doubling one crossing -1.
@@ -37,6 +39,8 @@ __all__ = ["floquet_multipliers"]
 #: Largest condition number of the leading coefficient matrix (the Toeplitz matrix of
 #: dF/d(highest derivative)) for which the companion form is built.
 _MAX_CONDITION = 1e12
+#: Relative distance below which two multipliers are the same (one exponent's copies).
+_SAME = 1e-7
 
 
 def floquet_multipliers(balance: Balance, partials: dict[int, np.ndarray],
@@ -86,9 +90,17 @@ def floquet_multipliers(balance: Balance, partials: dict[int, np.ndarray],
     weight = np.abs(vectors[:size]) ** 2
     harmonic = np.concatenate([[0], np.repeat(np.arange(1, h + 1), 2)])
     centre = (harmonic @ weight) / weight.sum(axis=0)
-    chosen = np.argsort(centre, kind="stable")[:degree]
     period = 2.0 * math.pi / omega
     if balance.sample_time is None:
-        return np.exp(values[chosen] * period)
-    with np.errstate(divide="ignore"):
-        return np.exp(np.log(values[chosen].astype(complex)) * period / balance.sample_time)
+        rho = np.exp(values * period)
+    else:
+        with np.errstate(divide="ignore"):
+            rho = np.exp(np.log(values.astype(complex)) * period / balance.sample_time)
+    chosen: list[complex] = []
+    for i in np.argsort(centre, kind="stable"):
+        # a copy lambda + j n omega has the same multiplier: keep one of each
+        if all(abs(rho[i] - r) > _SAME * max(abs(r), 1e-300) for r in chosen):
+            chosen.append(complex(rho[i]))
+            if len(chosen) == degree:
+                break
+    return np.array(chosen)
