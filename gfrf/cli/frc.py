@@ -102,9 +102,11 @@ def _frc(args: argparse.Namespace) -> int:
                 step=args.step, max_points=args.max_points)
     if args.plot:
         _plot(curve, args.plot)
-    what = (f"u = {amplitude:g}*cos(omega*t), omega from {omega[0]:g} to {omega[1]:g} rad/s"
-            if isinstance(omega, tuple) else
-            f"u = A*cos({omega:g}*t), A from {amplitude[0]:g} to {amplitude[1]:g}")
+    if isinstance(omega, tuple):
+        what = f"u = {amplitude:g}*cos(omega*t), omega from {omega[0]:g} to {omega[1]:g} rad/s"
+    else:
+        low, high = amplitude if isinstance(amplitude, tuple) else (amplitude, amplitude)
+        what = f"u = A*cos({omega:g}*t), A from {low:g} to {high:g}"
     lines = [f"{curve.equation}: frequency response curve under {what}",
              f"  harmonic balance (estimate), H = {curve.harmonics}, {curve.samples} samples "
              f"per period; stability from Floquet multipliers (Hill's method)"]

@@ -228,3 +228,20 @@ def test_bad_arguments_are_refused_before_any_work() -> None:
             frc(model, **kwargs)
     with pytest.raises(ArgumentError, match="Nyquist"):
         frc(narx, 0.1, (1.0, 40.0))
+
+
+@pytest.mark.parametrize("omega", [0.6, 1.2])
+def test_the_truncation_estimate_is_the_size_of_the_neglected_harmonics(omega: float) -> None:
+    """The reported estimate of the harmonics above H is within a factor 2 of their size
+    in a 31-harmonic solution, and bounds the error of the first harmonic."""
+    model = parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u")
+    reference = frc(model, (0.5, 1.0), omega, vary="amplitude", harmonics=31).points[-1]
+    ref = reference.coefficients
+    first = math.hypot(ref[1], ref[2])
+    for harmonics in (3, 5):
+        point = frc(model, (0.5, 1.0), omega, vary="amplitude",
+                    harmonics=harmonics).points[-1]
+        neglected = float(np.sqrt(np.sum(ref[2 * harmonics + 1:] ** 2))) / first
+        assert neglected / 2 < point.tail < 2 * neglected
+        error = math.hypot(point.coefficients[1] - ref[1], point.coefficients[2] - ref[2])
+        assert error / first < point.tail
