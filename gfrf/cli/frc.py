@@ -53,7 +53,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help="largest arclength step, scaled variables (default 0.02; smaller: "
                         "denser curve)")
     p.add_argument("--max-points", type=int, default=None,
-                   help="most points of the branch (default 5000, fewer when many "
+                   help="most points of the branch (default 2000, fewer when many "
                         "harmonics make each point costly)")
     p.add_argument("--plot", metavar="FILE", default=None,
                    help="write the curve (amplitude against omega) to FILE (.png, .svg, ...)")

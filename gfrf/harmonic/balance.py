@@ -103,6 +103,10 @@ class Balance:
         self.projection = basis.T * (2.0 / self.samples)
         self.projection[0] /= 2.0
         self.tau = tau
+        self._k = np.arange(harmonics + 1, dtype=float)
+        self._ones = np.ones(harmonics + 1, dtype=complex)
+        self._zeros = np.zeros(harmonics + 1, dtype=complex)
+        self._cache: dict[int, np.ndarray] = {}
         span = np.arange(-2 * harmonics, 2 * harmonics + 1)
         #: exp(-j n tau) / N for n = -2H..2H: complex Fourier coefficients of samples.
         self.analysis = np.exp(-1j * np.outer(span, tau)) / self.samples
@@ -115,13 +119,20 @@ class Balance:
     def multipliers(self, order: int, omega: float) -> tuple[np.ndarray, np.ndarray]:
         """Complex factors of harmonics 0..H for ``D^order`` (or lag ``order``) and their
         derivative with respect to omega."""
-        k = np.arange(self.harmonics + 1, dtype=float)
+        k = self._k
         if self.sample_time is not None:
             m = np.exp(-1j * k * omega * order * self.sample_time)
             return m, -1j * k * order * self.sample_time * m
-        m = (1j * k * omega) ** order
-        dm = order * (1j * k) ** order * omega ** (order - 1) if order else np.zeros_like(m)
-        return m, dm
+        if order == 0:
+            return self._ones, self._zeros
+        m = self._powers(order) * omega ** order
+        return m, m * (order / omega)
+
+    def _powers(self, order: int) -> np.ndarray:
+        """(j k)^order for k = 0..H, computed once per order."""
+        if order not in self._cache:
+            self._cache[order] = (1j * self._k) ** order
+        return self._cache[order]
 
     def operator(self, factors: np.ndarray) -> np.ndarray:
         """The real (2H+1)-square matrix multiplying harmonic k's amplitude by ``factors[k]``."""

@@ -30,6 +30,9 @@ __all__ = ["Point", "Tracer", "newton_fixed"]
 MAX_NEWTON = 12
 #: Relative tolerance of the corrector (residual against the size of the equation's terms).
 TOLERANCE = 1e-12
+#: Response size, in units of the scale sx, beyond which the branch is not followed
+#: (an undamped resonance sends it to infinity).
+UNBOUNDED = 1e3
 #: Root-finder iterations of a fold location.
 FOLD_ITERATIONS = 60
 
@@ -44,16 +47,22 @@ class Point:
     evaluation: Evaluation
 
 
+def _solve(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """``matrix^-1 rhs``, or the least-squares step of least norm when the matrix is
+    singular (an undamped internal resonance: a harmonic left undetermined stays 0)."""
+    try:
+        return np.linalg.solve(matrix, rhs)
+    except np.linalg.LinAlgError:
+        return np.linalg.lstsq(matrix, rhs, rcond=None)[0]
+
+
 def newton_fixed(balance: Balance, x: np.ndarray, omega: float, amplitude: float,
                  scale: float) -> Point | None:
     """Newton on the balance at fixed omega and A from ``x``; None if it fails."""
     x = x.copy()
     for _ in range(MAX_NEWTON):
         e = balance.evaluate(x, omega, amplitude)
-        try:
-            dx = np.linalg.solve(e.jac_x, -e.residual)
-        except np.linalg.LinAlgError:
-            return None
+        dx = _solve(e.jac_x, -e.residual)
         if not np.isfinite(dx).all():
             return None
         x += dx
@@ -118,8 +127,8 @@ class Tracer:
         jp = e.jac_omega if self.vary == "omega" else e.jac_amplitude
         k = np.column_stack([e.jac_x * self.sx, jp * self.sp])
         guide = previous if previous is not None else np.eye(self.size + 1)[-1]
-        t = np.linalg.solve(np.vstack([k, guide]), np.eye(self.size + 1)[-1])
-        return t / np.linalg.norm(t)
+        t = np.linalg.svd(k)[2][-1]  # the null vector of the (m, m + 1) Jacobian
+        return -t if t @ guide < 0 else t
 
     def correct(self, start: Point, tangent: np.ndarray, ds: float
                 ) -> tuple[Point, int] | None:
@@ -130,10 +139,7 @@ class Tracer:
         for it in range(1, MAX_NEWTON + 1):
             e, k = self._evaluate(z, start)
             rhs = np.append(-e.residual, ds - tangent @ (z - z0))
-            try:
-                dz = np.linalg.solve(np.vstack([k, tangent]), rhs)
-            except np.linalg.LinAlgError:
-                return None
+            dz = _solve(np.vstack([k, tangent]), rhs)
             if not np.isfinite(dz).all():
                 return None
             z = z + dz
@@ -216,6 +222,8 @@ class Tracer:
                     return points, folds, False
                 continue
             new, iterations = out
+            if np.max(np.abs(new.x)) > UNBOUNDED * self.sx:
+                return points, folds, False
             t_new = self.tangent(new, t)
             angle = math.acos(min(1.0, abs(float(t @ t_new))))
             if angle > 0.2 and ds > step * 1e-6:

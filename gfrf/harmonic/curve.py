@@ -32,6 +32,9 @@ __all__ = ["frc", "FrequencyResponseCurve", "CurvePoint", "DEFAULT_HARMONICS",
 #: Harmonics kept by default: odd and even up to the 9th, enough for the textbook
 #: Duffing curves to 1e-6 relative (the reported truncation estimate says when not).
 DEFAULT_HARMONICS = 9
+#: Multipliers within this of the unit circle are not counted stable (an undamped
+#: system's are on it, up to rounding).
+MARGINAL = 1e-9
 #: Most points of one continuation.
 MAX_POINTS = 20_000
 #: Most work of one curve: points times (d (2H + 1))^3, d the output order or largest
@@ -333,7 +336,7 @@ def frc(model: Model, amplitude: float | tuple[float, float],
     backbone : bool, optional
         Also compute the backbone of the unforced undamped system.
     max_points : int, optional
-        Most points; the result is marked incomplete when they run out.  Default 5000
+        Most points; the result is marked incomplete when they run out.  Default 2000
         or fewer, as :data:`MAX_WORK` allows.
 
     Returns
@@ -361,7 +364,7 @@ def frc(model: Model, amplitude: float | tuple[float, float],
     balance = Balance(model.terms, harmonics, sample_time=model.sample_time)
     per_point = (max(1, *balance.y_orders) * balance.size) ** 3
     if max_points is None:
-        max_points = max(2, min(5000, MAX_WORK // per_point))
+        max_points = max(2, min(2000, MAX_WORK // per_point))
     if isinstance(max_points, bool) or not isinstance(max_points, int) \
             or not 2 <= max_points <= MAX_POINTS:
         raise ArgumentError(f"max_points must be an integer from 2 to MAX_POINTS = "
@@ -395,8 +398,10 @@ def frc(model: Model, amplitude: float | tuple[float, float],
         notes.append("the leading coefficient of the linearised equation is singular on "
                      "some orbits: their stability is undefined and reported unstable")
     if not complete:
-        notes.append(f"the continuation stopped before the end of the range "
-                     f"({len(points)} points; max_points = {max_points})")
+        last = points[-1].omega if vary == "omega" else points[-1].forcing
+        notes.append(f"the continuation stopped at {vary} = {last:.6g}, before the end of "
+                     f"the range ({len(points)} points): max_points = {max_points} reached, "
+                     f"no step converged, or the response grew without bound")
     truncation = max(t for t, _ in tails)
     if truncation > 1e-6:
         notes.append(f"the neglected harmonics above H = {harmonics} are estimated at "
@@ -417,7 +422,7 @@ def frc(model: Model, amplitude: float | tuple[float, float],
 def _curve_point(balance: Balance, point: Point, tail: float) -> CurvePoint:
     rho = floquet_multipliers(balance, point.evaluation.partials, point.omega)
     multipliers = () if rho is None else tuple(complex(r) for r in rho)
-    stable = bool(multipliers) and max(abs(r) for r in multipliers) < 1.0
+    stable = bool(multipliers) and max(abs(r) for r in multipliers) < 1.0 - MARGINAL
     return CurvePoint(omega=float(point.omega), forcing=float(point.amplitude),
                       coefficients=point.x.copy(), stable=stable, multipliers=multipliers,
                       tail=tail)

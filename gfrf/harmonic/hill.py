@@ -64,8 +64,11 @@ def floquet_multipliers(balance: Balance, partials: dict[int, np.ndarray],
     """
     h = balance.harmonics
     size = 2 * h + 1
+    degree = max(partials)
+    top = partials[degree]
+    if np.min(np.abs(top)) <= 1e-9 * np.max(np.abs(top)) or np.min(top) < 0 < np.max(top):
+        return None  # dF/d(highest term) vanishes on the orbit: no state form there
     g = {order: balance.multiplication(values) for order, values in partials.items()}
-    degree = max(g)
     k = np.arange(h + 1)
     coeffs = []
     for j in range(degree + 1):
@@ -87,14 +90,16 @@ def floquet_multipliers(balance: Balance, partials: dict[int, np.ndarray],
     companion[:-size, size:] = np.eye((degree - 1) * size)
     companion[-size:, :] = -lower
     values, vectors = np.linalg.eig(companion)
+    if not np.isfinite(values).all():
+        return None
     weight = np.abs(vectors[:size]) ** 2
     harmonic = np.concatenate([[0], np.repeat(np.arange(1, h + 1), 2)])
     centre = (harmonic @ weight) / weight.sum(axis=0)
     period = 2.0 * math.pi / omega
-    if balance.sample_time is None:
-        rho = np.exp(values * period)
-    else:
-        with np.errstate(divide="ignore"):
+    with np.errstate(divide="ignore", over="ignore"):  # |rho| = inf: unstable
+        if balance.sample_time is None:
+            rho = np.exp(values * period)
+        else:
             rho = np.exp(np.log(values.astype(complex)) * period / balance.sample_time)
     chosen: list[complex] = []
     for i in np.argsort(centre, kind="stable"):
