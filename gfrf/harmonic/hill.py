@@ -23,6 +23,13 @@ equally centred).  The multipliers over one forcing period are
 stable when every ``|rho| < 1``, a fold has a multiplier crossing +1 and a
 period-doubling one crossing -1.
 
+For a NARX model the ansatz is imposed on the continuous interpolant, at every phase
+of the forcing at once.  When omega T / (2 pi) is irrational (the generic case along a
+continuation) the sampled sequence meets every phase and the moduli are its Lyapunov
+multipliers; at a rational ratio the sampled system sees only finitely many phases and
+its monodromy over one period can differ slightly (1e-4 relative in the tests): a
+stability decision within that of the unit circle is not to be trusted there.
+
 May import: numpy and :mod:`gfrf.harmonic.balance`.
 """
 

@@ -114,3 +114,23 @@ def test_bad_input_is_one_line_and_exit_2(args: list[str],
     assert code == 2, out.err
     assert out.err.count("\n") == 1 and out.err.startswith("gfrf: error: ")
     assert out.out == ""
+
+
+def test_a_branch_that_does_not_end_exits_1_with_its_points(
+        capsys: pytest.CaptureFixture[str]) -> None:
+    """An undamped resonance sends the response to infinity: the points found so far,
+    complete false, a note, exit 1 (no traceback at the singular internal resonance)."""
+    code, out, _ = _run(capsys, "D(y,2) + y = u", "--amplitude", "0.5", "--omega", "0.5:2",
+                        "--max-points", "60", "--json")
+    data = json.loads(out)
+    assert code == 1 and data["complete"] is False and len(data["points"]) == 60
+    assert data["points"][0]["amplitude"] == pytest.approx(0.5 / (1 - 0.25))
+    assert any("stopped" in note for note in data["notes"])
+
+
+def test_no_periodic_solution_exits_1_with_one_line(capsys: pytest.CaptureFixture[str]) -> None:
+    """u**2 drives 2 w = 1 rad/s, an undamped mode, at w = 0.5: harmonic balance finds
+    no periodic solution and says so (a valid input, not converged: exit 1)."""
+    code, out, err = _run(capsys, "D(y,3) + D(y,2) + D(y) + y + y**2 = u**2 + u",
+                          "--amplitude", "0.5", "--omega", "0.5:2")
+    assert code == 1 and out == "" and "no periodic solution" in err
