@@ -245,3 +245,15 @@ def test_the_truncation_estimate_is_the_size_of_the_neglected_harmonics(omega: f
         assert neglected / 2 < point.tail < 2 * neglected
         error = math.hypot(point.coefficients[1] - ref[1], point.coefficients[2] - ref[2])
         assert error / first < point.tail
+
+
+def test_gfrf_frc_takes_a_model_file() -> None:
+    """models/duffing.toml is y'' + 0.2 y' + y + 0.5 y^3 = u: at a small forcing the
+    first harmonic is H1(jw) A (the cubic's share is of order A^3)."""
+    from pathlib import Path
+
+    mf = gfrf.load_model(Path(__file__).resolve().parents[2] / "models" / "duffing.toml")
+    point = gfrf.frc(mf, (1e-4, 2e-4), 1.3, vary="amplitude").points[-1]
+    h1 = 1 / complex(1 - 1.3 ** 2, 0.2 * 1.3)
+    assert complex(point.coefficients[1], -point.coefficients[2]) == pytest.approx(
+        2e-4 * h1, rel=1e-6)
