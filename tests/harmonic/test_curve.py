@@ -257,3 +257,14 @@ def test_gfrf_frc_takes_a_model_file() -> None:
     h1 = 1 / complex(1 - 1.3 ** 2, 0.2 * 1.3)
     assert complex(point.coefficients[1], -point.coefficients[2]) == pytest.approx(
         2e-4 * h1, rel=1e-6)
+
+
+def test_a_fold_in_omega_is_a_fold_in_the_forcing_at_that_frequency() -> None:
+    """Continued in A at the down-sweep fold frequency, the branch folds at A = 0.3 with
+    the same first-harmonic amplitude: the two continuations locate the same point."""
+    text, _, forcing = HARDENING
+    fold = _curve(text, forcing).folds[1]
+    in_a = frc(parse_model(text), (0.05, 0.6), fold.omega, vary="amplitude")
+    match = min(in_a.folds, key=lambda f: abs(f.forcing - forcing))
+    assert match.forcing == pytest.approx(forcing, rel=1e-8)
+    assert match.amplitude == pytest.approx(fold.amplitude, rel=1e-7)
