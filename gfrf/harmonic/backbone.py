@@ -43,8 +43,24 @@ def _linear_resonance(terms: tuple) -> float | None:
 
 def backbone_curve(model: Model, harmonics: int, top: float
                    ) -> tuple[tuple[float, float, float], ...]:
-    """(omega, a1, peak) points of the backbone from a1 = 0 up to ``top``, peak = y(0) =
-    a0 + a1 + ... + aH the largest displacement; empty if there is no backbone."""
+    """The backbone of the unforced, undamped part of ``model``.
+
+    Parameters
+    ----------
+    model : Model
+        A continuous model; its terms without the input and with even derivatives only
+        are kept.
+    harmonics : int
+        Harmonics of the cosine balance.
+    top : float
+        Largest first-harmonic amplitude a1 of the march.
+
+    Returns
+    -------
+    tuple of (float, float, float)
+        (omega, a1, peak) from a1 = 0 up to ``top`` (or where Newton fails), peak =
+        y(0) = a0 + a1 + ... + aH the turning point; empty if there is no backbone.
+    """
     terms = tuple(t for t in model.terms
                   if not t.u_orders and all(o % 2 == 0 for o in t.y_orders))
     if not terms or not any(t.is_linear_output for t in terms) or not top > 0:

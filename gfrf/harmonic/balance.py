@@ -38,7 +38,20 @@ MAX_HARMONICS = 100
 
 
 def samples_needed(degree: int, harmonics: int) -> int:
-    """Samples per period that make the projection exact: ``(degree + 1) H + 1``."""
+    """Samples per period that make the projection exact.
+
+    Parameters
+    ----------
+    degree : int
+        The model's largest total degree.
+    harmonics : int
+        H.
+
+    Returns
+    -------
+    int
+        ``(degree + 1) H + 1``.
+    """
     return (degree + 1) * harmonics + 1
 
 
@@ -110,11 +123,6 @@ class Balance:
         span = np.arange(-2 * harmonics, 2 * harmonics + 1)
         #: exp(-j n tau) / N for n = -2H..2H: complex Fourier coefficients of samples.
         self.analysis = np.exp(-1j * np.outer(span, tau)) / self.samples
-
-    @property
-    def discrete(self) -> bool:
-        """True for a NARX model (lags instead of derivatives)."""
-        return self.sample_time is not None
 
     def multipliers(self, order: int, omega: float) -> tuple[np.ndarray, np.ndarray]:
         """Complex factors of harmonics 0..H for ``D^order`` (or lag ``order``) and their

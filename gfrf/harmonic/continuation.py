@@ -58,7 +58,24 @@ def _solve(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
 
 def newton_fixed(balance: Balance, x: np.ndarray, omega: float, amplitude: float,
                  scale: float) -> Point | None:
-    """Newton on the balance at fixed omega and A from ``x``; None if it fails."""
+    """Newton on the balance at fixed omega and A.
+
+    Parameters
+    ----------
+    balance : Balance
+        The harmonic-balance equations.
+    x : ndarray
+        Starting coefficients.
+    omega, amplitude : float
+        The fixed frequency and forcing amplitude.
+    scale : float
+        Size of the equation's terms: the residual must fall below 1e-9 of it.
+
+    Returns
+    -------
+    Point or None
+        The solution, or None when Newton does not converge in :data:`MAX_NEWTON` steps.
+    """
     x = x.copy()
     for _ in range(MAX_NEWTON):
         e = balance.evaluate(x, omega, amplitude)
