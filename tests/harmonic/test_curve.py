@@ -268,3 +268,70 @@ def test_a_fold_in_omega_is_a_fold_in_the_forcing_at_that_frequency() -> None:
     match = min(in_a.folds, key=lambda f: abs(f.forcing - forcing))
     assert match.forcing == pytest.approx(forcing, rel=1e-8)
     assert match.amplitude == pytest.approx(fold.amplitude, rel=1e-7)
+
+
+#: A Duffing oscillator sampled at T = 0.1 s (central differences) as a NARX model.
+STEP = 0.1
+NARX_DUFFING = (f"y[k] = 2*y[k-1] - y[k-2] - {STEP * 0.1}*(y[k-1] - y[k-2]) - {STEP ** 2}*y[k-1]"
+                f" - {STEP ** 2 * 0.3}*y[k-1]**3 + {STEP ** 2}*u[k-1]")
+
+
+def _recursion(omega: float, start: tuple[float, float], samples: int, k0: int = 0
+               ) -> np.ndarray:
+    """y[k0 - 1], y[k0], ..., of the NARX Duffing under u[k] = 0.3 cos(omega k T)."""
+    y = np.empty(samples + 2)
+    y[0], y[1] = start
+    for j in range(2, samples + 2):
+        k = k0 + j - 1
+        y[j] = (2 * y[j - 1] - y[j - 2] - STEP * 0.1 * (y[j - 1] - y[j - 2])
+                - STEP ** 2 * y[j - 1] - STEP ** 2 * 0.3 * y[j - 1] ** 3
+                + STEP ** 2 * 0.3 * math.cos(omega * (k - 1) * STEP))
+    return y
+
+
+def _sampled(point, ks: np.ndarray) -> np.ndarray:
+    c = point.coefficients
+    h = np.arange(1, (c.size - 1) // 2 + 1)
+    phase = point.omega * np.outer(ks * STEP, h)
+    return c[0] + np.cos(phase) @ c[1::2] + np.sin(phase) @ c[2::2]
+
+
+def test_narx_curve_stable_points_attract_and_unstable_points_repel() -> None:
+    """The sampled Duffing: a stable point's recursion started 0.1 % off returns to the
+    balanced samples (1e-7); an unstable point's, started 1e-9 off, leaves them."""
+    curve = frc(parse_model(NARX_DUFFING, sample_time=STEP), 0.3, (0.5, 3.0))
+    assert len(curve.folds) == 2 and curve.fold_sweeps == ("up", "down")
+    stable = min((p for p in curve.points if p.stable), key=lambda p: abs(p.omega - 1.3))
+    start = _sampled(stable, np.array([-1, 0]))
+    y = _recursion(stable.omega, (start[0], 1.001 * start[1]), 4000)
+    assert np.max(np.abs(y[-100:] - _sampled(stable, np.arange(3901, 4001)))) \
+        < 1e-7 * stable.amplitude
+    unstable = [p for p in curve.points if not p.stable]
+    middle = unstable[len(unstable) // 2]
+    start = _sampled(middle, np.array([-1, 0]))
+    y = _recursion(middle.omega, (start[0], start[1] + 1e-9), 4000)
+    assert np.max(np.abs(y[-100:] - _sampled(middle, np.arange(3901, 4001)))) \
+        > 1e-2 * middle.amplitude
+
+
+def test_narx_folds_are_the_jumps_of_sweeps_of_the_recursion() -> None:
+    """Stepped sweeps of the difference equation (0.1 % steps, 100 periods each, from
+    the state the last step ended in) jump within 0.5 % of the listed folds."""
+    curve = frc(parse_model(NARX_DUFFING, sample_time=STEP), 0.3, (0.5, 3.0))
+    for fold, sweep in zip(curve.folds, curve.fold_sweeps, strict=True):
+        ratio = 1.001 if sweep == "up" else 1 / 1.001
+        omega = fold.omega / ratio ** 15
+        state = _sampled(min(curve.points, key=lambda p: abs(p.omega - omega)
+                             + (0 if p.stable else 1e9)
+                             + abs(p.amplitude - fold.amplitude)), np.array([-1, 0]))
+        previous, jump = None, None
+        for _ in range(40):
+            omega *= ratio
+            n = int(100 * 2 * math.pi / omega / STEP)
+            y = _recursion(omega, (state[0], state[1]), n)
+            amp = np.max(np.abs(y[-int(2 * math.pi / omega / STEP):]))
+            if previous is not None and abs(amp - previous) > 0.15 * max(amp, previous):
+                jump = omega
+                break
+            previous, state = amp, (y[-2], y[-1])
+        assert jump is not None and abs(jump - fold.omega) <= 0.005 * fold.omega
