@@ -35,6 +35,11 @@ DEFAULT_HARMONICS = 9
 #: Multipliers within this of the unit circle are not counted stable (an undamped
 #: system's are on it, up to rounding).
 MARGINAL = 1e-9
+#: Frequencies accepted, rad/s (beyond them the powers (j k omega)^l of a model's
+#: derivatives leave the float range long before anything physical happens).
+OMEGA_LIMITS = (1e-6, 1e6)
+#: Largest forcing amplitude accepted.
+MAX_AMPLITUDE = 1e6
 #: Most points of one continuation.
 MAX_POINTS = 20_000
 #: Most work of one curve: points times (d (2H + 1))^3, d the output order or largest
@@ -300,6 +305,8 @@ def _period_doublings(points: list[CurvePoint]) -> list[dict[str, float]]:
     for a, b in zip(points, points[1:], strict=False):
         if not a.multipliers or not b.multipliers:
             continue
+        if not all(0 < abs(r) < math.inf for r in (*a.multipliers, *b.multipliers)):
+            continue
         ra = max(a.multipliers, key=abs)
         rb = max(b.multipliers, key=abs)
         la, lb = math.log(abs(ra)), math.log(abs(rb))
@@ -373,11 +380,30 @@ def frc(model: Model, amplitude: float | tuple[float, float],
         raise ArgumentError(f"{max_points} points with {harmonics} harmonics are "
                             f"{max_points * per_point:.3g} units of work, more than "
                             f"MAX_WORK = {MAX_WORK:.3g}: use fewer harmonics or points")
+    for name, value, (low, high) in (("omega", fixed_omega, OMEGA_LIMITS),
+                                     ("omega", hi if vary == "omega" else fixed_omega,
+                                      OMEGA_LIMITS),
+                                     ("amplitude", hi if vary == "amplitude" else forcing,
+                                      (0.0, MAX_AMPLITUDE))):
+        if not low <= value <= high:
+            raise ArgumentError(f"{name} {value!r} is outside [{low:g}, {high:g}] (OMEGA_LIMITS "
+                                f"and MAX_AMPLITUDE of gfrf.harmonic.curve)")
     top = hi if vary == "omega" else fixed_omega
     if model.sample_time is not None and top > math.pi / model.sample_time * (1 + 1e-12):
         raise ArgumentError(f"omega {top:.6g} rad/s is above the Nyquist frequency "
                             f"pi/T = {math.pi / model.sample_time:.6g} rad/s of the "
                             f"discrete model")
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        return _trace(model, balance, vary, lo, hi, fixed_omega, forcing, step, max_points,
+                      backbone)
+
+
+def _trace(model: Model, balance: Balance, vary: str, lo: float, hi: float,
+           fixed_omega: float, forcing: float, step: float, max_points: int,
+           backbone: bool) -> FrequencyResponseCurve:
+    """The work of :func:`frc` once its arguments are checked (overflows are caught as
+    non-finite Newton steps, not warned)."""
+    harmonics = balance.harmonics
     _, biggest = balance.residual_samples(balance.linear_guess(fixed_omega, forcing or hi),
                                           fixed_omega, forcing or hi, balance.samples)
     term_scale = max(float(np.max(biggest)), 1e-300)

@@ -221,6 +221,9 @@ def test_bad_arguments_are_refused_before_any_work() -> None:
                           ({"amplitude": 0.3, "omega": (0.0, 2.0)}, "positive"),
                           ({"amplitude": 0.3, "omega": (1.0, math.inf)}, "finite"),
                           ({"amplitude": 0.3, "omega": (1.0, 2.0), "vary": "x"}, "vary"),
+                          ({"amplitude": 0.3, "omega": (1e-300, 1.0)}, "OMEGA_LIMITS"),
+                          ({"amplitude": 0.3, "omega": (1.0, 1e300)}, "OMEGA_LIMITS"),
+                          ({"amplitude": 1e300, "omega": (1.0, 2.0)}, "MAX_AMPLITUDE"),
                           ({"amplitude": 0.3, "omega": (1.0, 2.0), "step": 0.0}, "step"),
                           ({"amplitude": 0.3, "omega": (1.0, 2.0), "harmonics": 99,
                             "max_points": 20_000}, "MAX_WORK")]:
