@@ -147,6 +147,11 @@ class Tracer:
         t = np.linalg.svd(k)[2][-1]  # the null vector of the (m, m + 1) Jacobian
         return -t if t @ guide < 0 else t
 
+    def arclength(self, start: Point, tangent: np.ndarray, end: Point) -> float:
+        """``tangent . (z_end - z_start)``: the arclength coordinate of ``end`` on the
+        corrector's hyperplanes through ``start``."""
+        return float(tangent @ (self._state(end) - self._state(start)))
+
     def correct(self, start: Point, tangent: np.ndarray, ds: float
                 ) -> tuple[Point, int] | None:
         """The point at arclength ``ds`` from ``start`` along ``tangent`` and the

@@ -40,6 +40,8 @@ MARGINAL = 1e-9
 OMEGA_LIMITS = (1e-6, 1e6)
 #: Largest forcing amplitude accepted.
 MAX_AMPLITUDE = 1e6
+#: Root-finder iterations locating a period doubling.
+PD_ITERATIONS = 30
 #: Most points of one continuation.
 MAX_POINTS = 20_000
 #: Most work of one curve: points times (d (2H + 1))^3, d the output order or largest
@@ -114,7 +116,8 @@ class FrequencyResponseCurve:
         For each fold, ``"up"`` when the parameter increased along the branch before it
         (a slow up-sweep on that branch jumps there), else ``"down"``.
     period_doublings : tuple of dict
-        ``{omega, forcing, amplitude}`` where a multiplier crosses -1 (interpolated).
+        ``{omega, forcing, amplitude}`` where a multiplier crosses -1 (located on the
+        branch by regula falsi).
     backbone : tuple of (float, float, float)
         (omega, first-harmonic amplitude, peak displacement) of the free oscillations of
         the unforced undamped system; empty when there is none (discrete model, no
@@ -300,22 +303,47 @@ def _tail(balance: Balance, point: Point) -> tuple[float, float]:
     return math.sqrt(neglected) / first, inband
 
 
-def _period_doublings(points: list[CurvePoint]) -> list[dict[str, float]]:
+def _critical(multipliers: tuple[complex, ...]) -> complex | None:
+    """The multiplier of largest modulus when it is finite, non-zero, real and negative."""
+    if not multipliers or not all(0 < abs(r) < math.inf for r in multipliers):
+        return None
+    rho = max(multipliers, key=abs)
+    return rho if rho.real < 0 and abs(rho.imag) < 1e-6 * abs(rho) + 1e-9 else None
+
+
+def _period_doublings(balance: Balance, tracer: Tracer, raw: list[tuple[Point, np.ndarray]],
+                      points: list[CurvePoint]) -> list[dict[str, float]]:
+    """Where a real negative multiplier crosses -1 between neighbouring points: located
+    by regula falsi on the arclength from the first of them (log |rho| = 0), each
+    evaluation a corrected point and its Hill multipliers."""
     out = []
-    for a, b in zip(points, points[1:], strict=False):
-        if not a.multipliers or not b.multipliers:
+    for i, (a, b) in enumerate(zip(points, points[1:], strict=False)):
+        ra, rb = _critical(a.multipliers), _critical(b.multipliers)
+        if ra is None or rb is None or math.log(abs(ra)) * math.log(abs(rb)) >= 0:
             continue
-        if not all(0 < abs(r) < math.inf for r in (*a.multipliers, *b.multipliers)):
-            continue
-        ra = max(a.multipliers, key=abs)
-        rb = max(b.multipliers, key=abs)
-        la, lb = math.log(abs(ra)), math.log(abs(rb))
-        if la * lb < 0 and ra.real < 0 and rb.real < 0 \
-                and abs(ra.imag) < 1e-6 * abs(ra) + 1e-9 and abs(rb.imag) < 1e-6 * abs(rb) + 1e-9:
-            s = la / (la - lb)
-            out.append({"omega": a.omega + s * (b.omega - a.omega),
-                        "forcing": a.forcing + s * (b.forcing - a.forcing),
-                        "amplitude": a.amplitude + s * (b.amplitude - a.amplitude)})
+        start, tangent = raw[i]
+        s0, s1 = 0.0, tracer.arclength(start, tangent, raw[i + 1][0])
+        f0, f1 = math.log(abs(ra)), math.log(abs(rb))
+        best = (start, f0) if abs(f0) < abs(f1) else (raw[i + 1][0], f1)
+        for _ in range(PD_ITERATIONS):
+            s = (s0 * f1 - s1 * f0) / (f1 - f0)
+            got = tracer.correct(start, tangent, s)
+            rho = None if got is None else floquet_multipliers(
+                balance, got[0].evaluation.partials, got[0].omega)
+            crit = None if rho is None else _critical(tuple(complex(r) for r in rho))
+            if got is None or crit is None:
+                break
+            fs = math.log(abs(crit))
+            best = (got[0], fs)
+            if abs(fs) <= 1e-12:
+                break
+            if fs * f1 > 0:
+                s1, f1 = s, fs
+            else:
+                s0, f0 = s, fs
+        p = best[0]
+        out.append({"omega": float(p.omega), "forcing": float(p.amplitude),
+                    "amplitude": float(math.hypot(p.x[1], p.x[2]))})
     return out
 
 
@@ -440,7 +468,7 @@ def _trace(model: Model, balance: Balance, vary: str, lo: float, hi: float,
         equation=model.equation(), harmonics=harmonics, samples=balance.samples, vary=vary,
         points=tuple(points), folds=folds,
         fold_sweeps=tuple("up" if d > 0 else "down" for _, d in fold_points),
-        period_doublings=tuple(_period_doublings(points)),
+        period_doublings=tuple(_period_doublings(balance, tracer, raw, points)),
         backbone=curve_backbone, complete=complete,
         residual=max(r for _, r in tails), truncation=truncation, notes=tuple(notes))
 
