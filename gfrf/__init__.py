@@ -29,6 +29,9 @@ Measurements without a model
     multisine, Multisine (odd random-phase multisine designs), estimate_gfrf, Estimate
     (the best linear approximation with its noise and distortion levels, nonparametric
     H2 and H3 from periodic data)
+Beyond the series radius
+    frc (frequency response curve by harmonic balance and continuation: stable and
+    unstable branches, folds, backbone), FrequencyResponseCurve
 Sweeps
     :mod:`gfrf.sweep.run` (``gfrf.sweep.run.sweep``), SweepResult
 Errors
@@ -87,12 +90,14 @@ _LAZY = {
     "ofrf": "gfrf.sim.ofrf", "OFRF": "gfrf.sim.ofrf",
     "from_tf": "gfrf.model.from_control", "from_nlsys": "gfrf.model.from_control",
     "threshold": "gfrf.twosided.threshold", "Threshold": "gfrf.twosided.threshold",
+    "FrequencyResponseCurve": "gfrf.harmonic.curve",
 }
 #: Functions of a plant model re-exported so that they also take a ModelFile.
 _PLANT = {
     "kernel": "gfrf.kernels.recursion", "h1_norm": "gfrf.bounds.norms",
     "kernel_norm": "gfrf.bounds.norms",
     "predict": "gfrf.sim.volterra", "probe_kernel": "gfrf.kernels.probing",
+    "frc": "gfrf.harmonic.curve",
 }
 
 __all__ = [

@@ -39,6 +39,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "gfrf.cli.ofrf",
     "gfrf.cli.plot",
     "gfrf.cli.threshold",
+    "gfrf.cli.frc",
 )
 
 
