@@ -312,10 +312,11 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = DEFAU
         :func:`gfrf.bounds.branch_bound.default_budget`: a work cap of about 8 s of
         enclosures on one core, from the kernel's size.  The search stops on this work
         count or on ``tol``, never on time.  Measured on a 2-core 2026 machine
-        (``gfrf bench``, section "Tight brackets"): ||H5|| of every bundled model closes to
-        ``tol = 1e-3`` within the default budget (the hanging pendulum in about 55,000
-        boxes, the cart-pole plant in about 26,000; the counts may differ between CPUs
-        in the last bits of floating point).
+        (``gfrf bench``, section "Tight brackets"): ||H5|| of every bundled continuous model
+        closes to ``tol = 1e-3`` within the default budget (the hanging pendulum in about
+        55,000 boxes, the cart-pole plant in about 26,000; the counts may differ between
+        CPUs in the last bits of floating point); of the NARX models ||H3|| closes (about
+        7,700 boxes), the identified examples' ||H5|| stays open (gap about 0.76).
     proof : {"interval", "float", "none"}
         ``"interval"`` (default): the majorant's upper end in ball arithmetic on proven
         sups (``upper_proof = "interval"``) and the witness |H_n(argmax)| in ball
