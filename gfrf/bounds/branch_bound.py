@@ -47,7 +47,6 @@ from functools import lru_cache
 from typing import Any
 
 import numpy as np
-import sympy as sp
 
 from gfrf.bounds.enclosure import InverseA, enclose
 from gfrf.bounds.majorant import linear_polynomials, majorant
@@ -55,7 +54,7 @@ from gfrf.bounds.simplex import nelder_mead
 from gfrf.bounds.starts import start_points
 from gfrf.bounds.tail import tail_bound
 from gfrf.errors import ArgumentError
-from gfrf.kernels.compiled import _Printer, kernel_source
+from gfrf.kernels.compiled import kernel_source, rename, step_text
 from gfrf.kernels.recursion import GFRFGenerator, generator
 from gfrf.model.equation import Model
 
@@ -139,7 +138,6 @@ class BranchBoundResult:
 
 def _taylor_source(gen: GFRFGenerator, n: int, symmetric: bool) -> str:
     """Source of ``taylor_kernel(x, inv_a)``: the recursion with 1/A as a call."""
-    printer = _Printer()
     lines = ["def taylor_kernel(x, inv_a):",
              f"    {', '.join(f'x{i}' for i in range(n))}, = x"]
     names: dict[tuple[int, ...], str] = {}
@@ -152,16 +150,14 @@ def _taylor_source(gen: GFRFGenerator, n: int, symmetric: bool) -> str:
             names[block] = "0.0"
             return "0.0"
         label = "h_" + "_".join(map(str, block))
-        inner = gen.variables(len(block))
-        mapping: dict[sp.Symbol, sp.Symbol] = {v: sp.Symbol(f"x{block[i]}")
-                                               for i, v in enumerate(inner)}
+        assignments, reduced = step_text(gen, len(block), symmetric)
+        mapping = {str(v): f"x{block[i]}" for i, v in enumerate(gen.variables(len(block)))}
         for sub, placeholder in zip(plan.blocks, plan.placeholders, strict=True):
-            mapping[placeholder] = sp.Symbol(emit(tuple(block[j] for j in sub)))
-        replacements, (reduced,) = sp.cse(plan.numerator.xreplace(mapping),
-                                          symbols=sp.numbered_symbols(f"{label}_c"))
-        for sym, value in replacements:
-            lines.append(f"    {sym} = {printer.doprint(value)}")
-        lines.append(f"    {label} = -({printer.doprint(reduced)}) * inv_a({block!r})")
+            mapping[str(placeholder)] = emit(tuple(block[j] for j in sub))
+        mapping.update({lhs: f"{label}{lhs}" for lhs, _ in assignments})
+        for lhs, value in assignments:
+            lines.append(f"    {label}{lhs} = {rename(value, mapping)}")
+        lines.append(f"    {label} = -({rename(reduced, mapping)}) * inv_a({block!r})")
         names[block] = label
         return label
 

@@ -22,7 +22,9 @@ from __future__ import annotations
 
 import hashlib
 import importlib.util
+import re
 import sys
+from functools import lru_cache
 from pathlib import Path
 from typing import Any, Protocol
 
@@ -32,7 +34,8 @@ from sympy.printing.pycode import PythonCodePrinter
 from gfrf._cache import cache_root, load_generated
 from gfrf.model.equation import Model
 
-__all__ = ["kernel_source", "numba_ufunc", "HAVE_NUMBA", "cache_dir", "Recursion"]
+__all__ = ["kernel_source", "numba_ufunc", "HAVE_NUMBA", "cache_dir", "Recursion", "rename",
+           "step_text"]
 
 
 class Recursion(Protocol):
@@ -71,9 +74,34 @@ class _Printer(PythonCodePrinter):
         return super()._print_Pow(expr, rational=rational)
 
 
+_NAME = re.compile(r"\b[A-Za-z_][A-Za-z0-9_]*\b")
+
+
+def rename(text: str, mapping: dict[str, str]) -> str:
+    """``text`` with every identifier in ``mapping`` replaced (one pass, so a new name
+    is never renamed again)."""
+    return _NAME.sub(lambda m: mapping.get(m.group(0), m.group(0)), text)
+
+
+@lru_cache(maxsize=256)
+def step_text(gen: Recursion, m: int, symmetric: bool) -> tuple[tuple[tuple[str, str], ...],
+                                                                 str]:
+    """The recursion step of order ``m`` after common-subexpression elimination, as text
+    in the generic names (variables ``s1..``/``q1..``, placeholders ``h_..``,
+    subexpressions ``_c0, _c1, ..``): ``((name, value), ...)`` and the numerator.
+
+    Computed once per order (sympy's ``cse`` and printing are the costly part of code
+    generation) and renamed per block with :func:`rename`.
+    """
+    printer = _Printer()
+    replacements, (reduced,) = sp.cse(gen.plan(m, symmetric).numerator,
+                                      symbols=sp.numbered_symbols("_c"))
+    return (tuple((str(sym), printer.doprint(value)) for sym, value in replacements),
+            printer.doprint(reduced))
+
+
 def kernel_source(gen: Recursion, n: int, symmetric: bool, name: str = "kernel") -> str:
     """Python source of ``name(w0, ..., w{n-1}) -> H_n`` (angular frequencies in rad/s)."""
-    printer = _Printer()
     model = gen.model
     lines = [f"def {name}({', '.join(f'w{i}' for i in range(n))}):"]
     for i in range(n):
@@ -92,21 +120,20 @@ def kernel_source(gen: Recursion, n: int, symmetric: bool, name: str = "kernel")
         if plan.is_zero:
             names[block] = "0.0"
             return "0.0"
-        inner = gen.variables(len(block))
-        mapping: dict[sp.Symbol, sp.Symbol] = {v: sp.Symbol(f"x{block[i]}")
-                                               for i, v in enumerate(inner)}
+        assignments, reduced = step_text(gen, len(block), symmetric)
+        mapping = {str(v): f"x{block[i]}" for i, v in enumerate(gen.variables(len(block)))}
         for sub, placeholder in zip(plan.blocks, plan.placeholders, strict=True):
-            mapping[placeholder] = sp.Symbol(emit(tuple(block[j] for j in sub)))
-        numerator = plan.numerator.xreplace(mapping)
-        replacements, (reduced,) = sp.cse(numerator, symbols=sp.numbered_symbols(f"{label}_c"))
-        for sym, value in replacements:
-            lines.append(f"    {sym} = {printer.doprint(value)}")
+            mapping[str(placeholder)] = emit(tuple(block[j] for j in sub))
+        mapping.update({lhs: f"{label}{lhs}" for lhs, _ in assignments})
+        for lhs, value in assignments:
+            lines.append(f"    {label}{lhs} = {rename(value, mapping)}")
+        reduced = rename(reduced, mapping)
         xs = [f"x{i}" for i in block]
         combined = " * ".join(xs) if model.is_discrete else "(" + " + ".join(xs) + ")"
         lines.append(f"    {label}_z = {combined}")
         denominator = _horner([linear.get(p, 0.0) for p in range(max(linear) + 1)],
                               f"{label}_z")
-        lines.append(f"    {label} = -({printer.doprint(reduced)}) / ({denominator})")
+        lines.append(f"    {label} = -({reduced}) / ({denominator})")
         names[block] = label
         return label
 
@@ -131,12 +158,12 @@ def cache_dir() -> Path:
     return cache_root() / "kernels"
 
 
-def _module_source(gen: Recursion, n: int, symmetric: bool, cache: bool) -> str:
-    """Source of a module defining the ufunc ``scalar_kernel`` of H_n."""
+def _module_source(body: str, n: int, cache: bool) -> str:
+    """Source of a module defining the ufunc ``scalar_kernel`` of H_n (``body``: its
+    :func:`kernel_source`)."""
     signature = f"complex128({', '.join(['float64'] * n)})"
     return ("from cmath import exp as cmath_exp\n\nfrom numba import vectorize\n\n\n"
-            f"@vectorize([{signature!r}], cache={cache})\n"
-            + kernel_source(gen, n, symmetric, name="scalar_kernel"))
+            f"@vectorize([{signature!r}], cache={cache})\n" + body)
 
 
 def numba_ufunc(gen: Recursion, n: int, symmetric: bool) -> Any:
@@ -154,10 +181,10 @@ def numba_ufunc(gen: Recursion, n: int, symmetric: bool) -> Any:
     """
     if not HAVE_NUMBA:
         raise ImportError("the compiled kernel needs numba: pip install 'gfrf[fast]'")
-    source = _module_source(gen, n, symmetric, cache=True)
+    body = kernel_source(gen, n, symmetric, name="scalar_kernel")  # generated once
+    source = _module_source(body, n, cache=True)
     name = "gfrf_kernel_" + hashlib.sha256(source.encode()).hexdigest()[:24]
     if name in sys.modules:
         return sys.modules[name].scalar_kernel
-    module = load_generated("kernels", name,
-                            lambda cache: _module_source(gen, n, symmetric, cache=cache))
+    module = load_generated("kernels", name, lambda cache: _module_source(body, n, cache))
     return module.scalar_kernel
