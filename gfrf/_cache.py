@@ -138,7 +138,8 @@ def _numba_folder(anchor: Path) -> Path:
     from numba.core.caching import UserProvidedCacheLocator
 
     subpath = UserProvidedCacheLocator.get_suitable_cache_subpath(str(anchor))
-    return Path(os.path.realpath(os.path.join(config.CACHE_DIR, subpath)))
+    root = str(config.CACHE_DIR)  # type: ignore[attr-defined]
+    return Path(os.path.realpath(os.path.join(root, subpath)))
 
 
 def _user_cache_folder(folder: Path) -> str | None:

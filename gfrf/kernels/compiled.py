@@ -25,6 +25,7 @@ import importlib.util
 import math
 import re
 import sys
+from collections.abc import Hashable
 from functools import lru_cache
 from pathlib import Path
 from typing import Any, Protocol
@@ -39,7 +40,7 @@ __all__ = ["kernel_source", "numba_ufunc", "HAVE_NUMBA", "cache_dir", "Recursion
            "step_text", "compile_pays", "MIN_POINTS"]
 
 
-class Recursion(Protocol):
+class Recursion(Hashable, Protocol):
     """What code generation needs of :class:`gfrf.kernels.recursion.GFRFGenerator` (a protocol, so
     that this module does not import :mod:`gfrf.kernels.recursion`, which imports it)."""
 
