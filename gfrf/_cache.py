@@ -18,10 +18,14 @@ only what it trusts, by these rules (one policy for the compiled kernels,
   this user and not writable by group or others, every entry in them likewise (a
   regular file or folder of this user's, not group/world writable), and every folder
   above them owned by this user or root and not writable by group or others unless it
-  has the sticky bit (like ``/tmp``).  numba's own cache redirections
-  (``NUMBA_CACHE_DIR``, ``NUMBA_CACHE_LOCATOR_CLASSES``) would move the pickles out of
-  the checked folder, so they turn gfrf's caching off.  When a check fails, one line
-  ``gfrf: warning: ...`` says why and the code is compiled in memory, uncached.
+  has the sticky bit (like ``/tmp``).  With ``NUMBA_CACHE_DIR`` set (common on clusters
+  and in containers) numba keeps the machine code under that folder instead
+  (``$NUMBA_CACHE_DIR/<the anchor folder's path>``): that folder is created with mode
+  0700 and passes the same checks (itself and its entries; every folder above it) before
+  numba reads anything from it.  ``NUMBA_CACHE_LOCATOR_CLASSES`` (numba's own choice of
+  locators, whose folders gfrf cannot know before numba reads them) turns gfrf's caching
+  off.  When a check fails, one line ``gfrf: warning: ...`` says why and the code is
+  compiled in memory, uncached.
 
 What this does not protect against: a process running as the same user (or root) can
 write the cache folder, and equally the user's ``site-packages`` or shell startup files;
@@ -116,14 +120,36 @@ def _check_private(folder: Path) -> str | None:
 
 
 def _numba_redirect() -> str | None:
-    """The numba setting that would keep the cache outside the checked folder, if any."""
+    """The numba setting that would keep the cache in folders gfrf cannot check first."""
     from numba.core import config
 
-    if getattr(config, "CACHE_DIR", ""):
-        return "NUMBA_CACHE_DIR is set"
     if getattr(config, "CACHE_LOCATOR_CLASSES", ""):
         return "NUMBA_CACHE_LOCATOR_CLASSES is set"
     return None
+
+
+def _numba_folder(anchor: Path) -> Path:
+    """Where numba keeps the machine code of functions defined in ``anchor``: the
+    ``__pycache__`` beside it, or with ``NUMBA_CACHE_DIR`` set numba's folder under it."""
+    from numba.core import config
+
+    if not getattr(config, "CACHE_DIR", ""):
+        return anchor.parent / "__pycache__"
+    from numba.core.caching import UserProvidedCacheLocator
+
+    subpath = UserProvidedCacheLocator.get_suitable_cache_subpath(str(anchor))
+    root = str(config.CACHE_DIR)  # type: ignore[attr-defined]
+    return Path(os.path.realpath(os.path.join(root, subpath)))
+
+
+def _user_cache_folder(folder: Path) -> str | None:
+    """Create ``folder`` (mode 0700) under ``NUMBA_CACHE_DIR`` and check it as
+    :func:`private_folder` checks its own: why it is not to be trusted, or None."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True, mode=0o700)
+        return _check_above(folder.parent) or _check_private(folder)
+    except OSError as exc:
+        return f"{exc.strerror or exc}: {exc.filename or folder}"
 
 
 def private_folder(kind: str) -> Path | None:
@@ -205,6 +231,14 @@ def load_generated(kind: str, name: str, make_source: Callable[[bool], str]) -> 
     """
     folder = private_folder(kind)
     path: Path | None = None
+    machine_code: Path | None = None
+    if folder is not None:  # numba's folder, checked before numba reads from it
+        machine_code = _numba_folder(folder / f"{name}.py")
+        if machine_code != folder / "__pycache__" and (
+                problem := _user_cache_folder(machine_code)):
+            warnings.warn(f"gfrf's cache is not used ({problem}; NUMBA_CACHE_DIR is set): "
+                          "compiling in memory, uncached", UserWarning, stacklevel=2)
+            folder = None
     source = make_source(folder is not None)
     if folder is not None:
         try:
@@ -223,8 +257,8 @@ def load_generated(kind: str, name: str, make_source: Callable[[bool], str]) -> 
     except BaseException:
         del sys.modules[name]
         raise
-    if path is not None:
-        _keep_in(module, path.parent / "__pycache__")
+    if path is not None and machine_code is not None:
+        _keep_in(module, machine_code)
     return module
 
 

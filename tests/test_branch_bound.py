@@ -137,7 +137,7 @@ def test_refusals() -> None:
     with pytest.raises(ArgumentError):
         branch_and_bound(parse_model(QUADRATIC), 6)
     with pytest.raises(ArgumentError):
-        branch_and_bound(load_model("models/narx_example.toml").plant, 3)
+        branch_and_bound(load_model("models/narx_example.toml").plant, 6)
 
 
 # -- the tail bound on clustered poles (issue 16 item 2) -------------------------------

@@ -218,3 +218,30 @@ def test_the_layout_honours_xdg_cache_home(tmp_path: Path, warm: Path,
     # numba's pickles are in the checked folders, nowhere else
     pickles = {p.parent for p in (tmp_path / "xdg").rglob("*.nb[ic]")}
     assert pickles == {folder / "__pycache__", folder.parent / "kernels" / "__pycache__"}
+
+
+def _kernel_numba_dir(cache: Path, numba_dir: Path) -> subprocess.CompletedProcess[str]:
+    return _run(["-c", KERNEL], {"GFRF_CACHE_DIR": str(cache),
+                                  "NUMBA_CACHE_DIR": str(numba_dir)})
+
+
+def test_numba_cache_dir_is_honoured_when_private(tmp_path: Path, canary: Path) -> None:
+    numba_dir = tmp_path / "numba"
+    first = _kernel_numba_dir(tmp_path / "cache", numba_dir)
+    _ok(first)
+    assert first.stdout.strip() == "True" and "cache is not used" not in first.stderr
+    indexes = sorted(numba_dir.rglob("*.nbi"))  # the machine code went there, 0700
+    assert indexes and not list((tmp_path / "cache").rglob("*.nb[ic]"))
+    assert all(stat.S_IMODE(p.parent.stat().st_mode) == 0o700 for p in indexes)
+    before = {p: p.stat().st_mtime_ns for p in numba_dir.rglob("*")}
+    second = _kernel_numba_dir(tmp_path / "cache", numba_dir)  # loaded, nothing rewritten
+    _ok(second)
+    assert second.stdout.strip() == "True"
+    assert {p: p.stat().st_mtime_ns for p in numba_dir.rglob("*")} == before
+    # the same checks as gfrf's own folder: pickles others could write are not read
+    _plant_indexes(numba_dir, canary)
+    numba_dir.chmod(0o777)
+    third = _kernel_numba_dir(tmp_path / "cache", numba_dir)
+    _ok(third)
+    assert third.stdout.strip() == "True" and not canary.exists()
+    assert "writable by group or others" in third.stderr and "NUMBA_CACHE_DIR" in third.stderr

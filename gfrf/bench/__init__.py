@@ -44,6 +44,7 @@ def bundled_model(name: str) -> str:
 SECTION_MODULES: tuple[str, ...] = (
     "gfrf.bench.startup",
     "gfrf.bench.kernels",
+    "gfrf.bench.cold",
     "gfrf.bench.simulation",
     "gfrf.bench.norms",
     "gfrf.bench.brackets",

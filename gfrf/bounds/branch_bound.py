@@ -23,7 +23,11 @@ the sup is enclosed directly (angular frequencies in rad/s throughout):
 Soundness.  The tail's one-dimensional sups are proven (Arb,
 :class:`gfrf.bounds.exact_sup.SupBeyond`); the box enclosures are certified in floating point
 (see :mod:`gfrf.bounds.enclosure`), so the upper bound is ``proof = "float"``, not proven.
-Continuous-time models only.
+
+Discrete-time (NARX) models.  H_n is a function of q_i = exp(-j w_i T), periodic in each
+w_i: the search covers the torus [-pi/T, pi/T]^n (one period, no tail), the variables'
+jets are those of q_i and 1/A(q) is bounded over intervals by
+:class:`gfrf.bounds.torus.InverseTrig`; the same proof level (``"float"``) results.
 
 Examples
 --------
@@ -43,7 +47,6 @@ from functools import lru_cache
 from typing import Any
 
 import numpy as np
-import sympy as sp
 
 from gfrf.bounds.enclosure import InverseA, enclose
 from gfrf.bounds.majorant import linear_polynomials, majorant
@@ -51,7 +54,7 @@ from gfrf.bounds.simplex import nelder_mead
 from gfrf.bounds.starts import start_points
 from gfrf.bounds.tail import tail_bound
 from gfrf.errors import ArgumentError
-from gfrf.kernels.compiled import _Printer, kernel_source
+from gfrf.kernels.compiled import kernel_source, rename, step_text
 from gfrf.kernels.recursion import GFRFGenerator, generator
 from gfrf.model.equation import Model
 
@@ -135,7 +138,6 @@ class BranchBoundResult:
 
 def _taylor_source(gen: GFRFGenerator, n: int, symmetric: bool) -> str:
     """Source of ``taylor_kernel(x, inv_a)``: the recursion with 1/A as a call."""
-    printer = _Printer()
     lines = ["def taylor_kernel(x, inv_a):",
              f"    {', '.join(f'x{i}' for i in range(n))}, = x"]
     names: dict[tuple[int, ...], str] = {}
@@ -148,16 +150,14 @@ def _taylor_source(gen: GFRFGenerator, n: int, symmetric: bool) -> str:
             names[block] = "0.0"
             return "0.0"
         label = "h_" + "_".join(map(str, block))
-        inner = gen.variables(len(block))
-        mapping: dict[sp.Symbol, sp.Symbol] = {v: sp.Symbol(f"x{block[i]}")
-                                               for i, v in enumerate(inner)}
+        assignments, reduced = step_text(gen, len(block), symmetric)
+        mapping = {str(v): f"x{block[i]}" for i, v in enumerate(gen.variables(len(block)))}
         for sub, placeholder in zip(plan.blocks, plan.placeholders, strict=True):
-            mapping[placeholder] = sp.Symbol(emit(tuple(block[j] for j in sub)))
-        replacements, (reduced,) = sp.cse(plan.numerator.xreplace(mapping),
-                                          symbols=sp.numbered_symbols(f"{label}_c"))
-        for sym, value in replacements:
-            lines.append(f"    {sym} = {printer.doprint(value)}")
-        lines.append(f"    {label} = -({printer.doprint(reduced)}) * inv_a({block!r})")
+            mapping[str(placeholder)] = emit(tuple(block[j] for j in sub))
+        mapping.update({lhs: f"{label}{lhs}" for lhs, _ in assignments})
+        for lhs, value in assignments:
+            lines.append(f"    {label}{lhs} = {rename(value, mapping)}")
+        lines.append(f"    {label} = -({rename(reduced, mapping)}) * inv_a({block!r})")
         names[block] = label
         return label
 
@@ -169,7 +169,7 @@ def _taylor_source(gen: GFRFGenerator, n: int, symmetric: bool) -> str:
 def _compiled(gen: GFRFGenerator, n: int, symmetric: bool) -> tuple[Callable[..., Any],
                                                                      Callable[..., Any]]:
     """(Taylor enclosure function, scalar point function) of H_n."""
-    namespace: dict[str, Any] = {}
+    namespace: dict[str, Any] = {"cmath_exp": np.exp}  # the point code of a NARX model
     exec(compile(_taylor_source(gen, n, symmetric), f"<gfrf taylor H{n}>", "exec"),  # noqa: S102
          namespace)
     exec(compile(kernel_source(gen, n, symmetric, "point_kernel"), f"<gfrf H{n}>", "exec"),  # noqa: S102
@@ -184,7 +184,7 @@ def box_bounds(model: Model, n: int, lo: np.ndarray, hi: np.ndarray, symmetric: 
     Parameters
     ----------
     model : Model
-        Continuous-time model.
+        Continuous-time or discrete-time (NARX) model.
     n : int
         Kernel order.
     lo, hi : numpy.ndarray, shape (N, n)
@@ -203,17 +203,13 @@ def box_bounds(model: Model, n: int, lo: np.ndarray, hi: np.ndarray, symmetric: 
     split : numpy.ndarray of int, shape (N,)
         Coordinate whose bisection most reduces the enclosure width.
     """
-    if model.is_discrete:
-        raise ArgumentError("the branch-and-bound handles continuous-time models only")
     lo, hi = np.asarray(lo, float), np.asarray(hi, float)
     if lo.ndim != 2 or lo.shape != hi.shape or lo.shape[1] != n:
         raise ArgumentError(f"lo and hi must both have shape (N, {n})")
     if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and np.all(lo <= hi)):
         raise ArgumentError("box corners must be finite with lo <= hi (rad/s)")
-    _, den = linear_polynomials(model)
-    return enclose(_compiled(generator(model), n, symmetric)[0], _inverse(tuple(den.tolist())),
-                   lo, hi, compiled,
-                   _input_free(model))
+    return enclose(_compiled(generator(model), n, symmetric)[0], _model_inverse(model),
+                   lo, hi, compiled, _input_free(model), model.sample_time)
 
 
 def _input_free(model: Model) -> bool:
@@ -279,7 +275,7 @@ SECONDS_PER_WORK = 8.0 / DEFAULT_WORK
 def budget_note(model: Model, n: int, symmetric: bool, max_boxes: int) -> str | None:
     """A line announcing, before the search, that ``max_boxes`` allows more work than the
     default cap (with its time estimate), or None when it does not."""
-    if model.is_discrete or not 2 <= n <= MAX_ORDER:
+    if not 2 <= n <= MAX_ORDER:
         return None
     default = default_budget(model, n, symmetric)
     if max_boxes <= default:
@@ -301,9 +297,23 @@ def check_budget(max_boxes: object, least: int) -> int:
 
 
 @lru_cache(maxsize=16)
-def _inverse(den: tuple[float, ...]) -> InverseA:
-    """:class:`gfrf.bounds.enclosure.InverseA` of a denominator, built once per model."""
-    return InverseA(np.array(den))
+def _inverse(den: tuple[float, ...], sample_time: float | None = None) -> Any:
+    """:class:`gfrf.bounds.enclosure.InverseA` of a denominator, or for a discrete model
+    :class:`gfrf.bounds.torus.InverseTrig`, built once per model."""
+    if sample_time is None:
+        return InverseA(np.array(den))
+    from gfrf.bounds.rational import discrete_rational_sup
+    from gfrf.bounds.torus import InverseTrig
+
+    peak = discrete_rational_sup(np.ones(1), np.array(den), sample_time).upper
+    return InverseTrig(np.array(den), sample_time,
+                       1.0 / peak if math.isfinite(peak) and peak > 0 else 0.0)
+
+
+def _model_inverse(model: Model) -> Any:
+    """1/A of ``model``'s linear part, for :func:`gfrf.bounds.enclosure.enclose`."""
+    _, den = linear_polynomials(model)
+    return _inverse(tuple(den.tolist()), model.sample_time if model.is_discrete else None)
 
 
 # -- search ----------------------------------------------------------------------------
@@ -365,7 +375,9 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
     Parameters
     ----------
     model : Model
-        Continuous-time model whose majorant is finite (else the tail is unbounded).
+        A continuous-time model whose majorant is finite (else the tail is unbounded),
+        or a discrete-time (NARX) model, whose kernels are periodic: the search covers
+        the torus [-pi/T, pi/T]^n and needs no tail.
     n : int
         Kernel order, 2 <= n <= :data:`MAX_ORDER`.
     symmetric : bool, optional
@@ -386,8 +398,6 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
     -------
     BranchBoundResult
     """
-    if model.is_discrete:
-        raise ArgumentError("the branch-and-bound handles continuous-time models only")
     if not 2 <= n <= MAX_ORDER:
         raise ArgumentError(f"branch-and-bound order must be in 2..{MAX_ORDER}, got {n}")
     max_boxes = check_budget(max_boxes, 1)
@@ -395,12 +405,22 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
     fused_start = max_boxes >= COMPILED_BUDGET or n >= COMPILED_ORDER
     taylor, point = _compiled(gen, n, symmetric)
     _, den = linear_polynomials(model)
-    inverse = _inverse(tuple(den.tolist()))
-    poles = np.roots(den) if den.size > 1 else np.zeros(1)
+    inverse = _model_inverse(model)
+    if model.is_discrete:  # the poles' frequencies |arg q| / T, as points j w
+        roots = np.roots(den[::-1]) if np.count_nonzero(den[1:]) else np.zeros(1)
+        poles = 1j * np.abs(np.angle(roots)) / model.sample_time  # type: ignore[operator]
+    else:
+        poles = np.roots(den) if den.size > 1 else np.zeros(1)
     best_x = (_resonance_start(point, poles, n) if argmax is None
               else np.array(argmax, dtype=float))
     best = max(lower, _modulus(point, best_x))
     maj = majorant(model)
+    leaves = _input_free(model)
+    if model.is_discrete:  # a torus: [-pi/T, pi/T]^n holds a whole period, no tail
+        width = math.pi / model.sample_time  # type: ignore[operator]
+        return _search(taylor, point, inverse, model.sample_time, n, symmetric, best, best_x,
+                       tol, max_boxes, progress, fused_start, leaves, width, 0.0,
+                       float(maj.coefficients(n)[n, 0]))
     width = 2.0 * (1.0 + float(np.max(np.abs(poles))))
     tails = [(width, tail_bound(model, n, width, maj))]
     while tails[-1][1] > 0.5 * best and len(tails) < 60 and not (
@@ -413,9 +433,18 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
     if not tail < ceiling:
         return BranchBoundResult(best, max(ceiling, best), tuple(float(x) for x in best_x),
                                  False, 0, width, tail, "tail")
+    return _search(taylor, point, inverse, None, n, symmetric, best, best_x, tol, max_boxes,
+                   progress, fused_start, leaves, width, tail, ceiling)
+
+
+def _search(taylor: Callable[..., Any], point: Callable[..., Any], inverse: Any,
+            sample_time: float | None, n: int, symmetric: bool, best: float,
+            best_x: np.ndarray, tol: float, max_boxes: int, progress: bool | None,
+            fused_start: bool, leaves: bool, width: float, tail: float, ceiling: float
+            ) -> BranchBoundResult:
+    """The branch-and-bound proper over [-width, width]^n (``tail`` bounds |H_n| outside)."""
     lo, hi = -width * np.ones((1, n)), width * np.ones((1, n))
-    leaves = _input_free(model)
-    bound, value, split = enclose(taylor, inverse, lo, hi, fused_start, leaves)
+    bound, value, split = enclose(taylor, inverse, lo, hi, fused_start, leaves, sample_time)
     boxes, pruned, polishes, stop = 1, 0.0, 0, "tol"
     from tqdm import tqdm
 
@@ -448,7 +477,7 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
             c_lo, c_hi = c_lo[inside], c_hi[inside]
             c_bound, c_value, c_split = enclose(taylor, inverse, c_lo, c_hi,
                                                 fused_start or boxes >= COMPILED_FROM,
-                                                leaves)
+                                                leaves, sample_time)
             boxes += c_lo.shape[0]
             bar.update(c_lo.shape[0])
             magnitude = c_value.copy()

@@ -263,9 +263,10 @@ _BINOMIAL = ((1,), (1, 1), (1, 2, 1), (1, 3, 3, 1))
 class _Boxes:
     """Box centres c and half-widths r, shape (N, n), and the 1/A evaluator."""
 
-    def __init__(self, centre: np.ndarray, radius: np.ndarray, inverse: InverseA,
-                 fused: Any = None) -> None:
+    def __init__(self, centre: np.ndarray, radius: np.ndarray, inverse: Any,
+                 fused: Any = None, sample_time: float | None = None) -> None:
         self.c, self.r, self.inverse, self.fused = centre, radius, inverse, fused
+        self.sample_time = sample_time
         self._radii: dict[tuple[int, ...], np.ndarray] = {}
         # jets of 1/A per block with their centre errors: the second evaluation of
         # :func:`enclose` reuses them (the same numbers, not recomputed)
@@ -292,8 +293,14 @@ class _Boxes:
         return self._radii[names]
 
     def variable(self, i: int) -> Jet:
-        """x_i = j w_i."""
+        """x_i = j w_i, or q_i = exp(-j w_i T) for a discrete model (|q_i| = 1 and its
+        k-th derivative has modulus T^k everywhere)."""
         size = self.c.shape[0]
+        if self.sample_time is not None:
+            t = self.sample_time
+            q = np.exp(-1j * t * self.c[:, i])
+            d = (t * self.r[:, i])[:, None] ** np.arange(4)
+            return Jet(q, (-1j * t * q)[:, None], (-t * t * q)[:, None, None], d, (i,), self)
         d = np.zeros((size, 4))
         d[:, 0] = np.abs(self.c[:, i]) + self.r[:, i]
         d[:, 1] = self.r[:, i]
@@ -491,17 +498,17 @@ def _modulus_bound(h: Jet) -> np.ndarray:
         return _safe(np.sqrt(np.maximum(best, 0.0) + remainder))
 
 
-def enclose(kernel_code: Callable[..., Any], inverse: InverseA, lo: np.ndarray,
-            hi: np.ndarray, compiled: bool = False, modulus_leaves: bool = False
-            ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def enclose(kernel_code: Callable[..., Any], inverse: Any, lo: np.ndarray,
+            hi: np.ndarray, compiled: bool = False, modulus_leaves: bool = False,
+            sample_time: float | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Bounds of |H_n| on boxes [lo, hi] (rows), |H_n| at the centres and a split axis.
 
     Parameters
     ----------
     kernel_code : callable
         ``kernel_code(x, inv_a)``: the straight-line recursion of H_n.
-    inverse : InverseA
-        1/A of the model's linear part.
+    inverse : InverseA or gfrf.bounds.torus.InverseTrig
+        1/A of the model's linear part (the latter for a discrete model).
     lo, hi : numpy.ndarray, shape (N, n)
         Box corners (rad/s).
     compiled : bool, optional
@@ -515,6 +522,9 @@ def enclose(kernel_code: Callable[..., Any], inverse: InverseA, lo: np.ndarray,
         factor 1/A(j(w_1 + .. + w_n)) always is (:meth:`_Boxes.modulus`).  Only valid
         when every term of H_n holds each of them once, i.e. the model has no input in a
         nonlinear term.  The centre values carry |H_n|, with another phase.
+    sample_time : float or None, optional
+        T of a discrete model, whose code runs on q_i = exp(-j w_i T); None (default)
+        for a continuous model (x_i = j w_i).
 
     Returns
     -------
@@ -529,7 +539,7 @@ def enclose(kernel_code: Callable[..., Any], inverse: InverseA, lo: np.ndarray,
     radius = np.nextafter(np.maximum(hi - centre, centre - lo), np.inf)  # covers [lo, hi]
     fused = _fused_kernels() if compiled else None
     n = centre.shape[1]
-    boxes = _Boxes(centre, radius, inverse, fused)
+    boxes = _Boxes(centre, radius, inverse, fused, sample_time)
     bound, modulus, split = _evaluate(kernel_code, boxes, lambda block: False)
     if n >= 2:  # the common factors by their moduli: far better for moderate damping,
         # worse where the interval of a sum is wide against a tiny damping: keep the least

@@ -22,7 +22,11 @@ from __future__ import annotations
 
 import hashlib
 import importlib.util
+import math
+import re
 import sys
+from collections.abc import Hashable
+from functools import lru_cache
 from pathlib import Path
 from typing import Any, Protocol
 
@@ -32,10 +36,11 @@ from sympy.printing.pycode import PythonCodePrinter
 from gfrf._cache import cache_root, load_generated
 from gfrf.model.equation import Model
 
-__all__ = ["kernel_source", "numba_ufunc", "HAVE_NUMBA", "cache_dir", "Recursion"]
+__all__ = ["kernel_source", "numba_ufunc", "HAVE_NUMBA", "cache_dir", "Recursion", "rename",
+           "step_text", "compile_pays", "MIN_POINTS"]
 
 
-class Recursion(Protocol):
+class Recursion(Hashable, Protocol):
     """What code generation needs of :class:`gfrf.kernels.recursion.GFRFGenerator` (a protocol, so
     that this module does not import :mod:`gfrf.kernels.recursion`, which imports it)."""
 
@@ -71,9 +76,34 @@ class _Printer(PythonCodePrinter):
         return super()._print_Pow(expr, rational=rational)
 
 
+_NAME = re.compile(r"\b[A-Za-z_][A-Za-z0-9_]*\b")
+
+
+def rename(text: str, mapping: dict[str, str]) -> str:
+    """``text`` with every identifier in ``mapping`` replaced (one pass, so a new name
+    is never renamed again)."""
+    return _NAME.sub(lambda m: mapping.get(m.group(0), m.group(0)), text)
+
+
+@lru_cache(maxsize=256)
+def step_text(gen: Recursion, m: int, symmetric: bool) -> tuple[tuple[tuple[str, str], ...],
+                                                                 str]:
+    """The recursion step of order ``m`` after common-subexpression elimination, as text
+    in the generic names (variables ``s1..``/``q1..``, placeholders ``h_..``,
+    subexpressions ``_c0, _c1, ..``): ``((name, value), ...)`` and the numerator.
+
+    Computed once per order (sympy's ``cse`` and printing are the costly part of code
+    generation) and renamed per block with :func:`rename`.
+    """
+    printer = _Printer()
+    replacements, (reduced,) = sp.cse(gen.plan(m, symmetric).numerator,
+                                      symbols=sp.numbered_symbols("_c"))
+    return (tuple((str(sym), printer.doprint(value)) for sym, value in replacements),
+            printer.doprint(reduced))
+
+
 def kernel_source(gen: Recursion, n: int, symmetric: bool, name: str = "kernel") -> str:
     """Python source of ``name(w0, ..., w{n-1}) -> H_n`` (angular frequencies in rad/s)."""
-    printer = _Printer()
     model = gen.model
     lines = [f"def {name}({', '.join(f'w{i}' for i in range(n))}):"]
     for i in range(n):
@@ -92,21 +122,20 @@ def kernel_source(gen: Recursion, n: int, symmetric: bool, name: str = "kernel")
         if plan.is_zero:
             names[block] = "0.0"
             return "0.0"
-        inner = gen.variables(len(block))
-        mapping: dict[sp.Symbol, sp.Symbol] = {v: sp.Symbol(f"x{block[i]}")
-                                               for i, v in enumerate(inner)}
+        assignments, reduced = step_text(gen, len(block), symmetric)
+        mapping = {str(v): f"x{block[i]}" for i, v in enumerate(gen.variables(len(block)))}
         for sub, placeholder in zip(plan.blocks, plan.placeholders, strict=True):
-            mapping[placeholder] = sp.Symbol(emit(tuple(block[j] for j in sub)))
-        numerator = plan.numerator.xreplace(mapping)
-        replacements, (reduced,) = sp.cse(numerator, symbols=sp.numbered_symbols(f"{label}_c"))
-        for sym, value in replacements:
-            lines.append(f"    {sym} = {printer.doprint(value)}")
+            mapping[str(placeholder)] = emit(tuple(block[j] for j in sub))
+        mapping.update({lhs: f"{label}{lhs}" for lhs, _ in assignments})
+        for lhs, value in assignments:
+            lines.append(f"    {label}{lhs} = {rename(value, mapping)}")
+        reduced = rename(reduced, mapping)
         xs = [f"x{i}" for i in block]
         combined = " * ".join(xs) if model.is_discrete else "(" + " + ".join(xs) + ")"
         lines.append(f"    {label}_z = {combined}")
         denominator = _horner([linear.get(p, 0.0) for p in range(max(linear) + 1)],
                               f"{label}_z")
-        lines.append(f"    {label} = -({printer.doprint(reduced)}) / ({denominator})")
+        lines.append(f"    {label} = -({reduced}) / ({denominator})")
         names[block] = label
         return label
 
@@ -123,6 +152,47 @@ def _horner(coefficients: list[float], variable: str) -> str:
     return text
 
 
+#: Fewest points of a call for which :func:`compile_pays` is asked at all (below it the
+#: numpy path always runs: no numba import, no compile on a command's path).
+MIN_POINTS = 1_000_000
+#: Calibration of :func:`compile_pays`, CPU seconds on one core of a 2-core 2026 machine
+#: (the cart-pole's H5 and H7 at 10^5 points): per point and operation of the recursion
+#: by the numpy path and by the compiled ufunc, and the compile per operation of the
+#: generated step functions plus a fixed part (numba's import and target set-up).
+NUMPY_SECONDS_PER_OP = 3.6e-9
+COMPILED_SECONDS_PER_OP = 0.9e-9
+COMPILE_SECONDS_PER_OP = 0.016
+COMPILE_SECONDS = 1.0
+
+
+def _operations(text: str) -> int:
+    return sum(text.count(c) for c in "+-*/")
+
+
+def compile_pays(gen: Recursion, n: int, symmetric: bool, points: int) -> bool:
+    """Whether compiling H_n (numba) pays back within one call at ``points`` points.
+
+    A decision on counts of work only (points, and the operations of the CSE'd
+    recursion: per point every block of every order, at compile each order's step
+    once), never on time or on the state of the cache, so the same call takes the same
+    path, with the same bits, every run.  False without numba or below
+    :data:`MIN_POINTS`.  With the calibration constants above, the cart-pole's H7 pays
+    from about 1.6e6 points, its H5 from about 3e6, its H3 from about 1e7.
+    """
+    if not HAVE_NUMBA or points < MIN_POINTS:
+        return False
+    per_point = code = 0
+    for m in range(1, n + 1):
+        if gen.plan(m, symmetric).is_zero:
+            continue
+        assignments, reduced = step_text(gen, m, symmetric)
+        ops = _operations(reduced) + sum(_operations(v) for _, v in assignments) + 2
+        per_point += math.comb(n, m) * ops
+        code += ops
+    saving = points * per_point * (NUMPY_SECONDS_PER_OP - COMPILED_SECONDS_PER_OP)
+    return saving > COMPILE_SECONDS + COMPILE_SECONDS_PER_OP * code
+
+
 def cache_dir() -> Path:
     """Directory of the compiled-kernel cache: ``$GFRF_CACHE_DIR/kernels``, else the
     platform's user cache directory (``$XDG_CACHE_HOME`` or ``~/.cache`` on Linux,
@@ -131,21 +201,74 @@ def cache_dir() -> Path:
     return cache_root() / "kernels"
 
 
-def _module_source(gen: Recursion, n: int, symmetric: bool, cache: bool) -> str:
-    """Source of a module defining the ufunc ``scalar_kernel`` of H_n."""
+def _step_functions(gen: Recursion, n: int, symmetric: bool) -> tuple[str, str]:
+    """(one function ``step_m`` per nonzero order m <= n, body of ``scalar_kernel``).
+
+    ``step_m(variables, placeholders)`` is the recursion step of order m (CSE'd once,
+    :func:`step_text`); the kernel calls it once per block.  So the compiler sees each
+    order's code once, not once per block: the cart-pole's H7 compiles in about 40 s
+    instead of about 480 s (and a fraction of the memory), at ~15 % more time per point.
+    """
+    model = gen.model
+    linear = model.linear_output
+    coefficients = [linear.get(p, 0.0) for p in range(max(linear) + 1)]
+    functions: list[str] = []
+    done: set[int] = set()
+    body = [f"def scalar_kernel({', '.join(f'w{i}' for i in range(n))}):"]
+    for i in range(n):
+        body.append(f"    x{i} = cmath_exp(-1j * {model.sample_time!r} * w{i})"
+                    if model.is_discrete else f"    x{i} = 1j * w{i}")
+    names: dict[tuple[int, ...], str] = {}
+
+    def step(m: int) -> None:
+        if m in done:
+            return
+        done.add(m)
+        plan = gen.plan(m, symmetric)
+        assignments, reduced = step_text(gen, m, symmetric)
+        variables = [str(v) for v in gen.variables(m)]
+        lines = ["@njit(cache=CACHE)",
+                 f"def step_{m}({', '.join(variables + [str(p) for p in plan.placeholders])}):"]
+        lines += [f"    {lhs} = {value}" for lhs, value in assignments]
+        combined = " * ".join(variables) if model.is_discrete else " + ".join(variables)
+        lines.append(f"    _z = {combined}")
+        lines.append(f"    return -({reduced}) / ({_horner(coefficients, '_z')})")
+        functions.append("\n".join(lines) + "\n")
+
+    def emit(block: tuple[int, ...]) -> str:
+        if block not in names:
+            plan = gen.plan(len(block), symmetric)
+            if plan.is_zero:
+                names[block] = "0.0"
+            else:
+                args = [f"x{i}" for i in block] + [emit(tuple(block[j] for j in sub))
+                                                   for sub in plan.blocks]
+                step(len(block))
+                label = "h_" + "_".join(map(str, block))
+                body.append(f"    {label} = step_{len(block)}({', '.join(args)})")
+                names[block] = label
+        return names[block]
+
+    body.append(f"    return {emit(tuple(range(n)))}")
+    return "\n\n".join(functions), "\n".join(body) + "\n"
+
+
+def _module_source(parts: tuple[str, str], n: int, cache: bool) -> str:
+    """Source of a module defining the ufunc ``scalar_kernel`` of H_n (``parts``: its
+    :func:`_step_functions`)."""
     signature = f"complex128({', '.join(['float64'] * n)})"
-    return ("from cmath import exp as cmath_exp\n\nfrom numba import vectorize\n\n\n"
-            f"@vectorize([{signature!r}], cache={cache})\n"
-            + kernel_source(gen, n, symmetric, name="scalar_kernel"))
+    return ("from cmath import exp as cmath_exp\n\nfrom numba import njit, vectorize\n\n"
+            f"CACHE = {cache}\n\n\n{parts[0]}\n\n"
+            f"@vectorize([{signature!r}], cache=CACHE)\n" + parts[1])
 
 
 def numba_ufunc(gen: Recursion, n: int, symmetric: bool) -> Any:
     """A numba-compiled numpy ufunc ``f(w1..wn) -> complex128`` of H_n, cached on disk.
 
-    Measured on a 2-core machine (numba 0.68), the cart-pole model: order 3 compiles
-    in 1.5 s and loads from the on-disk cache (:func:`cache_dir`) in 0.5 s in a later
-    process; order 5 in 3.3 s and 0.6 s.  Generating the source (sympy) takes 0.02 s
-    and 0.16 s of that.
+    Measured on a 2-core machine (numba 0.68, one step function per order), the
+    cart-pole model: order 5 compiles in 2.5 s and loads from the on-disk cache
+    (:func:`cache_dir`) in 0.7 s in a later process (numba's import and target set-up
+    are most of that); order 7 compiles in about 40 s.
 
     Raises
     ------
@@ -154,10 +277,10 @@ def numba_ufunc(gen: Recursion, n: int, symmetric: bool) -> Any:
     """
     if not HAVE_NUMBA:
         raise ImportError("the compiled kernel needs numba: pip install 'gfrf[fast]'")
-    source = _module_source(gen, n, symmetric, cache=True)
+    parts = _step_functions(gen, n, symmetric)  # generated once
+    source = _module_source(parts, n, cache=True)
     name = "gfrf_kernel_" + hashlib.sha256(source.encode()).hexdigest()[:24]
     if name in sys.modules:
         return sys.modules[name].scalar_kernel
-    module = load_generated("kernels", name,
-                            lambda cache: _module_source(gen, n, symmetric, cache=cache))
+    module = load_generated("kernels", name, lambda cache: _module_source(parts, n, cache))
     return module.scalar_kernel

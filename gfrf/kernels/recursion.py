@@ -55,6 +55,7 @@ import sympy as sp
 
 from gfrf.errors import ArgumentError
 from gfrf.kernels.combinatorics import compositions, ordered_set_partitions
+from gfrf.kernels.compiled import MIN_POINTS, compile_pays
 from gfrf.kernels.work import MAX_PLAN_TERMS, MAX_RECURSION_WORK, check_recursion_work
 from gfrf.model.equation import Model, Term
 from gfrf.model.scaling import normalized
@@ -444,6 +445,13 @@ class Kernel:
             H_n(j*omega_1, ..., j*omega_n) with the broadcast shape (discrete models:
             at q_i = exp(-j*omega_i*T)).
 
+        Notes
+        -----
+        The evaluation path is chosen by the work: the vectorised numpy recursion, or,
+        for a call of millions of points where compiling pays back within the call
+        (:func:`gfrf.kernels.compiled.compile_pays`, a decision on counts of points and
+        operations only), the numba ufunc of :meth:`compiled`.  Both agree to rounding.
+
         See Also
         --------
         at_s : values at complex s_i (``H(w)`` is ``H.at_s(1j * w)``).
@@ -457,6 +465,15 @@ class Kernel:
             if not np.all(np.isfinite(a)):
                 raise ArgumentError("angular frequencies must be finite real numbers (rad/s)")
             arrays.append(a)
+        points = math.prod(np.broadcast_shapes(*(a.shape for a in arrays)))
+        if points >= MIN_POINTS and not self.is_zero and compile_pays(
+                self._gen, self.order, self.symmetric, points):
+            try:  # millions of points: the compile pays back within this call
+                with np.errstate(all="ignore"):
+                    return np.asarray(self._gen.ufunc(self.order, self.symmetric)(*arrays),
+                                      dtype=np.complex128)
+            except ZeroDivisionError:  # a point on a pole: the numpy path gives inf/nan
+                pass
         return self._gen.evaluate(self.order, arrays, self.symmetric)
 
     def at_s(self, *s: Any) -> np.ndarray:

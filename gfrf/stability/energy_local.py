@@ -55,7 +55,13 @@ class _Poly:
         self.k, self.f, self.eps = k, f, eps
 
     def v_float(self, y: np.ndarray, p: np.ndarray) -> np.ndarray:
-        F = sum(float(q / (n + 1)) * y ** (n + 1) for n, q in self.f.items())
+        # F = sum f_n y^(n+1) / (n+1) by Horner (array powers are slow library calls)
+        coefficients = [0.0] * (max(self.f, default=0) + 2)
+        for n, q in self.f.items():
+            coefficients[n + 1] = float(q / (n + 1))
+        F = np.zeros_like(y)
+        for c in reversed(coefficients):
+            F = F * y + c
         return p * p / 2 + F + float(self.eps) * y * p
 
     def w_float(self, y: np.ndarray, p: np.ndarray) -> np.ndarray:

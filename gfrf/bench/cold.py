@@ -1,0 +1,171 @@
+"""Cold kernels, cached compiled kernels, tight NARX norms and prepared simulations.
+
+Every row is timed in fresh Python processes (CPU time of the work inside the child,
+``time.process_time``, imports excluded unless said), the gfrf path and its baseline
+interleaved, the median of the repetitions:
+
+* **cold kernels**: H1..Hn built and evaluated at 10^5 random frequency tuples by
+  ``kernel(model, n)(*w)`` against sympy's explicit rational functions (the recursion's
+  inlined form) with ``sympy.lambdify(..., cse=True)``, the baseline a user would write;
+* **cached compiled kernel**: ``Kernel.compiled()`` of the cart-pole's H5 in a second
+  process (the machine code on disk), with and without ``NUMBA_CACHE_DIR``, against the
+  first (compiling) process;
+* **NARX norm**: ``gfrf.kernel_norm`` of the identified example's H3 (default settings)
+  against a dense grid (72^3 points) polished by Nelder-Mead, whose value must lie
+  in the bracket;
+* **prepared simulation**: ``simulate`` of the Duffing model (1 s, dt = 0.01 s, fast
+  path) called with a prepared ``OdeSystem`` and ``InputSignal``, against the same
+  call with the model file and the input text (rebuilt and re-parsed every call).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+from gfrf.bench import BenchSection, bundled_model, load_note
+
+__all__ = ["run"]
+
+_COLD = """
+import json, sys, time
+import numpy as np
+from gfrf.model.modelfile import load_model
+mode, path, top = sys.argv[1], sys.argv[2], int(sys.argv[3])
+model = load_model(path).plant
+w = np.random.default_rng(0).uniform(-20.0, 20.0, (top, 100000))
+if mode == "gfrf":
+    from gfrf.kernels.recursion import kernel
+else:
+    import sympy as sp
+    from gfrf.kernels.recursion import GFRFGenerator
+start = time.process_time()
+if mode == "gfrf":
+    values = [kernel(model, n)(*w[:n]) for n in range(1, top + 1)]
+else:
+    gen = GFRFGenerator(model)
+    values = [np.broadcast_to(sp.lambdify(gen.variables(n), gen.explicit(n, True), "numpy",
+                                          cse=True)(*(1j * w[:n])), (100000,))
+              for n in range(1, top + 1)]
+seconds = time.process_time() - start
+print(json.dumps({"seconds": seconds, "check": [complex(v[7]).real for v in values]}))
+"""
+
+_LOAD = """
+import json, sys, time
+import numpy as np
+from gfrf.model.modelfile import load_model
+from gfrf.kernels.recursion import kernel
+k = kernel(load_model(sys.argv[1]).plant, 5)
+start = time.process_time()
+f = k.compiled()
+f(*np.ones((5, 4)))
+print(json.dumps({"seconds": time.process_time() - start}))
+"""
+
+_NORM = """
+import json, math, sys, time
+import numpy as np
+from scipy.optimize import minimize
+from gfrf.model.modelfile import load_model
+from gfrf.bounds.norms import kernel_norm
+from gfrf.kernels.recursion import kernel
+model = load_model(sys.argv[2]).plant
+start = time.process_time()
+if sys.argv[1] == "gfrf":
+    b = kernel_norm(model, 3)
+    out = {"lower": b.lower, "upper": b.upper, "gap": b.gap}
+else:
+    k, t = kernel(model, 3), model.sample_time
+    axis = np.linspace(-math.pi / t, math.pi / t, 72, endpoint=False)
+    grid = np.meshgrid(axis, axis, axis, indexing="ij")
+    values = np.abs(k(*grid))
+    x0 = np.array([g.flat[int(np.argmax(values))] for g in grid])
+    res = minimize(lambda x: -abs(complex(k(*x))), x0, method="Nelder-Mead",
+                   options={"xatol": 1e-10, "fatol": 1e-15})
+    out = {"value": -float(res.fun)}
+out["seconds"] = time.process_time() - start
+print(json.dumps(out))
+"""
+
+_SIMULATE = """
+import json, statistics, sys, time
+from gfrf.model.modelfile import load_model
+from gfrf.model.signals import parse_input
+from gfrf.sim.simulation import simulate
+from gfrf.sim.system import build_system
+model = load_model(sys.argv[2])
+if sys.argv[1] == "prepared":
+    source, signal = build_system(model), parse_input("0.1*sin(t)")
+else:
+    source, signal = model, "0.1*sin(t)"
+simulate(source, signal, t_end=1.0, method="fast", dt=0.01, n_out=11)
+times = []
+for _ in range(50):
+    start = time.process_time()
+    simulate(source, signal, t_end=1.0, method="fast", dt=0.01, n_out=11)
+    times.append(time.process_time() - start)
+print(json.dumps({"seconds": statistics.median(times)}))
+"""
+
+
+def _child(code: str, args: list[str], env: dict[str, str] | None = None) -> dict:
+    done = subprocess.run([sys.executable, "-c", code, *args], capture_output=True,
+                          text=True, timeout=600, env={**os.environ, **(env or {})},
+                          check=True)
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def _median(code: str, args: list[str], repeat: int, env: dict[str, str] | None = None
+            ) -> tuple[float, dict]:
+    runs = [_child(code, args, env) for _ in range(repeat)]
+    return statistics.median(r["seconds"] for r in runs), runs[-1]
+
+
+def run(quick: bool) -> BenchSection:
+    """Time the cold, cached, NARX-norm and prepared-simulation paths against baselines."""
+    load = os.getloadavg()
+    repeat = 1 if quick else 3
+    rows: list[list[object]] = []
+    for name, top in (("hanging_pendulum.toml", 5), ("cartpole.toml", 5)):
+        ours = base = 0.0
+        for _ in range(repeat):  # interleaved
+            ours += _child(_COLD, ["gfrf", bundled_model(name), str(top)])["seconds"]
+            base += _child(_COLD, ["base", bundled_model(name), str(top)])["seconds"]
+        rows.append([f"cold H1..H{top} of {name}, 10^5 points", f"{ours / repeat:.3f} s",
+                     f"{base / repeat:.3f} s (explicit + lambdify cse)",
+                     f"{ours / base:.2f}", "target <= 1.5"])
+    with tempfile.TemporaryDirectory(prefix="gfrf-bench-cache-") as scratch:
+        for label, extra in (("", {}), (", NUMBA_CACHE_DIR set",
+                                        {"NUMBA_CACHE_DIR": str(Path(scratch) / "numba")})):
+            env = {"GFRF_CACHE_DIR": str(Path(scratch) / f"gfrf{len(extra)}"), **extra}
+            first = _child(_LOAD, [bundled_model("cartpole.toml")], env)["seconds"]
+            second, _ = _median(_LOAD, [bundled_model("cartpole.toml")], repeat, env)
+            rows.append([f"cached compiled cart-pole H5, second process{label}",
+                         f"{second:.3f} s", f"{first:.3f} s (first process, compiling)",
+                         f"{second / first:.2f}", "target <= 0.3 s"])
+    narx = bundled_model("identified_example.toml")
+    ours, bracket = _median(_NORM, ["gfrf", narx], repeat)
+    base, grid = _median(_NORM, ["grid", narx], repeat)
+    inside = bracket["lower"] * (1 - 1e-9) <= grid["value"] <= bracket["upper"] * (1 + 1e-12)
+    rows.append([f"‖H3‖ of identified_example: gap {bracket['gap']:.2g}", f"{ours:.2f} s",
+                 f"{base:.2f} s (72^3 grid + Nelder-Mead: {grid['value']:.6g}, "
+                 f"{'inside' if inside else 'OUTSIDE'} the bracket)", f"{ours / base:.2f}",
+                 "target gap <= 1e-3, <= 10 s"])
+    duffing = bundled_model("duffing.toml")
+    prepared, _ = _median(_SIMULATE, ["prepared", duffing], repeat)
+    text, _ = _median(_SIMULATE, ["text", duffing], repeat)
+    rows.append(["simulate(method='fast'), 1 s at dt = 0.01 s, per call",
+                 f"{prepared * 1e3:.2f} ms (prepared OdeSystem, InputSignal)",
+                 f"{text * 1e3:.2f} ms (model file and input text)",
+                 f"{prepared / text:.2f}", "target <= 1 ms"])
+    return BenchSection(
+        title="Cold kernels, cached kernels, NARX norms, prepared simulations",
+        intro=" ".join(__doc__.split("\n\n", 1)[1].split()),
+        columns=["what", "gfrf (CPU)", "baseline (CPU)", "ratio", "goal"],
+        rows=rows, notes=[load_note(load)])

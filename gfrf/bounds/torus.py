@@ -1,0 +1,167 @@
+"""1/A(q) and its derivatives over intervals of frequency for a discrete-time (NARX) model.
+
+The discrete counterpart of :class:`gfrf.bounds.enclosure.InverseA`: with
+a(sigma) = A(exp(-j sigma T)) = sum_l a_l exp(-j l sigma T) (a trigonometric polynomial
+of the block's frequency sum sigma, rad/s) the branch-and-bound of
+:mod:`gfrf.bounds.branch_bound` needs r = 1/a and m = 1/|a| with their first two
+derivatives at box centres, and bounds of them and of their third derivatives over the
+interval [sigma - rho, sigma + rho] of a block's sum.
+
+Bounds.  The k-th derivative a^(k)(sigma) = sum_l a_l (-j l T)^k exp(-j l sigma T) is
+bounded everywhere by ``S_k = sum_l |a_l| (l T)^k``.  Over an interval of half-width rho
+about c, |a^(k)| <= |a^(k)(c)| + |a^(k+1)(c)| rho + S_(k+2) rho^2 / 2, and
+min |a| >= |a(c)| - |a'(c)| rho - |a''(c)| rho^2 / 2 - S_3 rho^3 / 6 (Taylor with the
+global bound of the remainder), never below ``1 / sup |1/A|`` on the whole circle (the
+proven sup of :func:`gfrf.bounds.rational.discrete_rational_sup`), so a box whose sum
+spans a whole period still gets a finite bound.  Derivatives of 1/a and of 1/|a| then
+follow from the quotient rule with the numerators bounded by products of those sups
+(for |a|^2 the first two derivatives use their values at the centre too, so near a
+resonance peak, where (|a|^2)' vanishes, the bound is second order in rho).
+
+Soundness.  Values at the centre are double-precision sums; the a-priori error bound
+``gamma * S_k`` (gamma a few units of rounding per term) is added to every bound, and
+subtracted from the lower bound of |a|.  As in the continuous case the result is
+certified in floating point, not proven.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["InverseTrig"]
+
+#: Relative error of a centre's 1/a above which the centre's values are not used
+#: (the same threshold as :mod:`gfrf.bounds.enclosure`).
+_POINT_RTOL = 1e-5
+
+
+class InverseTrig:
+    """r(sigma) = 1 / A(exp(-j sigma T)) and m = 1/|A|, with derivatives and their bounds.
+
+    Parameters
+    ----------
+    den : numpy.ndarray
+        A's coefficients, lowest power of q first (as
+        :func:`gfrf.bounds.majorant.linear_polynomials` gives them for a NARX model).
+    sample_time : float
+        T in seconds.
+    floor : float
+        A lower bound of |a(sigma)| over the whole circle (0 when unknown).
+    """
+
+    def __init__(self, den: np.ndarray, sample_time: float, floor: float) -> None:
+        self.coef = np.asarray(den, dtype=float)
+        self.step = float(sample_time)
+        self.lags = np.arange(self.coef.size) * self.step
+        self.floor = float(floor)
+        magnitude = np.abs(self.coef)
+        #: S_k = sum |a_l| (l T)^k, k = 0..5: global sups of |a^(k)|
+        self.sups = np.array([float(np.sum(magnitude * self.lags ** k)) for k in range(6)])
+        self.gamma = (4 * self.coef.size + 16) * 2.0 ** -53
+
+    def derivatives(self, sigma: np.ndarray, count: int) -> np.ndarray:
+        """a, a', .., a^(count-1) at the points ``sigma``, shape (count, N)."""
+        sigma = np.asarray(sigma, dtype=float)
+        z = np.exp(-1j * self.step * sigma)
+        out = np.zeros((count, *sigma.shape), dtype=complex)
+        power = np.ones(sigma.shape, dtype=complex)
+        for lag, c in enumerate(self.coef):  # a few lags: plain vector operations
+            if c != 0.0:
+                for k in range(count):
+                    out[k] += (c * (-1j * lag * self.step) ** k) * power
+            power = power * z
+        return out
+
+    def _local(self, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(lower bound of min |a|, sups of |a|, |a'|, |a''|, |a'''| shape (4, N)) over
+        the intervals [lo, hi]."""
+        c = 0.5 * (lo + hi)
+        rho = np.nextafter(np.maximum(hi - c, c - lo), np.inf)
+        d = np.abs(self.derivatives(c, 5))
+        err = self.gamma * self.sups[:, None]
+        s = self.sups[:, None]
+        with np.errstate(over="ignore", invalid="ignore"):
+            upper = np.minimum(d[:4] + err[:4] + (d[1:5] + err[1:5]) * rho
+                               + s[2:6] * rho * rho / 2, s[:4])
+            small = (d[0] - err[0] - (d[1] + err[1]) * rho - (d[2] + err[2]) * rho * rho / 2
+                     - s[3] * rho ** 3 / 6)
+        small = np.maximum(np.nan_to_num(small, nan=0.0, neginf=0.0), self.floor)
+        return small, upper
+
+    def centre_error(self, sigma: np.ndarray, slack: np.ndarray, rho: np.ndarray
+                     ) -> np.ndarray:
+        """Relative error of 1/a and of its Taylor terms r' rho, r'' rho^2 at sigma
+        (``slack`` bounds the rounding of sigma itself)."""
+        d = np.abs(self.derivatives(sigma, 4))
+        err = self.gamma * self.sups
+        moved = (d[1] + d[2] * rho + d[3] * rho * rho) * slack
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return (err[0] + err[1] * rho + err[2] * rho * rho + moved) / d[0]
+
+    def point(self, sigma: np.ndarray, error: np.ndarray
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """r, r' and r'' at points (NaN where ``error`` exceeds the accepted error)."""
+        a, da, dda = self.derivatives(sigma, 3)
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            bad = ~(error <= _POINT_RTOL)
+            value = 1.0 / a
+            slope = -da * value * value
+            curve = (2 * da * da - a * dda) * value ** 3
+        return (np.where(bad, np.nan, value), np.where(bad, np.nan, slope),
+                np.where(bad, np.nan, curve))
+
+    def bounds(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        """Sups over [lo, hi] of |r|, |r'|, |r''|, |r'''|, shape (N, 4)."""
+        small, (u0, u1, u2, u3) = self._local(lo, hi)
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            inv = np.where(small > 0, 1.0 / small, np.inf)
+            out = np.stack([inv, u1 * inv ** 2, (2 * u1 * u1 + u0 * u2) * inv ** 3,
+                            (6 * u1 ** 3 + 6 * u0 * u1 * u2 + u0 * u0 * u3) * inv ** 4],
+                           axis=1)
+        return np.where(np.isnan(out), np.inf, out)
+
+    def _squared(self, sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """q = |a|^2 and its first two derivatives at points."""
+        a, da, dda = self.derivatives(sigma, 3)
+        q = (a * np.conj(a)).real
+        q1 = 2 * (np.conj(a) * da).real
+        q2 = 2 * ((da * np.conj(da)).real + (np.conj(a) * dda).real)
+        return q, q1, q2
+
+    def modulus_point(self, sigma: np.ndarray, error: np.ndarray
+                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """m = 1/|a|, m' and m'' at points (NaN where ``error`` exceeds the accepted error)."""
+        q, q1, q2 = self._squared(sigma)
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            bad = ~(error <= _POINT_RTOL)
+            m = 1.0 / np.sqrt(q)
+            slope = -0.5 * q1 * m ** 3
+            curve = (3 * q1 * q1 - 2 * q * q2) * m ** 5 / 4
+        return (np.where(bad, np.nan, m), np.where(bad, np.nan, slope),
+                np.where(bad, np.nan, curve))
+
+    def modulus_bounds(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        """Sups over [lo, hi] of |m| and of its first three derivatives, shape (N, 4).
+
+        With q = |a|^2: m' = -q'/(2 q^(3/2)), m'' = (3 q'^2 - 2 q q'')/(4 q^(5/2)),
+        m''' = (-15 q'^3 + 18 q q' q'' - 4 q^2 q''')/(8 q^(7/2)); q' = 2 Re(conj(a) a'),
+        q'' = 2 (|a'|^2 + Re(conj(a) a'')), q''' = 2 Re(3 conj(a') a'' + conj(a) a''').
+        """
+        small, (u0, u1, u2, u3) = self._local(lo, hi)
+        c = 0.5 * (lo + hi)
+        rho = np.nextafter(np.maximum(hi - c, c - lo), np.inf)
+        _, q1c, q2c = self._squared(c)
+        slack = 8 * self.gamma * self.sups[0] * (self.sups[0] + self.sups[1]
+                                                 + self.sups[2])
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            s3 = 2 * (3 * u1 * u2 + u0 * u3)
+            s2 = np.minimum(2 * (u1 * u1 + u0 * u2), np.abs(q2c) + slack + s3 * rho)
+            s1 = np.minimum(2 * u0 * u1, np.abs(q1c) + slack + (np.abs(q2c) + slack) * rho
+                            + s3 * rho * rho / 2)
+            q_top = u0 * u0
+            inv = np.where(small > 0, 1.0 / small, np.inf)
+            out = np.stack([inv, s1 * inv ** 3 / 2,
+                            (3 * s1 * s1 + 2 * q_top * s2) * inv ** 5 / 4,
+                            (15 * s1 ** 3 + 18 * q_top * s1 * s2 + 4 * q_top * q_top * s3)
+                            * inv ** 7 / 8], axis=1)
+        return np.where(np.isnan(out), np.inf, out)
