@@ -1,0 +1,563 @@
+"""Sum-of-squares certificates for any polynomial system with a bounded input.
+
+The model is put in state form (:func:`gfrf.stability.polysys.state_form`: the ODE's
+companion state, the closed loop with the controller's states, or NARX's lagged outputs
+and inputs).  A storage function V is searched, and the largest U such that the
+sublevel set {V <= c} is invariant for every input with sup|v| <= U (the S-procedure,
+:mod:`gfrf.stability.sos_check` states the identities), or, for a continuous system,
+a radially unbounded V whose derivative is negative outside a compact set for every
+bounded input (global: every bounded input keeps every solution bounded).
+
+The semidefinite programs are solved by Clarabel through cvxpy.  Their answer is only a
+proposal: every number is rounded to a rational, the Gram matrix of the remainder is
+corrected so the polynomial identity holds exactly, and :func:`gfrf.stability.sos_check.check_dict`
+re-verifies it in rational arithmetic (exact LDL^T).  A radius is reported only after
+that check passed (proof ``"interval"``); a proposal that fails is dropped.  The work is
+bounded by counts (candidate levels, bisection steps), never by time.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
+
+import numpy as np
+
+from gfrf.stability.polysys import (
+    Poly,
+    PolySystem,
+    padd,
+    pcompose,
+    pdegree,
+    pdiff,
+    peval,
+    pmul,
+    pscale,
+)
+from gfrf.stability.sos_check import (
+    FORMAT,
+    check_dict,
+    gram_poly,
+    gram_to,
+    poly_to,
+    vdot,
+)
+
+__all__ = ["SosResult", "sos_certificate", "BISECTIONS", "LEVELS"]
+
+#: Steps on U (each one SDP and, when feasible, one exact check), and levels c tried.
+BISECTIONS = 7
+LEVELS = 2
+#: Largest Gram matrix the search builds (larger systems are not searched).
+MAX_GRAM_SEARCH = 40
+#: Strictness margin eps on the boundary, relative to the level c.
+_EPS = Fraction(1, 2**16)
+_SAMPLES = 3000
+_ROUND = 2**36
+
+
+@dataclass(frozen=True)
+class SosResult:
+    """A verified SOS certificate.
+
+    Attributes
+    ----------
+    radius : float
+        U (every input with sup|v| <= U), ``inf`` for a global certificate; a float at or
+        below the exact rational U of the certificate.
+    kind : str
+        ``local-continuous``, ``local-discrete`` or ``global-continuous``.
+    certificate : dict
+        The certificate (exact rationals as ``"p/q"`` texts), re-checkable by
+        :func:`gfrf.stability.sos_check.check_dict`.
+    solves : int
+        SDPs solved (the work).
+    property : str
+        What is proven.
+    """
+
+    radius: float
+    kind: str
+    certificate: dict[str, Any] = field(repr=False)
+    solves: int
+    property: str
+
+
+def _monomials(nv: int, degrees: range, vmax: int, xonly: bool = False) -> list[tuple[int, ...]]:
+    out = []
+    for d in degrees:
+        for combo in itertools.combinations_with_replacement(range(nv), d):
+            k = [0] * nv
+            for i in combo:
+                k[i] += 1
+            if (xonly and k[-1]) or k[-1] > vmax:
+                continue
+            out.append(tuple(k))
+    return out
+
+
+class _Program:
+    """Coefficient matching: sum of blocks == constant, blocks linear maps of variables."""
+
+    def __init__(self) -> None:
+        import cvxpy as cp
+
+        self.cp = cp
+        self.index: dict[tuple[int, ...], int] = {}
+        self.parts: list[tuple[dict[tuple[int, int], float], Any]] = []
+        self.const: dict[int, float] = {}
+        self.constraints: list[Any] = []
+
+    def _row(self, k: tuple[int, ...]) -> int:
+        return self.index.setdefault(k, len(self.index))
+
+    def gram(self, basis: list[tuple[int, ...]], times: Poly, sign: float) -> Any:
+        """A PSD Gram variable Q: adds sign * (z^T Q z) * times."""
+        m = len(basis)
+        Q = self.cp.Variable((m, m), PSD=True)
+        entries: dict[tuple[int, int], float] = {}
+        for i, a in enumerate(basis):
+            for j, b in enumerate(basis):
+                for t, c in times.items():
+                    k = tuple(x + y + z for x, y, z in zip(a, b, t, strict=True))
+                    key = (self._row(k), j * m + i)  # column-major vec
+                    entries[key] = entries.get(key, 0.0) + sign * float(c)
+        self.parts.append((entries, self.cp.vec(Q, order="F")))
+        return Q
+
+    def free(self, basis: list[tuple[int, ...]], times: Poly, sign: float) -> Any:
+        """A free polynomial lambda over ``basis``: adds sign * lambda * times."""
+        lam = self.cp.Variable(len(basis))
+        entries: dict[tuple[int, int], float] = {}
+        for j, a in enumerate(basis):
+            for t, c in times.items():
+                k = tuple(x + z for x, z in zip(a, t, strict=True))
+                key = (self._row(k), j)
+                entries[key] = entries.get(key, 0.0) + sign * float(c)
+        self.parts.append((entries, lam))
+        return lam
+
+    def constant(self, p: Poly, sign: float) -> None:
+        for k, c in p.items():
+            r = self._row(k)
+            self.const[r] = self.const.get(r, 0.0) + sign * float(c)
+
+    def solve(self, skip: tuple[int, ...] | None = None) -> bool:
+        import scipy.sparse as sps
+
+        cp = self.cp
+        rows = len(self.index)
+        drop = self.index.get(skip) if skip is not None else None
+        expr = 0
+        for entries, var in self.parts:
+            keys = list(entries)
+            M = sps.csr_matrix(([entries[k] for k in keys], ([k[0] for k in keys],
+                                                            [k[1] for k in keys])),
+                               shape=(rows, var.size))
+            expr = expr + M @ var
+        b = np.zeros(rows)
+        for r, c in self.const.items():
+            b[r] = c
+        keep = np.array([r for r in range(rows) if r != drop])
+        prob = cp.Problem(cp.Minimize(0), [expr[keep] + b[keep] == 0, *self.constraints])
+        try:
+            prob.solve(solver="CLARABEL")
+        except cp.error.SolverError:
+            return False
+        return prob.status == "optimal"
+
+
+def _r(x: float) -> Fraction:
+    return Fraction(round(float(x) * _ROUND), _ROUND)
+
+
+def _rgram(Q: Any) -> list[list[Fraction]]:
+    A = np.asarray(Q.value, dtype=float)
+    A = (A + A.T) / 2
+    return [[_r(A[i, j]) for j in range(A.shape[1])] for i in range(A.shape[0])]
+
+
+def _project(basis: list[tuple[int, ...]], Q: list[list[Fraction]], target: Poly,
+             free_constant: bool = False) -> list[list[Fraction]] | None:
+    """Q corrected so that z^T Q z == target exactly (each monomial's residual spread
+    evenly over its Gram entries); None when a monomial has no entry."""
+    slots: dict[tuple[int, ...], list[tuple[int, int]]] = {}
+    for i, a in enumerate(basis):
+        for j, b in enumerate(basis):
+            slots.setdefault(tuple(x + y for x, y in zip(a, b, strict=True)), []).append((i, j))
+    have = gram_poly(basis, Q)
+    out = [row[:] for row in Q]
+    for k in set(slots) | set(target):
+        if free_constant and not any(k):
+            continue
+        res = target.get(k, Fraction(0)) - have.get(k, Fraction(0))
+        if res == 0:
+            continue
+        if k not in slots:
+            return None
+        share = res / len(slots[k])
+        for i, j in slots[k]:
+            out[i][j] += share
+    return out
+
+
+def _quadratic(P: np.ndarray, n: int) -> Poly:
+    V: Poly = {}
+    for i in range(n):
+        for j in range(i, n):
+            k = [0] * (n + 1)
+            k[i] += 1
+            k[j] += 1
+            V[tuple(k)] = _r(P[i, i] if i == j else 2 * P[i, j])
+    return {k: c for k, c in V.items() if c}
+
+
+def _lyapunov(system: PolySystem) -> np.ndarray | None:
+    import scipy.linalg as sl
+
+    A = np.array([[float(x) for x in row] for row in system.jacobian()])
+    n = system.n
+    try:
+        if system.discrete:
+            P = sl.solve_discrete_lyapunov(A.T, np.eye(n))
+        else:
+            P = sl.solve_continuous_lyapunov(A.T, -np.eye(n))
+    except (ValueError, np.linalg.LinAlgError):
+        return None
+    P = (P + P.T) / 2
+    if not np.all(np.isfinite(P)) or np.min(np.linalg.eigvalsh(P)) <= 0:
+        return None
+    return P / np.max(np.abs(P))
+
+
+def _estimate_levels(system: PolySystem, V: Poly, P: np.ndarray) -> list[tuple[float, float]]:
+    """(c, U estimate) by sampling the level sets, best first (a proposal only)."""
+    n = system.n
+    rng = np.random.default_rng(0)
+    s = rng.normal(size=(_SAMPLES, n))
+    s /= np.linalg.norm(s, axis=1, keepdims=True)
+    L = np.linalg.cholesky(P)
+    base = np.linalg.solve(L.T, s.T).T  # V(base) = 1
+    vs = np.linspace(-1, 1, 5)
+    dv = vdot(V, system) if not system.discrete else None
+    out = []
+    for c in np.geomspace(1e-4, 1e3, 36):
+        x = math.sqrt(c) * base
+        lo, hi = 0.0, 10.0 * math.sqrt(c) + 10.0
+        for _ in range(30):
+            U = (lo + hi) / 2
+            ok = True
+            for frac in vs:
+                pts = np.hstack([x, np.full((_SAMPLES, 1), frac * U)])
+                if dv is not None:
+                    ok = ok and bool(np.all(peval(dv, pts) < 0))
+                else:
+                    for scale in (1.0, 0.7, 0.4):
+                        inner = np.hstack([scale * x, pts[:, -1:]])
+                        if system.bounded_states:
+                            inner = inner[np.all(np.abs(inner[:, list(system.bounded_states)])
+                                                 <= U, axis=1)]
+                        fx = np.stack([peval(p, inner) for p in system.f], axis=1)
+                        ok = ok and bool(np.all(np.einsum("ij,jk,ik->i", fx, P, fx) <= c))
+                if not ok:
+                    break
+            lo, hi = (U, hi) if ok else (lo, U)
+        if lo > 0:
+            out.append((float(c), lo))
+    out.sort(key=lambda t: -t[1])
+    return out
+
+
+def _local_program(system: PolySystem, V: Poly, c: Fraction, U: Fraction
+                   ) -> tuple[Any, dict[str, Any]]:
+    n = system.n
+    nv = n + 1
+    zero = (0,) * nv
+    v2 = {tuple(2 * int(j == n) for j in range(nv)): Fraction(1)}
+    box = padd({zero: U * U}, pscale(v2, Fraction(-1)))
+    prog = _Program()
+    blocks: dict[str, Any] = {}
+    if not system.discrete:
+        dV = vdot(V, system)
+        D = pdegree(dV) + pdegree(dV) % 2
+        D = max(D, 2)
+        p = padd(pscale(dV, Fraction(-1)),
+                 {tuple(2 * int(j == i) for j in range(nv)): -_EPS * c for i in range(n)})
+        prog.constant(p, 1.0)
+        lam_b = _monomials(nv, range(D - 1), 2)
+        blocks["lambda"] = (lam_b, prog.free(lam_b, padd(V, {zero: -c}), 1.0))
+        mu_b = _monomials(nv, range(D // 2), 0)
+        blocks["mu"] = (mu_b, prog.gram(mu_b, box, -1.0))
+        sig_b = _monomials(nv, range(D // 2 + 1), 1)
+        blocks["sigma"] = (sig_b, prog.gram(sig_b, {zero: Fraction(1)}, -1.0))
+        return prog, blocks
+    Vf = pcompose(V, list(system.f), nv)
+    D = pdegree(Vf) + pdegree(Vf) % 2
+    prog.constant(padd({zero: c}, pscale(Vf, Fraction(-1))), 1.0)
+    half = _monomials(nv, range(D // 2), D)
+    blocks["lambda"] = (half, prog.gram(half, padd({zero: c}, pscale(V, Fraction(-1))), -1.0))
+    blocks["mu"] = (half, prog.gram(half, box, -1.0))
+    blocks["nu"] = []
+    for j in system.bounded_states:
+        xj2 = {tuple(2 * int(i == j) for i in range(nv)): Fraction(1)}
+        blocks["nu"].append((half, prog.gram(half, padd({zero: U * U},
+                                                        pscale(xj2, Fraction(-1))), -1.0)))
+    sig_b = _monomials(nv, range(D // 2 + 1), D)
+    blocks["sigma"] = (sig_b, prog.gram(sig_b, {zero: Fraction(1)}, -1.0))
+    return prog, blocks
+
+
+def _local_certificate(system: PolySystem, V: Poly, c: Fraction, U: Fraction,
+                       blocks: dict[str, Any]) -> dict[str, Any] | None:
+    """Round the proposal, make the identity exact, return the certificate (unchecked)."""
+    n = system.n
+    nv = n + 1
+    zero = (0,) * nv
+    kind = "local-discrete" if system.discrete else "local-continuous"
+    cert: dict[str, Any] = {"format": FORMAT, "version": 1, "kind": kind,
+                            "state_map": system.map_text(), "states": list(system.states),
+                            "V": poly_to(V), "c": str(c), "U": str(U)}
+    mult: dict[str, Any] = {}
+    box = padd({zero: U * U}, {tuple(2 * int(j == n) for j in range(nv)): Fraction(-1)})
+    mu_b, mu_var = blocks["mu"]
+    mu_Q = _rgram(mu_var)
+    mult["mu"] = gram_to(mu_b, mu_Q)
+    rest = pscale(pmul(gram_poly(mu_b, mu_Q), box), Fraction(-1))
+    if kind == "local-continuous":
+        cert["epsilon"] = str(_EPS * c)
+        lam_b, lam_var = blocks["lambda"]
+        lam = {k: _r(x) for k, x in zip(lam_b, np.asarray(lam_var.value), strict=True)
+               if _r(x)}
+        mult["lambda"] = poly_to(lam)
+        target = padd(pscale(vdot(V, system), Fraction(-1)),
+                      {tuple(2 * int(j == i) for j in range(nv)): -_EPS * c for i in range(n)},
+                      pmul(lam, padd(V, {zero: -c})), rest)
+    else:
+        lam_b, lam_var = blocks["lambda"]
+        lam_Q = _rgram(lam_var)
+        mult["lambda"] = gram_to(lam_b, lam_Q)
+        target = padd({zero: c}, pscale(pcompose(V, list(system.f), nv), Fraction(-1)),
+                      pscale(pmul(gram_poly(lam_b, lam_Q), padd({zero: c},
+                                                                pscale(V, Fraction(-1)))),
+                             Fraction(-1)), rest)
+        mult["nu"] = []
+        for j, (nb, nvar) in zip(system.bounded_states, blocks["nu"], strict=True):
+            nQ = _rgram(nvar)
+            mult["nu"].append(gram_to(nb, nQ))
+            xj = {tuple(2 * int(i == j) for i in range(nv)): Fraction(-1), zero: U * U}
+            target = padd(target, pscale(pmul(gram_poly(nb, nQ), xj), Fraction(-1)))
+    sig_b, sig_var = blocks["sigma"]
+    sig_Q = _project(sig_b, _rgram(sig_var), target)
+    if sig_Q is None:
+        return None
+    mult["sigma"] = gram_to(sig_b, sig_Q)
+    cert["multipliers"] = mult
+    return cert
+
+
+def _local(system: PolySystem) -> tuple[SosResult | None, int]:
+    P = _lyapunov(system)
+    if P is None:
+        return None, 0
+    n = system.n
+    V = _quadratic(P, n)
+    Pq = np.array([[float(V.get(tuple(int(m == i) + int(m == j) for m in range(n + 1)),
+                                0)) / (1 if i == j else 2) for j in range(n)]
+                   for i in range(n)])
+    levels = _estimate_levels(system, V, Pq)
+    solves = 0
+    best: SosResult | None = None
+    for c_float, u_est in levels[:LEVELS]:
+        c = _r(c_float)
+        lo, hi = 0.0, u_est
+        good: Fraction | None = None
+        # the sampled U first (often provable as it is), then bisection below it
+        for step in range(BISECTIONS):
+            U = _r(0.95 * u_est if step == 0 else (lo + hi) / 2)
+            if U <= 0:
+                break
+            prog, blocks = _local_program(system, V, c, U)
+            solves += 1
+            if prog.solve():
+                cert = _local_certificate(system, V, c, U, blocks)
+                if cert is not None and check_dict(system, cert) == "":
+                    good = U
+                    if best is None or float(U) > best.radius:
+                        best = SosResult(radius=_below(U), kind=cert["kind"],
+                                         certificate=cert, solves=solves, property=_BOUNDED)
+                    lo = float(U)
+                    if step == 0:
+                        break
+                    continue
+            hi = float(U)
+        if good is not None:
+            break
+    if best is not None:
+        best = SosResult(radius=best.radius, kind=best.kind, certificate=best.certificate,
+                         solves=solves, property=best.property)
+    return best, solves
+
+
+_BOUNDED = ("bounded: every solution from rest stays in the invariant set {V <= c} "
+            "(not: returns to the equilibrium)")
+_GLOBAL = ("bounded: every solution under every bounded input stays bounded (from any "
+           "initial state); not: returns to the equilibrium")
+
+
+def _below(x: Fraction) -> float:
+    """The largest float <= x."""
+    f = float(x)
+    return f if Fraction(f) <= x else math.nextafter(f, -math.inf)
+
+
+def _global(system: PolySystem) -> tuple[SosResult | None, int]:
+    """V of degree 2 or 4 with V - g|x|^2 SOS and -dV/dt|_{v=0} - g|x|^2 SOS, then the
+    input's share: -W - a G^2 - a |x|^2 + C SOS (exactly checked)."""
+    if system.discrete or not system.affine_in_input():
+        return None, 0
+    n = system.n
+    nv = n + 1
+    zero = (0,) * nv
+    f0 = [{k: c for k, c in p.items() if k[-1] == 0} for p in system.f]
+    b = [{k[:-1] + (0,): c for k, c in p.items() if k[-1] == 1} for p in system.f]
+    df = max(pdegree(p) for p in f0)
+    norm2 = {tuple(2 * int(j == i) for j in range(nv)): Fraction(1) for i in range(n)}
+    solves = 0
+    for dV in (2, 4):
+        import cvxpy as cp
+
+        # terms of degree > 2 only in states the input does not drive: G = grad V . b
+        # stays linear, so a G^2 is dominated by the quadratic decay
+        driven = {i for i in range(n) if b[i]}
+        vb = [k for k in _monomials(nv, range(2, dV + 1), 0, xonly=True)
+              if sum(k) == 2 or not any(k[i] for i in driven)]
+        a = cp.Variable(len(vb))
+        # V - g|x|^2 = sigma_V ;  -grad V . f0 - g|x|^2 = sigma_1
+        gamma = Fraction(1, 100)
+        prog = _Program()
+        prog.parts.append(({(prog._row(k), j): 1.0 for j, k in enumerate(vb)}, a))
+        prog.constant(norm2, -float(gamma))
+        hb = [k for k in _monomials(nv, range(1, dV // 2 + 1), 0, xonly=True)
+              if sum(k) == 1 or not any(k[i] for i in driven)]
+        QV = prog.gram(hb, {zero: Fraction(1)}, -1.0)
+        prog2 = _Program()
+        entries: dict[tuple[int, int], float] = {}
+        for j, k in enumerate(vb):
+            Vk = {k: Fraction(1)}
+            for i in range(n):
+                for t, c in pmul(pdiff(Vk, i), f0[i]).items():
+                    key = (prog2._row(t), j)
+                    entries[key] = entries.get(key, 0.0) - float(c)
+        prog2.parts.append((entries, a))
+        prog2.constant(norm2, -float(gamma))
+        deg = dV - 1 + df
+        hb2 = _monomials(nv, range(1, (deg + deg % 2) // 2 + 1), 0, xonly=True)
+        prog2.gram(hb2, {zero: Fraction(1)}, -1.0)
+        ok = _solve_joint(prog, prog2)
+        solves += 1
+        if not ok:
+            continue
+        V = {k: _r(x) for k, x in zip(vb, np.asarray(a.value), strict=True) if _r(x)}
+        sV = _project(hb, _rgram(QV), padd(V, pscale(norm2, -gamma)))
+        if sV is None:
+            continue
+        W = padd(*(pmul(pdiff(V, i), f0[i]) for i in range(n)))
+        G = padd(*(pmul(pdiff(V, i), b[i]) for i in range(n)))
+        for alpha in (Fraction(1, 10), Fraction(1, 100), Fraction(1, 1000)):
+            target = padd(pscale(W, Fraction(-1)), pscale(pmul(G, G), -alpha),
+                          pscale(norm2, -alpha))
+            D = max(pdegree(target), 2)
+            D += D % 2
+            sb = _monomials(nv, range(D // 2 + 1), 0, xonly=True)
+            for _ in range(3):  # drop basis monomials the solver leaves at zero
+                p3 = _Program()
+                p3.constant(target, 1.0)
+                Qs = p3.gram(sb, {zero: Fraction(1)}, -1.0)
+                solves += 1
+                if not p3.solve(skip=zero):
+                    break
+                diag = np.diag(Qs.value)
+                keep = diag > 1e-7 * max(float(np.max(diag)), 1e-300)
+                if keep.all():
+                    break
+                sb = [m for m, k in zip(sb, keep, strict=True) if k]
+            if Qs.value is None:
+                continue
+            sQ = _project(sb, _rgram(Qs), target, free_constant=True)
+            if sQ is None:
+                continue
+            cert = {"format": FORMAT, "version": 1, "kind": "global-continuous",
+                    "state_map": system.map_text(), "states": list(system.states),
+                    "V": poly_to(V), "gamma": str(gamma), "alpha": str(alpha),
+                    "multipliers": {"sigma_V": gram_to(hb, sV), "sigma": gram_to(sb, sQ)}}
+            if check_dict(system, cert) == "":
+                return SosResult(radius=math.inf, kind="global-continuous", certificate=cert,
+                                 solves=solves, property=_GLOBAL), solves
+    return None, solves
+
+
+def _solve_joint(p1: _Program, p2: _Program) -> bool:
+    """Solve two coefficient-matching programs sharing variables together."""
+    import scipy.sparse as sps
+
+    cp = p1.cp
+    cons = []
+    for prog in (p1, p2):
+        rows = len(prog.index)
+        expr = 0
+        for entries, var in prog.parts:
+            keys = list(entries)
+            M = sps.csr_matrix(([entries[k] for k in keys], ([k[0] for k in keys],
+                                                            [k[1] for k in keys])),
+                               shape=(rows, var.size))
+            expr = expr + M @ var
+        bvec = np.zeros(rows)
+        for r, c in prog.const.items():
+            bvec[r] = c
+        cons.append(expr + bvec == 0)
+    prob = cp.Problem(cp.Minimize(0), cons)
+    try:
+        prob.solve(solver="CLARABEL")
+    except cp.error.SolverError:
+        return False
+    return prob.status == "optimal"
+
+
+def search_size(system: PolySystem) -> int:
+    """Size of the largest Gram matrix of the local search (its work grows as its cube)."""
+    nv = system.n + 1
+    if system.discrete:
+        D = 2 * max(pdegree(p) for p in system.f)
+        return len(_monomials(nv, range(D // 2 + 1), D))
+    D = max(pdegree(p) for p in system.f) + 1
+    D += D % 2
+    return len(_monomials(nv, range(D // 2 + 1), 1))
+
+
+def sos_certificate(system: PolySystem, *, global_search: bool = True
+                    ) -> tuple[SosResult | None, int]:
+    """The best verified SOS certificate of a polynomial system, or None.
+
+    Parameters
+    ----------
+    system : PolySystem
+        The state form (:func:`gfrf.stability.polysys.state_form`).
+    global_search : bool
+        Try a global certificate (every bounded input) first.
+
+    Returns
+    -------
+    (SosResult or None, int)
+        The certificate (exactly re-verified) and the number of SDPs solved.
+    """
+    solves = 0
+    if global_search:
+        res, k = _global(system)
+        solves += k
+        if res is not None:
+            return res, solves
+    res, k = _local(system)
+    return res, solves + k
