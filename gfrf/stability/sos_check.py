@@ -28,7 +28,10 @@ Kinds (``kind`` in the file):
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
 from fractions import Fraction
+from pathlib import Path
 from typing import Any
 
 from gfrf.stability.polysys import (
@@ -41,7 +44,7 @@ from gfrf.stability.polysys import (
     pscale,
 )
 
-__all__ = ["CheckResult", "check_dict", "gram_poly", "is_psd", "vdot", "FORMAT"]
+__all__ = ["CheckResult", "CertificateCheck", "check_certificate", "check_dict", "gram_poly", "is_psd", "vdot", "FORMAT"]
 
 #: The ``format`` value of a certificate file.
 FORMAT = "gfrf-sos-certificate"
@@ -302,3 +305,106 @@ def _check_global(system: PolySystem, cert: dict[str, Any], V: Poly, sigma: Poly
     if C < 0:
         return "the constant C is negative"
     return ""
+
+
+#: Largest certificate file read (bytes).
+MAX_FILE_BYTES = 20_000_000
+
+
+@dataclass(frozen=True, kw_only=True)
+class CertificateCheck:
+    """Result of :func:`check_certificate`.
+
+    Attributes
+    ----------
+    valid : bool
+        The certificate holds for this model (re-verified exactly, from scratch).
+    reason : str
+        Why it was refused (empty when valid).
+    kind : str
+        The certificate's kind.
+    radius : float
+        U (every input with sup|v| <= U; ``inf`` for a global certificate), when valid.
+    property : str
+        What a valid certificate proves.
+    state_map : str
+        The model's state form the check used.
+    """
+
+    valid: bool
+    reason: str
+    kind: str
+    radius: float
+    property: str
+    state_map: str
+
+    def __repr__(self) -> str:
+        return f"CertificateCheck(valid={self.valid}, kind={self.kind!r}, radius={self.radius})"
+
+    def _repr_markdown_(self) -> str:
+        return f"**certificate {'holds' if self.valid else 'refused'}**: {self.text()}"
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary (radius ``"inf"`` for a global certificate)."""
+        return {"valid": self.valid, "reason": self.reason, "kind": self.kind,
+                "radius": "inf" if math.isinf(self.radius) else self.radius,
+                "property": self.property, "state_map": self.state_map,
+                "proof": "interval" if self.valid else "none"}
+
+    def text(self) -> str:
+        """One line: holds (with its radius and property) or refused (with the reason)."""
+        if not self.valid:
+            return f"refused: {self.reason}"
+        what = ("every bounded input" if math.isinf(self.radius)
+                else f"every input with sup|v| <= {self.radius:.6g}")
+        return (f"holds (exact rational re-check): {self.kind}, {what}; proves {self.property}"
+                f"; state map {self.state_map}")
+
+
+def check_certificate(model: Any, certificate: dict[str, Any] | str | Path) -> CertificateCheck:
+    """Re-verify a certificate written by ``gfrf threshold --certificate-out`` from scratch.
+
+    Parameters
+    ----------
+    model : ModelFile or Model
+        The model the certificate claims to be about (its state form is rebuilt here).
+    certificate : dict or str or Path
+        The certificate, or the path of its JSON file.
+
+    Returns
+    -------
+    CertificateCheck
+    """
+    import json
+
+    from gfrf.errors import ArgumentError
+    from gfrf.stability.polysys import StateFormError, state_form
+
+    if not isinstance(certificate, dict):
+        path = Path(certificate)
+        if not path.is_file():
+            raise ArgumentError(f"certificate file {str(path)[:200]!r} is not a regular file")
+        if path.stat().st_size > MAX_FILE_BYTES:
+            raise ArgumentError(f"certificate file is above {MAX_FILE_BYTES} bytes")
+        try:
+            certificate = json.loads(path.read_text(encoding="utf-8"))
+        except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+            raise ArgumentError(f"certificate file is not JSON: {exc}") from None
+        if not isinstance(certificate, dict):
+            raise ArgumentError("certificate file must hold a JSON object")
+    try:
+        system = state_form(model)
+    except StateFormError as exc:
+        raise ArgumentError(f"the model has no polynomial state form: {exc}") from None
+    reason = check_dict(system, certificate)
+    kind = str(certificate.get("kind", ""))[:40]
+    radius = math.inf if kind == "global-continuous" else 0.0
+    if not reason and kind != "global-continuous":
+        U = q(certificate["U"])
+        radius = float(U) if Fraction(float(U)) <= U else math.nextafter(float(U), 0.0)
+    prop = ("bounded: every solution under every bounded input stays bounded"
+            if kind == "global-continuous" else
+            "bounded: every solution from rest stays in the invariant set {V <= c}")
+    return CertificateCheck(valid=not reason, reason=str(reason), kind=kind,
+                            radius=radius if not reason else 0.0,
+                            property=prop if not reason else "", state_map=system.map_text())

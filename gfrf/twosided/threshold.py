@@ -103,7 +103,10 @@ class Threshold:
 
     @property
     def witness(self) -> dict[str, Any] | None:
-        """``{"tones": [[A, omega, phase], ...], "t_escape": t}`` or None."""
+        """``{"tones": [[A, omega, phase], ...], "t_escape": t}``, ``{"kind":
+        "unstable-pole", "reason": ...}`` for an unstable equilibrium, or None."""
+        if self.unstable is not None:
+            return {"kind": "unstable-pole", "reason": self.unstable}
         return self.falsification.witness() if self.falsification and self.upper else None
 
     @property
