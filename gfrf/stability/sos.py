@@ -33,7 +33,6 @@ from gfrf.stability.polysys import (
     pcompose,
     pdegree,
     pdiff,
-    peval,
     pmul,
     pscale,
 )
@@ -51,6 +50,8 @@ __all__ = ["SosResult", "sos_certificate", "BISECTIONS", "LEVELS"]
 #: Steps on U (each one SDP and, when feasible, one exact check), and levels c tried.
 BISECTIONS = 7
 LEVELS = 2
+#: Sampled estimates the shape search of the quadratic V may spend.
+SHAPE_EVALUATIONS = 200
 #: Largest Gram matrix the search builds (larger systems are not searched).
 MAX_GRAM_SEARCH = 40
 #: Strictness margin eps on the boundary, relative to the level c.
@@ -233,37 +234,54 @@ def _lyapunov(system: PolySystem) -> np.ndarray | None:
     return P / np.max(np.abs(P))
 
 
-def _estimate_levels(system: PolySystem, V: Poly, P: np.ndarray) -> list[tuple[float, float]]:
+class _Scaled:
+    """p(s * base, v) for many s and v at fixed sample points (monomials evaluated once)."""
+
+    def __init__(self, p: Poly, base: np.ndarray):
+        keys = list(p)
+        self.coef = np.array([float(p[k]) for k in keys])
+        self.dx = np.array([sum(k[:-1]) for k in keys], dtype=float)
+        self.dv = np.array([k[-1] for k in keys], dtype=float)
+        self.M = np.stack([np.prod(base ** np.asarray(k[:-1]), axis=1) for k in keys], axis=1) \
+            if keys else np.zeros((base.shape[0], 0))
+
+    def __call__(self, s: float, v: float) -> np.ndarray:
+        with np.errstate(all="ignore"):
+            w = self.coef * s ** self.dx * np.where(self.dv > 0, v ** self.dv, 1.0)
+        return self.M @ w
+
+
+def _estimate_levels(system: PolySystem, V: Poly, P: np.ndarray, samples: int = _SAMPLES,
+                     levels: int = 36, steps: int = 30) -> list[tuple[float, float]]:
     """(c, U estimate) by sampling the level sets, best first (a proposal only)."""
     n = system.n
     rng = np.random.default_rng(0)
-    s = rng.normal(size=(_SAMPLES, n))
+    s = rng.normal(size=(samples, n))
     s /= np.linalg.norm(s, axis=1, keepdims=True)
     L = np.linalg.cholesky(P)
     base = np.linalg.solve(L.T, s.T).T  # V(base) = 1
-    vs = np.linspace(-1, 1, 5)
-    dv = vdot(V, system) if not system.discrete else None
+    fracs = np.linspace(-1, 1, 5)
+    if system.discrete:
+        ev = _Scaled(pcompose(V, list(system.f), n + 1), base)
+        bounded = list(system.bounded_states)
+        scales = (1.0, 0.7, 0.4)
+    else:
+        ev = _Scaled(vdot(V, system), base)
     out = []
-    for c in np.geomspace(1e-4, 1e3, 36):
-        x = math.sqrt(c) * base
-        lo, hi = 0.0, 10.0 * math.sqrt(c) + 10.0
-        for _ in range(30):
+    for c in np.geomspace(1e-4, 1e3, levels):
+        r = math.sqrt(c)
+        lo, hi = 0.0, 10.0 * r + 10.0
+        for _ in range(steps):
             U = (lo + hi) / 2
-            ok = True
-            for frac in vs:
-                pts = np.hstack([x, np.full((_SAMPLES, 1), frac * U)])
-                if dv is not None:
-                    ok = ok and bool(np.all(peval(dv, pts) < 0))
-                else:
-                    for scale in (1.0, 0.7, 0.4):
-                        inner = np.hstack([scale * x, pts[:, -1:]])
-                        if system.bounded_states:
-                            inner = inner[np.all(np.abs(inner[:, list(system.bounded_states)])
-                                                 <= U, axis=1)]
-                        fx = np.stack([peval(p, inner) for p in system.f], axis=1)
-                        ok = ok and bool(np.all(np.einsum("ij,jk,ik->i", fx, P, fx) <= c))
-                if not ok:
-                    break
+            if system.discrete:
+                ok = True
+                for sc in scales:
+                    inside = (np.all(np.abs(sc * r * base[:, bounded]) <= U, axis=1)
+                              if bounded else np.ones(len(base), bool))
+                    ok = ok and all(bool(np.all(ev(sc * r, fr * U)[inside] <= c))
+                                    for fr in fracs)
+            else:
+                ok = all(bool(np.all(ev(r, fr * U) < 0)) for fr in fracs)
             lo, hi = (U, hi) if ok else (lo, U)
         if lo > 0:
             out.append((float(c), lo))
@@ -358,10 +376,39 @@ def _local_certificate(system: PolySystem, V: Poly, c: Fraction, U: Fraction,
     return cert
 
 
+def _shape(system: PolySystem, P0: np.ndarray) -> np.ndarray:
+    """P improved by a deterministic Nelder-Mead search (at most SHAPE_EVALUATIONS
+    sampled estimates of U) over its Cholesky factor: a proposal, checked later."""
+    from scipy.optimize import minimize
+
+    n = system.n
+    L0 = np.linalg.cholesky(P0)
+    idx = np.tril_indices(n)
+
+    def build(z: np.ndarray) -> np.ndarray:
+        L = np.zeros((n, n))
+        L[idx] = z
+        P = L @ L.T
+        return P / np.max(np.abs(P))
+
+    def cost(z: np.ndarray) -> float:
+        P = build(z)
+        if np.min(np.linalg.eigvalsh(P)) <= 1e-9:
+            return 0.0
+        est = _estimate_levels(system, _quadratic(P, n), P, samples=600, levels=14, steps=16)
+        return -est[0][1] if est else 0.0
+
+    res = minimize(cost, L0[idx], method="Nelder-Mead",
+                   options={"maxfev": SHAPE_EVALUATIONS, "xatol": 1e-3, "fatol": 1e-6})
+    best = build(res.x)
+    return best if res.fun < cost(L0[idx]) else P0
+
+
 def _local(system: PolySystem) -> tuple[SosResult | None, int]:
     P = _lyapunov(system)
     if P is None:
         return None, 0
+    P = _shape(system, P)
     n = system.n
     V = _quadratic(P, n)
     Pq = np.array([[float(V.get(tuple(int(m == i) + int(m == j) for m in range(n + 1)),

@@ -44,7 +44,8 @@ from gfrf.stability.polysys import (
     pscale,
 )
 
-__all__ = ["CheckResult", "CertificateCheck", "check_certificate", "check_dict", "gram_poly", "is_psd", "vdot", "FORMAT"]
+__all__ = ["CheckResult", "CertificateCheck", "check_certificate", "check_dict", "gram_poly",
+           "is_psd", "vdot", "FORMAT"]
 
 #: The ``format`` value of a certificate file.
 FORMAT = "gfrf-sos-certificate"
