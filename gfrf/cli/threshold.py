@@ -30,8 +30,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     """Register ``threshold``."""
     p = subparsers.add_parser(
         "threshold", help="two-sided answer: proven-stable amplitude and escaping witness",
-        description="Stable below 'lower' (proven: Theorem 1/2's r* or an energy "
-                    "certificate for every bounded input), unstable at 'upper' (a sum of "
+        description="Stable below 'lower' for every input with sup|u| <= lower (for a loop: "
+                    "every reference with sup|r| <= lower, u = C(r - y); proven by an energy "
+                    "or an exactly re-checked sum-of-squares certificate; Theorem 1/2's r*, "
+                    "for sums of tones only, is listed beside it), unstable at 'upper' (a sum of "
                     "tones switched on at t = 0 whose response from rest escapes: a "
                     "simulation witness), unknown in between. Exit code 0: both sides "
                     "closed; 1: no escape found up to the search cap; 2: bad input.")

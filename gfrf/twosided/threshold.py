@@ -1,11 +1,12 @@
 """The two-sided answer: stable below ``lower`` (proven), unstable at ``upper`` (a witness).
 
-``lower`` is the largest radius of the proven certificates: Theorem 1's r* (Theorem 2's
-for a model file with a controller; input class: sums of tones, amplitude = sum of tone
-amplitudes, the L1 norm of the spectrum), the energy certificate of
-:mod:`gfrf.stability.energy` (every bounded input: radius infinity when it applies) or,
-for a softening oscillator, the invariant sublevel set of
-:mod:`gfrf.stability.energy_local` (every input with sup|u| <= U).
+``lower`` is the largest radius proven for every input with sup|u| <= lower
+(:mod:`gfrf.twosided.lower`): the energy certificates of :mod:`gfrf.stability.energy`
+and :mod:`gfrf.stability.energy_local` and the exactly re-checked sum-of-squares
+certificate of :mod:`gfrf.stability.sos`.  Theorem 1's r* (Theorem 2's for a model file
+with a controller; input class: sums of tones, amplitude = the L1 norm of the spectrum)
+is listed beside it in ``certificates``, never as it.  An unstable equilibrium (a pole
+of the linear part in the unstable region, decided exactly) answers lower = upper = 0.
 ``upper`` is the amplitude of the falsifier's witness (:mod:`gfrf.twosided.falsify`),
 searched only when no certificate is global.  Between them: unknown (the only case
 still called ``inconclusive``).
