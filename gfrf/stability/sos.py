@@ -18,9 +18,7 @@ bounded by counts (candidate levels, bisection steps), never by time.
 
 from __future__ import annotations
 
-import itertools
 import math
-from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
@@ -32,7 +30,6 @@ from gfrf.stability.polysys import (
     padd,
     pcompose,
     pdegree,
-    pdiff,
     pmul,
     pscale,
 )
@@ -44,6 +41,15 @@ from gfrf.stability.sos_check import (
     poly_to,
     vdot,
 )
+from gfrf.stability.sos_core import (
+    SosResult,
+    _monomials,
+    _Program,
+    _project,
+    _r,
+    _rgram,
+)
+from gfrf.stability.sos_global import global_certificate
 
 __all__ = ["SosResult", "sos_certificate", "BISECTIONS", "LEVELS"]
 
@@ -57,152 +63,6 @@ MAX_GRAM_SEARCH = 40
 #: Strictness margin eps on the boundary, relative to the level c.
 _EPS = Fraction(1, 2**16)
 _SAMPLES = 3000
-_ROUND = 2**36
-
-
-@dataclass(frozen=True)
-class SosResult:
-    """A verified SOS certificate.
-
-    Attributes
-    ----------
-    radius : float
-        U (every input with sup|v| <= U), ``inf`` for a global certificate; a float at or
-        below the exact rational U of the certificate.
-    kind : str
-        ``local-continuous``, ``local-discrete`` or ``global-continuous``.
-    certificate : dict
-        The certificate (exact rationals as ``"p/q"`` texts), re-checkable by
-        :func:`gfrf.stability.sos_check.check_dict`.
-    solves : int
-        SDPs solved (the work).
-    property : str
-        What is proven.
-    """
-
-    radius: float
-    kind: str
-    certificate: dict[str, Any] = field(repr=False)
-    solves: int
-    property: str
-
-
-def _monomials(nv: int, degrees: range, vmax: int, xonly: bool = False) -> list[tuple[int, ...]]:
-    out = []
-    for d in degrees:
-        for combo in itertools.combinations_with_replacement(range(nv), d):
-            k = [0] * nv
-            for i in combo:
-                k[i] += 1
-            if (xonly and k[-1]) or k[-1] > vmax:
-                continue
-            out.append(tuple(k))
-    return out
-
-
-class _Program:
-    """Coefficient matching: sum of blocks == constant, blocks linear maps of variables."""
-
-    def __init__(self) -> None:
-        import cvxpy as cp
-
-        self.cp = cp
-        self.index: dict[tuple[int, ...], int] = {}
-        self.parts: list[tuple[dict[tuple[int, int], float], Any]] = []
-        self.const: dict[int, float] = {}
-        self.constraints: list[Any] = []
-
-    def _row(self, k: tuple[int, ...]) -> int:
-        return self.index.setdefault(k, len(self.index))
-
-    def gram(self, basis: list[tuple[int, ...]], times: Poly, sign: float) -> Any:
-        """A PSD Gram variable Q: adds sign * (z^T Q z) * times."""
-        m = len(basis)
-        Q = self.cp.Variable((m, m), PSD=True)
-        entries: dict[tuple[int, int], float] = {}
-        for i, a in enumerate(basis):
-            for j, b in enumerate(basis):
-                for t, c in times.items():
-                    k = tuple(x + y + z for x, y, z in zip(a, b, t, strict=True))
-                    key = (self._row(k), j * m + i)  # column-major vec
-                    entries[key] = entries.get(key, 0.0) + sign * float(c)
-        self.parts.append((entries, self.cp.vec(Q, order="F")))
-        return Q
-
-    def free(self, basis: list[tuple[int, ...]], times: Poly, sign: float) -> Any:
-        """A free polynomial lambda over ``basis``: adds sign * lambda * times."""
-        lam = self.cp.Variable(len(basis))
-        entries: dict[tuple[int, int], float] = {}
-        for j, a in enumerate(basis):
-            for t, c in times.items():
-                k = tuple(x + z for x, z in zip(a, t, strict=True))
-                key = (self._row(k), j)
-                entries[key] = entries.get(key, 0.0) + sign * float(c)
-        self.parts.append((entries, lam))
-        return lam
-
-    def constant(self, p: Poly, sign: float) -> None:
-        for k, c in p.items():
-            r = self._row(k)
-            self.const[r] = self.const.get(r, 0.0) + sign * float(c)
-
-    def solve(self, skip: tuple[int, ...] | None = None) -> bool:
-        import scipy.sparse as sps
-
-        cp = self.cp
-        rows = len(self.index)
-        drop = self.index.get(skip) if skip is not None else None
-        expr = 0
-        for entries, var in self.parts:
-            keys = list(entries)
-            M = sps.csr_matrix(([entries[k] for k in keys], ([k[0] for k in keys],
-                                                            [k[1] for k in keys])),
-                               shape=(rows, var.size))
-            expr = expr + M @ var
-        b = np.zeros(rows)
-        for r, c in self.const.items():
-            b[r] = c
-        keep = np.array([r for r in range(rows) if r != drop])
-        prob = cp.Problem(cp.Minimize(0), [expr[keep] + b[keep] == 0, *self.constraints])
-        try:
-            prob.solve(solver="CLARABEL")
-        except cp.error.SolverError:
-            return False
-        return prob.status == "optimal"
-
-
-def _r(x: float) -> Fraction:
-    return Fraction(round(float(x) * _ROUND), _ROUND)
-
-
-def _rgram(Q: Any) -> list[list[Fraction]]:
-    A = np.asarray(Q.value, dtype=float)
-    A = (A + A.T) / 2
-    return [[_r(A[i, j]) for j in range(A.shape[1])] for i in range(A.shape[0])]
-
-
-def _project(basis: list[tuple[int, ...]], Q: list[list[Fraction]], target: Poly,
-             free_constant: bool = False) -> list[list[Fraction]] | None:
-    """Q corrected so that z^T Q z == target exactly (each monomial's residual spread
-    evenly over its Gram entries); None when a monomial has no entry."""
-    slots: dict[tuple[int, ...], list[tuple[int, int]]] = {}
-    for i, a in enumerate(basis):
-        for j, b in enumerate(basis):
-            slots.setdefault(tuple(x + y for x, y in zip(a, b, strict=True)), []).append((i, j))
-    have = gram_poly(basis, Q)
-    out = [row[:] for row in Q]
-    for k in set(slots) | set(target):
-        if free_constant and not any(k):
-            continue
-        res = target.get(k, Fraction(0)) - have.get(k, Fraction(0))
-        if res == 0:
-            continue
-        if k not in slots:
-            return None
-        share = res / len(slots[k])
-        for i, j in slots[k]:
-            out[i][j] += share
-    return out
 
 
 def _quadratic(P: np.ndarray, n: int) -> Poly:
@@ -450,127 +310,12 @@ def _local(system: PolySystem) -> tuple[SosResult | None, int]:
 
 _BOUNDED = ("bounded: every solution from rest stays in the invariant set {V <= c} "
             "(not: returns to the equilibrium)")
-_GLOBAL = ("bounded: every solution under every bounded input stays bounded (from any "
-           "initial state); not: returns to the equilibrium")
 
 
 def _below(x: Fraction) -> float:
     """The largest float <= x."""
     f = float(x)
     return f if Fraction(f) <= x else math.nextafter(f, -math.inf)
-
-
-def _global(system: PolySystem) -> tuple[SosResult | None, int]:
-    """V of degree 2 or 4 with V - g|x|^2 SOS and -dV/dt|_{v=0} - g|x|^2 SOS, then the
-    input's share: -W - a G^2 - a |x|^2 + C SOS (exactly checked)."""
-    if system.discrete or not system.affine_in_input():
-        return None, 0
-    n = system.n
-    nv = n + 1
-    zero = (0,) * nv
-    f0 = [{k: c for k, c in p.items() if k[-1] == 0} for p in system.f]
-    b = [{k[:-1] + (0,): c for k, c in p.items() if k[-1] == 1} for p in system.f]
-    df = max(pdegree(p) for p in f0)
-    norm2 = {tuple(2 * int(j == i) for j in range(nv)): Fraction(1) for i in range(n)}
-    solves = 0
-    for dV in (2, 4):
-        import cvxpy as cp
-
-        # terms of degree > 2 only in states the input does not drive: G = grad V . b
-        # stays linear, so a G^2 is dominated by the quadratic decay
-        driven = {i for i in range(n) if b[i]}
-        vb = [k for k in _monomials(nv, range(2, dV + 1), 0, xonly=True)
-              if sum(k) == 2 or not any(k[i] for i in driven)]
-        a = cp.Variable(len(vb))
-        # V - g|x|^2 = sigma_V ;  -grad V . f0 - g|x|^2 = sigma_1
-        gamma = Fraction(1, 100)
-        prog = _Program()
-        prog.parts.append(({(prog._row(k), j): 1.0 for j, k in enumerate(vb)}, a))
-        prog.constant(norm2, -float(gamma))
-        hb = [k for k in _monomials(nv, range(1, dV // 2 + 1), 0, xonly=True)
-              if sum(k) == 1 or not any(k[i] for i in driven)]
-        QV = prog.gram(hb, {zero: Fraction(1)}, -1.0)
-        prog2 = _Program()
-        entries: dict[tuple[int, int], float] = {}
-        for j, k in enumerate(vb):
-            Vk = {k: Fraction(1)}
-            for i in range(n):
-                for t, c in pmul(pdiff(Vk, i), f0[i]).items():
-                    key = (prog2._row(t), j)
-                    entries[key] = entries.get(key, 0.0) - float(c)
-        prog2.parts.append((entries, a))
-        prog2.constant(norm2, -float(gamma))
-        deg = dV - 1 + df
-        hb2 = _monomials(nv, range(1, (deg + deg % 2) // 2 + 1), 0, xonly=True)
-        prog2.gram(hb2, {zero: Fraction(1)}, -1.0)
-        ok = _solve_joint(prog, prog2)
-        solves += 1
-        if not ok:
-            continue
-        V = {k: _r(x) for k, x in zip(vb, np.asarray(a.value), strict=True) if _r(x)}
-        sV = _project(hb, _rgram(QV), padd(V, pscale(norm2, -gamma)))
-        if sV is None:
-            continue
-        W = padd(*(pmul(pdiff(V, i), f0[i]) for i in range(n)))
-        G = padd(*(pmul(pdiff(V, i), b[i]) for i in range(n)))
-        for alpha in (Fraction(1, 10), Fraction(1, 100), Fraction(1, 1000)):
-            target = padd(pscale(W, Fraction(-1)), pscale(pmul(G, G), -alpha),
-                          pscale(norm2, -alpha))
-            D = max(pdegree(target), 2)
-            D += D % 2
-            sb = _monomials(nv, range(D // 2 + 1), 0, xonly=True)
-            for _ in range(3):  # drop basis monomials the solver leaves at zero
-                p3 = _Program()
-                p3.constant(target, 1.0)
-                Qs = p3.gram(sb, {zero: Fraction(1)}, -1.0)
-                solves += 1
-                if not p3.solve(skip=zero):
-                    break
-                diag = np.diag(Qs.value)
-                keep = diag > 1e-7 * max(float(np.max(diag)), 1e-300)
-                if keep.all():
-                    break
-                sb = [m for m, k in zip(sb, keep, strict=True) if k]
-            if Qs.value is None:
-                continue
-            sQ = _project(sb, _rgram(Qs), target, free_constant=True)
-            if sQ is None:
-                continue
-            cert = {"format": FORMAT, "version": 1, "kind": "global-continuous",
-                    "state_map": system.map_text(), "states": list(system.states),
-                    "V": poly_to(V), "gamma": str(gamma), "alpha": str(alpha),
-                    "multipliers": {"sigma_V": gram_to(hb, sV), "sigma": gram_to(sb, sQ)}}
-            if check_dict(system, cert) == "":
-                return SosResult(radius=math.inf, kind="global-continuous", certificate=cert,
-                                 solves=solves, property=_GLOBAL), solves
-    return None, solves
-
-
-def _solve_joint(p1: _Program, p2: _Program) -> bool:
-    """Solve two coefficient-matching programs sharing variables together."""
-    import scipy.sparse as sps
-
-    cp = p1.cp
-    cons = []
-    for prog in (p1, p2):
-        rows = len(prog.index)
-        expr = 0
-        for entries, var in prog.parts:
-            keys = list(entries)
-            M = sps.csr_matrix(([entries[k] for k in keys], ([k[0] for k in keys],
-                                                            [k[1] for k in keys])),
-                               shape=(rows, var.size))
-            expr = expr + M @ var
-        bvec = np.zeros(rows)
-        for r, c in prog.const.items():
-            bvec[r] = c
-        cons.append(expr + bvec == 0)
-    prob = cp.Problem(cp.Minimize(0), cons)
-    try:
-        prob.solve(solver="CLARABEL")
-    except cp.error.SolverError:
-        return False
-    return prob.status == "optimal"
 
 
 def search_size(system: PolySystem) -> int:
@@ -602,7 +347,7 @@ def sos_certificate(system: PolySystem, *, global_search: bool = True
     """
     solves = 0
     if global_search:
-        res, k = _global(system)
+        res, k = global_certificate(system)
         solves += k
         if res is not None:
             return res, solves
