@@ -111,7 +111,7 @@ class _Program:
         cp = self.cp
         rows = len(self.index)
         drop = self.index.get(skip) if skip is not None else None
-        expr = 0
+        expr: Any = 0
         for entries, var in self.parts:
             keys = list(entries)
             M = sps.csr_matrix(([entries[k] for k in keys], ([k[0] for k in keys],

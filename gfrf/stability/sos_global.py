@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
+from typing import Any
 
 import numpy as np
 
@@ -127,7 +128,7 @@ def _solve_joint(p1: _Program, p2: _Program) -> bool:
     cons = []
     for prog in (p1, p2):
         rows = len(prog.index)
-        expr = 0
+        expr: Any = 0
         for entries, var in prog.parts:
             keys = list(entries)
             M = sps.csr_matrix(([entries[k] for k in keys], ([k[0] for k in keys],

@@ -72,7 +72,7 @@ def _unstable(mf: ModelFile, system: Any) -> str | None:
         from fractions import Fraction
 
         chi = [Fraction(int(c.p), int(c.q)) for c in coeffs]
-        report = poles(chi, discrete=system.discrete)
+        report = poles(chi, discrete=system.discrete)  # type: ignore[arg-type]
         what = "linear closed loop" if mf.controller is not None else "linear part"
     elif mf.controller is not None and not mf.plant.is_discrete:
         from gfrf.stability.loops import closed_loop
@@ -141,7 +141,7 @@ def lower_side(mf: ModelFile, theorem_certificate: Certificate) -> LowerSide:
                 f"no proposal passed the exact check ({solves} SDPs)")
         if sos is not None:
             kind = sos.kind
-            detail = (f"{kind}: {system.map_text()}; V of degree "
+            detail = (f"{kind}: {system.map_text() if system else ''}; V of degree "
                       f"{max(sum(k) for k, _ in sos.certificate['V'])}; "
                       + ("V radially unbounded, dV/dt < 0 outside a compact set for every "
                          "bounded input" if sos.radius == float("inf") else
