@@ -159,3 +159,41 @@ def test_pi_loop_gets_a_finite_proven_lower() -> None:
                    controller=Controller(num=(0.5, 0.2), den=(1.0, 0.0)))
     t = gfrf.threshold(mf)
     assert 0 < t.lower < math.inf and t.lower_proof == "interval"
+
+
+@pytest.mark.slow
+def test_third_order_plant_inputs_below_lower_stay_in_the_set() -> None:
+    """y''' + 1.2y'' + 3y' + y + 0.6y^2 + y^3 = 2u (from_tf with a feedback nonlinearity):
+    square waves, bang-bang on dV/du and random tone sums with sup|u| <= lower keep V <= c
+    in DOP853 runs, and never escape."""
+    import control
+
+    import gfrf
+
+    model = gfrf.from_tf(control.tf([2], [1, 1.2, 3, 1]), {2: 0.3, 3: 0.5})
+    system = state_form(model)
+    res, _ = sos_certificate(system, global_search=False)
+    assert res is not None
+    V = poly_from(res.certificate["V"], 4)
+    c = float(Fraction(res.certificate["c"]))
+    U = res.radius
+    g = [(k, float(x)) for k, x in V.items() if k[2]]  # dV/dx3 (input drives x3)
+    rng = np.random.default_rng(5)
+    amps = rng.uniform(size=5)
+    amps *= U / amps.sum()
+    ws, ph = rng.uniform(0.2, 4, size=5), rng.uniform(0, 2 * np.pi, size=5)
+
+    def rhs(u):
+        return lambda t, z: [z[1], z[2], -1.2 * z[2] - 3 * z[1] - z[0] - 0.6 * z[0]**2
+                             - z[0]**3 + 2 * u(t, z)]
+
+    def dvdx3(z):
+        return sum(x * k[2] * z[0]**k[0] * z[1]**k[1] * z[2]**(k[2] - 1) for k, x in g)
+
+    for u in (lambda t, z: U * math.copysign(1.0, math.sin(0.7 * t)),
+              lambda t, z: U * math.copysign(1.0, dvdx3(z)),
+              lambda t, z: float(np.sum(amps * np.cos(ws * t + ph)))):
+        sol = solve_ivp(rhs(u), (0, 60), [0.0, 0.0, 0.0], method="DOP853", rtol=1e-9,
+                        atol=1e-12, max_step=0.05)
+        pts = np.hstack([sol.y.T, np.zeros((sol.y.shape[1], 1))])
+        assert sol.status == 0 and np.max(peval(V, pts)) <= c * (1 + 1e-6)
