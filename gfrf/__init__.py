@@ -89,6 +89,7 @@ _LAZY = {
     "to_nlsys": "gfrf.sim.nlsys",
     "ofrf": "gfrf.sim.ofrf", "OFRF": "gfrf.sim.ofrf",
     "from_tf": "gfrf.model.from_control", "from_nlsys": "gfrf.model.from_control",
+    "check_certificate": "gfrf.stability.sos_check",
     "threshold": "gfrf.twosided.threshold", "Threshold": "gfrf.twosided.threshold",
     "FrequencyResponseCurve": "gfrf.harmonic.curve",
 }

@@ -43,7 +43,9 @@ def _check_contract(data: dict) -> None:
     assert data["lower_proof"] in ("interval", "float", "none")
     assert data["upper"] is None or isinstance(data["upper"], float)
     assert (data["upper"] is None) == (data["witness"] is None) == (data["upper_method"] is None)
-    if data["witness"] is not None:
+    if data["witness"] is not None and data["witness"].get("kind") == "unstable-pole":
+        assert data["upper"] == 0.0 and data["lower"] == 0.0
+    elif data["witness"] is not None:
         assert set(data["witness"]) == {"tones", "t_escape"}
         assert all(len(t) == 3 for t in data["witness"]["tones"])
         assert math.isclose(sum(t[0] for t in data["witness"]["tones"]), data["upper"])
@@ -146,7 +148,8 @@ def test_same_command_same_bytes(capsys) -> None:
 def test_text_output_says_the_three_regions(capsys) -> None:
     code = main(["threshold", "D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"])
     out = capsys.readouterr().out
-    assert code == 0 and "stable for every input amplitude" in out
+    # the property proven is boundedness, not a return to rest
+    assert code == 0 and "bounded for every bounded input" in out
     assert len(out.splitlines()) <= 8
 
 
@@ -174,7 +177,9 @@ def test_every_bundled_model_lower_at_least_r_star_and_below_upper(capsys, name:
     code, data = _json(capsys, str(MODELS / f"{name}.toml"))
     _check_contract(data)
     r_star = gfrf.verdict(gfrf.load_model(MODELS / f"{name}.toml"), with_norms=False).radius
-    assert data["lower"] >= r_star
+    # lower covers every input with sup|u| <= lower; r* (sums of tones) is listed beside it
+    assert data["certificates"][0]["radius"] <= max(r_star, 0.0) + 1e-12
+    assert data["lower_class"].startswith("every")
     if data["upper"] is not None:
         assert data["lower"] <= data["upper"]
         assert code == 0
@@ -222,20 +227,21 @@ def test_r_star_of_an_unstable_linear_part_proves_nothing() -> None:
     t = gfrf.threshold(parse_model("D(y,2) + D(y) - y + y**3 = u"))
     assert t.certificates[0].radius == 0.0 and t.lower == 0.0
     assert "linear part" in t.certificates[0].detail
-    assert t.answer.startswith("stability is proven at no amplitude")
+    # the unstable pole answers both sides: lower = upper = 0, the pole as the reason
+    assert t.upper == 0.0 and "0.618034" in (t.unstable or "")
+    assert t.answer.startswith("unstable at every input amplitude")
 
 
-def test_a_linear_model_with_an_unstable_pole_gets_a_witness(capsys) -> None:
-    """A purely linear model has infinite radii: the search cap must come from finite scales
-    (it was inf, the falsifier built 'inf*cos(...)' and the command exited 2).  y' = y + u
-    escapes for every nonzero input: closed form y = int e^(t-s) u(s) ds."""
+def test_a_linear_model_with_an_unstable_pole_is_unstable_at_every_amplitude(capsys) -> None:
+    """y' = y + u: the pole s = 1 is decided exactly; lower = upper = 0, exit 0.  The closed
+    form y = int e^(t-s) u(s) ds grows for an input as small as 1e-6 (a DOP853 run)."""
     code, data = _json(capsys, "D(y) - y = u")
     assert code == 0
     _check_contract(data)
     assert data["lower"] == 0 and data["lower_proof"] == "none"
+    assert data["upper"] == 0 and data["upper_proof"] == "interval"
+    assert "s = 1" in data["unstable"] and data["witness"]["kind"] == "unstable-pole"
     assert all(c["proof"] in ("interval", "float", "none") for c in data["certificates"])
-    (a, w, p), = data["witness"]["tones"]
-    t_escape = data["witness"]["t_escape"]
-    sol = solve_ivp(lambda t, y: [y[0] + a * math.cos(w * t + p)], (0, 1.05 * t_escape), [0.0],
+    sol = solve_ivp(lambda t, y: [y[0] + 1e-6 * math.cos(t)], (0, 30), [0.0],
                     method="DOP853", rtol=1e-10, atol=1e-14)
-    assert abs(sol.y[0, -1]) > 1e6
+    assert abs(sol.y[0, -1]) > 1e3

@@ -20,7 +20,7 @@ from collections.abc import Callable
 from typing import Any
 
 from gfrf.cli._models import add_model_argument, resolve_model
-from gfrf.cli._output import add_json_flag
+from gfrf.cli._output import add_json_flag, check_output_file, emit
 from gfrf.errors import ArgumentError
 
 __all__ = ["register"]
@@ -30,16 +30,43 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     """Register ``threshold``."""
     p = subparsers.add_parser(
         "threshold", help="two-sided answer: proven-stable amplitude and escaping witness",
-        description="Stable below 'lower' (proven: Theorem 1/2's r* or an energy "
-                    "certificate for every bounded input), unstable at 'upper' (a sum of "
+        description="Stable below 'lower' for every input with sup|u| <= lower (for a loop: "
+                    "every reference with sup|r| <= lower, u = C(r - y); proven by an energy "
+                    "or an exactly re-checked sum-of-squares certificate; Theorem 1/2's r*, "
+                    "for sums of tones only, is listed beside it), unstable at 'upper' (a sum of "
                     "tones switched on at t = 0 whose response from rest escapes: a "
                     "simulation witness), unknown in between. Exit code 0: both sides "
                     "closed; 1: no escape found up to the search cap; 2: bad input.")
     add_model_argument(p)
     p.add_argument("--order", type=int, default=5,
                    help="order of the verdict behind r* (default 5)")
+    p.add_argument("--certificate-out", metavar="FILE",
+                   help="write the verified sum-of-squares certificate (V, multipliers, U, c "
+                        "as exact rationals, the state map) as JSON; re-check it with "
+                        "'gfrf certificate check MODEL FILE'")
     add_json_flag(p)
     p.set_defaults(func=_threshold)
+    c = subparsers.add_parser(
+        "certificate", help="re-verify a certificate file from scratch",
+        description="'gfrf certificate check MODEL FILE' rebuilds the model's state form and "
+                    "re-verifies the certificate's polynomial identity and Gram matrices in "
+                    "exact rational arithmetic (no solver). Exit 0: it holds; 1: refused; "
+                    "2: bad input.")
+    sub = c.add_subparsers(dest="action", required=True)
+    chk = sub.add_parser("check", help="re-verify a certificate for a model")
+    add_model_argument(chk)
+    chk.add_argument("file", help="the certificate (JSON) written by --certificate-out")
+    add_json_flag(chk)
+    chk.set_defaults(func=_check)
+
+
+def _check(args: argparse.Namespace) -> int:
+    mf = resolve_model(args)
+    from gfrf.stability.sos_check import check_certificate
+
+    result = check_certificate(mf, args.file)
+    emit(args, result.to_dict(), result.text())
+    return 0 if result.valid else 1
 
 
 def _progress() -> tuple[Callable[[int, int], None] | None, Any]:
@@ -64,6 +91,7 @@ def _threshold(args: argparse.Namespace) -> int:
     if not 1 <= args.order <= MAX_KERNEL_ORDER:
         raise ArgumentError(f"--order must be between 1 and MAX_KERNEL_ORDER = "
                             f"{MAX_KERNEL_ORDER}, got {args.order}")
+    check_output_file("--certificate-out", args.certificate_out)
     mf = resolve_model(args)
     from gfrf.twosided.threshold import threshold
 
@@ -77,5 +105,14 @@ def _threshold(args: argparse.Namespace) -> int:
         print(json.dumps(result.to_dict(), indent=2))  # inf -> Infinity (the contract)
     else:
         print(result.text())
+    if args.certificate_out is not None:
+        from gfrf._atomic import atomic_write_text
+
+        if result.sos is None:
+            print(f"no sum-of-squares certificate to write to {args.certificate_out!r} (the "
+                  "lower side's proof is another method, or none)", file=sys.stderr)
+        else:
+            atomic_write_text(args.certificate_out,
+                              json.dumps(result.sos.certificate, indent=1) + "\n")
     closed = math.isinf(result.lower) or result.upper is not None
     return 0 if closed else 1

@@ -87,8 +87,9 @@ def write(out_dir: Path, models: list[str], quick: bool = False) -> Path:
     figure = threshold_figure(results, out_dir / "thresholds.png")
     summary = ["Stable below lower (proven), unstable at upper (a simulation witness), "
                "unknown between: every bundled model.",
-               "lower is the largest proven radius: Theorem 1/2's r* or the energy "
-               "certificate (every bounded input).",
+               "lower is the largest radius proven for every input with sup|u| <= lower "
+               "(energy or exactly re-checked sum-of-squares certificates); Theorem 1/2's "
+               "r* covers sums of tones only and is listed beside it.",
                "upper is the smallest escaping sum of tones found from rest, with a "
                f"{MARGINS[0]:g}x margin; escape = |y| >= {ESCAPE_LEVEL:g}."]
     text = [header("Thresholds: proven below, broken above", summary,

@@ -66,6 +66,8 @@ class Certificate:
         The inputs, and the norm the radius is measured in.
     detail : str
         The certificate itself, in words and formulas.
+    property : str
+        What is proven for those inputs (bounded; returns to the equilibrium; ...).
     """
 
     method: str
@@ -73,11 +75,13 @@ class Certificate:
     proof: str
     input_class: str
     detail: str = ""
+    property: str = ""
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary (``radius`` may be ``inf``: JSON ``Infinity``)."""
         return {"method": self.method, "radius": float(self.radius), "proof": self.proof,
-                "input_class": self.input_class, "detail": self.detail}
+                "input_class": self.input_class, "property": self.property,
+                "detail": self.detail}
 
 
 def _structure(model: Model) -> tuple[Fraction, Fraction, dict[int, Fraction], Fraction] | str:
@@ -156,4 +160,6 @@ def energy_certificate(model: Model) -> Certificate | None:
               f"P of degree {d + 1} with leading coefficient {float(top):.6g} < 0 (bounded "
               "above), and V >= gamma*|x|^2 - C: every solution under a bounded input is "
               "bounded (signs checked in exact rational arithmetic)")
-    return Certificate(ENERGY_METHOD, math.inf, "exact", LINF_CLASS, detail)
+    return Certificate(ENERGY_METHOD, math.inf, "exact", LINF_CLASS, detail,
+                       "bounded: every solution under every bounded input stays bounded "
+                       "(from any initial state); not: returns to the equilibrium")

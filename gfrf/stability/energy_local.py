@@ -218,5 +218,8 @@ def local_energy_certificate(model: Model) -> Certificate | None:
                           "boundary, checked in Arb ball arithmetic on a box subdivision")
                 return Certificate(LOCAL_METHOD, U, "interval",
                                    "every input u(t) with sup|u| <= U (L-infinity), from "
-                                   "rest; contains Theorem 1's class of size U", detail)
+                                   "rest; contains Theorem 1's class of size U", detail,
+                                   "bounded: every solution from rest stays in the "
+                                   "invariant set {V <= level}; not: returns to the "
+                                   "equilibrium")
     return None

@@ -1,11 +1,12 @@
 """The two-sided answer: stable below ``lower`` (proven), unstable at ``upper`` (a witness).
 
-``lower`` is the largest radius of the proven certificates: Theorem 1's r* (Theorem 2's
-for a model file with a controller; input class: sums of tones, amplitude = sum of tone
-amplitudes, the L1 norm of the spectrum), the energy certificate of
-:mod:`gfrf.stability.energy` (every bounded input: radius infinity when it applies) or,
-for a softening oscillator, the invariant sublevel set of
-:mod:`gfrf.stability.energy_local` (every input with sup|u| <= U).
+``lower`` is the largest radius proven for every input with sup|u| <= lower
+(:mod:`gfrf.twosided.lower`): the energy certificates of :mod:`gfrf.stability.energy`
+and :mod:`gfrf.stability.energy_local` and the exactly re-checked sum-of-squares
+certificate of :mod:`gfrf.stability.sos`.  Theorem 1's r* (Theorem 2's for a model file
+with a controller; input class: sums of tones, amplitude = the L1 norm of the spectrum)
+is listed beside it in ``certificates``, never as it.  An unstable equilibrium (a pole
+of the linear part in the unstable region, decided exactly) answers lower = upper = 0.
 ``upper`` is the amplitude of the falsifier's witness (:mod:`gfrf.twosided.falsify`),
 searched only when no certificate is global.  Between them: unknown (the only case
 still called ``inconclusive``).
@@ -21,8 +22,7 @@ from typing import Any
 from gfrf._results import markdown_table, short_repr
 from gfrf.model.equation import Model
 from gfrf.model.modelfile import ModelFile
-from gfrf.stability.energy import Certificate, energy_certificate
-from gfrf.stability.energy_local import local_energy_certificate
+from gfrf.stability.energy import Certificate
 from gfrf.twosided.falsify import (
     CAP_FACTOR,
     ESCAPE_LEVEL,
@@ -30,6 +30,7 @@ from gfrf.twosided.falsify import (
     falsify,
     tones_text,
 )
+from gfrf.twosided.lower import LINF_LOWER_CLASS, LOOP_LOWER_CLASS, lower_side
 
 __all__ = ["Threshold", "threshold", "THEOREM_CLASS"]
 
@@ -73,6 +74,13 @@ class Threshold:
         bound on where the Volterra series converges, not on stability.
     theorem : int
         1 (open loop) or 2 (reference of the closed loop).
+    lower_class : str
+        The inputs ``lower`` covers: every input (reference) with sup|u| <= lower.
+    unstable : str or None
+        The exact reason the equilibrium is unstable (then lower = upper = 0).
+    sos : SosResult or None
+        The verified sum-of-squares certificate behind ``lower``, if any (written by
+        ``--certificate-out``).
     """
 
     name: str
@@ -85,10 +93,21 @@ class Threshold:
     falsification: Falsification | None = field(default=None, repr=False)
     static_bound: float | None = None
     theorem: int = 1
+    lower_class: str = LINF_LOWER_CLASS
+    unstable: str | None = None
+    sos: Any = field(default=None, repr=False)
+
+    @property
+    def tone_radius(self) -> float:
+        """Theorem 1's (2's) r*: proven for sums of tones of that L1 spectrum norm only."""
+        return float(self.certificates[0].radius) if self.certificates else 0.0
 
     @property
     def witness(self) -> dict[str, Any] | None:
-        """``{"tones": [[A, omega, phase], ...], "t_escape": t}`` or None."""
+        """``{"tones": [[A, omega, phase], ...], "t_escape": t}``, ``{"kind":
+        "unstable-pole", "reason": ...}`` for an unstable equilibrium, or None."""
+        if self.unstable is not None:
+            return {"kind": "unstable-pole", "reason": self.unstable}
         return self.falsification.witness() if self.falsification and self.upper else None
 
     @property
@@ -97,10 +116,16 @@ class Threshold:
         signal = "reference amplitude" if self.theorem == 2 else "input amplitude"
         proof = {"interval": "proven", "float": "certified (float)"}.get(self.lower_proof,
                                                                          "estimate")
+        if self.unstable is not None:
+            return f"unstable at every {signal}: {self.unstable}"
+        what = "every reference with sup|r|" if self.theorem == 2 else "every input with sup|u|"
         if math.isinf(self.lower):
-            return f"stable for every {signal} ({proof}: {self.lower_method})"
-        low = (f"stable below {signal} {self.lower:.6g} ({proof}: {self.lower_method})"
-               if self.lower > 0 else "stability is proven at no amplitude")
+            return f"bounded for every bounded input ({proof}: {self.lower_method})"
+        low = (f"stable for {what} below {self.lower:.6g} ({proof}: {self.lower_method})"
+               if self.lower > 0 else f"stability is proven for {what} at no amplitude")
+        if self.tone_radius > self.lower:
+            low += (f"; for sums of tones (L1 spectrum norm, Theorem {self.theorem}'s class "
+                    f"only) below {self.tone_radius:.6g}")
         if self.upper is None:
             return f"{low}; unknown above (no escaping input found)"
         return f"{low}; unstable at {self.upper:.6g} (a witness escapes); unknown in between"
@@ -109,7 +134,7 @@ class Threshold:
         """``stable`` below ``lower`` (proven), ``unstable`` at or above ``upper`` (an input
         of amplitude ``upper`` <= ``amplitude`` escapes: a simulation witness), else
         ``inconclusive`` (the gap)."""
-        if amplitude < self.lower:
+        if amplitude < self.lower:  # every input with sup|u| < lower
             return "stable"
         if self.upper is not None and amplitude >= self.upper:
             return "unstable"
@@ -138,7 +163,8 @@ class Threshold:
         f = self.falsification
         return {
             "lower": float(self.lower), "lower_method": self.lower_method,
-            "lower_proof": self.lower_proof,
+            "lower_proof": self.lower_proof, "lower_class": self.lower_class,
+            "unstable": self.unstable,
             "upper": None if self.upper is None else float(self.upper),
             "upper_method": self.upper_method, "witness": self.witness,
             # proof levels of the contract ("exact" rational checks count as "interval")
@@ -146,7 +172,8 @@ class Threshold:
                               "proof": _LOWER_PROOF.get(c.proof, c.proof)}
                              for c in self.certificates],
             "answer": self.answer, "model": self.name, "theorem": self.theorem,
-            "upper_proof": "estimate" if self.upper is not None else None,
+            "upper_proof": (None if self.upper is None else
+                            "interval" if self.unstable is not None else "estimate"),
             "static_bound": self.static_bound,
             "search": None if f is None else {
                 "cap": f.cap, "t_end_s": f.t_end, "runs": f.runs, "edge": f.edge,
@@ -208,26 +235,24 @@ def threshold(model: ModelFile | Model, *, order: int = 5,
     # part, proper kernels, ...): a failed or open one leaves radius 0
     other = [c for c in v.conditions if c.name not in _SERIES_CONDITIONS]
     holds = all(c.passed is True for c in other)
-    certs = [Certificate(f"theorem {v.theorem} (norm series radius r*)",
-                         float(v.radius) if holds else 0.0,
-                         v.radius_proof if v.radius_certified else "none",
-                         THEOREM_CLASS[v.theorem],
-                         "" if holds else "not applicable: " + "; ".join(
-                             c.name for c in other if c.passed is not True))]
-    if not closed:
-        energy = energy_certificate(mf.plant) or local_energy_certificate(mf.plant)
-        if energy is not None:
-            certs.append(energy)
-    proven = [c for c in certs if c.proof in _LOWER_PROOF]
-    # the largest radius; of equal ones, the higher proof level
-    best = max(proven, key=lambda c: (c.radius, _LOWER_PROOF[c.proof] == "interval"),
-               default=None)
+    theorem_cert = Certificate(f"theorem {v.theorem} (norm series radius r*)",
+                               float(v.radius) if holds else 0.0,
+                               v.radius_proof if v.radius_certified else "none",
+                               THEOREM_CLASS[v.theorem],
+                               "" if holds else "not applicable: " + "; ".join(
+                                   c.name for c in other if c.passed is not True),
+                               "the Volterra series converges (bounded, returns to the "
+                               "equilibrium with the input)")
+    side = lower_side(mf, theorem_cert)
+    certs = list(side.certificates)
+    # the top-level lower: every input with sup|u| <= lower (never the tone class)
+    best = side.best
     lower = best.radius if best else 0.0
     static = radius_upper(mf.plant)
     static_bound = None if static is None else float(static.value)
     falsification = None
-    upper = None
-    if not math.isinf(lower):
+    upper = 0.0 if side.unstable is not None else None
+    if not math.isinf(lower) and side.unstable is None:
         # the cap from the finite scales only (a linear model's radii are infinite)
         ref = max((x for x in (static_bound, float(v.radius))
                    if x is not None and 0 < x < math.inf), default=1.0)
@@ -238,6 +263,9 @@ def threshold(model: ModelFile | Model, *, order: int = 5,
         name=getattr(mf, "name", "") or "", lower=lower,
         lower_method=best.method if best else "none",
         lower_proof=_LOWER_PROOF[best.proof] if best and lower > 0 else "none", upper=upper,
-        upper_method=UPPER_METHOD if upper is not None else None,
+        upper_method=(None if upper is None else UPPER_METHOD if side.unstable is None
+                      else "unstable equilibrium (exact pole location)"),
         certificates=tuple(certs), falsification=falsification,
-        static_bound=static_bound, theorem=v.theorem)
+        static_bound=static_bound, theorem=v.theorem,
+        lower_class=LOOP_LOWER_CLASS if closed else LINF_LOWER_CLASS,
+        unstable=side.unstable, sos=side.sos)

@@ -1,0 +1,411 @@
+"""Exact re-verification of a sum-of-squares certificate (rational arithmetic only).
+
+A certificate (:mod:`gfrf.stability.sos`) is a polynomial identity
+
+    target(x, v) == sum_blocks  multiplier * constraint  +  z(x, v)^T Q z(x, v)
+
+whose every number is an exact rational, with Gram matrices Q that must be positive
+semidefinite.  :func:`check_certificate` rebuilds the target from the model's own state
+form (:func:`gfrf.stability.polysys.state_form`), recomputes every product in
+:class:`fractions.Fraction` arithmetic, compares the identity coefficient by coefficient
+and decides each Gram matrix PSD by an exact LDL^T factorisation: no floating-point
+number takes part, so a solver's tolerance cannot make it pass.
+
+Kinds (``kind`` in the file):
+
+``local-continuous``
+    V quadratic, positive definite; on {V = c}, for |v| <= U: -dV/dt >= eps |x|^2 > 0,
+    from  -dV/dt - eps|x|^2 + lambda (V - c) - mu (U^2 - v^2) = sigma  (mu, sigma SOS,
+    lambda any polynomial).  So {V <= c} is invariant: every solution from rest stays in it.
+``local-discrete``
+    V quadratic, positive definite; c - V(f(x, v)) - lambda (c - V) - mu (U^2 - v^2)
+    - sum_j nu_j (U^2 - x_j^2) = sigma (lambda, mu, nu_j, sigma SOS; x_j the past inputs).
+``global-continuous``
+    V - g |x|^2 = sigma_V (g > 0: V radially unbounded) and, with dV/dt = W(x) + v G(x),
+    -W - a G^2 - a|x|^2 + C = sigma (a > 0): dV/dt <= -a|x|^2 + C + U^2 / (4a) for every
+    |v| <= U, so every solution under every bounded input is bounded.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from fractions import Fraction
+from pathlib import Path
+from typing import Any
+
+from gfrf.stability.polysys import (
+    Poly,
+    PolySystem,
+    padd,
+    pcompose,
+    pdiff,
+    pmul,
+    pscale,
+)
+
+__all__ = ["CheckResult", "CertificateCheck", "check_certificate", "check_dict", "gram_poly",
+           "is_psd", "vdot", "FORMAT"]
+
+#: The ``format`` value of a certificate file.
+FORMAT = "gfrf-sos-certificate"
+KINDS = ("local-continuous", "local-discrete", "global-continuous")
+#: Largest Gram matrix size a check accepts (the exact LDL^T costs size^3).
+MAX_GRAM = 120
+
+
+class CheckResult(str):
+    """Empty string when the certificate holds, else the reason it is refused."""
+
+
+def q(text: Any) -> Fraction:
+    """A rational from its text ``"p/q"`` (or an int); refuses floats and anything else."""
+    if isinstance(text, bool) or not isinstance(text, str | int):
+        raise ValueError(f"a rational must be written as a string 'p/q', got {text!r}")
+    if isinstance(text, str) and (len(text) > 4000 or not text.replace("/", "", 1)
+                                  .lstrip("-").isdigit()):
+        raise ValueError(f"not a rational 'p/q': {str(text)[:40]!r}")
+    return Fraction(text)
+
+
+def qtext(x: Fraction) -> str:
+    """The text of a rational (``"p/q"`` or ``"p"``)."""
+    return str(x)
+
+
+def poly_from(items: Any, nvars: int) -> Poly:
+    """A polynomial from ``[[exponents], "p/q"]`` pairs."""
+    out: Poly = {}
+    if not isinstance(items, list):
+        raise ValueError("a polynomial must be a list of [exponents, 'p/q'] pairs")
+    for item in items:
+        if not (isinstance(item, list) and len(item) == 2 and isinstance(item[0], list)
+                and len(item[0]) == nvars and all(isinstance(e, int) and not isinstance(e, bool)
+                                                  and 0 <= e <= 12 for e in item[0])):
+            raise ValueError(f"bad polynomial term {str(item)[:60]}")
+        key = tuple(item[0])
+        out[key] = out.get(key, Fraction(0)) + q(item[1])
+    return {k: c for k, c in out.items() if c}
+
+
+def poly_to(p: Poly) -> list[list[Any]]:
+    """``[[exponents], "p/q"]`` pairs, sorted."""
+    return [[list(k), qtext(c)] for k, c in sorted(p.items())]
+
+
+def gram_from(block: Any, nvars: int) -> tuple[list[tuple[int, ...]], list[list[Fraction]]]:
+    """(basis, Q) of a Gram block ``{"basis": [...], "Q": [[...]]}``."""
+    if not isinstance(block, dict):
+        raise ValueError("a Gram block must be a table with 'basis' and 'Q'")
+    basis = block.get("basis")
+    Q = block.get("Q")
+    if not (isinstance(basis, list) and isinstance(Q, list) and len(Q) == len(basis)
+            and len(basis) <= MAX_GRAM):
+        raise ValueError(f"a Gram block needs a basis and a square Q of its size (at most "
+                         f"{MAX_GRAM})")
+    b = [tuple(e) for e in basis]
+    if any(len(e) != nvars or not all(isinstance(x, int) and not isinstance(x, bool)
+                                      and 0 <= x <= 6 for x in e) for e in b):
+        raise ValueError("a Gram basis monomial has the wrong length or exponents")
+    rows = []
+    for row in Q:
+        if not (isinstance(row, list) and len(row) == len(b)):
+            raise ValueError("Q is not square")
+        rows.append([q(x) for x in row])
+    return b, rows
+
+
+def gram_to(basis: list[tuple[int, ...]], Q: list[list[Fraction]]) -> dict[str, Any]:
+    """The JSON form of a Gram block."""
+    return {"basis": [list(e) for e in basis], "Q": [[qtext(x) for x in row] for row in Q]}
+
+
+def gram_poly(basis: list[tuple[int, ...]], Q: list[list[Fraction]]) -> Poly:
+    """z^T Q z."""
+    out: Poly = {}
+    for i, a in enumerate(basis):
+        for j, b in enumerate(basis):
+            if Q[i][j]:
+                k = tuple(x + y for x, y in zip(a, b, strict=True))
+                out[k] = out.get(k, Fraction(0)) + Q[i][j]
+    return {k: c for k, c in out.items() if c}
+
+
+def is_psd(Q: list[list[Fraction]]) -> bool:
+    """Exact test: Q symmetric positive semidefinite (LDL^T with exact pivots)."""
+    from flint import fmpq
+
+    n = len(Q)
+    if any(Q[i][j] != Q[j][i] for i in range(n) for j in range(i)):
+        return False
+    A = [[fmpq(x.numerator, x.denominator) for x in row] for row in Q]
+    for k in range(n):
+        p = A[k][k]
+        if p < 0:
+            return False
+        if p == 0:
+            if any(A[k][j] != 0 for j in range(k + 1, n)):
+                return False
+            continue
+        for i in range(k + 1, n):
+            if A[i][k] == 0:
+                continue
+            r = A[i][k] / p
+            for j in range(k + 1, i + 1):
+                A[i][j] -= r * A[k][j]
+                A[j][i] = A[i][j]
+    return True
+
+
+def vdot(V: Poly, system: PolySystem) -> Poly:
+    """dV/dt = grad V . f(x, v) (continuous)."""
+    return padd(*(pmul(pdiff(V, i), system.f[i]) for i in range(system.n)))
+
+
+def _var(i: int, nv: int) -> Poly:
+    return {tuple(int(j == i) for j in range(nv)): Fraction(1)}
+
+
+def _norm2(n: int, nv: int) -> Poly:
+    return {tuple(2 * int(j == i) for j in range(nv)): Fraction(1) for i in range(n)}
+
+
+def _quadratic_pd(V: Poly, n: int, nv: int) -> bool:
+    """V = x^T P x with P positive definite (exact) and no v."""
+    if any(sum(k) != 2 or k[-1] for k in V):
+        return False
+    P = [[Fraction(0)] * n for _ in range(n)]
+    for k, c in V.items():
+        idx = [i for i in range(n) for _ in range(k[i])]
+        if idx[0] == idx[1]:
+            P[idx[0]][idx[0]] = c
+        else:
+            P[idx[0]][idx[1]] = P[idx[1]][idx[0]] = c / 2
+    # positive definite: PSD with every pivot nonzero, i.e. P - 0 PSD and det != 0
+    from flint import fmpq, fmpq_mat
+
+    det = fmpq_mat(n, n, [fmpq(x.numerator, x.denominator) for row in P for x in row]).det()
+    return det != 0 and is_psd(P)
+
+
+def check_dict(system: PolySystem, cert: dict[str, Any]) -> CheckResult:
+    """Re-verify a certificate's identity and Gram matrices exactly.
+
+    Parameters
+    ----------
+    system : PolySystem
+        The model's own state form (never taken from the certificate).
+    cert : dict
+        The certificate as read from its file.
+
+    Returns
+    -------
+    CheckResult
+        ``""`` when it holds, else the reason.
+    """
+    try:
+        return CheckResult(_check(system, cert))
+    except (ValueError, TypeError, KeyError, ZeroDivisionError) as exc:
+        return CheckResult(f"malformed certificate: {exc}")
+
+
+def _check(system: PolySystem, cert: dict[str, Any]) -> str:
+    if cert.get("format") != FORMAT:
+        return f"not a {FORMAT} file"
+    kind = cert.get("kind")
+    if kind not in KINDS:
+        return f"unknown kind {kind!r}"
+    n = system.n
+    nv = n + 1
+    if list(cert.get("states", [])) != list(system.states):
+        return (f"the state map differs from the model's: file {cert.get('states')}, model "
+                f"{list(system.states)}")
+    if (kind == "local-discrete") != system.discrete:
+        return "the certificate's time base differs from the model's"
+    V = poly_from(cert["V"], nv)
+    m = cert["multipliers"]
+    sigma_b, sigma_Q = gram_from(m["sigma"], nv)
+    if not is_psd(sigma_Q):
+        return "the Gram matrix of sigma is not positive semidefinite (exact LDL^T)"
+    sigma = gram_poly(sigma_b, sigma_Q)
+    if kind == "global-continuous":
+        return _check_global(system, cert, V, sigma)
+    c, U = q(cert["c"]), q(cert["U"])
+    if not (c > 0 and U > 0):
+        return "c and U must be positive"
+    if not _quadratic_pd(V, n, nv):
+        return "V is not a positive definite quadratic form in the state"
+    U2 = {(0,) * nv: U * U}
+    mu_b, mu_Q = gram_from(m["mu"], nv)
+    if not is_psd(mu_Q):
+        return "the Gram matrix of mu is not positive semidefinite (exact LDL^T)"
+    mu = gram_poly(mu_b, mu_Q)
+    v2 = pmul(_var(n, nv), _var(n, nv))
+    box = padd(U2, pscale(v2, Fraction(-1)))
+    if kind == "local-continuous":
+        eps = q(cert["epsilon"])
+        if not eps > 0:
+            return "epsilon must be positive"
+        lam = poly_from(m["lambda"], nv)
+        target = padd(pscale(vdot(V, system), Fraction(-1)), pscale(_norm2(n, nv), -eps),
+                      pmul(lam, padd(V, {(0,) * nv: -c})), pscale(pmul(mu, box), Fraction(-1)))
+    else:
+        lam_b, lam_Q = gram_from(m["lambda"], nv)
+        if not is_psd(lam_Q):
+            return "the Gram matrix of lambda is not positive semidefinite (exact LDL^T)"
+        lam = gram_poly(lam_b, lam_Q)
+        Vf = pcompose(V, list(system.f), nv)
+        target = padd({(0,) * nv: c}, pscale(Vf, Fraction(-1)),
+                      pscale(pmul(lam, padd({(0,) * nv: c}, pscale(V, Fraction(-1)))),
+                             Fraction(-1)), pscale(pmul(mu, box), Fraction(-1)))
+        nus = m.get("nu", [])
+        if len(nus) != len(system.bounded_states):
+            return "one nu multiplier per past-input state is needed"
+        for j, block in zip(system.bounded_states, nus, strict=True):
+            nb, nQ = gram_from(block, nv)
+            if not is_psd(nQ):
+                return "a Gram matrix of nu is not positive semidefinite (exact LDL^T)"
+            xj2 = pmul(_var(j, nv), _var(j, nv))
+            target = padd(target, pscale(pmul(gram_poly(nb, nQ),
+                                              padd(U2, pscale(xj2, Fraction(-1)))),
+                                         Fraction(-1)))
+    diff = padd(target, pscale(sigma, Fraction(-1)))
+    if diff:
+        k = sorted(diff)[0]
+        return f"the identity fails at the monomial {list(k)} (difference {diff[k]})"
+    return ""
+
+
+def _check_global(system: PolySystem, cert: dict[str, Any], V: Poly, sigma: Poly) -> str:
+    n = system.n
+    nv = n + 1
+    if not system.affine_in_input():
+        return "the system is not affine in the input"
+    if any(k[-1] for k in V):
+        return "V depends on the input"
+    g, a = q(cert["gamma"]), q(cert["alpha"])
+    if not (g > 0 and a > 0):
+        return "gamma and alpha must be positive"
+    vb, vQ = gram_from(cert["multipliers"]["sigma_V"], nv)
+    if not is_psd(vQ):
+        return "the Gram matrix of sigma_V is not positive semidefinite (exact LDL^T)"
+    if padd(V, pscale(_norm2(n, nv), -g), pscale(gram_poly(vb, vQ), Fraction(-1))):
+        return "V - gamma |x|^2 differs from its SOS sigma_V"
+    f0 = [{k: c for k, c in p.items() if k[-1] == 0} for p in system.f]
+    b = [{k[:-1] + (0,): c for k, c in p.items() if k[-1] == 1} for p in system.f]
+    grads = [pdiff(V, i) for i in range(n)]
+    W = padd(*(pmul(grads[i], f0[i]) for i in range(n)))
+    G = padd(*(pmul(grads[i], b[i]) for i in range(n)))
+    target = padd(pscale(W, Fraction(-1)), pscale(pmul(G, G), -a), pscale(_norm2(n, nv), -a))
+    diff = padd(target, pscale(sigma, Fraction(-1)))
+    zero = (0,) * nv
+    C = -diff.pop(zero, Fraction(0))  # target + C = sigma: C is free, sigma(0) >= 0
+    if diff:
+        k = sorted(diff)[0]
+        return f"the identity fails at the monomial {list(k)} (difference {diff[k]})"
+    if C < 0:
+        return "the constant C is negative"
+    return ""
+
+
+#: Largest certificate file read (bytes).
+MAX_FILE_BYTES = 20_000_000
+
+
+@dataclass(frozen=True, kw_only=True)
+class CertificateCheck:
+    """Result of :func:`check_certificate`.
+
+    Attributes
+    ----------
+    valid : bool
+        The certificate holds for this model (re-verified exactly, from scratch).
+    reason : str
+        Why it was refused (empty when valid).
+    kind : str
+        The certificate's kind.
+    radius : float
+        U (every input with sup|v| <= U; ``inf`` for a global certificate), when valid.
+    property : str
+        What a valid certificate proves.
+    state_map : str
+        The model's state form the check used.
+    """
+
+    valid: bool
+    reason: str
+    kind: str
+    radius: float
+    property: str
+    state_map: str
+
+    def __repr__(self) -> str:
+        return f"CertificateCheck(valid={self.valid}, kind={self.kind!r}, radius={self.radius})"
+
+    def _repr_markdown_(self) -> str:
+        return f"**certificate {'holds' if self.valid else 'refused'}**: {self.text()}"
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary (radius ``"inf"`` for a global certificate)."""
+        return {"valid": self.valid, "reason": self.reason, "kind": self.kind,
+                "radius": "inf" if math.isinf(self.radius) else self.radius,
+                "property": self.property, "state_map": self.state_map,
+                "proof": "interval" if self.valid else "none"}
+
+    def text(self) -> str:
+        """One line: holds (with its radius and property) or refused (with the reason)."""
+        if not self.valid:
+            return f"refused: {self.reason}"
+        what = ("every bounded input" if math.isinf(self.radius)
+                else f"every input with sup|v| <= {self.radius:.6g}")
+        return (f"holds (exact rational re-check): {self.kind}, {what}; proves {self.property}"
+                f"; state map {self.state_map}")
+
+
+def check_certificate(model: Any, certificate: dict[str, Any] | str | Path) -> CertificateCheck:
+    """Re-verify a certificate written by ``gfrf threshold --certificate-out`` from scratch.
+
+    Parameters
+    ----------
+    model : ModelFile or Model
+        The model the certificate claims to be about (its state form is rebuilt here).
+    certificate : dict or str or Path
+        The certificate, or the path of its JSON file.
+
+    Returns
+    -------
+    CertificateCheck
+    """
+    import json
+
+    from gfrf.errors import ArgumentError
+    from gfrf.stability.polysys import StateFormError, state_form
+
+    if not isinstance(certificate, dict):
+        path = Path(certificate)
+        if not path.is_file():
+            raise ArgumentError(f"certificate file {str(path)[:200]!r} is not a regular file")
+        if path.stat().st_size > MAX_FILE_BYTES:
+            raise ArgumentError(f"certificate file is above {MAX_FILE_BYTES} bytes")
+        try:
+            certificate = json.loads(path.read_text(encoding="utf-8"))
+        except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+            raise ArgumentError(f"certificate file is not JSON: {exc}") from None
+        if not isinstance(certificate, dict):
+            raise ArgumentError("certificate file must hold a JSON object")
+    try:
+        system = state_form(model)
+    except StateFormError as exc:
+        raise ArgumentError(f"the model has no polynomial state form: {exc}") from None
+    reason = check_dict(system, certificate)
+    kind = str(certificate.get("kind", ""))[:40]
+    radius = math.inf if kind == "global-continuous" else 0.0
+    if not reason and kind != "global-continuous":
+        U = q(certificate["U"])
+        radius = float(U) if Fraction(float(U)) <= U else math.nextafter(float(U), 0.0)
+    prop = ("bounded: every solution under every bounded input stays bounded"
+            if kind == "global-continuous" else
+            "bounded: every solution from rest stays in the invariant set {V <= c}")
+    return CertificateCheck(valid=not reason, reason=str(reason), kind=kind,
+                            radius=radius if not reason else 0.0,
+                            property=prop if not reason else "", state_map=system.map_text())

@@ -1,0 +1,161 @@
+"""The lower side of the two-sided answer: every certificate tried, with its input class.
+
+The top-level ``lower`` of :func:`gfrf.twosided.threshold.threshold` is the largest
+radius proven for *every input with sup|u| <= lower* (L-infinity; the reference r of a
+loop u = C(r - y)): the energy certificates (:mod:`gfrf.stability.energy`,
+:mod:`gfrf.stability.energy_local`) and the sum-of-squares certificate
+(:mod:`gfrf.stability.sos`, exactly re-verified).  Theorem 1's (2's) r* covers a smaller
+class (sums of tones, amplitude = the L1 norm of the spectrum): it is listed beside it,
+never as it.  A linear part (or linear closed loop) with a pole in the unstable region,
+decided exactly, answers ``lower = upper = 0``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from gfrf.model.modelfile import ModelFile
+from gfrf.stability.energy import Certificate, energy_certificate
+from gfrf.stability.energy_local import local_energy_certificate
+
+__all__ = ["LowerSide", "lower_side", "LINF_LOWER_CLASS", "SOS_METHOD"]
+
+#: The input class of the top-level ``lower``.
+LINF_LOWER_CLASS = ("every input u(t) with sup|u| <= lower (L-infinity, any shape and "
+                    "duration), from rest")
+LOOP_LOWER_CLASS = ("every reference r(t) with sup|r| <= lower (L-infinity), loop "
+                    "u = C(r - y), from rest")
+SOS_METHOD = "sum-of-squares storage function V (exact rational check)"
+#: Classes that count for the top-level lower.
+_LINF_PROOFS = ("exact", "interval")
+
+
+@dataclass(frozen=True, kw_only=True)
+class LowerSide:
+    """The certificates of the lower side.
+
+    Attributes
+    ----------
+    certificates : tuple of Certificate
+        Every method tried (radius 0 and proof ``none`` when it did not apply).
+    best : Certificate or None
+        The largest proven L-infinity radius.
+    unstable : str or None
+        Why the equilibrium is unstable (an exact pole location), or None.
+    sos : Any
+        The :class:`gfrf.stability.sos.SosResult` behind the SOS certificate, or None.
+    """
+
+    certificates: tuple[Certificate, ...]
+    best: Certificate | None
+    unstable: str | None = None
+    sos: Any = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready summary."""
+        return {"certificates": [c.to_dict() for c in self.certificates],
+                "unstable": self.unstable}
+
+
+def _unstable(mf: ModelFile, system: Any) -> str | None:
+    """The exact reason the equilibrium is unstable, or None."""
+    from flint import fmpq, fmpq_mat
+
+    from gfrf.bounds.exact import format_roots, poles
+
+    if system is not None:
+        A = system.jacobian()
+        n = len(A)
+        M = fmpq_mat(n, n, [fmpq(x.numerator, x.denominator) for row in A for x in row])
+        coeffs = [c for c in reversed(M.charpoly().coeffs())]
+        from fractions import Fraction
+
+        chi = [Fraction(int(c.p), int(c.q)) for c in coeffs]
+        report = poles(chi, discrete=system.discrete)  # type: ignore[arg-type]
+        what = "linear closed loop" if mf.controller is not None else "linear part"
+    elif mf.controller is not None and not mf.plant.is_discrete:
+        from gfrf.stability.loops import closed_loop
+
+        loop = closed_loop(mf)
+        if not loop.outside:
+            return None
+        return ("the linear closed loop has a pole with Re s > 0 (exact test on its "
+                "characteristic polynomial): " + "; ".join(loop.notes))
+    else:
+        from gfrf.bounds.majorant import linear_polynomials
+
+        _, den = linear_polynomials(mf.plant)
+        report = poles(den, discrete=mf.plant.is_discrete)
+        what = "linear part"
+    if not report.outside:
+        return None
+    region = "|z| > 1" if (system.discrete if system is not None
+                           else mf.plant.is_discrete) else "Re s > 0"
+    bad = [p for p in report.roots
+           if (abs(p) > 1 if region == "|z| > 1" else p.real > 0)]
+    return (f"the {what} has a pole in {region} (decided exactly): {format_roots(bad)}; "
+            "the equilibrium is unstable, so no input amplitude keeps the response near it")
+
+
+def lower_side(mf: ModelFile, theorem_certificate: Certificate) -> LowerSide:
+    """Every lower-side certificate of a model (file), and the best L-infinity one.
+
+    Parameters
+    ----------
+    mf : ModelFile
+        The model; with a ``[controller]`` the closed loop u = C(r - y) is analysed.
+    theorem_certificate : Certificate
+        Theorem 1's (2's) r*, listed first (tone class).
+
+    Returns
+    -------
+    LowerSide
+    """
+    from gfrf.stability.polysys import StateFormError, state_form
+    from gfrf.stability.sos import MAX_GRAM_SEARCH, search_size, sos_certificate
+
+    certs = [theorem_certificate]
+    closed = mf.controller is not None
+    try:
+        system = state_form(mf)
+        why_not = ""
+    except StateFormError as exc:
+        system, why_not = None, f"no polynomial state form: {exc}"
+    unstable = _unstable(mf, system)
+    if unstable is not None:
+        return LowerSide(certificates=tuple(certs), best=None, unstable=unstable)
+    linf = LOOP_LOWER_CLASS if closed else LINF_LOWER_CLASS
+    if not closed:
+        energy = energy_certificate(mf.plant) or local_energy_certificate(mf.plant)
+        if energy is not None:
+            certs.append(energy)
+    sos = None
+    if not any(c.radius == float("inf") for c in certs[1:]):
+        if system is not None and search_size(system) > MAX_GRAM_SEARCH:
+            why_not = (f"Gram size {search_size(system)} above the search bound "
+                       f"MAX_GRAM_SEARCH = {MAX_GRAM_SEARCH}")
+        elif system is not None:
+            sos, solves = sos_certificate(system)
+            why_not = "" if sos is not None else (
+                f"no proposal passed the exact check ({solves} SDPs)")
+        if sos is not None:
+            kind = sos.kind
+            detail = (f"{kind}: {system.map_text() if system else ''}; V of degree "
+                      f"{max(sum(k) for k, _ in sos.certificate['V'])}; "
+                      + ("V radially unbounded, dV/dt < 0 outside a compact set for every "
+                         "bounded input" if sos.radius == float("inf") else
+                         f"{{V <= {sos.certificate['c']}}} invariant for |v| <= "
+                         f"{sos.certificate['U']}")
+                      + f"; {sos.solves} SDPs (Clarabel), identity and Gram matrices "
+                      "re-checked in exact rational arithmetic")
+            certs.append(Certificate(SOS_METHOD, sos.radius, "exact",
+                                     linf if sos.radius != float("inf") else
+                                     "every bounded input (L-infinity, any size)",
+                                     detail, sos.property))
+        else:
+            certs.append(Certificate(SOS_METHOD, 0.0, "none", linf,
+                                     "not applicable: " + why_not))
+    proven = [c for c in certs[1:] if c.proof in _LINF_PROOFS and c.radius > 0]
+    best = max(proven, key=lambda c: c.radius, default=None)
+    return LowerSide(certificates=tuple(certs), best=best, sos=sos)
