@@ -1,0 +1,2 @@
+def enclose_witness(model, falsification):
+    return None
