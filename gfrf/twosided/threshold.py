@@ -189,7 +189,9 @@ class Threshold:
             how = ("the NARX recursion" if f.discrete else
                    "simulation, estimate-grade; DOP853 at two tolerances agree")
             if self.upper_proof == "interval":
-                how = f"proven: {self.enclosure.method}"
+                e = self.enclosure
+                how = (f"proven: {e.method} to t = {e.t_proven:.6g} s, where the enclosure "
+                       f"has {e.reason}")
             lines.append(f"witness ({f.kind}): {f.input_text()}, from rest at t = 0, "
                          f"{where} at t = {f.t_escape:.6g} s ({how})")
         elif f is not None:
