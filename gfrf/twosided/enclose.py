@@ -38,7 +38,7 @@ __all__ = ["Enclosure", "enclose_witness", "flow", "ORDER", "MAX_STEPS", "PRECIS
 #: Taylor order K of a step.
 ORDER = 24
 #: Longest step (s), a power of two, and its smallest halving.
-STEP, MIN_STEP = 2.0**-4, 2.0**-12
+STEP, MIN_STEP = 2.0**-4, 2.0**-50
 #: Taylor steps (tried, including halved ones) of one enclosure at most.
 MAX_STEPS = 12_000
 #: Working precisions (bits) tried in turn.
@@ -161,8 +161,9 @@ class _Field:
         return out
 
 
-def _series(field: _Field, z0: list[Any], K: int) -> list[list[Any]]:
-    """Taylor coefficients 0..K of the solution from z0 (balls), by Picard iteration."""
+def _series(field: _Field, z0: list[Any], K: int) -> list[list[Any]] | None:
+    """Taylor coefficients 0..K of the solution from z0 (balls), by Picard iteration;
+    None when a ball is not finite."""
     from flint import arb_series
 
     z = [arb_series([x], prec=K + 1) for x in z0]
@@ -171,7 +172,21 @@ def _series(field: _Field, z0: list[Any], K: int) -> list[list[Any]]:
         z = [arb_series([x0], prec=K + 1) + (fi if isinstance(fi, arb_series) else
                                               arb_series([fi], prec=K + 1)).integral()
              for x0, fi in zip(z0, f, strict=True)]
-    return [(s.coeffs() + [0] * (K + 1))[:K + 1] for s in z]
+    out = []
+    for s in z:
+        c = s.coeffs()
+        # Arb drops trailing zero coefficients; a non-finite ball may also shorten the
+        # series, so padding is only taken for a series of finite balls
+        if not all(x.is_finite() for x in c):
+            return None
+        out.append((c + [0] * (K + 1))[:K + 1])
+    return out
+
+
+def _finite(b: Any) -> bool:
+    """A ball with a finite midpoint and a radius a double can hold."""
+    return bool(b.is_finite()) and math.isfinite(float(b.rad())) \
+        and math.isfinite(float(b.mid()))
 
 
 def _inflate(b: Any) -> Any:
@@ -190,14 +205,18 @@ def _step(field: _Field, X: list[Any], h: Any) -> list[Any] | None:
     B = [x + span * f for x, f in zip(X, field(X), strict=True)]
     B = [_inflate(b) for b in B]
     for _ in range(10):
+        if not all(_finite(b) for b in B):
+            return None
         trial = [x + span * f for x, f in zip(X, field(B), strict=True)]
-        if all(b.contains(t) for b, t in zip(B, trial, strict=True)):
+        if all(_finite(t) and b.contains(t) for b, t in zip(B, trial, strict=True)):
             break
         B = [_inflate(t) for t in trial]
     else:
         return None
     coeffs = _series(field, X, K - 1)
     rem = _series(field, B, K)
+    if coeffs is None or rem is None:
+        return None
     out = []
     for c, r in zip(coeffs, rem, strict=True):
         total: Any = 0
@@ -226,6 +245,8 @@ def enclose_witness(model: Model, falsification: Any) -> Enclosure | None:
     f = falsification
     if f is None or f.upper is None:
         return None
+    if model.is_discrete:
+        return _narx(model, f)
     shape = flow(model)
     if shape is None:
         return None
@@ -277,11 +298,12 @@ def _attempt(n: int, monos: Monomials, f: Any, bits: int) -> Enclosure:
                                      precision=bits, width=_width(X),
                                      reason=f"stopped at t = {float(t.mid()):.6g} s: {why}")
                 X, t = nxt, t + h
-                hit = _escaped(X, region, f.levels[0] if f.levels else math.inf, n)
+                hit = _escaped(X, region, list(f.levels), n)
                 if hit:
                     return Enclosure(proven=True, t_proven=float(t.mid()), steps=steps,
                                      precision=bits, width=_width(X), reason=hit)
-                if not all(math.isfinite(float(x.rad())) and float(x.rad()) < 1e3 for x in X):
+                if not all(math.isfinite(float(x.rad())) and x.rad() < 1e-3 * (1 + abs(x.mid()))
+                           for x in X):
                     return Enclosure(proven=False, t_proven=None, steps=steps,
                                      precision=bits, width=_width(X),
                                      reason=f"the boxes grew too wide by t = "
@@ -297,16 +319,64 @@ def _width(X: list[Any]) -> float:
     return max(float(x.rad()) for x in X)
 
 
-def _escaped(X: list[Any], region: Any, level: float, n: int) -> str:
+def _escaped(X: list[Any], region: Any, levels: list[float], n: int) -> str:
     """Why the box X is inside the escape, or ''."""
-    y = X[0]
     if region is not None and n == 2:
-        yp, v = X[0], X[1]
-        if math.isfinite(region.y_plus) and yp >= region.y_plus and v >= 0:
+        y, v = X[0], X[1]
+        if math.isfinite(region.y_plus) and y >= region.y_plus and v >= 0:
             return f"y >= {region.y_plus:.6g} and y' >= 0 (the certified escape region)"
-        if math.isfinite(region.y_minus) and yp <= -region.y_minus and v <= 0:
+        if math.isfinite(region.y_minus) and y <= -region.y_minus and v <= 0:
             return f"y <= {-region.y_minus:.6g} and y' <= 0 (the certified escape region)"
-        return ""
-    if math.isfinite(level) and abs(y) > level:
-        return f"|y| > {level:.6g} (the stated escape level)"
+    for j, level in enumerate(levels[:n]):
+        if math.isfinite(level) and abs(X[j]) > level:
+            name = "y" + "'" * j if j < 3 else f"y^({j})"
+            return f"|{name}| > {level:.6g} (the stated escape level)"
     return ""
+
+
+def _narx(model: Model, f: Any) -> Enclosure | None:
+    """The NARX recursion from rest under the tone witness in Arb balls (the proof)."""
+    from flint import arb, ctx, fmpq
+
+    top = [t for t in model.terms if 0 in t.y_orders]
+    if f.kind != "tones" or len(top) != 1 or top[0].y_orders != (0,) or top[0].u_orders:
+        return None
+    a0 = Fraction(top[0].coefficient)
+    terms = []
+    for t in model.terms:
+        if t is not top[0]:
+            q = -Fraction(t.coefficient) / a0
+            terms.append((arb(fmpq(q.numerator, q.denominator)), t.y_orders, t.u_orders))
+    T = float(model.sample_time)  # type: ignore[arg-type]
+    level = f.levels[0] if f.levels else math.inf
+    n = int(math.ceil(1.5 * (f.t_escape or f.t_end) / T)) + 1
+    old = ctx.prec
+    ctx.prec = PRECISIONS[0]
+    try:
+        y: list[Any] = []
+        u: list[Any] = []
+        for k in range(min(n, MAX_STEPS)):
+            u.append(sum((arb(a) * (arb(w) * arb(k) * arb(T) + arb(p)).cos()
+                          for a, w, p in f.tones), arb(0)))
+            total = arb(0)
+            for q, ys, us in terms:
+                term = q
+                for o in ys:
+                    term = term * (y[k - o] if k - o >= 0 else 0)
+                for o in us:
+                    term = term * (u[k - o] if k - o >= 0 else 0)
+                total = total + term
+            y.append(total)
+            if abs(total) > level:
+                return Enclosure(proven=True, t_proven=k * T, steps=k + 1,
+                                 precision=PRECISIONS[0], width=float(total.rad()),
+                                 reason=f"|y| > {level:.6g} (the stated escape level)",
+                                 method="the NARX recursion from rest in Arb ball arithmetic")
+            if not total.is_finite():
+                break
+        return Enclosure(proven=False, t_proven=None, steps=len(y), precision=PRECISIONS[0],
+                         width=float(y[-1].rad()) if y else 0.0,
+                         reason="the recursion's balls did not pass the level",
+                         method="the NARX recursion from rest in Arb ball arithmetic")
+    finally:
+        ctx.prec = old

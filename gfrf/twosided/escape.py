@@ -143,7 +143,8 @@ def escape_levels(model: Model, eigenvalues: np.ndarray, n_states: int) -> np.nd
     """The escape level of each state (y, y', ...; see the module docstring)."""
     static: dict[int, float] = {}
     for term in model.terms:
-        if not term.u_orders and all(o == 0 for o in term.y_orders):
+        # at an equilibrium, every lag of a NARX model is y and every derivative is 0
+        if not term.u_orders and (model.is_discrete or all(o == 0 for o in term.y_orders)):
             static[len(term.y_orders)] = static.get(len(term.y_orders), 0.0) + term.coefficient
     scale = 0.0
     if static:

@@ -433,6 +433,7 @@ def _switching_stage(runner: _Runner, ref: float, cap: float
 
 
 def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
+            floor: float = 0.0,
             progress: Callable[[int, int], None] | None = None) -> Falsification:
     """Search bounded inputs for the smallest amplitude whose response from rest escapes.
 
@@ -444,6 +445,10 @@ def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
         Largest amplitude searched (> 0).
     closed_loop : bool
         Search the reference of the closed loop.
+    floor : float
+        A proven lower radius: witnesses below it are not reported (a switching input
+        below Theorem 1's r* lies outside its class of sums of tones; either way a
+        witness under ``lower`` is never printed).
     progress : callable, optional
         Called as ``progress(done, total)`` after each input shape.
 
@@ -471,7 +476,8 @@ def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
 
     switched = _switching_stage(runner, ref, cap) if runner.bang is not None else []
     tick()
-    tone_cap = min([cap] + [e for e, _, _ in switched])
+    best_switch = min([e for e, _, _ in switched], default=math.inf)
+    tone_cap = min(cap, best_switch) if best_switch * MARGINS[-1] >= floor else cap
     found: list[tuple[float, int, list[Tone]]] = []
     for w in omegas:
         edge = _edge(lambda a, s=[(1.0, float(w), 0.0)]: runner.escapes(_scaled(s, a)),
@@ -516,9 +522,12 @@ def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
               for e, _, k, s in candidates]
     common = dict(cap=cap, t_end=runner.t_end, escape=escape, levels=list(runner.levels),
                   discrete=runner.discrete, candidates=listed)
-    for edge, _, kind, shape in candidates[:MAX_CANDIDATES]:
+    above = [c for c in candidates if c[0] * MARGINS[-1] >= floor]
+    for edge, _, kind, shape in above[:MAX_CANDIDATES]:
         for factor in MARGINS:
             amp = edge * factor
+            if amp < floor:
+                continue
             if kind == "switching":
                 run = runner.switch(shape, amp)
                 if not run.escaped:

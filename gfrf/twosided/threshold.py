@@ -268,7 +268,8 @@ def threshold(model: ModelFile | Model, *, order: int = 5, prove: bool = True,
         ref = max((x for x in (static_bound, float(v.radius))
                    if x is not None and 0 < x < math.inf), default=1.0)
         cap = CAP_FACTOR * ref
-        falsification = falsify(mf, cap, closed_loop=closed, progress=progress)
+        falsification = falsify(mf, cap, closed_loop=closed, floor=lower,
+                                progress=progress)
         upper = falsification.upper
         if upper is not None and upper < lower:
             # a witness inside the proven region contradicts a proof: not reported
