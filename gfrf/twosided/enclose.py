@@ -139,7 +139,7 @@ class _Field:
             for i, (a, w, _) in enumerate(self.tones):
                 c, s = z[self.n + 2 * i], z[self.n + 2 * i + 1]
                 rot = (c, -s, -c, s)[k % 4]  # d^k/dt^k cos(theta) in (c, s)
-                total = total + arb(a) * arb(w) ** k * rot
+                total = total + arb(a) * arb(w) ** k * rot  # w > 0
             out.append(total)
         return out
 
@@ -149,8 +149,8 @@ class _Field:
         for q, e in self.monos:
             term: Any = q
             for j, p in enumerate(e):
-                if p:
-                    term = term * vals[j] ** p if p > 1 else term * vals[j]
+                for _ in range(p):  # products, never a power (Arb's pow of a ball
+                    term = term * vals[j]  # holding 0 can be nan)
             top = top + term
         out = list(z[1:self.n]) + [top]
         for i, (_, w, _) in enumerate(self.tones):
@@ -226,7 +226,8 @@ def _step(field: _Field, X: list[Any], h: Any) -> list[Any] | None:
     return out
 
 
-def enclose_witness(model: Model, falsification: Any) -> Enclosure | None:
+def enclose_witness(model: Model, falsification: Any, *,
+                    trace: list[tuple[Any, list[Any]]] | None = None) -> Enclosure | None:
     """Enclose the escape of the falsifier's witness in ball arithmetic, or None.
 
     Parameters
@@ -235,6 +236,9 @@ def enclose_witness(model: Model, falsification: Any) -> Enclosure | None:
         The open-loop plant the witness drives.
     falsification : Falsification
         With a witness (``upper`` not None).
+    trace : list, optional
+        Receives ``(t, boxes)`` after every step of the last attempt (t an Arb ball:
+        the exact step time; boxes: the state's balls), for checks.
 
     Returns
     -------
@@ -253,13 +257,16 @@ def enclose_witness(model: Model, falsification: Any) -> Enclosure | None:
     n, monos = shape
     last = None
     for bits in PRECISIONS:
-        last = _attempt(n, monos, f, bits)
+        if trace is not None:
+            trace.clear()
+        last = _attempt(n, monos, f, bits, trace)
         if last.proven:
             return last
     return last
 
 
-def _attempt(n: int, monos: Monomials, f: Any, bits: int) -> Enclosure:
+def _attempt(n: int, monos: Monomials, f: Any, bits: int,
+             trace: list[tuple[Any, list[Any]]] | None) -> Enclosure:
     from flint import arb, ctx
 
     old = ctx.prec
@@ -298,6 +305,8 @@ def _attempt(n: int, monos: Monomials, f: Any, bits: int) -> Enclosure:
                                      precision=bits, width=_width(X),
                                      reason=f"stopped at t = {float(t.mid()):.6g} s: {why}")
                 X, t = nxt, t + h
+                if trace is not None:
+                    trace.append((t, list(X)))
                 hit = _escaped(X, region, list(f.levels), n)
                 if hit:
                     return Enclosure(proven=True, t_proven=float(t.mid()), steps=steps,
