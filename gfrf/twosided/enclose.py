@@ -37,14 +37,16 @@ __all__ = ["Enclosure", "enclose_witness", "flow", "ORDER", "MAX_STEPS", "PRECIS
 
 #: Taylor order K of a step.
 ORDER = 24
-#: Longest step (s), a power of two, and its smallest halving.
-STEP, MIN_STEP = 2.0**-4, 2.0**-50
-#: Taylor steps (tried, including halved ones) of one enclosure at most.
-MAX_STEPS = 12_000
-#: Working precisions (bits) tried in turn.
-PRECISIONS = (192, 448)
+#: Smallest halving of a step (s).
+MIN_STEP = 2.0**-50
+#: Taylor steps (tried, including halved ones) of one attempt at most; an attempt whose
+#: witness needs more steps of its longest step is not started.
+MAX_STEPS = 3_000
+#: (working precision in bits, longest step in s) of the attempts, in turn: a shorter
+#: step makes the Lagrange remainder smaller, which the wrapping of the boxes amplifies.
+PRECISIONS = ((192, 2.0**-5), (320, 2.0**-6))
 #: The method in words.
-METHOD = ("interval Taylor enclosure in Arb ball arithmetic (order 24, a priori "
+METHOD = ("interval Taylor enclosure in Arb ball arithmetic (order 24, steps <= 1/32 s, a priori "
           "enclosure and Lagrange remainder) from rest")
 
 
@@ -175,9 +177,9 @@ def _series(field: _Field, z0: list[Any], K: int) -> list[list[Any]] | None:
     out = []
     for s in z:
         c = s.coeffs()
-        # Arb drops trailing zero coefficients; a non-finite ball may also shorten the
-        # series, so padding is only taken for a series of finite balls
-        if not all(x.is_finite() for x in c):
+        # Arb drops trailing zero coefficients, so they are padded, but only for a series
+        # that holds K + 1 terms (python-flint truncates at ctx.cap) of finite balls
+        if s.prec < K + 1 or not all(x.is_finite() for x in c):
             return None
         out.append((c + [0] * (K + 1))[:K + 1])
     return out
@@ -256,21 +258,25 @@ def enclose_witness(model: Model, falsification: Any, *,
         return None
     n, monos = shape
     last = None
-    for bits in PRECISIONS:
+    for bits, step in PRECISIONS:
+        if (f.t_escape or f.t_end) / step > MAX_STEPS:
+            break
         if trace is not None:
             trace.clear()
-        last = _attempt(n, monos, f, bits, trace)
+        last = _attempt(n, monos, f, bits, step, trace)
         if last.proven:
             return last
-    return last
+    return last or Enclosure(proven=False, t_proven=None, steps=0, precision=0, width=0.0,
+                             reason=f"not attempted: the escape at t = {f.t_escape:.6g} s "
+                                    f"needs more than MAX_STEPS = {MAX_STEPS} steps")
 
 
-def _attempt(n: int, monos: Monomials, f: Any, bits: int,
+def _attempt(n: int, monos: Monomials, f: Any, bits: int, longest: float,
              trace: list[tuple[Any, list[Any]]] | None) -> Enclosure:
     from flint import arb, ctx
 
-    old = ctx.prec
-    ctx.prec = bits
+    old = ctx.prec, ctx.cap
+    ctx.prec, ctx.cap = bits, ORDER + 1  # series ops truncate at ctx.cap terms
     try:
         tones = list(f.tones) if f.kind == "tones" else []
         field = _Field(n, monos, tones)
@@ -282,7 +288,7 @@ def _attempt(n: int, monos: Monomials, f: Any, bits: int,
         edges = [0.0, *(f.switch_times if f.kind == "switching" else []), horizon]
         sign = f.first_sign
         steps = 0
-        step = STEP
+        step = longest
         t = arb(0)
         for a, b in zip(edges[:-1], edges[1:], strict=True):
             field.u_const = arb(sign * f.upper)
@@ -298,7 +304,7 @@ def _attempt(n: int, monos: Monomials, f: Any, bits: int,
                     h = h / 2
                     nxt = _step(field, X, h)
                     steps += 1
-                step = min(STEP, 2 * float(h.mid())) if nxt is not None else step
+                step = min(longest, 2 * float(h.mid())) if nxt is not None else step
                 if nxt is None or steps > MAX_STEPS:
                     why = "no a priori enclosure" if nxt is None else f"MAX_STEPS = {MAX_STEPS}"
                     return Enclosure(proven=False, t_proven=None, steps=steps,
@@ -321,7 +327,7 @@ def _attempt(n: int, monos: Monomials, f: Any, bits: int,
         return Enclosure(proven=False, t_proven=None, steps=steps, precision=bits,
                          width=_width(X), reason="the horizon was reached")
     finally:
-        ctx.prec = old
+        ctx.prec, ctx.cap = old
 
 
 def _width(X: list[Any]) -> float:
@@ -360,7 +366,7 @@ def _narx(model: Model, f: Any) -> Enclosure | None:
     level = f.levels[0] if f.levels else math.inf
     n = int(math.ceil(1.5 * (f.t_escape or f.t_end) / T)) + 1
     old = ctx.prec
-    ctx.prec = PRECISIONS[0]
+    ctx.prec = PRECISIONS[0][0]
     try:
         y: list[Any] = []
         u: list[Any] = []
@@ -378,12 +384,12 @@ def _narx(model: Model, f: Any) -> Enclosure | None:
             y.append(total)
             if abs(total) > level:
                 return Enclosure(proven=True, t_proven=k * T, steps=k + 1,
-                                 precision=PRECISIONS[0], width=float(total.rad()),
+                                 precision=PRECISIONS[0][0], width=float(total.rad()),
                                  reason=f"|y| > {level:.6g} (the stated escape level)",
                                  method="the NARX recursion from rest in Arb ball arithmetic")
             if not total.is_finite():
                 break
-        return Enclosure(proven=False, t_proven=None, steps=len(y), precision=PRECISIONS[0],
+        return Enclosure(proven=False, t_proven=None, steps=len(y), precision=PRECISIONS[0][0],
                          width=float(y[-1].rad()) if y else 0.0,
                          reason="the recursion's balls did not pass the level",
                          method="the NARX recursion from rest in Arb ball arithmetic")
