@@ -52,6 +52,7 @@ SECTION_MODULES: tuple[str, ...] = (
     "gfrf.bench.periodic",
     "gfrf.bench.sweep",
     "gfrf.bench.identify",
+    "gfrf.bench.upper",
 )
 
 
