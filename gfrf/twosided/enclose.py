@@ -350,11 +350,11 @@ def _escaped(X: list[Any], region: Any, levels: list[float], n: int) -> str:
 
 
 def _narx(model: Model, f: Any) -> Enclosure | None:
-    """The NARX recursion from rest under the tone witness in Arb balls (the proof)."""
+    """The NARX recursion from rest under the witness in Arb balls (the proof)."""
     from flint import arb, ctx, fmpq
 
     top = [t for t in model.terms if 0 in t.y_orders]
-    if f.kind != "tones" or len(top) != 1 or top[0].y_orders != (0,) or top[0].u_orders:
+    if len(top) != 1 or top[0].y_orders != (0,) or top[0].u_orders:
         return None
     a0 = Fraction(top[0].coefficient)
     terms = []
@@ -371,8 +371,12 @@ def _narx(model: Model, f: Any) -> Enclosure | None:
         y: list[Any] = []
         u: list[Any] = []
         for k in range(min(n, MAX_STEPS)):
-            u.append(sum((arb(a) * (arb(w) * arb(k) * arb(T) + arb(p)).cos()
-                          for a, w, p in f.tones), arb(0)))
+            if f.kind == "switching":  # the sign at sample k: flips at the switch samples
+                flips = sum(1 for s in f.switch_times if round(s / T) <= k)
+                u.append(arb(f.first_sign * (-1) ** flips * f.upper))
+            else:
+                u.append(sum((arb(a) * (arb(w) * arb(k) * arb(T) + arb(p)).cos()
+                              for a, w, p in f.tones), arb(0)))
             total = arb(0)
             for q, ys, us in terms:
                 term = q

@@ -193,6 +193,7 @@ class _Runner:
             decay = -math.log(mod) if 0 < mod < 1 else 1.0
             n = int(min(SAMPLES[1], max(SAMPLES[0], math.ceil(TIME_CONSTANTS / decay))))
             self.t_end = n * float(self.system.sample_time)  # type: ignore[arg-type]
+            self.samples = n
             return
         nonzero = np.abs(ev[np.abs(ev) > 0])
         slow = float(np.min(np.abs(ev.real))) if ev.size else 1.0
@@ -255,11 +256,16 @@ class _Runner:
                                  np.array([h]), V, V[-1:].copy(), steps, float(self.levels[0]))
         return self._escaped_states(Z[:done + 1], region)
 
-    def switch(self, c: np.ndarray, amplitude: float, first_sign: int = 1) -> Any:
-        """The feedback run u = U sign(c . z) (a :class:`~.switching.SwitchRun`)."""
+    def switch(self, c: Any, amplitude: float, first_sign: int = 1) -> Any:
+        """The feedback run u = U sign(c . z) (a :class:`~.switching.SwitchRun`); for a
+        NARX model ``c`` names a sign rule of :mod:`gfrf.twosided.narx_signs`."""
         from gfrf.twosided.switching import run_switching
 
         self.runs += 1
+        if self.discrete:
+            from gfrf.twosided.narx_signs import run_signs
+
+            return run_signs(self.system, c, amplitude, self.samples, float(self.levels[0]))
         region = self.region(amplitude)
         return run_switching(self.bang, self.system.n_states, c, amplitude, first_sign,  # type: ignore[arg-type]
                              self.h, self.steps, self.levels,
@@ -304,6 +310,12 @@ class _Runner:
                           ) -> float | None:
         from gfrf.twosided.switching import replay
 
+        if self.discrete:
+            from gfrf.twosided.narx_signs import replay_signs
+
+            self.runs += 1
+            return replay_signs(self.system, amplitude, first_sign, times, self.samples,
+                                float(self.levels[0]))
         region = self.region(amplitude)
         self.runs += len(CHECK_RTOLS)
         return self._agreeing([replay(self.system, amplitude, first_sign, times, self.t_end,
@@ -474,7 +486,18 @@ def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
         if progress:
             progress(min(done, total), total)
 
-    switched = _switching_stage(runner, ref, cap) if runner.bang is not None else []
+    if runner.bang is not None:
+        switched = _switching_stage(runner, ref, cap)
+    elif runner.discrete and not closed_loop:
+        from gfrf.twosided.narx_signs import RULES
+
+        switched = []
+        for rule in RULES:
+            e = _edge(lambda a, r=rule: runner.switch(r, a).escaped, cap)
+            if e is not None:
+                switched.append((e, len(switched), rule))
+    else:
+        switched = []
     tick()
     best_switch = min([e for e, _, _ in switched], default=math.inf)
     tone_cap = min(cap, best_switch) if best_switch * MARGINS[-1] >= floor else cap
@@ -518,7 +541,8 @@ def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
         + [(e, len(switched) + i, "tones", s) for e, i, s in found])
     candidates.sort(key=lambda x: (x[0], x[1]))
     listed = [{"edge": e, "kind": k, **({"tones": [list(t) for t in s]} if k == "tones" else
-                                        {"switching_function": [float(x) for x in s]})}
+                                        {"switching_function": s if isinstance(s, str)
+                                         else [float(x) for x in s]})}
               for e, _, k, s in candidates]
     common = dict(cap=cap, t_end=runner.t_end, escape=escape, levels=list(runner.levels),
                   discrete=runner.discrete, candidates=listed)

@@ -76,3 +76,29 @@ def test_stiff_first_order_saddle_node(equation: str, capsys: pytest.CaptureFixt
     data = json.loads(capsys.readouterr().out)
     assert code == 0
     assert data["lower"] <= a * a / 4 <= data["upper"] <= 1.1 * a * a / 4
+
+
+def test_narx_sign_witness_escapes_in_an_independent_recursion(
+        capsys: pytest.CaptureFixture[str]) -> None:
+    """The NARX example's witness u[k] = +-U (switches at sample times), replayed by the
+    recursion written out here from the equation y[k] = 0.5 y[k-1] - 0.2 y[k-1]^2 u[k-2]
+    + u[k-1]."""
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[2] / "models" / "narx_example.toml"
+    assert main(["threshold", str(path), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    w = data["witness"]
+    assert data["upper_proof"] == "interval" and data["upper"] >= data["lower"]
+    if w["kind"] != "switching":
+        pytest.skip("a tone witness won")
+    flips = {round(t / 0.1) for t in w["switch_times"]}
+    sign, u, y = w["first_sign"], [], []
+    for k in range(int(round(w["t_escape"] / 0.1)) + 1):
+        if k in flips:
+            sign = -sign
+        u.append(sign * w["amplitude"])
+        prev = y[k - 1] if k >= 1 else 0.0
+        y.append(0.5 * prev - 0.2 * prev**2 * (u[k - 2] if k >= 2 else 0.0)
+                 + (u[k - 1] if k >= 1 else 0.0))
+    assert abs(y[-1]) >= 1e6 and all(abs(v) < 1e6 for v in y[:-1])
