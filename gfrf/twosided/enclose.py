@@ -357,7 +357,7 @@ def _narx(model: Model, f: Any) -> Enclosure | None:
     if len(top) != 1 or top[0].y_orders != (0,) or top[0].u_orders:
         return None
     a0 = Fraction(top[0].coefficient)
-    terms = []
+    terms: list[tuple[Any, tuple[int, ...], tuple[int, ...]]] = []
     for t in model.terms:
         if t is not top[0]:
             q = -Fraction(t.coefficient) / a0
@@ -379,7 +379,7 @@ def _narx(model: Model, f: Any) -> Enclosure | None:
                               for a, w, p in f.tones), arb(0)))
             total = arb(0)
             for q, ys, us in terms:
-                term = q
+                term: Any = q
                 for o in ys:
                     term = term * (y[k - o] if k - o >= 0 else 0)
                 for o in us:

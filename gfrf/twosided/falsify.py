@@ -486,8 +486,9 @@ def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
         if progress:
             progress(min(done, total), total)
 
+    switched: list[tuple[float, int, Any]]
     if runner.bang is not None:
-        switched = _switching_stage(runner, ref, cap)
+        switched = list(_switching_stage(runner, ref, cap))
     elif runner.discrete and not closed_loop:
         from gfrf.twosided.narx_signs import RULES
 

@@ -20,6 +20,7 @@ from __future__ import annotations
 import bisect
 import hashlib
 import warnings
+from collections.abc import Callable
 from types import ModuleType
 from typing import Any
 
@@ -190,7 +191,8 @@ def dop853_escape(system: Any, values: Any, edges: list[float], level: np.ndarra
         rhs(z, v, out)
         return out
 
-    events = [lambda _t, z, j=j: abs(z[j]) - level[j] for j in range(n)]
+    events: list[Callable[..., float]] = [lambda _t, z, j=j: abs(z[j]) - level[j]
+                                          for j in range(n)]
     if region is not None:
         yp, ym = region.y_plus, region.y_minus
         events.append(lambda _t, z: min(z[0] - yp, z[1]) if z[0] > 0 else -1.0)
