@@ -32,6 +32,9 @@ def _feedback_dop853(U: float, t_end: float) -> tuple[list[float], float | None]
     turn.terminal = big.terminal = True  # type: ignore[attr-defined]
     z, t, u, switches = np.zeros(2), 0.0, U, []
     while t < t_end:
+        # y' leaves 0 in u's direction after a switch: the next switch is the crossing
+        # against u (so the restart point is not taken as an event)
+        turn.direction = -1 if u > 0 else 1  # type: ignore[attr-defined]
         sol = solve_ivp(rhs, (t, t_end), z, method="DOP853", rtol=1e-11, atol=1e-14,
                         events=(turn, big), args=(u,))
         if sol.t_events[1].size:
