@@ -43,12 +43,18 @@ def _check_contract(data: dict) -> None:
     assert data["lower_proof"] in ("interval", "float", "none")
     assert data["upper"] is None or isinstance(data["upper"], float)
     assert (data["upper"] is None) == (data["witness"] is None) == (data["upper_method"] is None)
-    if data["witness"] is not None and data["witness"].get("kind") == "unstable-pole":
-        assert data["upper"] == 0.0 and data["lower"] == 0.0
-    elif data["witness"] is not None:
-        assert set(data["witness"]) == {"tones", "t_escape"}
-        assert all(len(t) == 3 for t in data["witness"]["tones"])
-        assert math.isclose(sum(t[0] for t in data["witness"]["tones"]), data["upper"])
+    if data["witness"] is not None:
+        w = data["witness"]
+        if w["kind"] == "unstable-pole":
+            assert data["upper"] == 0.0 and data["lower"] == 0.0
+        elif w["kind"] == "tones":
+            assert set(w) == {"kind", "tones", "t_escape"}
+            assert all(len(t) == 3 for t in w["tones"])
+            assert math.isclose(sum(t[0] for t in w["tones"]), data["upper"])
+        else:
+            assert set(w) == {"kind", "amplitude", "first_sign", "switch_times", "t_escape"}
+            assert w["amplitude"] == data["upper"] and w["first_sign"] in (1, -1)
+            assert w["switch_times"] == sorted(w["switch_times"])
     for c in data["certificates"]:
         assert {"method", "radius", "proof", "input_class"} <= set(c)
 
@@ -119,21 +125,28 @@ def test_pendulum_upper_and_an_independent_witness_run(capsys) -> None:
     assert code == 0
     assert data["upper"] <= 1.05 * TONE_THRESHOLD
     assert 0.409 <= data["lower"] <= data["upper"] and data["lower_proof"] == "interval"
-    tones = data["witness"]["tones"]
+    w = data["witness"]
+    assert w["kind"] == "switching"  # u = +-U beats every sum of tones on an oscillator
+    U, times = w["amplitude"], w["switch_times"]
 
-    def rhs(t: float, z: list[float]) -> list[float]:
-        u = sum(a * math.cos(w * t + ph) for a, w, ph in tones)
+    def rhs(t: float, z: list[float], u: float) -> list[float]:
         return [z[1], -0.5 * z[1] - 2.45 * z[0] + (9.8 / 4 / 6) * z[0]**3 + u]
 
-    def escaped(t: float, z: list[float]) -> float:
+    def escaped(t: float, z: list[float], u: float) -> float:
         return abs(z[0]) - 10.0
 
     escaped.terminal = True  # type: ignore[attr-defined]
-    for rtol in (1e-9, 1e-11):
-        sol = solve_ivp(rhs, (0, 200), [0.0, 0.0], method="DOP853", rtol=rtol,
-                        atol=rtol * 1e-3, events=escaped)
-        assert sol.status == 1, rtol  # the witness escapes: |theta| > 10
-        assert sol.t_events[0][0] <= data["witness"]["t_escape"] + 1e-6
+    for rtol in (1e-9, 1e-11):  # each switch an integration boundary, u constant between
+        z, sign, t_hit = [0.0, 0.0], w["first_sign"], None
+        for a, b in zip([0.0, *times], [*times, times[-1] + 200.0], strict=True):
+            sol = solve_ivp(rhs, (a, b), z, method="DOP853", rtol=rtol, atol=rtol * 1e-3,
+                            events=escaped, args=(sign * U,))
+            if sol.status == 1:
+                t_hit = sol.t_events[0][0]
+                break
+            z, sign = list(sol.y[:, -1]), -sign
+        assert t_hit is not None, rtol  # the witness escapes: |theta| > 10 (then blows up)
+        assert t_hit >= w["t_escape"] - 1e-6  # the escape region is entered before
 
 
 @pytest.mark.slow

@@ -54,6 +54,7 @@ SECTION_MODULES: tuple[str, ...] = (
     "gfrf.bench.sweep",
     "gfrf.bench.identify",
     "gfrf.bench.frc",
+    "gfrf.bench.upper",
 )
 
 

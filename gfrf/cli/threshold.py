@@ -2,8 +2,9 @@
 
 ``gfrf threshold MODEL [--order N] [--json]`` prints the largest proven radius with its
 certificate (Theorem 1 or 2's r*, the energy certificate of a damped hardening
-oscillator), the smallest escaping sum of tones the falsifier found (the witness, its
-escape time and what escape meant) and the answer in words; a progress bar on stderr
+oscillator), the smallest escaping bounded input the falsifier found (the witness: a
+switching input or a sum of tones, its escape time, what escape meant, and whether its
+escape is proven) and the answer in words; a progress bar on stderr
 when it is a terminal.  ``--json`` prints the contract of issue 27 (``lower`` is
 ``Infinity`` for a global certificate).  Exit code 0: both sides closed (a global
 certificate, or a witness); 1: no escape found up to the search cap and no global
@@ -33,9 +34,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description="Stable below 'lower' for every input with sup|u| <= lower (for a loop: "
                     "every reference with sup|r| <= lower, u = C(r - y); proven by an energy "
                     "or an exactly re-checked sum-of-squares certificate; Theorem 1/2's r*, "
-                    "for sums of tones only, is listed beside it), unstable at 'upper' (a sum of "
-                    "tones switched on at t = 0 whose response from rest escapes: a "
-                    "simulation witness), unknown in between. Exit code 0: both sides "
+                    "for sums of tones only, is listed beside it), unstable at 'upper' (a "
+                    "switching input u = +-U or a sum of tones, switched on at t = 0, whose "
+                    "response from rest escapes: a witness, proven when its Arb enclosure "
+                    "enters the escape region), unknown in between. Exit code 0: both sides "
                     "closed; 1: no escape found up to the search cap; 2: bad input.")
     add_model_argument(p)
     p.add_argument("--order", type=int, default=5,

@@ -17,7 +17,7 @@ import matplotlib.pyplot as plt
 from gfrf._atomic import atomic_write_text
 from gfrf.model.modelfile import load_model
 from gfrf.report._format import header, save_figure, table
-from gfrf.twosided.falsify import ESCAPE_LEVEL, MARGINS
+from gfrf.twosided.falsify import MARGINS
 from gfrf.twosided.threshold import Threshold, threshold
 
 __all__ = ["write", "threshold_figure", "rows"]
@@ -39,9 +39,12 @@ def rows(results: dict[str, Threshold]) -> list[list[object]]:
         theorem = t.certificates[0]
         second = t.certificates[1:]
         tones = t.witness_tones
-        witness = ("-" if not tones else
+        f = t.falsification
+        witness = ("-" if t.upper is None or f is None else
+                   f"+-{t.upper:.4g} switching ({len(f.switch_times)} switches, "
+                   f"{t.upper_proof})" if f.kind == "switching" else
                    " + ".join(f"{a:.4g} cos({w:.4g} t{'' if p == 0 else f' + {p:.3g}'})"
-                              for a, w, p in tones))
+                              for a, w, p in tones) + f" ({t.upper_proof})")
         ratio = theorem.radius / t.upper if t.upper else None
         out.append([stem, f"Theorem {t.theorem}", theorem.radius,
                     "; ".join(f"{c.radius:.6g} ({_kind(c.radius)}, {c.proof})"
@@ -90,8 +93,10 @@ def write(out_dir: Path, models: list[str], quick: bool = False) -> Path:
                "lower is the largest radius proven for every input with sup|u| <= lower "
                "(energy or exactly re-checked sum-of-squares certificates); Theorem 1/2's "
                "r* covers sums of tones only and is listed beside it.",
-               "upper is the smallest escaping sum of tones found from rest, with a "
-               f"{MARGINS[0]:g}x margin; escape = |y| >= {ESCAPE_LEVEL:g}."]
+               "upper is the smallest escaping bounded input found from rest (a switching "
+               "input u = +-U: sup|u|; a sum of tones: the sum of amplitudes), with a "
+               f"{MARGINS[0]:g}x margin; escape = entering a certified escape region or "
+               "passing a level from the model's scale (interval: enclosed in Arb)."]
     text = [header("Thresholds: proven below, broken above", summary,
                    "gfrf report --out reports/"),
             table(["model", "theorem", "r* (proven)", "second certificate", "lower",

@@ -23,13 +23,7 @@ from gfrf._results import markdown_table, short_repr
 from gfrf.model.equation import Model
 from gfrf.model.modelfile import ModelFile
 from gfrf.stability.energy import Certificate
-from gfrf.twosided.falsify import (
-    CAP_FACTOR,
-    ESCAPE_LEVEL,
-    Falsification,
-    falsify,
-    tones_text,
-)
+from gfrf.twosided.falsify import CAP_FACTOR, Falsification, falsify
 from gfrf.twosided.lower import LINF_LOWER_CLASS, LOOP_LOWER_CLASS, lower_side
 
 __all__ = ["Threshold", "threshold", "THEOREM_CLASS"]
@@ -45,8 +39,11 @@ _LOWER_PROOF = {"exact": "interval", "interval": "interval", "float": "float"}
 #: The amplitude series conditions of Theorems 1 and 2 (r* is their radius).
 _SERIES_CONDITIONS = ("norm series sum ||H_n|| r^n converges",
                       "sum theta_n rho_1^n r^n converges")
-UPPER_METHOD = ("falsifier: sum of tones switched on at t = 0 from rest escapes "
-                "(simulation witness, estimate-grade)")
+#: ``upper_method`` per witness kind.
+UPPER_METHOD = {
+    "switching": "falsifier: switching input u = +-U (sup|u| = U) from rest escapes",
+    "tones": "falsifier: sum of tones switched on at t = 0 from rest escapes "
+             "(amplitude = sum of tone amplitudes)"}
 
 
 @dataclass(frozen=True)
@@ -91,6 +88,7 @@ class Threshold:
     upper_method: str | None
     certificates: tuple[Certificate, ...]
     falsification: Falsification | None = field(default=None, repr=False)
+    enclosure: Any = field(default=None, repr=False)
     static_bound: float | None = None
     theorem: int = 1
     lower_class: str = LINF_LOWER_CLASS
@@ -104,7 +102,8 @@ class Threshold:
 
     @property
     def witness(self) -> dict[str, Any] | None:
-        """``{"tones": [[A, omega, phase], ...], "t_escape": t}``, ``{"kind":
+        """The witness (``kind`` ``"tones"`` or ``"switching"``, see
+        :meth:`~gfrf.twosided.falsify.Falsification.witness`), ``{"kind":
         "unstable-pole", "reason": ...}`` for an unstable equilibrium, or None."""
         if self.unstable is not None:
             return {"kind": "unstable-pole", "reason": self.unstable}
@@ -128,7 +127,30 @@ class Threshold:
                     f"only) below {self.tone_radius:.6g}")
         if self.upper is None:
             return f"{low}; unknown above (no escaping input found)"
-        return f"{low}; unstable at {self.upper:.6g} (a witness escapes); unknown in between"
+        measure = ("sup|u|" if self.falsification and self.falsification.kind == "switching"
+                   else "sum of tone amplitudes")
+        return (f"{low}; unstable at {self.upper:.6g} ({measure}: a witness escapes, "
+                f"{self.upper_proof_words}); unknown in between")
+
+    @property
+    def upper_proof(self) -> str | None:
+        """``"interval"`` (the escape is enclosed in ball arithmetic), ``"estimate"``
+        (a simulation witness) or None (no witness)."""
+        if self.upper is None:
+            return None
+        if self.unstable is not None:
+            return "interval"
+        return "interval" if self.enclosure is not None and self.enclosure.proven \
+            else "estimate"
+
+    @property
+    def upper_proof_words(self) -> str:
+        """How the witness's escape was shown, in words."""
+        if self.upper_proof == "interval":
+            return "proven"
+        if self.falsification is not None and self.falsification.discrete:
+            return "witnessed by the NARX recursion"
+        return "witnessed"
 
     def verdict_at(self, amplitude: float) -> str:
         """``stable`` below ``lower`` (proven), ``unstable`` at or above ``upper`` (an input
@@ -150,7 +172,7 @@ class Threshold:
 
     def _repr_markdown_(self) -> str:
         rows = [("stable below (lower)", self.lower, self.lower_proof, self.lower_method),
-                ("unstable at (upper)", self.upper, "estimate" if self.upper else "-",
+                ("unstable at (upper)", self.upper, self.upper_proof or "-",
                  self.upper_method or "no escape found")]
         rows += [(f"certificate: {c.method}", c.radius, c.proof, c.input_class)
                  for c in self.certificates]
@@ -172,12 +194,16 @@ class Threshold:
                               "proof": _LOWER_PROOF.get(c.proof, c.proof)}
                              for c in self.certificates],
             "answer": self.answer, "model": self.name, "theorem": self.theorem,
-            "upper_proof": (None if self.upper is None else
-                            "interval" if self.unstable is not None else "estimate"),
+            "upper_proof": self.upper_proof,
             "static_bound": self.static_bound,
             "search": None if f is None else {
                 "cap": f.cap, "t_end_s": f.t_end, "runs": f.runs, "edge": f.edge,
-                "escape": f.escape},
+                "escape": f.escape, "escape_levels": f.levels,
+                "escape_region": None if f.region is None else {
+                    "y_plus": f.region.y_plus if math.isfinite(f.region.y_plus) else "inf",
+                    "y_minus": f.region.y_minus if math.isfinite(f.region.y_minus)
+                    else "inf"}},
+            "enclosure": None if self.enclosure is None else self.enclosure.to_dict(),
             "certificate_details": {c.method: c.detail for c in self.certificates}}
 
     def text(self) -> str:
@@ -186,12 +212,19 @@ class Threshold:
         lines = [self.name] if self.name else []
         lines.append(self.answer)
         if f is not None and self.upper is not None:
-            lines.append(f"witness: u = {tones_text(f.tones)}, switched on at t = 0 from "
-                         f"rest, reaches |y| >= {ESCAPE_LEVEL:g} at t = {f.t_escape:.6g} s "
-                         "(simulation, estimate-grade; DOP853 at two tolerances agree)")
+            where = (f"enters the escape region {f.region.text()}" if f.region is not None
+                     else "leaves the escape levels")
+            how = ("the NARX recursion" if f.discrete else
+                   "simulation, estimate-grade; DOP853 at two tolerances agree")
+            if self.upper_proof == "interval":
+                e = self.enclosure
+                how = (f"proven: {e.method} to t = {e.t_proven:.6g} s, where the enclosure "
+                       f"has {e.reason}")
+            lines.append(f"witness ({f.kind}): {f.input_text()}, from rest at t = 0, "
+                         f"{where} at t = {f.t_escape:.6g} s ({how})")
         elif f is not None:
-            lines.append(f"no sum of tones up to amplitude {f.cap:.6g} (the search cap) "
-                         f"escaped within {f.t_end:g} s")
+            lines.append(f"no switching input or sum of tones up to amplitude {f.cap:.6g} "
+                         f"(the search cap) escaped within {f.t_end:g} s")
         certs = ", ".join(f"{c.method.split(' (')[0]} {c.radius:.6g} ({c.proof})"
                           for c in self.certificates)
         lines.append(f"certificates: {certs}")
@@ -201,7 +234,7 @@ class Threshold:
         return "\n".join(lines)
 
 
-def threshold(model: ModelFile | Model, *, order: int = 5,
+def threshold(model: ModelFile | Model, *, order: int = 5, prove: bool = True,
               progress: Callable[[int, int], None] | None = None) -> Threshold:
     """Stable below ``lower`` (proven), unstable at ``upper`` (a witness), unknown between.
 
@@ -212,6 +245,9 @@ def threshold(model: ModelFile | Model, *, order: int = 5,
         (Theorem 2; amplitudes are those of the reference).
     order : int
         Order of the norms of the verdict behind Theorem 1's r*.
+    prove : bool
+        Enclose the witness's escape in ball arithmetic (:mod:`gfrf.twosided.enclose`):
+        ``upper_proof`` ``"interval"`` when it succeeds.
     progress : callable, optional
         ``progress(done, total)`` during the falsifier's search.
 
@@ -252,20 +288,32 @@ def threshold(model: ModelFile | Model, *, order: int = 5,
     static_bound = None if static is None else float(static.value)
     falsification = None
     upper = 0.0 if side.unstable is not None else None
+    enclosure = None
     if not math.isinf(lower) and side.unstable is None:
         # the cap from the finite scales only (a linear model's radii are infinite)
         ref = max((x for x in (static_bound, float(v.radius))
                    if x is not None and 0 < x < math.inf), default=1.0)
         cap = CAP_FACTOR * ref
-        falsification = falsify(mf, cap, closed_loop=closed, progress=progress)
+        falsification = falsify(mf, cap, closed_loop=closed, floor=lower,
+                                progress=progress)
         upper = falsification.upper
+        if upper is not None and upper < lower:
+            # a witness inside the proven region contradicts a proof: not reported
+            upper = None
+        if upper is not None and prove:
+            from gfrf.twosided.enclose import enclose_witness
+
+            enclosure = enclose_witness(mf.plant, falsification) if not closed else None
     return Threshold(
         name=getattr(mf, "name", "") or "", lower=lower,
         lower_method=best.method if best else "none",
         lower_proof=_LOWER_PROOF[best.proof] if best and lower > 0 else "none", upper=upper,
-        upper_method=(None if upper is None else UPPER_METHOD if side.unstable is None
-                      else "unstable equilibrium (exact pole location)"),
-        certificates=tuple(certs), falsification=falsification,
+        upper_method=(None if upper is None
+                      else "unstable equilibrium (exact pole location)"
+                      if side.unstable is not None
+                      else UPPER_METHOD.get(falsification.kind or "")
+                      if falsification is not None else None),
+        certificates=tuple(certs), falsification=falsification, enclosure=enclosure,
         static_bound=static_bound, theorem=v.theorem,
         lower_class=LOOP_LOWER_CLASS if closed else LINF_LOWER_CLASS,
         unstable=side.unstable, sos=side.sos)

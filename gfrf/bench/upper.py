@@ -1,0 +1,105 @@
+"""The upper side of ``gfrf threshold``: finding and proving an escaping bounded input.
+
+Per model: the CPU time of the falsifier (:func:`gfrf.twosided.falsify.falsify`: switching
+inputs and tones on compiled RK4, the witness confirmed by DOP853) and of the proof
+(:func:`gfrf.twosided.enclose.enclose_witness`, Arb enclosure), beside the baseline an
+auditor writes: bisection of a tone's amplitude on a frequency grid with scipy's
+``solve_ivp`` (DOP853, escape = |y| >= 1e3 as an event).  The error column is the
+amplitude found against the proven lower radius (upper / lower: closer to 1 is tighter).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+
+import numpy as np
+
+from gfrf.bench import BenchSection, bundled_model, load_note
+
+__all__ = ["run"]
+
+
+def _cases(quick: bool) -> list[tuple[str, str, float]]:
+    cases = [("hanging_pendulum_damped", bundled_model("hanging_pendulum_damped.toml"), 23.1),
+             ("softening oscillator", "D(y,2) + 0.2*D(y) + y - 0.3*y**3 = u", 3.0)]
+    if not quick:
+        cases.append(("hanging_pendulum", bundled_model("hanging_pendulum.toml"), 23.1))
+    return cases
+
+
+def _baseline(model: object, cap: float, quick: bool) -> float | None:
+    """Smallest escaping tone amplitude: a frequency grid, amplitude bisection, solve_ivp."""
+    from scipy.integrate import solve_ivp
+
+    from gfrf.sim.system import build_system
+
+    system = build_system(model, equation="polynomial")  # type: ignore[arg-type]
+    rhs = system.function("rhs")
+    w0 = float(np.min(np.abs(system.linear_eigenvalues)))
+    v = np.zeros(system.n_inputs)
+
+    def escapes(a: float, w: float) -> bool:
+        def f(t: float, z: np.ndarray) -> np.ndarray:
+            out = np.empty(system.n_states)
+            v[0] = a * math.cos(w * t)
+            rhs(z, v, out)
+            return out
+
+        def big(t: float, z: np.ndarray) -> float:
+            return abs(z[0]) - 1e3
+
+        big.terminal = True  # type: ignore[attr-defined]
+        with np.errstate(all="ignore"):
+            sol = solve_ivp(f, (0, 200.0), np.zeros(system.n_states), method="DOP853",
+                            rtol=1e-8, atol=1e-11, events=big)
+        return sol.status != 0
+
+    best = None
+    for w in np.geomspace(0.5 * w0, 1.5 * w0, 6 if quick else 16):
+        if not escapes(cap, w):
+            continue
+        lo, hi = 0.0, cap
+        for _ in range(8 if quick else 12):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (lo, mid) if escapes(mid, w) else (mid, hi)
+        best = hi if best is None else min(best, hi)
+    return best
+
+
+def run(quick: bool) -> BenchSection:
+    """Time the falsifier, the proof and the baseline per model; return the section."""
+    from gfrf import parse_model
+    from gfrf.model.modelfile import load_model
+    from gfrf.twosided.enclose import enclose_witness
+    from gfrf.twosided.falsify import falsify
+    from gfrf.twosided.threshold import threshold
+
+    load = os.getloadavg()
+    rows: list[list[object]] = []
+    for label, source, cap in _cases(quick):
+        mf = load_model(source) if source.endswith(".toml") else parse_model(source)
+        plant = getattr(mf, "plant", mf)
+        lower = threshold(mf, prove=False).lower
+        t0 = time.process_time()
+        f = falsify(mf, cap, floor=lower)
+        find = time.process_time() - t0
+        t0 = time.process_time()
+        proof = enclose_witness(plant, f)
+        prove = time.process_time() - t0
+        t0 = time.process_time()
+        base = _baseline(plant, cap, quick)
+        base_cpu = time.process_time() - t0
+        rows.append([label, f"{lower:.5g}", f"{f.upper:.5g} ({f.kind})" if f.upper else "-",
+                     f"{f.upper / lower:.3f}" if f.upper and lower else "-", f"{find:.1f}",
+                     "interval" if proof is not None and proof.proven else "estimate",
+                     f"{prove:.1f}", f"{base:.5g}" if base else "-",
+                     f"{base / lower:.3f}" if base and lower else "-", f"{base_cpu:.1f}"])
+    return BenchSection(
+        title="Upper side: the escaping bounded input, found and proven",
+        intro=" ".join(__doc__.split("\n\n", 1)[1].split()),
+        columns=["model", "lower (proven)", "upper (ours)", "upper/lower", "find CPU (s)",
+                 "upper proof", "prove CPU (s)", "baseline (tone bisection)",
+                 "baseline/lower", "baseline CPU (s)"],
+        rows=rows, notes=["CPU seconds of this process (time.process_time).", load_note(load)])

@@ -1,0 +1,401 @@
+"""A proven escape: the solution from rest under the witness, enclosed in Arb balls.
+
+The model ``sum_t c_t prod D(y, o) prod D(u, o) = 0`` (a continuous polynomial model
+whose highest output derivative y^(n) appears in one linear term a_n y^(n)) becomes
+the polynomial flow z' = F(z, u) in z = (y, ..., y^(n-1)); a tone A cos(omega t + phi)
+adds the exact oscillator (c, s)' = omega (-s, c), so a tone witness is an autonomous
+polynomial flow too, and a switching witness is one with a constant u on each segment
+between switch times.  Coefficients, amplitudes, frequencies and switch times are the
+exact values of the doubles the model and the witness hold.
+
+Each step of length h (exact dyadic lengths; the switch times are step boundaries) is
+the interval Taylor method with a rigorous remainder (Moore's method): an a priori
+enclosure B with X + [0, h] F(B) inside B (Picard-Lindelof: every solution from the
+box X stays in B over the step), the Taylor coefficients z_k of the solution from X
+(Picard iteration on Arb power series, python-flint ``arb_series``), and the
+Lagrange remainder h^K z_K(B):
+
+    z(h) in sum_{k<K} z_k(X) h^k + h^K z_K(B).
+
+The working precision absorbs the wrapping of the boxes (it starts at a point: the
+rest state).  The escape is proven when a box lies in the certified escape region of an
+oscillator (:mod:`gfrf.twosided.escape`: every solution in it escapes under every
+input of the witness's size), or for other models beyond the stated level of y (the
+definition of escape there).  Work is bounded by step counts.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Any
+
+from gfrf.model.equation import Model
+
+__all__ = ["Enclosure", "enclose_witness", "flow", "ORDER", "MAX_STEPS", "PRECISIONS"]
+
+#: Taylor order K of a step.
+ORDER = 24
+#: Smallest halving of a step (s).
+MIN_STEP = 2.0**-50
+#: Taylor steps (tried, including halved ones) of one attempt at most; an attempt whose
+#: witness needs more steps of its longest step is not started.
+MAX_STEPS = 3_000
+#: (working precision in bits, longest step in s) of the attempts, in turn: a shorter
+#: step makes the Lagrange remainder smaller, which the wrapping of the boxes amplifies.
+PRECISIONS = ((192, 2.0**-5), (320, 2.0**-6))
+#: The method in words.
+METHOD = ("interval Taylor enclosure in Arb ball arithmetic (order 24, steps <= 1/32 s, a priori "
+          "enclosure and Lagrange remainder) from rest")
+
+
+@dataclass(frozen=True)
+class Enclosure:
+    """Result of :func:`enclose_witness`.
+
+    Attributes
+    ----------
+    proven : bool
+        The enclosure entered the escape region (or passed the level).
+    t_proven : float or None
+        The time (s) at which it did.
+    steps : int
+        Taylor steps taken.
+    precision : int
+        Working precision in bits of the last attempt.
+    width : float
+        Largest radius of the last box.
+    reason : str
+        Why not proven, or what was proven.
+    method : str
+    """
+
+    proven: bool
+    t_proven: float | None
+    steps: int
+    precision: int
+    width: float
+    reason: str
+    method: str = METHOD
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON form."""
+        return {"proven": self.proven, "t_proven": self.t_proven, "steps": self.steps,
+                "precision_bits": self.precision, "width": self.width,
+                "reason": self.reason, "method": self.method}
+
+
+Monomials = list[tuple[Fraction, tuple[int, ...]]]
+
+
+def flow(model: Model) -> tuple[int, Monomials] | None:
+    """(n, monomials of y^(n)) with exponents over (y, ..., y^(n-1), u, u', ...), or None.
+
+    None: a discrete model, or y^(n) not in one linear term with a constant coefficient.
+    """
+    if model.is_discrete or not model.terms:
+        return None
+    n = max((max(t.y_orders, default=0) for t in model.terms), default=0)
+    if n == 0:
+        return None
+    top = [t for t in model.terms if n in t.y_orders]
+    if len(top) != 1 or top[0].y_orders != (n,) or top[0].u_orders:
+        return None
+    a_n = Fraction(top[0].coefficient)
+    nu = 1 + max((max(t.u_orders, default=0) for t in model.terms), default=0)
+    out: Monomials = []
+    for t in model.terms:
+        if t is top[0]:
+            continue
+        e = [0] * (n + nu)
+        for o in t.y_orders:
+            e[o] += 1
+        for o in t.u_orders:
+            e[n + o] += 1
+        out.append((-Fraction(t.coefficient) / a_n, tuple(e)))
+    return n, out
+
+
+class _Field:
+    """z' = F(z) on the state (y..y^(n-1), then per tone c, s), u per segment or tones."""
+
+    def __init__(self, n: int, monos: Monomials, tones: list[tuple[float, float, float]]):
+        from flint import arb, fmpq
+
+        self.n, self.tones = n, tones
+        self.monos = [(arb(fmpq(q.numerator, q.denominator)), e) for q, e in monos]
+        self.nu = len(monos[0][1]) - n if monos else 1
+        self.u_const: Any = arb(0)
+        self.dim = n + 2 * len(tones)
+
+    def inputs(self, z: list[Any]) -> list[Any]:
+        """u, u', ... from the constant input or the tone states."""
+        if not self.tones:
+            return [self.u_const] + [0] * (self.nu - 1)
+        from flint import arb
+
+        out = []
+        for k in range(self.nu):
+            total: Any = 0
+            for i, (a, w, _) in enumerate(self.tones):
+                c, s = z[self.n + 2 * i], z[self.n + 2 * i + 1]
+                rot = (c, -s, -c, s)[k % 4]  # d^k/dt^k cos(theta) in (c, s)
+                total = total + arb(a) * arb(w) ** k * rot  # w > 0
+            out.append(total)
+        return out
+
+    def __call__(self, z: list[Any]) -> list[Any]:
+        vals = list(z[:self.n]) + self.inputs(z)
+        top: Any = 0
+        for q, e in self.monos:
+            term: Any = q
+            for j, p in enumerate(e):
+                for _ in range(p):  # products, never a power (Arb's pow of a ball
+                    term = term * vals[j]  # holding 0 can be nan)
+            top = top + term
+        out = list(z[1:self.n]) + [top]
+        for i, (_, w, _) in enumerate(self.tones):
+            from flint import arb
+
+            c, s = z[self.n + 2 * i], z[self.n + 2 * i + 1]
+            out += [-arb(w) * s, arb(w) * c]
+        return out
+
+
+def _series(field: _Field, z0: list[Any], K: int) -> list[list[Any]] | None:
+    """Taylor coefficients 0..K of the solution from z0 (balls), by Picard iteration;
+    None when a ball is not finite."""
+    from flint import arb_series
+
+    z = [arb_series([x], prec=K + 1) for x in z0]
+    for _ in range(K):
+        f = field(z)
+        z = [arb_series([x0], prec=K + 1) + (fi if isinstance(fi, arb_series) else
+                                              arb_series([fi], prec=K + 1)).integral()
+             for x0, fi in zip(z0, f, strict=True)]
+    out = []
+    for s in z:
+        c = s.coeffs()
+        # Arb drops trailing zero coefficients, so they are padded, but only for a series
+        # that holds K + 1 terms (python-flint truncates at ctx.cap) of finite balls
+        if s.prec < K + 1 or not all(x.is_finite() for x in c):
+            return None
+        out.append((c + [0] * (K + 1))[:K + 1])
+    return out
+
+
+def _finite(b: Any) -> bool:
+    """A ball with a finite midpoint and a radius a double can hold."""
+    return bool(b.is_finite()) and math.isfinite(float(b.rad())) \
+        and math.isfinite(float(b.mid()))
+
+
+def _inflate(b: Any) -> Any:
+    """b widened by a fifth of its radius and a little more (room for the Picard check)."""
+    from flint import arb
+
+    return b + arb(0, 0.2 * float(b.rad()) + 1e-9 * float(abs(b.mid())) + 1e-60)
+
+
+def _step(field: _Field, X: list[Any], h: Any) -> list[Any] | None:
+    """The box at t + h from the box X at t, or None (no a priori enclosure found)."""
+    from flint import arb
+
+    K = ORDER
+    span = h * arb(0.5, 0.5)  # [0, h]
+    B = [x + span * f for x, f in zip(X, field(X), strict=True)]
+    B = [_inflate(b) for b in B]
+    for _ in range(10):
+        if not all(_finite(b) for b in B):
+            return None
+        trial = [x + span * f for x, f in zip(X, field(B), strict=True)]
+        if all(_finite(t) and b.contains(t) for b, t in zip(B, trial, strict=True)):
+            break
+        B = [_inflate(t) for t in trial]
+    else:
+        return None
+    coeffs = _series(field, X, K - 1)
+    rem = _series(field, B, K)
+    if coeffs is None or rem is None:
+        return None
+    out = []
+    for c, r in zip(coeffs, rem, strict=True):
+        total: Any = 0
+        for k in range(K - 1, -1, -1):
+            total = total * h + c[k]
+        out.append(total + r[K] * h**K)
+    return out
+
+
+def enclose_witness(model: Model, falsification: Any, *,
+                    trace: list[tuple[Any, list[Any]]] | None = None) -> Enclosure | None:
+    """Enclose the escape of the falsifier's witness in ball arithmetic, or None.
+
+    Parameters
+    ----------
+    model : Model
+        The open-loop plant the witness drives.
+    falsification : Falsification
+        With a witness (``upper`` not None).
+    trace : list, optional
+        Receives ``(t, boxes)`` after every step of the last attempt (t an Arb ball:
+        the exact step time; boxes: the state's balls), for checks.
+
+    Returns
+    -------
+    Enclosure or None
+        None when the model is outside the supported class (a discrete model, an
+        implicit highest derivative) or there is no witness.
+    """
+    f = falsification
+    if f is None or f.upper is None:
+        return None
+    if model.is_discrete:
+        return _narx(model, f)
+    shape = flow(model)
+    if shape is None:
+        return None
+    n, monos = shape
+    last = None
+    for bits, step in PRECISIONS:
+        if (f.t_escape or f.t_end) / step > MAX_STEPS:
+            break
+        if trace is not None:
+            trace.clear()
+        last = _attempt(n, monos, f, bits, step, trace)
+        if last.proven:
+            return last
+    return last or Enclosure(proven=False, t_proven=None, steps=0, precision=0, width=0.0,
+                             reason=f"not attempted: the escape at t = {f.t_escape:.6g} s "
+                                    f"needs more than MAX_STEPS = {MAX_STEPS} steps")
+
+
+def _attempt(n: int, monos: Monomials, f: Any, bits: int, longest: float,
+             trace: list[tuple[Any, list[Any]]] | None) -> Enclosure:
+    from flint import arb, ctx
+
+    old = ctx.prec, ctx.cap
+    ctx.prec, ctx.cap = bits, ORDER + 1  # series ops truncate at ctx.cap terms
+    try:
+        tones = list(f.tones) if f.kind == "tones" else []
+        field = _Field(n, monos, tones)
+        X = [arb(0)] * n
+        for _, _, p in tones:
+            X += [arb(p).cos(), arb(p).sin()]
+        region = f.region
+        horizon = (f.t_escape or f.t_end) * 1.5
+        edges = [0.0, *(f.switch_times if f.kind == "switching" else []), horizon]
+        sign = f.first_sign
+        steps = 0
+        step = longest
+        t = arb(0)
+        for a, b in zip(edges[:-1], edges[1:], strict=True):
+            field.u_const = arb(sign * f.upper)
+            t = arb(a)
+            while True:
+                left = arb(b) - t
+                if not left > 0:
+                    break
+                h = arb(step) if left > step else left
+                nxt = _step(field, X, h)
+                steps += 1
+                while nxt is None and h.mid() >= MIN_STEP and steps <= MAX_STEPS:
+                    h = h / 2
+                    nxt = _step(field, X, h)
+                    steps += 1
+                step = min(longest, 2 * float(h.mid())) if nxt is not None else step
+                if nxt is None or steps > MAX_STEPS:
+                    why = "no a priori enclosure" if nxt is None else f"MAX_STEPS = {MAX_STEPS}"
+                    return Enclosure(proven=False, t_proven=None, steps=steps,
+                                     precision=bits, width=_width(X),
+                                     reason=f"stopped at t = {float(t.mid()):.6g} s: {why}")
+                X, t = nxt, t + h
+                if trace is not None:
+                    trace.append((t, list(X)))
+                hit = _escaped(X, region, list(f.levels), n)
+                if hit:
+                    return Enclosure(proven=True, t_proven=float(t.mid()), steps=steps,
+                                     precision=bits, width=_width(X), reason=hit)
+                if not all(math.isfinite(float(x.rad())) and x.rad() < 1e-3 * (1 + abs(x.mid()))
+                           for x in X):
+                    return Enclosure(proven=False, t_proven=None, steps=steps,
+                                     precision=bits, width=_width(X),
+                                     reason=f"the boxes grew too wide by t = "
+                                            f"{float(t.mid()):.6g} s")
+            sign = -sign
+        return Enclosure(proven=False, t_proven=None, steps=steps, precision=bits,
+                         width=_width(X), reason="the horizon was reached")
+    finally:
+        ctx.prec, ctx.cap = old
+
+
+def _width(X: list[Any]) -> float:
+    return max(float(x.rad()) for x in X)
+
+
+def _escaped(X: list[Any], region: Any, levels: list[float], n: int) -> str:
+    """Why the box X is inside the escape, or ''."""
+    if region is not None and n == 2:
+        y, v = X[0], X[1]
+        if math.isfinite(region.y_plus) and y >= region.y_plus and v >= 0:
+            return f"y >= {region.y_plus:.6g} and y' >= 0 (the certified escape region)"
+        if math.isfinite(region.y_minus) and y <= -region.y_minus and v <= 0:
+            return f"y <= {-region.y_minus:.6g} and y' <= 0 (the certified escape region)"
+    for j, level in enumerate(levels[:n]):
+        if math.isfinite(level) and abs(X[j]) > level:
+            name = "y" + "'" * j if j < 3 else f"y^({j})"
+            return f"|{name}| > {level:.6g} (the stated escape level)"
+    return ""
+
+
+def _narx(model: Model, f: Any) -> Enclosure | None:
+    """The NARX recursion from rest under the witness in Arb balls (the proof)."""
+    from flint import arb, ctx, fmpq
+
+    top = [t for t in model.terms if 0 in t.y_orders]
+    if len(top) != 1 or top[0].y_orders != (0,) or top[0].u_orders:
+        return None
+    a0 = Fraction(top[0].coefficient)
+    terms: list[tuple[Any, tuple[int, ...], tuple[int, ...]]] = []
+    for t in model.terms:
+        if t is not top[0]:
+            q = -Fraction(t.coefficient) / a0
+            terms.append((arb(fmpq(q.numerator, q.denominator)), t.y_orders, t.u_orders))
+    T = float(model.sample_time)  # type: ignore[arg-type]
+    level = f.levels[0] if f.levels else math.inf
+    n = int(math.ceil(1.5 * (f.t_escape or f.t_end) / T)) + 1
+    old = ctx.prec
+    ctx.prec = PRECISIONS[0][0]
+    try:
+        y: list[Any] = []
+        u: list[Any] = []
+        for k in range(min(n, MAX_STEPS)):
+            if f.kind == "switching":  # the sign at sample k: flips at the switch samples
+                flips = sum(1 for s in f.switch_times if round(s / T) <= k)
+                u.append(arb(f.first_sign * (-1) ** flips * f.upper))
+            else:
+                u.append(sum((arb(a) * (arb(w) * arb(k) * arb(T) + arb(p)).cos()
+                              for a, w, p in f.tones), arb(0)))
+            total = arb(0)
+            for q, ys, us in terms:
+                term: Any = q
+                for o in ys:
+                    term = term * (y[k - o] if k - o >= 0 else 0)
+                for o in us:
+                    term = term * (u[k - o] if k - o >= 0 else 0)
+                total = total + term
+            y.append(total)
+            if abs(total) > level:
+                return Enclosure(proven=True, t_proven=k * T, steps=k + 1,
+                                 precision=PRECISIONS[0][0], width=float(total.rad()),
+                                 reason=f"|y| > {level:.6g} (the stated escape level)",
+                                 method="the NARX recursion from rest in Arb ball arithmetic")
+            if not total.is_finite():
+                break
+        return Enclosure(proven=False, t_proven=None, steps=len(y), precision=PRECISIONS[0][0],
+                         width=float(y[-1].rad()) if y else 0.0,
+                         reason="the recursion's balls did not pass the level",
+                         method="the NARX recursion from rest in Arb ball arithmetic")
+    finally:
+        ctx.prec = old

@@ -1,0 +1,111 @@
+"""The proven escape: Arb enclosures of the witness's trajectory from rest.
+
+Independent references: mpmath's Taylor-series ODE solver at 50 digits (the enclosure
+must contain it at every step), and the scaled witness (0.9 x) that must not be proven.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import mpmath as mp
+import pytest
+
+from gfrf import parse_model
+from gfrf.cli import main
+from gfrf.model.modelfile import load_model
+from gfrf.twosided.enclose import enclose_witness
+from gfrf.twosided.escape import escape_region
+from gfrf.twosided.falsify import Falsification, falsify
+
+MODELS = Path(__file__).resolve().parents[2] / "models"
+#: mpmath's own error at 50 digits (odefun's tolerance), added to every ball's radius.
+MP_SLACK = mp.mpf("1e-44")
+
+
+def _witness(kind: str, amplitude: float, t_end: float, **kw: object) -> Falsification:
+    # the enclosure runs to 1.5 * t_escape: t_escape = t_end / 1.5
+    return Falsification(amplitude, kw.pop("tones", []), t_end / 1.5, amplitude,  # type: ignore[arg-type]
+                         cap=10.0, t_end=t_end, runs=0, escape="", kind=kind,
+                         levels=[1e6, 1e6, 1e6], **kw)  # type: ignore[arg-type]
+
+
+def _contains(ball: object, value: mp.mpf) -> bool:
+    mid = mp.mpf(ball.mid().str(60, radius=False))  # type: ignore[attr-defined]
+    rad = mp.mpf(ball.rad().str(20, radius=False))  # type: ignore[attr-defined]
+    return abs(value - mid) <= rad + MP_SLACK
+
+
+@pytest.mark.slow
+def test_enclosure_holds_the_50_digit_taylor_solution_under_a_switching_input() -> None:
+    """y'' + 0.5 y' + 2.45 y - 0.4083 y^3 = u, u = +-0.94 switching at 2.1 and 4.3 s."""
+    model = load_model(MODELS / "hanging_pendulum_damped.toml").plant
+    f = _witness("switching", 0.94, 6.0, first_sign=1, switch_times=[2.1, 4.3])
+    trace: list = []
+    enclose_witness(model, f, trace=trace)
+    assert trace and float(trace[-1][0].mid()) == pytest.approx(6.0)
+    # the model's coefficients as its doubles hold them: 2.45 theta - 0.40833 theta^3
+    cubic = -next(t.coefficient for t in model.terms if t.y_orders == (0, 0, 0))
+    with mp.workdps(50):
+        cubic = mp.mpf(cubic)
+        edges, z, sign = [0, 2.1, 4.3, 6.0], [mp.mpf(0), mp.mpf(0)], 1
+        checked = 0
+        for a, b in zip(edges[:-1], edges[1:], strict=True):
+            u = sign * mp.mpf(0.94)
+            sol = mp.odefun(lambda t, y, u=u: [y[1], -mp.mpf(0.5) * y[1] - mp.mpf(2.45) * y[0]
+                                               + cubic * y[0] ** 3 + u], mp.mpf(a), z)
+            for t, boxes in trace:
+                tm = mp.mpf(t.mid().str(60, radius=False))
+                if mp.mpf(a) < tm <= mp.mpf(b):
+                    ref = sol(tm)
+                    assert all(_contains(x, r) for x, r in zip(boxes, ref, strict=True)), tm
+                    checked += 1
+            z, sign = sol(mp.mpf(b)), -sign
+        assert checked == len(trace)
+
+
+def test_enclosure_holds_the_50_digit_taylor_solution_under_a_tone_third_order() -> None:
+    """y''' + 2y'' + 2y' + y - 0.5 y^3 = u, u = 0.3 cos(1.3 t + 0.4) (the tone's exact
+    oscillator states ride along in the enclosure)."""
+    model = parse_model("D(y,3) + 2*D(y,2) + 2*D(y) + y - 0.5*y**3 = u")
+    f = _witness("tones", 0.3, 1.5, tones=[(0.3, 1.3, 0.4)])
+    trace: list = []
+    enclose_witness(model, f, trace=trace)
+    assert len(trace) >= 40
+    with mp.workdps(50):
+        a, w, p = mp.mpf(0.3), mp.mpf(1.3), mp.mpf(0.4)
+        sol = mp.odefun(lambda t, y: [y[1], y[2], -2 * y[2] - 2 * y[1] - y[0]
+                                      + mp.mpf(0.5) * y[0] ** 3 + a * mp.cos(w * t + p)],
+                        0, [mp.mpf(0)] * 3)
+        for t, boxes in trace[::4]:
+            ref = sol(mp.mpf(t.mid().str(60, radius=False)))
+            assert all(_contains(x, r) for x, r in zip(boxes[:3], ref, strict=True))
+
+
+@pytest.mark.slow
+def test_a_witness_scaled_by_0_9_is_not_proven() -> None:
+    model = load_model(MODELS / "hanging_pendulum_damped.toml").plant
+    f = falsify(model, 23.1)
+    assert f.kind == "switching" and f.upper is not None
+    proof = enclose_witness(model, f)
+    assert proof is not None and proof.proven
+    assert proof.t_proven == pytest.approx(f.t_escape, rel=0.02)
+    weaker = Falsification(0.9 * f.upper, [], f.t_escape, f.edge, cap=f.cap, t_end=f.t_end,
+                           runs=0, escape="", kind="switching", first_sign=f.first_sign,
+                           switch_times=f.switch_times, levels=f.levels,
+                           region=escape_region(model, 0.9 * f.upper))
+    scaled = enclose_witness(model, weaker)
+    assert scaled is not None and not scaled.proven
+
+
+@pytest.mark.slow
+def test_narx_witness_is_proven_by_the_ball_recursion(capsys: pytest.CaptureFixture[str]
+                                                       ) -> None:
+    code = main(["threshold", str(MODELS / "narx_example.toml")])
+    text = capsys.readouterr().out
+    assert code == 0 and "DOP853" not in text and "proven" in text
+    main(["threshold", str(MODELS / "narx_example.toml"), "--json"])
+    data = json.loads(capsys.readouterr().out)
+    assert data["upper_proof"] == "interval" and data["upper"] >= data["lower"]
+    assert data["witness"]["kind"] in ("tones", "switching")

@@ -1,0 +1,107 @@
+"""Switching inputs u = +-U sign(c . z): the compiled feedback run against an independent
+event-located DOP853 run of the same feedback, and the witness on stiff one-line models."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from gfrf import parse_model
+from gfrf.cli import main
+from gfrf.sim.system import build_system
+from gfrf.twosided.escape import escape_region
+from gfrf.twosided.switching import replay, run_switching, switching_module
+
+EQ = "D(y,2) + 0.5*D(y) + 2.45*y - 0.4*y**3 = u"
+
+
+def _feedback_dop853(U: float, t_end: float) -> tuple[list[float], float | None]:
+    """u = U sign(y') with the sign changes located as events (closed loop, scipy only)."""
+    def rhs(t: float, z: np.ndarray, u: float) -> list[float]:
+        return [z[1], -0.5 * z[1] - 2.45 * z[0] + 0.4 * z[0] ** 3 + u]
+
+    def turn(t: float, z: np.ndarray, u: float) -> float:
+        return z[1]
+
+    def big(t: float, z: np.ndarray, u: float) -> float:
+        return abs(z[0]) - 10.0
+
+    turn.terminal = big.terminal = True  # type: ignore[attr-defined]
+    z, t, u, switches = np.zeros(2), 0.0, U, []
+    while t < t_end:
+        # y' leaves 0 in u's direction after a switch: the next switch is the crossing
+        # against u (so the restart point is not taken as an event)
+        turn.direction = -1 if u > 0 else 1  # type: ignore[attr-defined]
+        sol = solve_ivp(rhs, (t, t_end), z, method="DOP853", rtol=1e-11, atol=1e-14,
+                        events=(turn, big), args=(u,))
+        if sol.t_events[1].size:
+            return switches, float(sol.t_events[1][0])
+        if not sol.t_events[0].size:
+            return switches, None
+        t = float(sol.t_events[0][0])
+        z = sol.y_events[0][0]
+        z[1] = 0.0
+        switches.append(t)
+        u = -u
+    return switches, None
+
+
+def test_compiled_feedback_switches_where_event_location_does() -> None:
+    model = parse_model(EQ)
+    system = build_system(model, equation="polynomial")
+    h, U = 1e-3, 1.0
+    run = run_switching(switching_module(system), 2, np.array([0.0, 1.0]), U, 1, h, 40_000,
+                        np.array([10.0, 1e3]))
+    ref, t_big = _feedback_dop853(U, 40.0)
+    assert run.escaped and t_big is not None
+    n = min(len(ref), len(run.switch_times))
+    assert n >= 3
+    assert np.allclose(run.switch_times[:n], ref[:n], atol=5 * h)
+    # the recorded open-loop input escapes when replayed (switches as boundaries)
+    region = escape_region(model, U)
+    t_escape = replay(system, U, 1, run.switch_times, 40.0, np.array([10.0, 1e3]), 1e-10,
+                      region)
+    assert t_escape is not None and t_escape <= t_big + 1e-6
+
+
+@pytest.mark.parametrize("equation", [
+    "D(y) + 1000*y - y**2 = u",
+    pytest.param("D(y) + 20000*y - y**2 = u", marks=pytest.mark.slow)])
+def test_stiff_first_order_saddle_node(equation: str, capsys: pytest.CaptureFixture[str]
+                                       ) -> None:
+    """y' = -a y + y^2 + u escapes under a constant u iff u > a^2/4 (the saddle-node):
+    the answer brackets it, and the work stays bounded (a fixed number of RK4 steps)."""
+    a = float(equation.split("+ ")[1].split("*")[0])
+    code = main(["threshold", equation, "--json"])
+    data = json.loads(capsys.readouterr().out)
+    assert code == 0
+    assert data["lower"] <= a * a / 4 <= data["upper"] <= 1.1 * a * a / 4
+
+
+def test_narx_sign_witness_escapes_in_an_independent_recursion(
+        capsys: pytest.CaptureFixture[str]) -> None:
+    """The NARX example's witness u[k] = +-U (switches at sample times), replayed by the
+    recursion written out here from the equation y[k] = 0.5 y[k-1] - 0.2 y[k-1]^2 u[k-2]
+    + u[k-1]."""
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[2] / "models" / "narx_example.toml"
+    assert main(["threshold", str(path), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    w = data["witness"]
+    assert data["upper_proof"] == "interval" and data["upper"] >= data["lower"]
+    if w["kind"] != "switching":
+        pytest.skip("a tone witness won")
+    flips = {round(t / 0.1) for t in w["switch_times"]}
+    sign, u, y = w["first_sign"], [], []
+    for k in range(int(round(w["t_escape"] / 0.1)) + 1):
+        if k in flips:
+            sign = -sign
+        u.append(sign * w["amplitude"])
+        prev = y[k - 1] if k >= 1 else 0.0
+        y.append(0.5 * prev - 0.2 * prev**2 * (u[k - 2] if k >= 2 else 0.0)
+                 + (u[k - 1] if k >= 1 else 0.0))
+    assert abs(y[-1]) >= 1e6 and all(abs(v) < 1e6 for v in y[:-1])
