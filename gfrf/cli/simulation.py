@@ -24,7 +24,7 @@ import sys
 import warnings
 from typing import TYPE_CHECKING, Any
 
-from gfrf._atomic import atomic_path
+from gfrf._atomic import atomic_open, atomic_write_figure
 from gfrf.cli._models import add_model_argument, resolve_model
 from gfrf.cli._output import add_json_flag, check_output_file, check_plot_path, emit
 from gfrf.errors import ArgumentError
@@ -150,8 +150,8 @@ def _simulate(args: argparse.Namespace) -> int:
                        else args.max_evaluations)
         bar.update(1)
     if args.csv is not None:
-        with atomic_path(args.csv) as tmp:
-            np.savetxt(tmp, np.c_[res.t, res.y, res.u], delimiter=",", header="t,y,u",
+        with atomic_open(args.csv, "w", newline="") as fh:  # opened once (FIFOs)
+            np.savetxt(fh, np.c_[res.t, res.y, res.u], delimiter=",", header="t,y,u",
                        comments="")
     if args.plot:
         _plot(res, args.plot, mf.name, mf.plant.output)
@@ -185,8 +185,7 @@ def _plot(res: SimulationResult, path: str, title: str, output: str) -> None:
     ax2.set_xlabel("t (s)")
     fig.tight_layout()
     try:
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=110)
+        atomic_write_figure(fig, path, dpi=110)
     finally:
         plt.close(fig)
 

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from gfrf._atomic import atomic_path
+from gfrf._atomic import atomic_write_figure
 from gfrf.errors import ArgumentError
 from gfrf.sweep.run import SweepResult
 
@@ -99,8 +99,7 @@ def plot_stability_map(result: SweepResult, path: str | Path, title: str = "") -
     fig.tight_layout()
     out = Path(path)
     try:
-        with atomic_path(out) as tmp:
-            fig.savefig(tmp, dpi=120)
+        atomic_write_figure(fig, out, dpi=120)
     finally:
         plt.close(fig)
     return out

@@ -61,7 +61,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 from urllib.parse import urlsplit
 
-from gfrf._atomic import atomic_path
+from gfrf._atomic import atomic_open, atomic_write_bytes
 from gfrf._results import short_repr
 from gfrf.errors import ArgumentError, GfrfError
 
@@ -399,17 +399,18 @@ class SweepResult:
         """
         p = Path(path)
         kind = check_output(p)
-        with atomic_path(p) as tmp:  # a failed write leaves the previous table intact
-            if kind == "csv":
-                with tmp.open("w", newline="", encoding="utf-8") as fh:
-                    writer = csv.DictWriter(fh, fieldnames=self.columns)
-                    writer.writeheader()
-                    writer.writerows(self.rows)
-            else:
-                import pyarrow as pa
-                import pyarrow.parquet as pq
+        if kind == "csv":  # a failed write leaves the previous table intact
+            with atomic_open(p, "w", newline="") as fh:
+                writer = csv.DictWriter(fh, fieldnames=self.columns)
+                writer.writeheader()
+                writer.writerows(self.rows)
+            return p
+        import pyarrow as pa
+        import pyarrow.parquet as pq
 
-                pq.write_table(pa.Table.from_pylist(self.rows), tmp)
+        buffer = pa.BufferOutputStream()
+        pq.write_table(pa.Table.from_pylist(self.rows), buffer)
+        atomic_write_bytes(p, buffer.getvalue().to_pybytes())
         return p
 
     def to_dict(self) -> dict[str, Any]:
