@@ -20,6 +20,7 @@ from gfrf.errors import ArgumentError
 
 ROOT = Path(__file__).resolve().parent.parent
 DUFFING = str(ROOT / "models" / "duffing.toml")
+CLI = "import sys; from gfrf.cli import main; sys.exit(main())"
 SIM = ["simulate", DUFFING, "--input", "0.1*sin(t)", "--t-end", "1", "--points", "20"]
 
 
@@ -86,8 +87,8 @@ def test_a_link_to_the_processes_stdout_is_written_through_not_replaced(tmp_path
     out = tmp_path / "out.txt"
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     with open(out, "wb") as fh:
-        proc = subprocess.run([sys.executable, "-c", "import sys; from gfrf.cli import main; sys.exit(main())", *SIM, "--csv", str(link)],
-                              stdout=fh, stderr=subprocess.PIPE, env=env, timeout=120)
+        proc = subprocess.run([sys.executable, "-c", CLI, *SIM, "--csv", str(link)], stdout=fh,
+                              stderr=subprocess.PIPE, env=env, timeout=120)
     assert proc.returncode == 0, proc.stderr
     assert link.is_symlink() and os.readlink(link) == "/proc/self/fd/1"
     assert sorted(p.name for p in dev.iterdir()) == ["stdout"]
