@@ -254,7 +254,9 @@ def atomic_write_figure(fig: Any, path: str | os.PathLike[str], **savefig: Any) 
     """Render a matplotlib figure to memory, then write it once (see :func:`atomic_open`).
 
     Rendering to a buffer first lets every format reach a FIFO or a terminal (some
-    writers seek) and leaves no partial file when rendering fails.
+    writers seek) and leaves no partial file when rendering fails.  Every text of the
+    figure is drawn as plain text (no mathtext, no LaTeX): gfrf's labels use none, and
+    a ``$`` in a model's name stays a dollar sign.
 
     Parameters
     ----------
@@ -270,6 +272,9 @@ def atomic_write_figure(fig: Any, path: str | os.PathLike[str], **savefig: Any) 
     pathlib.Path
         ``path``.
     """
+    for text in fig.findobj(lambda artist: hasattr(artist, "set_parse_math")):
+        text.set_usetex(False)  # user text is data: no mathtext, no LaTeX
+        text.set_parse_math(False)
     buffer = io.BytesIO()
     savefig.setdefault("format", Path(path).suffix.lstrip(".").lower() or None)
     fig.savefig(buffer, **savefig)

@@ -28,6 +28,7 @@ import numpy as np
 
 from gfrf._results import new_figure
 from gfrf.errors import ArgumentError
+from gfrf.model.safetext import plot_text
 
 #: A :class:`gfrf.kernels.recursion.Kernel` (not imported: recursion imports this module).
 Kernel = Any
@@ -153,7 +154,8 @@ def plot_kernel(kernel: Kernel, *, omega_range: float | None = None, what: str =
         fig, axes = new_figure(1, 1, (6.0, 2.0))
         axes[0][0].axis("off")
         axes[0][0].text(0.5, 0.5, f"H{n} = 0 identically (no term of the model reaches "
-                                  f"order {n})\n{_name(kernel)}", ha="center", va="center")
+                                  f"order {n})\n{_name(kernel)}", ha="center", va="center",
+                        parse_math=False)
         return fig
     if n == 1:
         if omega_range is None and not kernel.model.is_discrete:
@@ -198,15 +200,15 @@ def _bode(kernel: Kernel, top: float, mark: Sequence[float] | None) -> Any:
     mag.set_ylabel("magnitude (dB)")
     phase.set_ylabel("phase (deg)")
     phase.set_xlabel("omega (rad/s)")
-    mag.set_title(f"H1 of {_name(kernel)}", fontsize=9)
+    mag.set_title(f"H1 of {_name(kernel)}", fontsize=9, parse_math=False)
     for ax in (mag, phase):
         ax.grid(True, which="both", alpha=0.3)
     return fig
 
 
 def _name(kernel: Kernel) -> str:
-    text = kernel.model.text or kernel.model.equation()
-    return text if len(text) <= 60 else text[:57] + "..."
+    """The model's text as one line of a figure (drawn with ``parse_math=False``)."""
+    return plot_text(kernel.model.text or kernel.model.equation(), limit=60)
 
 
 def _map(fig: Any, ax: Any, kernel: Kernel, top: float, what: str,
@@ -256,7 +258,7 @@ def _map(fig: Any, ax: Any, kernel: Kernel, top: float, what: str,
         ax.set_title(f"H{kernel.order}(j omega1, j omega2, ...)\nwith {others} rad/s fixed",
                      fontsize=9)
     else:
-        ax.set_title(f"H2 of {_name(kernel)}", fontsize=9)
+        ax.set_title(f"H2 of {_name(kernel)}", fontsize=9, parse_math=False)
 
 
 def _diagonal(ax: Any, kernel: Kernel, top: float, what: str,
@@ -279,5 +281,5 @@ def _diagonal(ax: Any, kernel: Kernel, top: float, what: str,
         ax.plot(w, values)
     ax.set_xlabel("omega (rad/s)")
     ax.set_ylabel(f"H{n}(j omega, ..., j omega) {label}")
-    ax.set_title(f"diagonal slice of H{n}\n{_name(kernel)}", fontsize=9)
+    ax.set_title(f"diagonal slice of H{n}\n{_name(kernel)}", fontsize=9, parse_math=False)
     ax.grid(True, alpha=0.3)

@@ -18,6 +18,7 @@ import numpy as np
 
 from gfrf._atomic import atomic_write_figure
 from gfrf.errors import ArgumentError
+from gfrf.model.safetext import plot_text
 from gfrf.sweep.run import SweepResult
 
 __all__ = ["plot_stability_map", "point_class", "map_title", "CLASSES"]
@@ -61,7 +62,7 @@ def map_title(result: SweepResult, title: str = "") -> str:
     ``NAME = NUMBER`` of a swept parameter is removed (with a leading comma) and a
     second line states the swept range of every axis.
     """
-    base = title or f"gfrf sweep --what {result.what}"
+    base = plot_text(title, limit=80) if title else f"gfrf sweep --what {result.what}"
     for axis in result.axes:
         base = re.sub(rf"(?:,\s*)?(?<![\w.]){re.escape(axis.name)}\s*=\s*{_NUMBER}", "",
                       base)
@@ -95,7 +96,7 @@ def plot_stability_map(result: SweepResult, path: str | Path, title: str = "") -
         _one(ax, result)
     else:
         _two(ax, result)
-    ax.set_title(map_title(result, title), fontsize=10)
+    ax.set_title(map_title(result, title), fontsize=10, parse_math=False)
     fig.tight_layout()
     out = Path(path)
     try:

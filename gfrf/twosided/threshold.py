@@ -21,6 +21,7 @@ from typing import Any
 from gfrf._results import markdown_table, short_repr
 from gfrf.model.equation import Model
 from gfrf.model.modelfile import ModelFile
+from gfrf.model.safetext import markdown_text
 from gfrf.stability.energy import Certificate, energy_certificate
 from gfrf.stability.energy_local import local_energy_certificate
 from gfrf.twosided.falsify import (
@@ -129,7 +130,7 @@ class Threshold:
                  self.upper_method or "no escape found")]
         rows += [(f"certificate: {c.method}", c.radius, c.proof, c.input_class)
                  for c in self.certificates]
-        title = f"**{self.name}**: " if self.name else ""
+        title = f"**{markdown_text(self.name)}**: " if self.name else ""
         return f"{title}{self.answer}\n\n" + markdown_table(
             ("", "amplitude", "proof", "method / inputs"), rows)
 
