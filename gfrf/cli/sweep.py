@@ -81,6 +81,11 @@ def _summary(name: str, result: SweepResult) -> list[str]:
         if finite:
             lines.append(f"  r*: min {min(finite):.4g}, max {max(finite):.4g} (proof: "
                          + ", ".join(f"{k} {v}" for k, v in sorted(proofs.items())) + ")")
+        unstable = sum(1 for r in rows if not r["error"] and r.get("linear_stable") is False)
+        if unstable:
+            lines.append(f"  {unstable} point(s) with an unstable linear part: their r* is "
+                         f"for the series of L-infinity norms on the axis, not H-infinity, "
+                         f"and no stability radius")
     lines += [f"  note: {n}" for n in result.notes]
     # Throughput is a measurement, not a result: it is in --json only, so the same
     # command prints the same text anywhere.
@@ -112,6 +117,8 @@ def _sweep(args: argparse.Namespace) -> int:
         lines.append(f"  map: {plot_stability_map(result, args.plot, mf.name)}")
     emit(args, payload, "\n".join(lines))
     if result.rows and all(r["error"] for r in result.rows):  # nothing was computed
-        print(f"gfrf: error: no grid point succeeded; {result.notes[0]}", file=sys.stderr)
+        cause = (f"; {result.notes[0]}" if getattr(args, "json", False)
+                 else " (the cause is in the note above)")
+        print(f"gfrf: error: no grid point succeeded{cause}", file=sys.stderr)
         return 1
     return 0

@@ -135,7 +135,9 @@ def _one(ax: object, result: SweepResult) -> None:
         if result.what != "bounded":
             ax.axhline(result.amplitude, ls="--", color="k", lw=1,
                        label=f"amplitude r = {result.amplitude:g}")
-            ax.set_ylabel("certified radius r*")
+            unstable = any(r.get("linear_stable") is False for r in result.rows)
+            ax.set_ylabel("series radius r* (no stability radius where the linear part is "
+                          "unstable)" if unstable else "certified radius r*", fontsize=8)
         else:
             ax.set_ylabel("peak |y|")
         for xi, kind in zip(x, kinds, strict=True):
