@@ -86,7 +86,8 @@ def _summary(name: str, result: SweepResult) -> list[str]:
             lines.append(f"  {unstable} point(s) with an unstable linear part: their r* is "
                          f"for the series of L-infinity norms on the axis, not H-infinity, "
                          f"and no stability radius")
-    lines += [f"  note: {n}" for n in result.notes]
+    failed_all = bool(rows) and all(r["error"] for r in rows)  # the error line says it
+    lines += [f"  note: {n}" for n in result.notes[1 if failed_all else 0:]]
     # Throughput is a measurement, not a result: it is in --json only, so the same
     # command prints the same text anywhere.
     lines.append(f"  scheduler '{result.scheduler}'")
@@ -117,8 +118,6 @@ def _sweep(args: argparse.Namespace) -> int:
         lines.append(f"  map: {plot_stability_map(result, args.plot, mf.name)}")
     emit(args, payload, "\n".join(lines))
     if result.rows and all(r["error"] for r in result.rows):  # nothing was computed
-        cause = (f"; {result.notes[0]}" if getattr(args, "json", False)
-                 else " (the cause is in the note above)")
-        print(f"gfrf: error: no grid point succeeded{cause}", file=sys.stderr)
+        print(f"gfrf: error: no grid point succeeded; {result.notes[0]}", file=sys.stderr)
         return 1
     return 0
