@@ -360,7 +360,8 @@ def ofrf(data: Mapping[str, Any] | str | Path, parameter: str, tones: Sequence[A
     return result
 
 
-def _evaluate(model: Model, polys: dict[tuple, np.ndarray], tones: Sequence[Any],
+def _evaluate(model: Model, polys: dict[tuple, np.ndarray],
+              tones: tuple[tuple[float, float, float], ...],
               omega: float, order: int, parameter: str, value: float) -> OFRF:
     """The OFRF from the recursion (no check of its finiteness)."""
     by_order, spectra = _recursion(model, polys, tones, order)
