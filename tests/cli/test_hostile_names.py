@@ -71,11 +71,6 @@ def _check_markdown(text: str, where: str) -> None:
 def drawn(monkeypatch: pytest.MonkeyPatch) -> list[str]:
     """Every text drawn on a figure written by gfrf, after the writer's own treatment."""
     texts: list[str] = []
-    write = gfrf._atomic.atomic_write_bytes
-
-    def spy(path: Any, data: bytes) -> Path:
-        return write(path, data)
-
     original = gfrf._atomic.atomic_write_figure
 
     def figure(fig: Any, path: Any, **kw: Any) -> Path:
@@ -88,7 +83,6 @@ def drawn(monkeypatch: pytest.MonkeyPatch) -> list[str]:
             texts.append(t.get_text())
         return result
 
-    monkeypatch.setattr(gfrf._atomic, "atomic_write_bytes", spy)
     for module in ("gfrf.cli.simulation", "gfrf.sweep.plot", "gfrf.report._format"):
         monkeypatch.setattr(f"{module}.atomic_write_figure", figure)
     monkeypatch.setattr("gfrf._atomic.atomic_write_figure", figure)
