@@ -338,7 +338,7 @@ def test_cli_identify_text_output_and_bad_input(tmp_path, capsys):
     assert "no column 'v'" in capsys.readouterr().err
     assert main(["identify", str(data), "--sample-time", "0.1", "--out",
                  str(tmp_path / "missing" / "m.toml")]) == 2
-    assert "cannot write" in capsys.readouterr().err
+    assert "does not exist" in capsys.readouterr().err
     assert main(["identify", str(data), "--sample-time", "-1"]) == 2
     assert main(["identify", str(tmp_path / "none.csv"), "--sample-time", "0.1"]) == 2
 

@@ -30,7 +30,7 @@ from typing import Any
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from gfrf._atomic import atomic_path
+from gfrf._atomic import atomic_write_figure
 from gfrf.bench import BenchSection, best_of, figure_dir, load_note
 from gfrf.model.modelfile import load_model
 from gfrf.model.signals import parse_input
@@ -195,8 +195,7 @@ def _figure(curves: dict[str, Curve], path: Path) -> None:
     ax.legend(fontsize=8)
     fig.tight_layout()
     try:
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=120)
+        atomic_write_figure(fig, path, dpi=120)
     finally:
         plt.close(fig)
 

@@ -39,32 +39,17 @@ def check_plot_path(path: str | None) -> None:
 
 
 def check_output_file(option: str, path: str | None) -> None:
-    """Refuse, before any work, an output file that cannot be written.
-
-    An empty name, a directory, or a file whose folder does not exist or is not writable
-    (a device or FIFO that exists is written in place, see :mod:`gfrf._atomic`).
+    """Refuse, before any work, an output file that cannot be written
+    (:func:`gfrf._atomic.check_output_path`, the one check of every output file).
 
     Raises
     ------
     ArgumentError
         Naming ``option`` and the user's ``path``.
     """
-    if path is None:
-        return
-    if not path.strip():
-        raise ArgumentError(f"{option}: empty file name")
-    target = Path(path)
-    if target.is_dir():
-        raise ArgumentError(f"{option} {path!r} is a directory")
-    if target.exists() and not target.is_file():
-        if not os.access(target, os.W_OK):
-            raise ArgumentError(f"{option} {path!r}: not writable")
-        return
-    folder = target.parent
-    if not folder.is_dir():
-        raise ArgumentError(f"{option} {path!r}: the folder {str(folder)!r} does not exist")
-    if not os.access(folder, os.W_OK | os.X_OK):
-        raise ArgumentError(f"{option} {path!r}: the folder {str(folder)!r} is not writable")
+    from gfrf._atomic import check_output_path
+
+    check_output_path(option, path)
 
 
 def check_output_folder(option: str, path: str) -> None:

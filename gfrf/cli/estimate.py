@@ -139,11 +139,9 @@ def _estimate(args: argparse.Namespace) -> int:
     result = estimate_gfrf(args.data, args.period, skip_periods=args.skip_periods,
                            model=model)
     if args.plot:
-        from gfrf._atomic import atomic_path
+        from gfrf._atomic import atomic_write_figure
 
-        figure = result.plot()
-        with atomic_path(args.plot) as tmp:
-            figure.savefig(tmp, format=args.plot.rsplit(".", 1)[-1].lower(), dpi=110)
+        atomic_write_figure(result.plot(), args.plot, dpi=110)
     payload = result.to_dict()
     emit(args, payload, "\n".join(_text(result, payload, args.plot)))
     return 0

@@ -133,8 +133,6 @@ def _plot(curve: object, path: str) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
-    from gfrf._atomic import atomic_path
+    from gfrf._atomic import atomic_write_figure
 
-    figure = curve.plot()  # type: ignore[attr-defined]
-    with atomic_path(path) as tmp:
-        figure.savefig(tmp, format=path.rsplit(".", 1)[-1].lower(), dpi=110)
+    atomic_write_figure(curve.plot(), path, dpi=110)  # type: ignore[attr-defined]

@@ -14,11 +14,10 @@ install it).
 from __future__ import annotations
 
 import argparse
-import os
 from pathlib import Path
 from typing import Any
 
-from gfrf.cli._output import add_json_flag, emit
+from gfrf.cli._output import add_json_flag, check_output_file, emit
 from gfrf.errors import ArgumentError
 
 __all__ = ["register"]
@@ -80,13 +79,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def _check_out(out: str) -> Path:
     path = Path(out)
-    folder = path.parent if str(path.parent) else Path(".")
     if path.suffix != ".toml":
         raise ArgumentError(f"--out must name a .toml model file, got {out!r}")
-    if path.is_dir():
-        raise ArgumentError(f"--out {out!r} is a directory")
-    if not folder.is_dir() or not os.access(folder, os.W_OK):
-        raise ArgumentError(f"--out: cannot write into {str(folder)!r}")
+    check_output_file("--out", out)
     return path
 
 

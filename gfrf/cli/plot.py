@@ -56,7 +56,7 @@ def _plot(args: argparse.Namespace) -> int:
 
     matplotlib.use("Agg")  # never a window, whatever MPLBACKEND says
 
-    from gfrf._atomic import atomic_path
+    from gfrf._atomic import atomic_write_figure
     from gfrf.kernels.recursion import kernel
 
     k = kernel(mf.plant, args.order)
@@ -70,8 +70,7 @@ def _plot(args: argparse.Namespace) -> int:
         if bound.argmax and all(abs(w) < float("inf") for w in bound.argmax):
             mark, sup, sup_proof = tuple(bound.argmax), bound.lower, bound.lower_proof
     fig = k.plot(omega_range=args.omega_range, what=args.what, mark=mark)
-    with atomic_path(args.out) as tmp:
-        fig.savefig(tmp, format=args.out.rsplit(".", 1)[-1].lower(), dpi=110)
+    atomic_write_figure(fig, args.out, dpi=110)
     payload: dict[str, Any] = {"model": mf.name, "order": args.order, "what": args.what,
                                "out": args.out, "zero": k.is_zero, "sup_at": mark,
                                "sup": sup, "sup_proof": sup_proof}

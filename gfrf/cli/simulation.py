@@ -24,10 +24,11 @@ import sys
 import warnings
 from typing import TYPE_CHECKING, Any
 
-from gfrf._atomic import atomic_path
+from gfrf._atomic import atomic_open, atomic_write_figure
 from gfrf.cli._models import add_model_argument, resolve_model
 from gfrf.cli._output import add_json_flag, check_output_file, check_plot_path, emit
 from gfrf.errors import ArgumentError
+from gfrf.model.safetext import plot_text
 
 if TYPE_CHECKING:  # the numerical modules are imported where used: the parser stays cheap
     from gfrf.sim.integrate import SimulationResult
@@ -150,8 +151,8 @@ def _simulate(args: argparse.Namespace) -> int:
                        else args.max_evaluations)
         bar.update(1)
     if args.csv is not None:
-        with atomic_path(args.csv) as tmp:
-            np.savetxt(tmp, np.c_[res.t, res.y, res.u], delimiter=",", header="t,y,u",
+        with atomic_open(args.csv, "w", newline="") as fh:  # opened once (FIFOs)
+            np.savetxt(fh, np.c_[res.t, res.y, res.u], delimiter=",", header="t,y,u",
                        comments="")
     if args.plot:
         _plot(res, args.plot, mf.name, mf.plant.output)
@@ -179,14 +180,13 @@ def _plot(res: SimulationResult, path: str, title: str, output: str) -> None:
     fig, (ax1, ax2) = plt.subplots(2, 1, sharex=True, figsize=(6, 4.5))
     ax1.plot(res.t, res.y)
     ax1.set_ylabel(output)
-    ax1.set_title(f"{title} ({res.status})")
+    ax1.set_title(f"{plot_text(title, limit=80)} ({res.status})", parse_math=False)
     ax2.plot(res.t, res.u, color="tab:orange")
     ax2.set_ylabel("u")
     ax2.set_xlabel("t (s)")
     fig.tight_layout()
     try:
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=110)
+        atomic_write_figure(fig, path, dpi=110)
     finally:
         plt.close(fig)
 

@@ -187,9 +187,7 @@ def _verdict_text(name: str, v: Verdict, proof: str = "") -> list[str]:
                  if "theta_term" in row else "")
         lines.append(f"  n = {row['order']}: M_n = {_num(row['majorant'])}, "
                      f"term = {_num(row['majorant_term'])}{extra}")
-    kind = ({"interval": "proven", "float": "certified (float)"}.get(v.radius_proof, "estimate")
-            if v.radius_certified else "estimate")
-    lines += ["", f"radius (lower bound r*, {kind}): {_num(v.radius)}"
+    lines += ["", f"radius (lower bound r*, {v.radius_kind}): {_num(v.radius)}"
               + (" (units of the reference r)" if v.loop else "")]
     if v.loop_radius_upper is not None:
         lines.append(f"loop radius_upper (proven upper bound of the loop's true radius, units "

@@ -81,7 +81,13 @@ def _summary(name: str, result: SweepResult) -> list[str]:
         if finite:
             lines.append(f"  r*: min {min(finite):.4g}, max {max(finite):.4g} (proof: "
                          + ", ".join(f"{k} {v}" for k, v in sorted(proofs.items())) + ")")
-    lines += [f"  note: {n}" for n in result.notes]
+        unstable = sum(1 for r in rows if not r["error"] and r.get("linear_stable") is False)
+        if unstable:
+            lines.append(f"  {unstable} point(s) with an unstable linear part: their r* is "
+                         f"for the series of L-infinity norms on the axis, not H-infinity, "
+                         f"and no stability radius")
+    failed_all = bool(rows) and all(r["error"] for r in rows)  # the error line says it
+    lines += [f"  note: {n}" for n in result.notes[1 if failed_all else 0:]]
     # Throughput is a measurement, not a result: it is in --json only, so the same
     # command prints the same text anywhere.
     lines.append(f"  scheduler '{result.scheduler}'")

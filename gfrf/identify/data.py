@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import csv
 import math
+import sys
 from dataclasses import dataclass
 from math import comb
 from pathlib import Path
@@ -45,9 +46,9 @@ def _check_names(output: str, input_: str) -> None:
 
 def _check_sample_time(sample_time: Any) -> float:
     if isinstance(sample_time, bool) or not isinstance(sample_time, (int, float)) \
-            or not math.isfinite(sample_time) or sample_time <= 0:
-        raise ModelError(f"sample_time must be a positive number of seconds, got "
-                         f"{sample_time!r}")
+            or not math.isfinite(sample_time) or sample_time < sys.float_info.min:
+        raise ModelError(f"sample_time must be a positive normal number of seconds "
+                         f"(>= {sys.float_info.min:.3g}), got {sample_time!r}")
     return float(sample_time)
 
 
@@ -118,8 +119,12 @@ def _check_signal(name: str, values: Any) -> np.ndarray:
 #: Largest |value| in the data: powers up to the degree of larger values overflow or lose
 #: every digit of the smaller terms; rescale the data (SI units) first.
 MAX_MAGNITUDE = 1e50
-#: Smallest spread (standard deviation) of a signal that is not constant.
-_MIN_SPREAD = 1e-50
+#: Smallest largest |value| of a signal: powers up to the degree of smaller values
+#: underflow; rescale the data first.
+MIN_MAGNITUDE = 1e-50
+#: Smallest spread (standard deviation) of a signal, relative to its largest |value|,
+#: that is not constant (rounding of a constant leaves about 1e-16).
+_MIN_SPREAD = 1e-12
 #: What ``missing`` may be in :func:`read_data`.
 MISSING = ("refuse", "drop", "interpolate")
 
@@ -132,8 +137,12 @@ def _check_data(y: np.ndarray, u: np.ndarray, degree: int) -> None:
             raise ArgumentError(f"{name} has values up to {big:.3g}, above the limit "
                                 f"{MAX_MAGNITUDE:g}: regressors of degree {degree} would "
                                 f"overflow; rescale the data (e.g. to SI units)")
-        spread = float(np.std(a))
-        if not spread > _MIN_SPREAD * max(1.0, big):
+        spread = big * float(np.std(a / big)) if big > 0 else 0.0  # no underflow at 1e-300
+        if 0 < big < MIN_MAGNITUDE and spread > _MIN_SPREAD * big:
+            raise ArgumentError(f"{name} has values only up to {big:.3g}, below the limit "
+                                f"{MIN_MAGNITUDE:g}: regressors of degree {degree} would "
+                                f"underflow; rescale the data (e.g. to SI units)")
+        if not spread > _MIN_SPREAD * big:
             raise ArgumentError(f"{name} is constant ({a[0]:.6g} in every sample of the "
                                 f"training part): no dynamics can be identified from it")
 

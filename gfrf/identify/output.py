@@ -9,8 +9,6 @@ terms; :func:`load_text` reads such a text, :func:`write_atomic` saves it.
 from __future__ import annotations
 
 import json
-import os
-import stat
 import tomllib
 from pathlib import Path
 
@@ -63,17 +61,20 @@ def load_text(text: str, path: str) -> ModelFile:
 
 
 def write_atomic(path: str | Path, text: str) -> Path:
-    """Write ``text`` to ``path`` atomically (:func:`gfrf._atomic.atomic_path`: a temporary
-    file in the same folder, synced, then renamed; a device or FIFO is written in place).
+    """Write ``text`` to ``path`` atomically: :func:`gfrf._atomic.atomic_write_text`.
 
-    A reader sees the old file or the new one, never a partial file; the temporary
-    file is removed when writing fails.
+    Parameters
+    ----------
+    path : str or path-like
+        The model file.
+    text : str
+        Its content.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
     """
-    from gfrf._atomic import atomic_path
+    from gfrf._atomic import atomic_write_text
 
-    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8") as fh:
-        fh.write(text)
-        fh.flush()
-        if stat.S_ISREG(os.fstat(fh.fileno()).st_mode):
-            os.fsync(fh.fileno())
-    return Path(path)
+    return atomic_write_text(path, text)

@@ -20,6 +20,7 @@ is drawn on the figure (a star, with its value in the legend).
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Sequence
 from typing import Any
 
@@ -27,17 +28,22 @@ import numpy as np
 
 from gfrf._results import new_figure
 from gfrf.errors import ArgumentError
+from gfrf.model.safetext import plot_text
 
 #: A :class:`gfrf.kernels.recursion.Kernel` (not imported: recursion imports this module).
 Kernel = Any
 
-__all__ = ["plot_kernel", "resonances", "frequency_grid", "WHAT"]
+__all__ = ["plot_kernel", "resonances", "frequency_grid", "WHAT", "MAX_AXIS_POINTS"]
 
 #: What a map shows.
 WHAT = ("magnitude", "phase")
 #: Points of a uniform axis, and per resonance cluster.
 _UNIFORM = 401
 _CLUSTER = 121
+#: Most points on one axis of a plot (an H2 map holds its square: a million values,
+#: under 0.5 GB with the temporaries of the evaluation, drawn in a fraction of a second).
+#: A finer grid is thinned to this many points with a warning, before any evaluation.
+MAX_AXIS_POINTS = 1001
 
 
 def resonances(kernel: Kernel) -> list[tuple[float, float]]:
@@ -77,7 +83,10 @@ def _top(kernel: Kernel, omega_range: float | None) -> float:
 def frequency_grid(kernel: Kernel, top: float, centres: Sequence[float] = (),
                    symmetric: bool = True) -> np.ndarray:
     """Sorted grid on [-top, top] (or [0, top]): uniform, plus clusters on the resonances
-    and on ``centres`` (rad/s), with the uniform spacing dividing the main resonance."""
+    and on ``centres`` (rad/s), with the uniform spacing dividing the main resonance
+    (when that takes at most twice the uniform points: else the clusters alone resolve
+    it).  At most :data:`MAX_AXIS_POINTS` points: a finer grid is thinned evenly (in
+    index, so the clusters stay denser than the rest) and a warning says so."""
     res = resonances(kernel)
     low = -top if symmetric else 0.0
     n = _UNIFORM
@@ -86,14 +95,23 @@ def frequency_grid(kernel: Kernel, top: float, centres: Sequence[float] = (),
         main = max(res, key=lambda wh: wh[0] / wh[1])[0]
         if 0 < main < top:
             step = main / math.ceil(main / ((top - low) / (n - 1)))
-            parts.append(np.arange(math.ceil(low / step), math.floor(top / step) + 1) * step)
+            if (top - low) / step <= 2 * n:
+                parts.append(np.arange(math.ceil(low / step), math.floor(top / step) + 1)
+                             * step)
     u = np.tan(np.linspace(-1.45, 1.45, _CLUSTER))  # arctan spacing, +-8 half-widths
     for w, h in res:
         for c in [w, *centres]:
             for sign in ((1, -1) if symmetric else (1,)):
                 parts.append(sign * c + h * u)
     grid = np.unique(np.concatenate(parts))
-    return grid[(grid >= low) & (grid <= top)]
+    grid = grid[(grid >= low) & (grid <= top)]
+    if grid.size > MAX_AXIS_POINTS:
+        warnings.warn(f"the plot grid is thinned from {grid.size} to MAX_AXIS_POINTS = "
+                      f"{MAX_AXIS_POINTS} points per axis (narrow resonances may be drawn "
+                      f"coarsely; plot a smaller range to see them)", stacklevel=2)
+        keep = np.unique(np.round(np.linspace(0, grid.size - 1, MAX_AXIS_POINTS)).astype(int))
+        grid = grid[keep]
+    return grid
 
 
 def _value(h: np.ndarray, what: str) -> tuple[np.ndarray, str]:
@@ -136,7 +154,8 @@ def plot_kernel(kernel: Kernel, *, omega_range: float | None = None, what: str =
         fig, axes = new_figure(1, 1, (6.0, 2.0))
         axes[0][0].axis("off")
         axes[0][0].text(0.5, 0.5, f"H{n} = 0 identically (no term of the model reaches "
-                                  f"order {n})\n{_name(kernel)}", ha="center", va="center")
+                                  f"order {n})\n{_name(kernel)}", ha="center", va="center",
+                        parse_math=False)
         return fig
     if n == 1:
         if omega_range is None and not kernel.model.is_discrete:
@@ -181,20 +200,21 @@ def _bode(kernel: Kernel, top: float, mark: Sequence[float] | None) -> Any:
     mag.set_ylabel("magnitude (dB)")
     phase.set_ylabel("phase (deg)")
     phase.set_xlabel("omega (rad/s)")
-    mag.set_title(f"H1 of {_name(kernel)}", fontsize=9)
+    mag.set_title(f"H1 of {_name(kernel)}", fontsize=9, parse_math=False)
     for ax in (mag, phase):
         ax.grid(True, which="both", alpha=0.3)
     return fig
 
 
 def _name(kernel: Kernel) -> str:
-    text = kernel.model.text or kernel.model.equation()
-    return text if len(text) <= 60 else text[:57] + "..."
+    """The model's text as one line of a figure (drawn with ``parse_math=False``)."""
+    return plot_text(kernel.model.text or kernel.model.equation(), limit=60)
 
 
 def _map(fig: Any, ax: Any, kernel: Kernel, top: float, what: str,
          fixed: tuple[float, ...], mark: Sequence[float] | None) -> None:
     from matplotlib.colors import LogNorm
+    from matplotlib.image import NonUniformImage
 
     res = resonances(kernel)
     centres = [w / 2 for w, _ in res] + [0.0]
@@ -208,13 +228,22 @@ def _map(fig: Any, ax: Any, kernel: Kernel, top: float, what: str,
     if what == "magnitude":
         finite = values[np.isfinite(values) & (values > 0)]
         vmax = float(finite.max()) if finite.size else 1.0
-        norm = LogNorm(vmin=vmax * 1e-6, vmax=vmax)
-        mesh = ax.pcolormesh(grid, grid, np.clip(values, vmax * 1e-6, None), norm=norm,
-                             shading="nearest", cmap="viridis", rasterized=True)
+        values = np.clip(values, vmax * 1e-6, None)
+        style: dict[str, Any] = {"norm": LogNorm(vmin=vmax * 1e-6, vmax=vmax),
+                                 "cmap": "viridis"}
         label = f"|H{kernel.order}| (log scale)"
     else:
-        mesh = ax.pcolormesh(grid, grid, values, shading="nearest", cmap="twilight",
-                             vmin=-180, vmax=180, rasterized=True)
+        from matplotlib.colors import Normalize
+
+        style = {"cmap": "twilight", "norm": Normalize(vmin=-180, vmax=180)}
+    # An image on the non-uniform grid (each value fills the cell of its nearest grid
+    # point): drawn several times faster than a mesh of a million quadrilaterals.
+    mesh = NonUniformImage(ax, interpolation="nearest", extent=(grid[0], grid[-1],
+                                                                 grid[0], grid[-1]), **style)
+    mesh.set_data(grid, grid, values)
+    ax.add_image(mesh)
+    ax.set_xlim(grid[0], grid[-1])
+    ax.set_ylim(grid[0], grid[-1])
     fig.colorbar(mesh, ax=ax, label=label)
     if mark is not None and np.allclose(mark[2:], fixed):
         value = abs(complex(kernel(*mark)))
@@ -229,7 +258,7 @@ def _map(fig: Any, ax: Any, kernel: Kernel, top: float, what: str,
         ax.set_title(f"H{kernel.order}(j omega1, j omega2, ...)\nwith {others} rad/s fixed",
                      fontsize=9)
     else:
-        ax.set_title(f"H2 of {_name(kernel)}", fontsize=9)
+        ax.set_title(f"H2 of {_name(kernel)}", fontsize=9, parse_math=False)
 
 
 def _diagonal(ax: Any, kernel: Kernel, top: float, what: str,
@@ -252,5 +281,5 @@ def _diagonal(ax: Any, kernel: Kernel, top: float, what: str,
         ax.plot(w, values)
     ax.set_xlabel("omega (rad/s)")
     ax.set_ylabel(f"H{n}(j omega, ..., j omega) {label}")
-    ax.set_title(f"diagonal slice of H{n}\n{_name(kernel)}", fontsize=9)
+    ax.set_title(f"diagonal slice of H{n}\n{_name(kernel)}", fontsize=9, parse_math=False)
     ax.grid(True, alpha=0.3)

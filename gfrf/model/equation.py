@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import math
 import re
+import sys
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -383,9 +384,9 @@ def parse_model(text: str, *, sample_time: float | None = None, truncation: int 
     discrete = sample_time is not None
     if discrete:
         if not isinstance(sample_time, (int, float)) or not math.isfinite(sample_time) \
-                or sample_time <= 0:
-            raise ModelError(f"sample_time must be a positive number of seconds, "
-                             f"got {sample_time!r}")
+                or sample_time < sys.float_info.min:
+            raise ModelError(f"sample_time must be a positive normal number of seconds "
+                             f"(>= {sys.float_info.min:.3g}), got {sample_time!r}")
         sample_time = float(sample_time)
     if truncation is not None:
         if isinstance(truncation, bool) or not isinstance(truncation, int) or truncation < 1:

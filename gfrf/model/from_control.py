@@ -35,7 +35,8 @@ from typing import Any
 import numpy as np
 
 from gfrf.errors import ArgumentError, ModelError
-from gfrf.model.equation import Model, parse_model
+from gfrf.model.equation import MAX_DERIVATIVE_ORDER, Model, parse_model
+from gfrf.model.limits import MAX_DEGREE, MAX_TERMS, MAX_TEXT_LENGTH
 
 __all__ = ["from_tf", "from_nlsys", "NLSYS_POINTS_FACTOR"]
 
@@ -55,11 +56,15 @@ def _coefficients(nonlinearity: Mapping[int, float] | Sequence[float]) -> dict[i
                             "coefficients indexed by power")
     out: dict[int, float] = {}
     for power, coef in items:
-        if isinstance(power, bool) or not isinstance(power, int) or not 0 <= power <= 20:
-            raise ArgumentError(f"nonlinearity power must be an integer in 0..20, got {power!r}")
+        if isinstance(power, bool) or not isinstance(power, int) or not 0 <= power <= MAX_DEGREE:
+            raise ArgumentError(f"nonlinearity power must be an integer in 0..MAX_DEGREE = "
+                                f"{MAX_DEGREE}, got {power!r}")
+        if isinstance(coef, complex) or np.iscomplexobj(coef):
+            raise ArgumentError(f"nonlinearity coefficient of power {power} is complex: a "
+                                f"model's coefficients are real")
         try:
             value = float(coef)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             raise ArgumentError(f"nonlinearity coefficient of power {power} must be a number, "
                                 f"got {coef!r}") from None
         if not math.isfinite(value):
@@ -74,12 +79,16 @@ def _coefficients(nonlinearity: Mapping[int, float] | Sequence[float]) -> dict[i
 
 def _tf_polys(G: Any) -> tuple[np.ndarray, np.ndarray, float | None]:
     try:
-        num = np.atleast_1d(np.asarray(G.num[0][0], dtype=float))
-        den = np.atleast_1d(np.asarray(G.den[0][0], dtype=float))
+        raw = [np.atleast_1d(np.asarray(G.num[0][0])), np.atleast_1d(np.asarray(G.den[0][0]))]
         ninputs, noutputs = G.ninputs, G.noutputs
-    except (AttributeError, IndexError, TypeError, ValueError):
+        if any(r.ndim != 1 or r.dtype.kind not in "biufc" for r in raw):
+            raise TypeError
+    except (AttributeError, IndexError, KeyError, TypeError, ValueError):
         raise ArgumentError("G must be a SISO control.TransferFunction (control.tf(num, den))") \
             from None
+    if any(np.iscomplexobj(r) and np.any(r.imag != 0) for r in raw):
+        raise ArgumentError("G has complex coefficients: a model's coefficients are real")
+    num, den = (r.real.astype(float) for r in raw)
     if (ninputs, noutputs) != (1, 1):
         raise ArgumentError(f"G must be SISO, got {noutputs} outputs x {ninputs} inputs")
     num = np.trim_zeros(num, "f")
@@ -90,6 +99,9 @@ def _tf_polys(G: Any) -> tuple[np.ndarray, np.ndarray, float | None]:
         raise ArgumentError("G has non-finite coefficients")
     if num.size > den.size:
         raise ArgumentError("G is improper (numerator degree above the denominator's)")
+    if den.size - 1 > MAX_DERIVATIVE_ORDER:
+        raise ArgumentError(f"G has degree {den.size - 1}, above MAX_DERIVATIVE_ORDER = "
+                            f"{MAX_DERIVATIVE_ORDER} (the highest derivative or lag of a model)")
     dt = G.dt
     if dt is True:
         raise ArgumentError("G is discrete with an unspecified sample time (dt=True): give dt")
@@ -114,6 +126,29 @@ def _power_derivative(name: str, power: int, order: int) -> dict[tuple[int, ...]
                 nxt[new] = nxt.get(new, 0) + c
         terms = nxt
     return terms
+
+
+def _partitions(total: int, parts: int) -> int:
+    """Partitions of ``total`` into at most ``parts`` parts: the terms of D^total (y**parts)."""
+    ways = [1] + [0] * total
+    for k in range(1, parts + 1):  # conjugate: partitions into parts of size <= parts
+        for t in range(k, total + 1):
+            ways[t] += ways[t - k]
+    return ways[total]
+
+
+def _expansion_size(num: np.ndarray, powers: Sequence[int], discrete: bool) -> tuple[int, int]:
+    """Terms and (over-)estimated characters of the expanded model, before expanding."""
+    terms = chars = 0
+    for i, b in enumerate(num):
+        if not b:
+            continue
+        degree = num.size - 1 - i
+        for power in powers:
+            count = 1 if discrete else _partitions(degree, power)
+            terms += count
+            chars += count * (30 + 11 * power)
+    return terms, chars
 
 
 def _monomial(name: str, orders: Sequence[int], discrete: bool) -> str:
@@ -146,6 +181,12 @@ def from_tf(G: Any, nonlinearity: Mapping[int, float] | Sequence[float], *,
     coeffs = _coefficients(nonlinearity)
     num, den, dt = _tf_polys(G)
     discrete = dt is not None
+    terms, chars = _expansion_size(num, list(coeffs), discrete)
+    if terms > MAX_TERMS or chars > MAX_TEXT_LENGTH:
+        raise ArgumentError(f"the numerator's derivatives of the nonlinearity expand to "
+                            f"{terms} terms (about {chars} characters), above MAX_TERMS = "
+                            f"{MAX_TERMS} or MAX_TEXT_LENGTH = {MAX_TEXT_LENGTH}: lower the "
+                            f"numerator's degree or the nonlinearity's")
     n = den.size - 1
     lhs: list[str] = []
     rhs: list[str] = []
@@ -177,14 +218,24 @@ def from_tf(G: Any, nonlinearity: Mapping[int, float] | Sequence[float], *,
     return parse_model(text, sample_time=dt)
 
 
-def _call(sys: Any, which: str, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+def _call(sys: Any, which: str, x: np.ndarray, u: np.ndarray, size: int) -> np.ndarray:
     try:
         value = (sys.dynamics if which == "rhs" else sys.output)(0.0, x, u)
     except Exception as exc:  # noqa: BLE001 - user code: report, never a traceback
         raise ModelError(f"the system's {'update' if which == 'rhs' else 'output'} function "
                          f"failed at x = {x.tolist()}, u = {u.tolist()}: "
                          f"{type(exc).__name__}: {exc}") from None
-    out = np.asarray(value, dtype=float).reshape(-1)
+    try:
+        array = np.asarray(value)
+        if array.dtype.kind not in "biuf":
+            raise TypeError(f"values of type {array.dtype}")
+        out = array.astype(float).reshape(-1)
+    except (TypeError, ValueError, OverflowError) as exc:
+        raise ModelError(f"the system's {'update' if which == 'rhs' else 'output'} function "
+                         f"returned {type(value).__name__}, not real numbers: {exc}") from None
+    if out.size != size:
+        raise ModelError(f"the system's {'update' if which == 'rhs' else 'output'} function "
+                         f"returned {out.size} values, expected {size}")
     if not np.all(np.isfinite(out)):
         raise ModelError(f"the system's function is not finite at x = {x.tolist()}, "
                          f"u = {u.tolist()}")
@@ -228,26 +279,35 @@ def from_nlsys(sys: Any, x0: Sequence[float] | float = 0.0, u0: float = 0.0, *,
     except AttributeError:
         raise ModelError("from_nlsys needs a control.NonlinearIOSystem (control.nlsys); "
                          "for a transfer function use gfrf.from_tf") from None
+    if not all(isinstance(v, int) and not isinstance(v, bool) for v in (n, nin, nout)):
+        raise ModelError(f"from_nlsys needs integer nstates, ninputs and noutputs, got "
+                         f"{type(n).__name__}, {type(nin).__name__}, {type(nout).__name__}")
     if (nin, nout) != (1, 1) or n < 1:
         raise ModelError(f"from_nlsys needs one input, one output and a state, got {nin} "
                          f"inputs, {nout} outputs, {n} states")
-    if dt not in (0, None):
+    if not (dt is None or (isinstance(dt, (int, float)) and not isinstance(dt, bool)
+                           and dt == 0)):
         raise ModelError("from_nlsys handles continuous systems only (dt = 0)")
     if isinstance(order, bool) or not isinstance(order, int) or not 1 <= order <= 12:
         raise ModelError(f"order must be an integer in 1..12, got {order!r}")
-    x0 = np.broadcast_to(np.asarray(x0, dtype=float), (n,)).copy()
-    u0 = float(u0)
+    try:
+        x0 = np.broadcast_to(np.asarray(x0, dtype=float), (n,)).copy()
+        u0 = float(u0)
+        scale = float(scale)
+    except (TypeError, ValueError, OverflowError):
+        raise ModelError(f"x0 must be a number or {n} numbers, u0 and scale numbers") from None
     if not (np.all(np.isfinite(x0)) and math.isfinite(u0) and math.isfinite(scale)
             and scale > 0):
         raise ModelError("x0, u0 and scale must be finite (scale > 0)")
-    rhs0 = _call(sys, "rhs", x0, np.array([u0]))
+    rhs0 = _call(sys, "rhs", x0, np.array([u0]), n)
     if np.max(np.abs(rhs0)) > 1e-12 * (1 + np.max(np.abs(x0)) + abs(u0)):
         raise ModelError(f"(x0, u0) is not an equilibrium: updfcn = {rhs0.tolist()}")
+    count = math.comb(n + 1 + order, order)  # monomials of degree <= order in n + 1 atoms
+    if count > _MAX_MONOMIALS:
+        raise ModelError(f"{n} states to order {order} give {count} monomials, "
+                         f"above {_MAX_MONOMIALS}")
     monomials = [m for d in range(order + 1)
                  for m in itertools.combinations_with_replacement(range(n + 1), d)]
-    if len(monomials) > _MAX_MONOMIALS:
-        raise ModelError(f"{n} states to order {order} give {len(monomials)} monomials, "
-                         f"above {_MAX_MONOMIALS}")
     rng = np.random.default_rng(seed)
     count = NLSYS_POINTS_FACTOR * len(monomials)
     points = rng.uniform(-scale, scale, size=(2 * count, n + 1))
@@ -255,8 +315,8 @@ def from_nlsys(sys: Any, x0: Sequence[float] | float = 0.0, u0: float = 0.0, *,
     def basis(p: np.ndarray) -> np.ndarray:
         return np.array([[np.prod(row[list(m)]) for m in monomials] for row in p])
 
-    values = np.array([_call(sys, "rhs", x0 + p[:n], np.array([u0 + p[n]])) for p in points])
-    outputs = np.array([_call(sys, "out", x0 + p[:n], np.array([u0 + p[n]]))[0]
+    values = np.array([_call(sys, "rhs", x0 + p[:n], np.array([u0 + p[n]]), n) for p in points])
+    outputs = np.array([_call(sys, "out", x0 + p[:n], np.array([u0 + p[n]]), 1)[0]
                         for p in points[:count]])
     if not np.allclose(outputs, x0[0] + points[:count, 0], rtol=1e-12, atol=1e-12 * scale):
         raise ModelError("from_nlsys needs the output y = x[0] (the first state)")

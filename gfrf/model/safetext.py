@@ -16,12 +16,14 @@ from __future__ import annotations
 
 import re
 
-__all__ = ["printable", "markdown_text"]
+__all__ = ["printable", "markdown_text", "plot_text"]
 
 _NAMED = {"\n": "\\n", "\r": "\\r", "\t": "\\t"}
 #: Characters a terminal or a bidirectional renderer acts on.
 _CONTROL = re.compile("[\x00-\x1f\x7f-\x9f\u061c\u200e\u200f\u2028\u2029\u202a-\u202e"
                       "\u2066-\u2069]")
+#: What GitHub-flavoured Markdown links on its own: a scheme's colon, ``www.``, an ``@``.
+_AUTOLINK = re.compile(r"(?i)(\b(?:https?|ftp)(?=://)|\bwww(?=\.)|(?=@))([:.@])")
 _MARKDOWN = re.compile(r"([\\`*_{}\[\]()#+!|~>-])")
 
 
@@ -41,7 +43,20 @@ def printable(text: str, keep: str = "") -> str:
 
 
 def markdown_text(text: str) -> str:
-    """``text`` as one inert line of Markdown: controls escaped, no HTML, no markup."""
+    """``text`` as one inert line of Markdown: controls escaped, no HTML, no markup, and
+    no link: GitHub-flavoured Markdown links bare ``http://``, ``https://``, ``www.`` and
+    e-mail addresses, so their ``:``, ``.`` and ``@`` are backslash-escaped (shown as
+    they are, but split from the text the autolinker scans)."""
     text = " ".join(printable(text, keep="\n\t").split())
     text = text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
-    return _MARKDOWN.sub(r"\\\1", text)
+    text = _MARKDOWN.sub(r"\\\1", text)
+    return _AUTOLINK.sub(r"\1\\\2", text)
+
+
+def plot_text(text: str, limit: int = 0) -> str:
+    """``text`` (a model's name or equation) as one line of a figure: newlines, carriage
+    returns, bidirectional overrides and every other control escaped (so no fake line
+    and no reordered word is drawn), cut to ``limit`` characters when ``limit`` > 0.
+    Draw it with ``parse_math=False``: a ``$`` stays a dollar sign, never mathtext."""
+    text = printable(text)
+    return text if limit <= 0 or len(text) <= limit else text[:limit - 3] + "..."

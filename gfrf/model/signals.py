@@ -28,6 +28,7 @@ True
 from __future__ import annotations
 
 import math
+import stat
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -304,8 +305,17 @@ def _tones(expr: sp.Expr) -> tuple[Tone, ...] | None:
 
 def _csv_input(path_text: str, max_derivative: int) -> InputSignal:
     path = Path(path_text)
-    if not path.is_file():
-        raise ArgumentError(f"input CSV file {path_text!r} does not exist")
+    try:
+        mode = path.stat().st_mode  # before any open: a FIFO would block, /dev/zero never end
+    except FileNotFoundError:
+        raise ArgumentError(f"input CSV file {path_text!r} does not exist") from None
+    except OSError as exc:
+        raise ArgumentError(f"input CSV file {path_text!r}: {exc.strerror or exc}") from None
+    if stat.S_ISDIR(mode):
+        raise ArgumentError(f"input CSV file {path_text!r} is a directory")
+    if not stat.S_ISREG(mode):
+        raise ArgumentError(f"input CSV file {path_text!r} is not a regular file (a device, "
+                            f"FIFO or socket); save the samples t,u to a file first")
     try:
         data = np.genfromtxt(path, delimiter=",", names=None, dtype=float)
     except ValueError as exc:

@@ -65,7 +65,7 @@ def h1_figure(model: Model, path: Path, *, hz: bool = False,
     for ax in (ax_g, ax_p):
         ax.grid(True, which="both", alpha=0.3)
     ax_g.legend(fontsize=8)
-    ax_g.set_title(title or "First-order GFRF H1(jw)")
+    ax_g.set_title(title or "First-order GFRF H1(jw)", parse_math=False)
     fig.tight_layout()
     return save_figure(fig, path)
 
@@ -95,7 +95,7 @@ def h3_slice_figure(model: Model, path: Path, w3: float, half_width: float, *,
     ax.set_xlabel(f"{'f1' if hz else 'w1'} ({unit})")
     ax.set_ylabel(f"{'f2' if hz else 'w2'} ({unit})")
     ax.set_title(title or f"{'phase' if phase else '|H3|'} at {'f3' if hz else 'w3'} = "
-                 f"{third:.4g} {unit}")
+                 f"{third:.4g} {unit}", parse_math=False)
     fig.tight_layout()
     return save_figure(fig, path)
 
@@ -117,6 +117,6 @@ def response_figure(responses: Sequence[Response], path: Path, title: str,
     ax.set_ylim(-1.5 * peak, 1.5 * peak)
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=7, loc="upper right")
-    ax.set_title(title, fontsize=9)
+    ax.set_title(title, fontsize=9, parse_math=False)
     fig.tight_layout()
     return save_figure(fig, path)

@@ -20,7 +20,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
-from gfrf._atomic import atomic_path  # noqa: E402
+from gfrf._atomic import atomic_write_figure  # noqa: E402
 from gfrf._results import outward_bracket  # noqa: E402
 
 __all__ = ["num", "bracket_cells", "cell", "table", "header", "save_figure", "mark", "code",
@@ -123,8 +123,7 @@ def save_figure(fig: Figure, path: Path) -> str:
     """Write ``fig`` as PNG (Agg, :data:`DPI`, no date metadata), close it, return the name."""
     path.parent.mkdir(parents=True, exist_ok=True)
     try:
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=DPI, metadata={"Software": None})
+        atomic_write_figure(fig, path, dpi=DPI, metadata={"Software": None})
     finally:
         plt.close(fig)
     return path.name

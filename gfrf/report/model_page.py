@@ -19,7 +19,7 @@ import sympy as sp
 from gfrf._atomic import atomic_write_text
 from gfrf.bounds.norms import linear_poles
 from gfrf.kernels.recursion import kernel
-from gfrf.model.safetext import markdown_text
+from gfrf.model.safetext import markdown_text, plot_text
 from gfrf.report._figures import frequency_scale, h1_figure, h3_slice_figure, response_figure
 from gfrf.report._format import bracket_cells, cell, code, header, mark, num, table
 from gfrf.report.analysis import MARGIN_OCTAVES, ModelAnalysis, analyse
@@ -145,7 +145,7 @@ def _kernel_section(a: ModelAnalysis, out_dir: Path) -> list[str]:
     kind = ("" if poles.stable else "\nL∞ gain of an unstable plant" if poles.outside
             else "\nL∞ gain of a plant with poles on the stability boundary")
     h1_png = h1_figure(plant, out_dir / f"{a.stem}-h1.png",
-                       title=f"H1 of {a.model_file.name}{kind}")
+                       title=f"H1 of {plot_text(a.model_file.name, limit=80)}{kind}")
     out += [f"![gain and phase of H1]({h1_png})", ""]
     norm3 = a.verdict.norms[2] if len(a.verdict.norms) >= 3 else None
     if norm3 is not None and norm3.upper > 0:
@@ -243,7 +243,7 @@ def _simulation_section(a: ModelAnalysis, out_dir: Path) -> list[str]:
     kind = ("closed loop from initial angles, zero reference" if a.closed else
             "sinusoidal input at the H1 peak, below and above r*")
     png = response_figure(a.responses, out_dir / f"{a.stem}-sim.png",
-                          f"{a.model_file.name}:\n{kind}", ylabel)
+                          f"{plot_text(a.model_file.name, limit=80)}:\n{kind}", ylabel)
     out = ["## Simulations", "",
            f"Polynomial model simulated with scipy (RK45, rtol 1e-8), horizon {num(a.t_end)} s; "
            "a run stops when |y| reaches 1e3 (blow-up). Figure: "

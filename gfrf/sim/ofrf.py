@@ -53,6 +53,7 @@ from __future__ import annotations
 
 import cmath
 import math
+import sys
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -128,7 +129,7 @@ class OFRF:
 
     def __call__(self, value: float) -> complex:
         """Complex amplitude of the output at W for the parameter ``value``."""
-        return complex(sum(c * value ** k for k, c in enumerate(self.coefficients)))
+        return _horner(self.coefficients, value)
 
     def nofrf(self, value: float | None = None) -> dict[int, complex | None]:
         """NOFRFs ``G_n(jW) = Y_n(W) / U_n(W)`` at ``value`` (default: the file's value).
@@ -139,7 +140,7 @@ class OFRF:
         out: dict[int, complex | None] = {}
         for n in range(1, self.order + 1):
             u = self.input_spectrum.get(n, 0j)
-            y = sum(c * v ** k for k, c in enumerate(self.by_order.get(n, ())))
+            y = _horner(self.by_order.get(n, ()), v)
             scale = 1.0 if self.omega == 0 else 2.0  # by_order holds complex amplitudes
             out[n] = None if abs(u) == 0 else complex(y / scale / u)
         return out
@@ -205,6 +206,14 @@ class OFRF:
 
 
 # -- polynomials in the parameter (coefficient arrays, lowest power first) ------------
+def _horner(coefficients: Sequence[complex], value: float) -> complex:
+    """sum c_k value**k (an overflow gives inf or nan, never an exception)."""
+    out = 0j
+    for c in reversed(coefficients):
+        out = out * value + c
+    return out
+
+
 def _add(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     if a.size < b.size:
         a, b = b, a
@@ -272,7 +281,7 @@ def _work(n_tones: int, order: int, model: Model) -> int:
     """A-priori count of component products: sizes of the order-m spectra are at most
     C(2K + m - 1, m) (multisets of signed tones)."""
     size = {m: math.comb(2 * n_tones + m - 1, m) for m in range(1, order + 1)}
-    total = 0
+    total = sum(size[m - 1] * 2 * n_tones for m in range(2, order + 1))  # the powers U_m
     for t in model.terms:
         p, q = len(t.y_orders), len(t.u_orders)
         if p + q < 2:
@@ -336,6 +345,25 @@ def ofrf(data: Mapping[str, Any] | str | Path, parameter: str, tones: Sequence[A
     problem = _steady_state_problem(model)
     if problem is not None:
         raise ArgumentError(problem)
+    try:
+        with np.errstate(all="ignore"):
+            result = _evaluate(model, polys, tones, omega, order, parameter, value)
+            checks = [*result.coefficients, result(value), *result.input_spectrum.values(),
+                      *(g for g in result.nofrf().values() if g is not None)]
+    except OverflowError:
+        checks = [complex(math.inf)]
+    if not all(cmath.isfinite(c) for c in checks):
+        raise ArgumentError(f"the OFRF of {parameter} = {value:g} at omega = {omega:g} "
+                            f"rad/s to order {order} overflows floating point (beyond "
+                            f"{sys.float_info.max:.3g}): scale the model, the input or "
+                            f"omega, or lower the order")
+    return result
+
+
+def _evaluate(model: Model, polys: dict[tuple, np.ndarray],
+              tones: tuple[tuple[float, float, float], ...],
+              omega: float, order: int, parameter: str, value: float) -> OFRF:
+    """The OFRF from the recursion (no check of its finiteness)."""
     by_order, spectra = _recursion(model, polys, tones, order)
     freqs = [s * w for _, w, _ in tones for s in (1, -1)]
     scale = 1.0 if omega == 0 else 2.0

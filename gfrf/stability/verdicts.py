@@ -119,6 +119,24 @@ class Verdict:
     def __repr__(self) -> str:
         return short_repr(self, "verdict", "theorem", "radius", "amplitude")
 
+    @property
+    def linear_stable(self) -> bool | None:
+        """Whether the linear part (Theorem 1) or the linear loop (Theorem 2) passed its
+        stability condition; None when the verdict holds no such condition."""
+        return next((c.passed for c in self.conditions
+                     if c.name.startswith("linear") and "stable" in c.name), None)
+
+    @property
+    def radius_kind(self) -> str:
+        """What r* is, in words: its proof level, and for an unstable linear part that it
+        bounds the series of L-infinity norms on the frequency axis (not H-infinity
+        norms: ``gfrf norm`` says the same), so it is no stability radius."""
+        level = _label(self.radius_proof) if self.radius_certified else "estimate"
+        if self.linear_stable is False:
+            return (f"{level} for the series of L-infinity norms on the axis, not H-infinity: "
+                    f"the linear part is unstable, so r* is no stability radius")
+        return level
+
     def _repr_markdown_(self) -> str:
         return verdict_markdown(self)
 
@@ -148,7 +166,7 @@ class Verdict:
                 "loop_radius_upper_detail": self.loop_radius_upper_detail,
                 "radius_kinds": {
                     "radius": f"lower bound r* of the {_SERIES[self.theorem]}, "
-                              + (_label(self.radius_proof) if self.radius_certified
+                              + (self.radius_kind if self.radius_certified
                                  else "estimate (not certified)"),
                     "radius_upper": f"proven upper bound on the true radius of the "
                                     f"{self.estimate_of} (static branch point)",

@@ -16,8 +16,9 @@ from pathlib import Path
 
 import numpy as np
 
-from gfrf._atomic import atomic_path
+from gfrf._atomic import atomic_write_figure
 from gfrf.errors import ArgumentError
+from gfrf.model.safetext import plot_text
 from gfrf.sweep.run import SweepResult
 
 __all__ = ["plot_stability_map", "point_class", "map_title", "CLASSES"]
@@ -61,7 +62,7 @@ def map_title(result: SweepResult, title: str = "") -> str:
     ``NAME = NUMBER`` of a swept parameter is removed (with a leading comma) and a
     second line states the swept range of every axis.
     """
-    base = title or f"gfrf sweep --what {result.what}"
+    base = plot_text(title, limit=80) if title else f"gfrf sweep --what {result.what}"
     for axis in result.axes:
         base = re.sub(rf"(?:,\s*)?(?<![\w.]){re.escape(axis.name)}\s*=\s*{_NUMBER}", "",
                       base)
@@ -95,12 +96,11 @@ def plot_stability_map(result: SweepResult, path: str | Path, title: str = "") -
         _one(ax, result)
     else:
         _two(ax, result)
-    ax.set_title(map_title(result, title), fontsize=10)
+    ax.set_title(map_title(result, title), fontsize=10, parse_math=False)
     fig.tight_layout()
     out = Path(path)
     try:
-        with atomic_path(out) as tmp:
-            fig.savefig(tmp, dpi=120)
+        atomic_write_figure(fig, out, dpi=120)
     finally:
         plt.close(fig)
     return out
@@ -135,7 +135,9 @@ def _one(ax: object, result: SweepResult) -> None:
         if result.what != "bounded":
             ax.axhline(result.amplitude, ls="--", color="k", lw=1,
                        label=f"amplitude r = {result.amplitude:g}")
-            ax.set_ylabel("certified radius r*")
+            unstable = any(r.get("linear_stable") is False for r in result.rows)
+            ax.set_ylabel("series radius r* (no stability radius where the linear part is "
+                          "unstable)" if unstable else "certified radius r*", fontsize=8)
         else:
             ax.set_ylabel("peak |y|")
         for xi, kind in zip(x, kinds, strict=True):

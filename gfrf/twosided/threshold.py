@@ -22,6 +22,7 @@ from typing import Any
 from gfrf._results import markdown_table, short_repr
 from gfrf.model.equation import Model
 from gfrf.model.modelfile import ModelFile
+from gfrf.model.safetext import markdown_text
 from gfrf.stability.energy import Certificate
 from gfrf.twosided.falsify import CAP_FACTOR, Falsification, falsify
 from gfrf.twosided.lower import LINF_LOWER_CLASS, LOOP_LOWER_CLASS, lower_side
@@ -176,7 +177,7 @@ class Threshold:
                  self.upper_method or "no escape found")]
         rows += [(f"certificate: {c.method}", c.radius, c.proof, c.input_class)
                  for c in self.certificates]
-        title = f"**{self.name}**: " if self.name else ""
+        title = f"**{markdown_text(self.name)}**: " if self.name else ""
         return f"{title}{self.answer}\n\n" + markdown_table(
             ("", "amplitude", "proof", "method / inputs"), rows)
 
