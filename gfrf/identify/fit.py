@@ -44,7 +44,8 @@ from gfrf.identify.output_error import output_error_covariance, recurse, refine
 from gfrf.identify.prune import Pruning, covariance, free_run_residual, prune_and_refit
 from gfrf.identify.result import Identification
 from gfrf.identify.spread import DRAWS, RadiusSpread, radius, radius_spread
-from gfrf.identify.validate import FREE_RUN_LIMIT, correlation_tests, judge, model_error
+from gfrf.identify.validate import (FREE_RUN_LIMIT, PRECISE_FIT, correlation_tests, judge,
+                                   model_error)
 from gfrf.model.equation import Model, Term
 
 Key = tuple[tuple[int, ...], tuple[int, ...]]
@@ -414,7 +415,7 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
     if prune:
         theta, noise_terms, pruning = prune_and_refit(
             theta, noise_terms, kind, y[:n_fit] - cy, u[:n_fit] - cu, y[n_train:] - cy,
-            u[n_train:] - cu, lag, ylag)
+            u[n_train:] - cu, lag, ylag, floor >= PRECISE_FIT)
     constant = theta.get(((), ()))
     y0c = 0.0 if constant is None else equilibrium(theta, 0.0, mean_y - cy)
     import sysidentpy

@@ -4,7 +4,8 @@ An information criterion on one-step residuals keeps terms that lower the residu
 little (noise fitted, or small terms that nearly cancel); their magnitudes all enter
 the majorant of Theorem 1 and lower the radius r*.  :func:`prune` removes them again:
 in each round the terms are tried in the order of their least-squares t-statistic
-(smallest ``|theta| / sd`` first), each removal refitted with the same estimator and
+(smallest ``|theta| / sd`` first; on noisy data only those below :data:`SIGNIFICANT`),
+each removal refitted with the same estimator and
 simulated on the held-out part; the first removal whose free run stays within the
 confidence band of the full model's is kept, and the next round starts.  The band is
 paired: the squared free-run errors of the candidate and of the full model are
@@ -37,7 +38,7 @@ from gfrf.identify.noise import regressors
 from gfrf.identify.output_error import recurse
 
 __all__ = ["Pruning", "prune", "free_run_residual", "t_statistics", "covariance",
-           "refitter", "prune_and_refit", "WINDOW", "MAX_REFITS", "MAX_WORK", "MAX_TERMS", "BLOCKS", "Z", "TOLERANCE",
+           "refitter", "prune_and_refit", "WINDOW", "MAX_REFITS", "MAX_WORK", "MAX_TERMS", "SIGNIFICANT", "BLOCKS", "Z", "TOLERANCE",
            "CAP"]
 
 Key = tuple[tuple[int, ...], tuple[int, ...]]
@@ -49,6 +50,8 @@ MAX_REFITS = 200
 MAX_WORK = 30_000_000
 #: Largest model that is pruned.
 MAX_TERMS = 40
+#: On noisy data, terms with a least-squares t-statistic at least this are never removed.
+SIGNIFICANT = 3.0
 #: Blocks of the held-out window whose means give the band's standard error.
 BLOCKS = 10
 #: Width of the band in standard errors.
@@ -153,7 +156,8 @@ def _within(trial: np.ndarray, full: np.ndarray, scale: float) -> bool:
 
 def prune(theta: dict[Key, float], refit: Callable[[list[Key]], dict[Key, float]],
           y_train: np.ndarray, u_train: np.ndarray, y_test: np.ndarray, u_test: np.ndarray,
-          lag: int, refit_work: int = 0) -> tuple[dict[Key, float], Pruning]:
+          lag: int, refit_work: int = 0, significant: float = math.inf
+          ) -> tuple[dict[Key, float], Pruning]:
     """Backward elimination of the terms of ``theta`` on the held-out free run.
 
     Parameters
@@ -172,6 +176,10 @@ def prune(theta: dict[Key, float], refit: Callable[[list[Key]], dict[Key, float]
         outputs).
     refit_work : int
         Term-samples one refit simulates per term of the model (0: least squares).
+    significant : float
+        Terms whose least-squares t-statistic is at least this are kept (inf: every term
+        may go; noise-free data, whose residuals are the fit's structural error, give
+        t-statistics that mean nothing).
 
     Returns
     -------
@@ -201,7 +209,7 @@ def prune(theta: dict[Key, float], refit: Callable[[list[Key]], dict[Key, float]
         stats = t_statistics(list(current), np.array(list(current.values())), y_train,
                              u_train, lag)
         order = sorted((s, i) for i, (k, s) in enumerate(zip(current, stats, strict=True))
-                       if k != ((), ()))
+                       if k != ((), ()) and s < significant)
         accepted = None
         for _, i in order:
             cost = (n + refit_work) * len(current)
@@ -262,12 +270,13 @@ def refitter(kind: str, y: np.ndarray, u: np.ndarray, lag: int, order: int,
 
 def prune_and_refit(theta: dict[Key, float], noise: tuple[float, ...], kind: str,
                     y_train: np.ndarray, u_train: np.ndarray, y_test: np.ndarray,
-                    u_test: np.ndarray, lag: int, order: int
+                    u_test: np.ndarray, lag: int, order: int, noisy: bool
                     ) -> tuple[dict[Key, float], tuple[float, ...], Pruning]:
     """:func:`prune` with the estimator of ``kind`` (:func:`refitter`), then the pruned
     terms refitted with that estimator's full work (extended least squares to
     convergence, or the output-error refinement); returns the coefficients, the noise
-    terms and the :class:`Pruning`."""
+    terms and the :class:`Pruning`.  On ``noisy`` data a term whose t-statistic is at
+    least :data:`SIGNIFICANT` is kept whatever the free run says."""
     from gfrf.identify.noise import extended_least_squares
     from gfrf.identify.output_error import refine
 
@@ -275,7 +284,8 @@ def prune_and_refit(theta: dict[Key, float], noise: tuple[float, ...], kind: str
     refit_work = (TRIAL_OE_EVALUATIONS * size * min(TRIAL_OE_WINDOW, y_train.size)
                   if kind == "output error" else 0)
     pruned, pruning = prune(theta, refitter(kind, y_train, u_train, lag, order, theta),
-                            y_train, u_train, y_test, u_test, lag, refit_work)
+                            y_train, u_train, y_test, u_test, lag, refit_work,
+                            SIGNIFICANT if noisy else math.inf)
     if not pruning.removed:
         return theta, noise, pruning
     keys = list(pruned)
