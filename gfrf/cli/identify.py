@@ -16,7 +16,6 @@ from __future__ import annotations
 import argparse
 import os
 from pathlib import Path
-from typing import Any
 
 from gfrf.cli._output import add_json_flag, emit
 from gfrf.errors import ArgumentError

@@ -44,8 +44,13 @@ from gfrf.identify.output_error import output_error_covariance, recurse, refine
 from gfrf.identify.prune import Pruning, covariance, free_run_residual, prune_and_refit
 from gfrf.identify.result import Identification
 from gfrf.identify.spread import DRAWS, RadiusSpread, radius, radius_spread
-from gfrf.identify.validate import (FREE_RUN_LIMIT, PRECISE_FIT, correlation_tests, judge,
-                                   model_error)
+from gfrf.identify.validate import (
+    FREE_RUN_LIMIT,
+    PRECISE_FIT,
+    correlation_tests,
+    judge,
+    model_error,
+)
 from gfrf.model.equation import Model, Term
 
 Key = tuple[tuple[int, ...], tuple[int, ...]]

@@ -38,8 +38,8 @@ from gfrf.identify.noise import regressors
 from gfrf.identify.output_error import recurse
 
 __all__ = ["Pruning", "prune", "free_run_residual", "t_statistics", "covariance",
-           "refitter", "prune_and_refit", "WINDOW", "MAX_REFITS", "MAX_WORK", "MAX_TERMS", "SIGNIFICANT", "BLOCKS", "Z", "TOLERANCE",
-           "CAP"]
+           "refitter", "prune_and_refit", "WINDOW", "MAX_REFITS", "MAX_WORK", "MAX_TERMS",
+           "SIGNIFICANT", "BLOCKS", "Z", "TOLERANCE", "CAP"]
 
 Key = tuple[tuple[int, ...], tuple[int, ...]]
 #: Held-out samples each trial free run simulates (the first ones).
