@@ -2,11 +2,14 @@
 
 ``gfrf identify DATA.csv --output y --input u [--sample-time T] [--ylag 2 --ulag 2
 --degree 3] [--criterion bic] [--out model.toml] [--json]`` fits a polynomial NARMAX
-model with sysidentpy's FROLS (:func:`gfrf.identify.fit.identify`), prints the identified
-equation, its noise terms and operating point, the validation on the held-out end of
-the data (:mod:`gfrf.identify.validate`) and, when the model is adequate (or with
-``--force``, marked), the verdict of Theorem 1; it writes the model file when ``--out``
-is given.  Exit codes: 0 an adequate model and stability proven, 1 not adequate, not
+model with sysidentpy's FROLS (:func:`gfrf.identify.fit.identify`; terms pruned on the
+held-out free run unless ``--no-prune``), prints the identified equation (and the full
+one when terms were pruned), its noise terms and operating point, r* with its spread,
+the validation on the held-out end of the data against the noise floor
+(:mod:`gfrf.identify.validate`) and, when the model is adequate (or with ``--force``,
+marked), the verdict of Theorem 1 with the identification's rule
+(:func:`gfrf.identify.trust.identified_verdict`); it writes the model file when
+``--out`` is given.  Exit codes: 0 an adequate model and stability proven, 1 not adequate, not
 proven or unstable, 2 bad input or sysidentpy missing (the message says how to
 install it).
 """

@@ -450,10 +450,13 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
                        noise_floor_method=floor_method)
     spread = None
     if radius_draws is not None and blowup is None:
-        spread = _spread(model, theta, full_theta, pruning, noise_terms, kind,
-                         y[:n_fit] - cy, u[:n_fit] - cu, lag,
-                         lambda th: _about(th, mean_y - cy, sample_time, output, input)[0],
-                         radius_draws)
+        try:
+            spread = _spread(model, theta, full_theta, pruning, noise_terms, kind,
+                             y[:n_fit] - cy, u[:n_fit] - cu, lag,
+                             lambda th: _about(th, mean_y - cy, sample_time, output, input)[0],
+                             radius_draws)
+        except GfrfError as exc:  # e.g. a linear part that is not stable: no r*
+            notes.append(f"no r* for the identified model: {exc}")
     if n_fit < n_train:
         notes.append(f"the candidate matrix is limited to {MAX_MATRIX} entries: the fit "
                      f"used the first {n_fit} of the {n_train} training samples")
