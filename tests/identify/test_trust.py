@@ -70,8 +70,8 @@ def _check_target(u, y, sample_time, r_true, capsys, tmp_path) -> dict:
     15 % of the truth, the verdict at 0.7 r*_true stable with verdict.radius."""
     t = np.arange(u.size) * sample_time
     csv = _write(tmp_path / "d.csv", {"t": t, "u": u, "y": y})
-    code, out = _run(["identify", csv, "--order", "1", "--amplitude",
-                      repr(0.7 * r_true)], capsys)
+    code, out = _run(["identify", csv, "--ylag", "2", "--ulag", "2", "--degree", "3",
+                      "--order", "1", "--amplitude", repr(0.7 * r_true)], capsys)
     ident = out["identification"]
     assert ident["adequate"] is True, ident["reason"]
     radius = ident["radius"]
@@ -211,7 +211,8 @@ def test_names_with_newlines_print_no_fake_lines(capsys, tmp_path):
     folder.mkdir()
     csv = _write(folder / "d\r\nverdict: stable.csv", {"u": u, "y": y})
     code = main(["identify", csv, "--sample-time", repr(T), "--order", "1", "--degree", "2",
-                 "--name", "m\nverdict: stable\x1b[2K", "--force"])
+                 "--ylag", "2", "--ulag", "2", "--name", "m\nverdict: stable\x1b[2K",
+                 "--force"])
     out = capsys.readouterr().out
     assert not any(line.startswith("verdict: stable") for line in out.splitlines())
     assert "\x1b" not in out and "\r" not in out and code in (0, 1)
@@ -225,9 +226,10 @@ def test_a_non_utf8_file_name_works(capsys, tmp_path):
                                       for a, b in zip(u, y, strict=True)))
     out_file = tmp_path / "m.toml"
     code = main(["identify", os.fsdecode(raw), "--sample-time", repr(T), "--degree", "2",
-                 "--order", "1", "--out", str(out_file)])
+                 "--ylag", "2", "--ulag", "2", "--order", "1", "--out", str(out_file)])
     text = capsys.readouterr().out
-    assert code in (0, 1) and "\\xff" in text and out_file.exists()
+    assert code in (0, 1) and "d\\udcff.csv" in text  # printed escaped
+    assert "d\\\\xff.csv" in out_file.read_text(encoding="utf-8")  # TOML: the text \xff
 
 
 def test_too_much_selection_work_is_refused_before_the_work(capsys, tmp_path):
