@@ -51,7 +51,13 @@ _PERIOD_TRIALS = 2000
 
 def input_period(u: np.ndarray) -> int | None:
     """The shortest period ``P`` (at most ``u.size // (MIN_PERIODS + 1)``) with
-    ``u[k + P] == u[k]`` for every ``k``, or None."""
+    ``u[k + P] == u[k]`` for every ``k``, or None.
+
+    Parameters
+    ----------
+    u : numpy.ndarray
+        The input samples.
+    """
     n = u.size
     longest = n // (MIN_PERIODS + 1)
     if longest < 2 or np.all(u == u[0]):

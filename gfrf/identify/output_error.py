@@ -116,7 +116,19 @@ def output_error_covariance(theta: dict[Key, float], y: np.ndarray, u: np.ndarra
                             window: int = WINDOW) -> np.ndarray:
     """Covariance ``s^2 (J^T J)^-1`` of output-error coefficients: ``J`` the forward-difference
     Jacobian of the free run (first ``window`` samples) by the coefficients, ``s^2`` the
-    free-run residual's variance (inf entries when a free run blows up)."""
+    free-run residual's variance (inf entries when a free run blows up).
+
+    Parameters
+    ----------
+    theta : dict
+        The output-error coefficients.
+    y, u : numpy.ndarray
+        Training samples.
+    lag : int
+        Largest lag.
+    window : int
+        Samples simulated (the first ones).
+    """
     keys = list(theta)
     n = min(y.size, window)
     y, u = y[:n], u[:n]

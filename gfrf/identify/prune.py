@@ -67,7 +67,17 @@ _BLOWUP = 1e3
 def free_run_residual(theta: dict[Key, float], y: np.ndarray, u: np.ndarray, lag: int
                       ) -> np.ndarray | None:
     """``y - y_sim`` at samples ``lag..`` of the model's free run from the measured first
-    outputs, or None on a blow-up."""
+    outputs, or None on a blow-up.
+
+    Parameters
+    ----------
+    theta : dict
+        The model ``{(output lags, input lags): coefficient}``.
+    y, u : numpy.ndarray
+        Output and input samples.
+    lag : int
+        Measured outputs the free run starts from.
+    """
     terms = [(ys, us, c) for (ys, us), c in theta.items()]
     limit = _BLOWUP * max(1.0, float(np.max(np.abs(y))))
     values, blowup = recurse(terms, u, y[:lag], limit)
@@ -80,6 +90,19 @@ def covariance(keys: list[Key], theta: np.ndarray, y: np.ndarray, u: np.ndarray,
 
     ``s^2`` is ``variance`` when given (the innovations' of a noise model), else the
     variance of the equation error ``y - Psi theta`` (``len(keys)`` degrees of freedom).
+
+    Parameters
+    ----------
+    keys : list
+        The monomials ``(output lags, input lags)``.
+    theta : numpy.ndarray
+        Their coefficients.
+    y, u : numpy.ndarray
+        Output and input samples of the fit.
+    lag : int
+        Largest lag (the rows start there).
+    variance : float, optional
+        The residual variance ``s^2``.
     """
     psi = regressors(keys, y, u, lag)
     if variance is None:
@@ -90,7 +113,13 @@ def covariance(keys: list[Key], theta: np.ndarray, y: np.ndarray, u: np.ndarray,
 
 def t_statistics(keys: list[Key], theta: np.ndarray, y: np.ndarray, u: np.ndarray,
                  lag: int) -> np.ndarray:
-    """``|theta| / sd`` of each coefficient (inf where its sd is 0)."""
+    """``|theta| / sd`` of each coefficient (inf where its sd is 0).
+
+    Parameters
+    ----------
+    keys, theta, y, u, lag
+        As in :func:`covariance`.
+    """
     sd = np.sqrt(np.maximum(np.diag(covariance(keys, theta, y, u, lag)), 0.0))
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(sd > 0, np.abs(theta) / np.where(sd > 0, sd, 1.0), math.inf)
@@ -251,6 +280,19 @@ def refitter(kind: str, y: np.ndarray, u: np.ndarray, lag: int, order: int,
     terms (at most :data:`TRIAL_ELS_ITERATIONS` iterations); ``"output error"``:
     Levenberg-Marquardt from the coefficients of ``start`` (:data:`TRIAL_OE_EVALUATIONS`
     evaluations per coefficient on :data:`TRIAL_OE_WINDOW` samples).
+
+    Parameters
+    ----------
+    kind : {"none", "narmax", "output error"}
+        The estimator of the identified model.
+    y, u : numpy.ndarray
+        Training samples.
+    lag : int
+        Largest lag.
+    order : int
+        Noise terms of extended least squares.
+    start : dict
+        Coefficients an output-error refit starts from.
     """
     from gfrf.identify.noise import extended_least_squares
     from gfrf.identify.output_error import refine
@@ -276,7 +318,26 @@ def prune_and_refit(theta: dict[Key, float], noise: tuple[float, ...], kind: str
     terms refitted with that estimator's full work (extended least squares to
     convergence, or the output-error refinement); returns the coefficients, the noise
     terms and the :class:`Pruning`.  On ``noisy`` data a term whose t-statistic is at
-    least :data:`SIGNIFICANT` is kept whatever the free run says."""
+    least :data:`SIGNIFICANT` is kept whatever the free run says.
+
+    Parameters
+    ----------
+    theta : dict
+        The full model's coefficients.
+    noise : tuple of float
+        Its noise terms.
+    kind : str
+        Its estimator (:func:`refitter`).
+    y_train, u_train, y_test, u_test : numpy.ndarray
+        Training and held-out samples about the model's centre.
+    lag : int
+        Largest lag.
+    order : int
+        Noise terms of extended least squares.
+    noisy : bool
+        True when the noise floor is at least
+        :data:`~gfrf.identify.validate.PRECISE_FIT`.
+    """
     from gfrf.identify.noise import extended_least_squares
     from gfrf.identify.output_error import refine
 

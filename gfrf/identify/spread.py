@@ -81,7 +81,15 @@ class RadiusSpread:
 
 
 def radius(model: Model, proof: str = "interval") -> float:
-    """Theorem 1's r* of ``model`` (inf for a linear model)."""
+    """Theorem 1's r* of ``model`` (inf for a linear model).
+
+    Parameters
+    ----------
+    model : Model
+        A NARX model.
+    proof : {"interval", "float"}
+        Proof level of r*.
+    """
     from gfrf.stability.theorem1 import theorem1
 
     return float(theorem1(model, 1, 1.0, with_norms=False, proof=proof).radius)

@@ -239,6 +239,23 @@ def judge(free_run_error: float, one_step_error: float, residual: np.ndarray,
     the free run did not blow up, the noise floor is below :data:`MAX_NOISE_FLOOR`, the
     model error is below :data:`FREE_RUN_LIMIT`, and every correlation test passes or
     the model error is below :data:`PRECISE_FIT`.
+
+    Parameters
+    ----------
+    free_run_error, one_step_error : float
+        Held-out free-run and one-step RRSE.
+    residual : numpy.ndarray
+        Held-out one-step residuals.
+    u : numpy.ndarray
+        Held-out input, aligned with ``residual``.
+    blowup : int, optional
+        Held-out sample at which the free run blew up.
+    floor : float
+        Residuals of root mean square at most this are an exact fit.
+    noise_floor : float
+        The noise floor as an RRSE (:func:`gfrf.identify.floor.noise_floor`).
+    noise_floor_method : str
+        How it was estimated.
     """
     tests = correlation_tests(residual, u, floor=floor)
     failed = [t.name for t in tests if not t.passed]
@@ -275,7 +292,15 @@ def judge(free_run_error: float, one_step_error: float, residual: np.ndarray,
 
 def model_error(free_run_error: float, noise_floor: float) -> float:
     """The part of a free-run RRSE above the noise floor, ``sqrt(free^2 - floor^2)``
-    (0 when the free run is at or below the floor; inf after a blow-up)."""
+    (0 when the free run is at or below the floor; inf after a blow-up).
+
+    Parameters
+    ----------
+    free_run_error : float
+        Held-out free-run RRSE.
+    noise_floor : float
+        The noise floor as an RRSE.
+    """
     if not math.isfinite(free_run_error):
         return math.inf
     return math.sqrt(max(0.0, free_run_error**2 - noise_floor**2))
