@@ -286,8 +286,10 @@ def judge(free_run_error: float, one_step_error: float, residual: np.ndarray,
                   f"passed{exact}")
     adequate = blowup is None and noise_floor < MAX_NOISE_FLOOR and excess < FREE_RUN_LIMIT \
         and (not failed or excess < PRECISE_FIT)
-    return Validation(free_run_error, FREE_RUN_LIMIT, one_step_error, int(residual.size),
-                      tests, adequate, reason, noise_floor, noise_floor_method)
+    return Validation(free_run_error=free_run_error, free_run_limit=FREE_RUN_LIMIT,
+                      one_step_error=one_step_error, held_out=int(residual.size), tests=tests,
+                      adequate=adequate, reason=reason, noise_floor=noise_floor,
+                      noise_floor_method=noise_floor_method)
 
 
 def model_error(free_run_error: float, noise_floor: float) -> float:
