@@ -435,7 +435,8 @@ def test_the_top_level_name_and_the_package_face():
 
 
 def test_one_run_information_criterion_equals_sysidentpys_loop():
-    """The criterion from one ERR run equals sysidentpy's run-per-size loop, bit for bit."""
+    """The criterion from one ERR run (one QR factorisation) equals sysidentpy's
+    run-per-size loop to rounding, and selects the same model."""
     from sysidentpy.model_structure_selection import FROLS
 
     from gfrf.identify.fit import _frols
@@ -453,7 +454,7 @@ def test_one_run_information_criterion_equals_sysidentpys_loop():
                 estimator=fast.estimator, basis_function=fast.basis_function)
     for m in (fast, slow):
         m.fit(X=u[:, None], y=y[:, None])
-    assert np.array_equal(fast.raw_info_values, slow.info_values)
+    assert np.allclose(fast.raw_info_values, slow.info_values, rtol=1e-12, atol=0.0)
     assert len(fast.final_model) == int(np.argmin(slow.info_values)) + 1  # global minimum
     assert np.array_equal(fast.final_model, slow.final_model)
     assert np.array_equal(fast.theta, slow.theta)

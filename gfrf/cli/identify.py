@@ -2,11 +2,14 @@
 
 ``gfrf identify DATA.csv --output y --input u [--sample-time T] [--ylag 2 --ulag 2
 --degree 3] [--criterion bic] [--out model.toml] [--json]`` fits a polynomial NARMAX
-model with sysidentpy's FROLS (:func:`gfrf.identify.fit.identify`), prints the identified
-equation, its noise terms and operating point, the validation on the held-out end of
-the data (:mod:`gfrf.identify.validate`) and, when the model is adequate (or with
-``--force``, marked), the verdict of Theorem 1; it writes the model file when ``--out``
-is given.  Exit codes: 0 an adequate model and stability proven, 1 not adequate, not
+model with sysidentpy's FROLS (:func:`gfrf.identify.fit.identify`; terms pruned on the
+held-out free run unless ``--no-prune``), prints the identified equation (and the full
+one when terms were pruned), its noise terms and operating point, r* with its spread,
+the validation on the held-out end of the data against the noise floor
+(:mod:`gfrf.identify.validate`) and, when the model is adequate (or with ``--force``,
+marked), the verdict of Theorem 1 with the identification's rule
+(:func:`gfrf.identify.trust.identified_verdict`); it writes the model file when
+``--out`` is given.  Exit codes: 0 an adequate model and stability proven, 1 not adequate, not
 proven or unstable, 2 bad input or sysidentpy missing (the message says how to
 install it).
 """
@@ -15,7 +18,6 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-from typing import Any
 
 from gfrf.cli._output import add_json_flag, check_output_file, emit
 from gfrf.errors import ArgumentError
@@ -64,6 +66,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help="information criterion for the number of terms (default bic)")
     p.add_argument("--max-terms", type=int, default=15,
                    help="largest number of terms the criterion considers (default 15)")
+    p.add_argument("--no-prune", action="store_true",
+                   help="keep every term the criterion chose (default: remove those whose "
+                        "removal keeps the held-out free run within its band)")
     p.add_argument("--holdout", type=float, default=0.25,
                    help="fraction of samples at the end held out for validation (default 0.25)")
     p.add_argument("--out", default=None, metavar="MODEL.toml",
@@ -98,21 +103,6 @@ def _sample_time(given: float | None, from_time: float | None, time: str) -> flo
     return given
 
 
-def _with_margin(v: Any) -> Any:
-    """A stable verdict kept only when the amplitude clears r* by the identification margin."""
-    from dataclasses import replace
-
-    from gfrf.identify.validate import VERDICT_MARGIN
-
-    if v.verdict != "stable" or v.amplitude * (1 + VERDICT_MARGIN) < v.radius:
-        return v
-    note = (f"Identified model: r = {v.amplitude:g} is below its r* = {v.radius:.6g} but "
-            f"r (1 + {VERDICT_MARGIN:g}) = {v.amplitude * (1 + VERDICT_MARGIN):.6g} is not: an "
-            f"identified r* only estimates the system's, which may be below r, so stability "
-            f"is not claimed. For the identified model alone:")
-    return replace(v, verdict="inconclusive", summary=f"{note} {v.summary}".strip())
-
-
 def _identify(args: argparse.Namespace) -> int:
     from gfrf.cli.stability import _verdict_text
     from gfrf.identify.data import read_data
@@ -120,7 +110,8 @@ def _identify(args: argparse.Namespace) -> int:
     from gfrf.identify.narx import narx_equation
     from gfrf.identify.operating import SIGNIFICANT_DIGITS
     from gfrf.identify.output import load_text, model_file_text, write_atomic
-    from gfrf.stability.criteria import verdict
+    from gfrf.identify.trust import identified_verdict
+    from gfrf.model.safetext import printable
 
     out = _check_out(args.out) if args.out else None
     data = read_data(args.data, args.output, args.input, time=args.time, missing=args.missing)
@@ -128,12 +119,13 @@ def _identify(args: argparse.Namespace) -> int:
     result = identify(data.y, data.u, sample_time, ylag=args.ylag, ulag=args.ulag,
                       degree=args.degree, criterion=args.criterion, max_terms=args.max_terms,
                       holdout=args.holdout, output=args.output, input=args.input,
-                      noise={"auto": None, "yes": True, "no": False}[args.noise])
+                      noise={"auto": None, "yes": True, "no": False}[args.noise],
+                      prune=not args.no_prune)
     text = model_file_text(result, args.data, name=args.name)
     model_file = load_text(text, str(out) if out else "")
     if out is not None:
         write_atomic(out, text)
-    lines = [f"identified from {args.data} ({result.n_samples} samples, T = "
+    lines = [f"identified from {printable(args.data)} ({result.n_samples} samples, T = "
              f"{result.model.sample_time:g} s; 6 digits shown, {SIGNIFICANT_DIGITS} in the "
              f"model file and --json):", f"  {narx_equation(result.model, 6)}",
              f"  {result.noise_text()}", result.operating_text(),
@@ -144,23 +136,30 @@ def _identify(args: argparse.Namespace) -> int:
                      f"{s['degree']} chosen by {s['criterion'].upper()} among " + ", ".join(
                          f"({r['ylag']},{r['ulag']},{r['degree']}): {r[s['criterion']]:.6g}"
                          for r in result.structure) + " ((ylag,ulag,degree): criterion)")
-    lines += [f"note: {n}" for n in data.notes + result.notes]
+    if result.pruning is not None:
+        lines.append(result.pruning.text())
+    if result.full_model is not None:
+        lines.append(f"  with every term: {narx_equation(result.full_model, 6)}")
+    if result.radius is not None:
+        lines.append(result.radius.text())
+    lines += [f"note: {printable(n)}" for n in data.notes + result.notes]
     assert result.validation is not None
     lines += result.validation.text()
     lines.append(f"model file: {out}" if out else "model file: not written (give --out FILE)")
-    payload = {"identification": result.to_dict(), "model_file": str(out) if out else None,
+    payload = {"identification": result.to_dict(), "data_file": args.data,
+               "model_file": str(out) if out else None,
                "data_notes": list(data.notes), "verdict": None, "forced": False}
     if not result.adequate and not args.force:
         lines += ["", "the model does not fit: no verdict (give --force to see one anyway, "
                       "marked as such)"]
         emit(args, payload, "\n".join(lines))
         return 1
-    v = _with_margin(verdict(model_file, args.order, args.amplitude))
+    v = identified_verdict(result, model_file, args.order, args.amplitude)
     payload["verdict"] = v.to_dict()
     if not result.adequate:
         payload["forced"] = True
         lines += ["", "FORCED: the verdict below is of a model that did NOT pass validation; "
                       "it says nothing reliable about the system that produced the data"]
-    lines += [""] + _verdict_text(model_file.name, v)
+    lines += [""] + _verdict_text(printable(model_file.name), v)
     emit(args, payload, "\n".join(lines))
     return 0 if v.verdict == "stable" and result.adequate else 1

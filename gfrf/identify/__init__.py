@@ -13,6 +13,11 @@ One module per step, each importing only those before it:
   :mod:`gfrf.identify.noise`, :mod:`gfrf.identify.result` - hold-out validation
   (Billings-Voon correlation tests), operating points, NARMAX noise terms by extended
   least squares, and the :class:`~gfrf.identify.result.Identification`;
+* :mod:`gfrf.identify.floor`, :mod:`gfrf.identify.prune`, :mod:`gfrf.identify.spread`,
+  :mod:`gfrf.identify.trust` - the noise floor the held-out free run is judged against,
+  backward elimination of terms on the held-out free run, r* with its spread over the
+  coefficients' uncertainty, and :func:`~gfrf.identify.trust.identified_verdict` (stable
+  only below the spread's lower end);
 * :mod:`gfrf.identify.output` - :func:`~gfrf.identify.output.model_file_text`,
   :func:`~gfrf.identify.output.load_text` and :func:`~gfrf.identify.output.write_atomic`:
   from the identification to a model file that ``gfrf verdict`` and ``gfrf report``
@@ -45,8 +50,10 @@ from gfrf.identify.fit import (
 )
 from gfrf.identify.narx import from_sysidentpy, narx_equation
 from gfrf.identify.output import load_text, model_file_text, write_atomic
+from gfrf.identify.trust import identified_verdict
 
 __all__ = ["Identification", "from_sysidentpy", "identify", "read_csv", "free_run",
            "model_file_text", "load_text", "narx_equation", "write_atomic", "candidate_count",
            "same_terms", "SAME_TERMS_RTOL", "read_data",
-           "INSTALL_HINT", "MAX_CANDIDATES", "MAX_SAMPLES", "MIN_SAMPLES"]
+           "identified_verdict", "INSTALL_HINT", "MAX_CANDIDATES", "MAX_SAMPLES",
+           "MIN_SAMPLES"]

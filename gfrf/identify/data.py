@@ -11,6 +11,7 @@ from __future__ import annotations
 import csv
 import math
 import sys
+import warnings
 from dataclasses import dataclass
 from math import comb
 from pathlib import Path
@@ -22,6 +23,7 @@ from gfrf.errors import ArgumentError, ModelError
 from gfrf.model.equation import MAX_DEGREE, MAX_DERIVATIVE_ORDER
 
 __all__ = ["read_csv", "read_data", "Data", "check_rank", "candidate_count", "MAX_CANDIDATES",
+           "MAX_SELECTION_WORK",
            "MAX_SAMPLES", "MIN_SAMPLES", "MAX_MAGNITUDE", "MISSING"]
 
 #: Largest number of candidate regressors (lags and degree) a fit may consider.
@@ -33,6 +35,9 @@ MIN_SAMPLES = 50
 #: Largest number of floats in the candidate regressor matrix (8 bytes each, 32 MB): a
 #: longer training part is fitted on its first ``MAX_MATRIX // (candidates + 1)`` samples.
 MAX_MATRIX = 4_000_000
+#: Largest work of the term selection, ``rows * candidates * max_terms`` (the error
+#: reduction ratios of FROLS; about 5 s of CPU): refused before any fitting.
+MAX_SELECTION_WORK = 500_000_000
 _CRITERIA = ("aic", "aicc", "bic", "fpe", "lilc")
 
 
@@ -100,6 +105,13 @@ def _check_settings(n: int, ylag: int, ulag: int, degree: int, criterion: str,
                             f"training part ({n_train} samples) needs at least "
                             f"{2 * candidates + lag}")
     n_fit = min(n_train, MAX_MATRIX // (candidates + 1) + lag)
+    work = (n_fit - lag) * (candidates + 1) * min(max_terms, candidates)
+    if work > MAX_SELECTION_WORK:
+        raise ArgumentError(f"ylag {ylag}, ulag {ulag}, degree {degree} ({candidates} "
+                            f"candidate terms) with max_terms {max_terms} on {n_fit} "
+                            f"training rows need {work:.3g} regressor operations, above the "
+                            f"limit {MAX_SELECTION_WORK:.3g}: lower max_terms, the lags or "
+                            f"the degree")
     return candidates, n_train, n_fit
 
 
@@ -233,6 +245,24 @@ def _fill(values: np.ndarray, missing: str, path: Path, columns: str, first_line
                  f"index" + (f" ({dropped} at the ends dropped)" if dropped else "")]
 
 
+def _plain_numeric(path: Path, columns: list[int]) -> np.ndarray | None:
+    """The ``columns`` of the rows after the header, read by :func:`numpy.loadtxt` when
+    every row holds plain finite numbers there (the common file: one fast parse), else
+    None (the row-by-row reader then finds and names what is wrong)."""
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # an empty rest: None below
+            values = np.loadtxt(path, delimiter=",", comments=None, usecols=columns,
+                                ndmin=2, skiprows=1, max_rows=MAX_SAMPLES + 1,
+                                quotechar='"', dtype=float, encoding="utf-8-sig")
+    except (ValueError, IndexError):
+        values = None
+    if values is None or values.shape[0] > MAX_SAMPLES or not np.all(np.isfinite(values)) \
+            or values.shape[0] == 0:
+        return None
+    return values
+
+
 def read_data(path: str | Path, output: str, input: str,  # noqa: A002
               time: str = "t", missing: str = "refuse") -> Data:
     """Read the output, input and (if present) time columns of a CSV file with a header row.
@@ -268,8 +298,7 @@ def read_data(path: str | Path, output: str, input: str,  # noqa: A002
         raise ArgumentError(f"data file {str(p)!r} does not exist")
     try:
         with p.open(newline="", encoding="utf-8-sig") as fh:
-            reader = csv.reader(fh)
-            header = [h.strip() for h in next(reader, [])]
+            header = [h.strip() for h in next(csv.reader([fh.readline()]), [])]
             names = [output, input]
             for name in names:
                 if name not in header:
@@ -278,10 +307,14 @@ def read_data(path: str | Path, output: str, input: str,  # noqa: A002
             if time in header and time not in names:
                 names.append(time)
             columns = [header.index(name) for name in names]
-            values = np.empty((1024, len(names)))
-            count = 0
+            fast = _plain_numeric(p, columns)
+            fh.seek(0)
+            reader = csv.reader(fh)
+            next(reader, [])
+            values = np.empty((1024, len(names))) if fast is None else fast
+            count = 0 if fast is None else fast.shape[0]
             first_missing = 0
-            for row in reader:
+            for row in reader if fast is None else ():
                 if not row or all(not c.strip() for c in row):
                     continue
                 if count >= MAX_SAMPLES:

@@ -36,12 +36,21 @@ from gfrf.identify.data import (
     _check_signal,
     check_rank,
 )
+from gfrf.identify.floor import noise_floor
 from gfrf.identify.narx import _decode, _lead, narx_model
 from gfrf.identify.noise import extended_least_squares, regressors, residuals
 from gfrf.identify.operating import equilibrium, round_significant, shift
-from gfrf.identify.output_error import recurse, refine
+from gfrf.identify.output_error import output_error_covariance, recurse, refine
+from gfrf.identify.prune import Pruning, covariance, free_run_residual, prune_and_refit
 from gfrf.identify.result import Identification
-from gfrf.identify.validate import correlation_tests, judge
+from gfrf.identify.spread import DRAWS, RadiusSpread, radius, radius_spread
+from gfrf.identify.validate import (
+    FREE_RUN_LIMIT,
+    PRECISE_FIT,
+    correlation_tests,
+    judge,
+    model_error,
+)
 from gfrf.model.equation import Model, Term
 
 Key = tuple[tuple[int, ...], tuple[int, ...]]
@@ -112,9 +121,9 @@ def _rrse(measured: np.ndarray, predicted: np.ndarray) -> float:
 
 
 def _frols(ylag: int, ulag: int, degree: int, criterion: str, max_terms: int,
-           constant: bool = False) -> Any:
+           constant: bool = False, forced: bool = False) -> Any:
     """sysidentpy's FROLS with least squares; the constant regressor a candidate only if
-    ``constant``."""
+    ``constant``; ``forced``: ``max_terms`` terms whatever the criterion says."""
     try:
         import matplotlib  # sysidentpy imports it anyway
 
@@ -142,23 +151,29 @@ def _frols(ylag: int, ulag: int, degree: int, criterion: str, max_terms: int,
 
             The ERR selection is sequential, so the first n regressors of a run for
             n_info_values terms are those of a run for n terms: least squares on each
-            prefix gives sysidentpy's values without one selection run per size.
+            prefix (one QR factorisation) gives sysidentpy's values without one
+            selection run per size.
             """
             count = self.n_info_values
             selected = self.run_mss_algorithm(x, y, count)[2]
             target = self._default_estimation_target(y)
             n_samples = y.shape[0] - self.max_lag
             values = np.full(count, np.nan)
+            # least squares on each prefix from one QR factorisation: the residual of
+            # the first i+1 columns is the target minus its projections on q_0..q_i
+            q = np.linalg.qr(selected, mode="reduced")[0]
+            residual = np.array(target, dtype=float).ravel()
+            coefficients = q.T @ residual
             for i in range(count):
-                theta = self.estimator.optimize(selected[:, :i + 1], target)
-                residual = target - selected[:, :i + 1] @ theta
+                residual = residual - q[:, i] * coefficients[i]
                 values[i] = self.info_criteria_function(i + 1, n_samples,
                                                         float(np.var(residual, ddof=1)))
             self.raw_info_values = values
             # sysidentpy keeps the size before the criterion's first increase, a local
             # minimum (one term for a lightly damped system); the global minimum is meant:
             # its distance from it, which first increases after it, selects it
-            return np.abs(np.arange(count, dtype=float) - float(np.argmin(values)))
+            size = count - 1 if forced else int(np.argmin(values))
+            return np.abs(np.arange(count, dtype=float) - float(size))
 
     return _Frols(
         ylag=ylag, xlag=ulag, order_selection=True, info_criteria=criterion,
@@ -201,14 +216,15 @@ class _Fit:
 
 
 def _fit_structure(y: np.ndarray, u: np.ndarray, ylag: int, ulag: int, degree: int,
-                   criterion: str, max_terms: int, constant: bool) -> _Fit:
+                   criterion: str, max_terms: int, constant: bool, forced: bool = False
+                   ) -> _Fit:
     """FROLS on the training window; the selected monomials, theta and the criterion."""
     lag = max(ylag, ulag)
     keys = _candidate_keys(ylag, ulag, degree)
     rows = min(y.size, 20000 + lag)
     check_rank(regressors(keys if constant else keys[1:], y[:rows], u[:rows], lag),
                [_key_name(k) for k in (keys if constant else keys[1:])])
-    frols = _frols(ylag, ulag, degree, criterion, max_terms, constant)
+    frols = _frols(ylag, ulag, degree, criterion, max_terms, constant, forced)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         frols.fit(X=u[:, None], y=y[:, None])
@@ -256,7 +272,7 @@ def _choose_structure(y: np.ndarray, u: np.ndarray, given: tuple[int | None, ...
 
 
 def _estimate(y: np.ndarray, u: np.ndarray, ylag: int, ulag: int, degree: int,
-              criterion: str, max_terms: int, noise: bool | None
+              criterion: str, max_terms: int, noise: bool | None, forced: bool = False
               ) -> tuple[_Fit, dict[Key, float], tuple[float, ...], list[str], str]:
     """FROLS, then a noise model when asked or when the residuals are coloured.
 
@@ -266,7 +282,7 @@ def _estimate(y: np.ndarray, u: np.ndarray, ylag: int, ulag: int, degree: int,
     :mod:`gfrf.identify.output_error`).
     """
     lag = max(ylag, ulag)
-    fit = _fit_structure(y, u, ylag, ulag, degree, criterion, max_terms, True)
+    fit = _fit_structure(y, u, ylag, ulag, degree, criterion, max_terms, True, forced)
     theta = dict(zip(fit.keys, (float(v) for v in fit.theta), strict=True))
     notes: list[str] = []
     floor = ROUNDING_FLOOR * float(np.std(y))
@@ -294,7 +310,7 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
              ulag: int | None = 2, degree: int | None = 3, criterion: str = "bic",
              max_terms: int = 15, holdout: float = 0.25, output: str = "y",
              input: str = "u", noise: bool | None = None,  # noqa: A002
-             ) -> Identification:
+             prune: bool = True, radius_draws: int | None = DRAWS) -> Identification:
     """Identify a polynomial NARMAX model from input/output data with sysidentpy's FROLS.
 
     The first ``1 - holdout`` of the samples train the model: FROLS ranks the
@@ -329,6 +345,12 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
         Signal names in the model.
     noise : bool or None
         Fit noise terms: None (default) when the training residuals are coloured.
+    prune : bool
+        Remove, after the criterion's choice, the terms whose removal keeps the
+        held-out free run within its band (:mod:`gfrf.identify.prune`).
+    radius_draws : int or None
+        Coefficient vectors drawn for the spread of r* (:mod:`gfrf.identify.spread`);
+        0 gives r* alone, None skips r*.
 
     Returns
     -------
@@ -379,11 +401,31 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
         fit, theta, noise_terms, notes, kind = _estimate(y[:n_fit] - cy, u[:n_fit] - cu,
                                                          ylag,
                                                    ulag, degree, criterion, max_terms, noise)
-        constant = theta.get(((), ()))
-        y0c = 0.0 if constant is None else equilibrium(theta, 0.0, mean_y - cy)
+    yc, uc = y - cy, u - cu
+    floor, floor_method = noise_floor(yc, uc, n_train, lag, _candidate_keys(ylag, ulag, degree),
+                                      fit.keys, ylag)
+    if prune and len(fit.keys) < max_terms and not model_error(
+            _held_out_rrse(theta, yc[n_train:], uc[n_train:], lag), floor) < FREE_RUN_LIMIT:
+        grown = _estimate(y[:n_fit] - cy, u[:n_fit] - cu, ylag, ulag, degree, criterion,
+                          max_terms, noise, forced=True)
+        if _held_out_rrse(grown[1], yc[n_train:], uc[n_train:], lag) < _held_out_rrse(
+                theta, yc[n_train:], uc[n_train:], lag):
+            chosen = len(fit.keys)
+            fit, theta, noise_terms, notes, kind = grown
+            notes.append(f"the criterion's {chosen} terms did not "
+                         f"reproduce the held-out data: all {max_terms} terms fitted, "
+                         f"then pruned")
+    full_theta = theta
+    pruning = None
+    if prune:
+        theta, noise_terms, pruning = prune_and_refit(
+            theta, noise_terms, kind, y[:n_fit] - cy, u[:n_fit] - cu, y[n_train:] - cy,
+            u[n_train:] - cu, lag, ylag, floor >= PRECISE_FIT)
+    constant = theta.get(((), ()))
+    y0c = 0.0 if constant is None else equilibrium(theta, 0.0, mean_y - cy)
     import sysidentpy
 
-    about = shift(theta, y0c, 0.0) if constant is not None else dict(theta)
+    model, about = _about(theta, mean_y - cy, sample_time, output, input)
     y0 = cy + y0c
     if first_constant is None and u0 == 0.0:
         how = "no offset: no constant term selected, mean u is zero"
@@ -393,10 +435,8 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
                                                      "; u0 = 0 (mean input is zero)")
                + "; y0 is the fitted model's equilibrium at u0" + (
                    ", the model refitted about it" if cy else ""))
-    about = {k: round_significant(v) for k, v in about.items()}
     y0, u0 = round_significant(y0), round_significant(u0)
     noise_terms = tuple(round_significant(c) for c in noise_terms)
-    model = _model(about, sample_time, output, input)
     y_test, u_test = y[n_train:] - y0, u[n_train:] - u0
     simulated, blowup = free_run(model, u_test, y_test[:lag])
     free = math.inf if blowup is not None else _rrse(y_test[lag:], simulated[lag:])
@@ -406,7 +446,17 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
         e = residuals(about, noise_terms, y_test, u_test, lag)
     one_step = _rrse(y_test[lag:], y_test[lag:] - e)
     validation = judge(free, one_step, e, u_test[lag:], blowup,
-                       floor=ROUNDING_FLOOR * float(np.std(y_test)))
+                       floor=ROUNDING_FLOOR * float(np.std(y_test)), noise_floor=floor,
+                       noise_floor_method=floor_method)
+    spread = None
+    if radius_draws is not None and blowup is None:
+        try:
+            spread = _spread(model, theta, full_theta, pruning, noise_terms, kind,
+                             y[:n_fit] - cy, u[:n_fit] - cu, lag,
+                             lambda th: _about(th, mean_y - cy, sample_time, output, input)[0],
+                             radius_draws)
+        except GfrfError as exc:  # e.g. a linear part that is not stable: no r*
+            notes.append(f"no r* for the identified model: {exc}")
     if n_fit < n_train:
         notes.append(f"the candidate matrix is limited to {MAX_MATRIX} entries: the fit "
                      f"used the first {n_fit} of the {n_train} training samples")
@@ -430,7 +480,46 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
         sysidentpy_version=str(sysidentpy.__version__),
         operating_point={"u0": u0, "y0": y0, "constant": first_constant, "how": how},
         noise=noise_terms, validation=validation, structure=structure, n_fit=n_fit,
-        noise_model=kind)
+        noise_model=kind, pruning=pruning, radius=spread,
+        full_model=None if pruning is None or not pruning.removed else
+        _about(full_theta, mean_y - cy, sample_time, output, input)[0])
+
+
+def _held_out_rrse(theta: dict[Key, float], y: np.ndarray, u: np.ndarray, lag: int) -> float:
+    """Free-run RRSE of ``theta`` on held-out samples about its centre (inf on a blow-up)."""
+    r = free_run_residual(theta, y, u, lag)
+    spread = float(np.var(y[lag:])) * (y.size - lag)
+    return math.inf if r is None or not spread else math.sqrt(float(r @ r) / spread)
+
+
+def _about(theta: dict[Key, float], near: float, sample_time: float, output: str,
+           input_: str) -> tuple[Model, dict[Key, float]]:
+    """The model of ``theta`` about its equilibrium at u = 0 (the one nearest ``near``),
+    coefficients rounded to :data:`SIGNIFICANT_DIGITS` digits, and those coefficients."""
+    if ((), ()) in theta:
+        theta = shift(theta, equilibrium(theta, 0.0, near), 0.0)
+    about = {k: round_significant(v) for k, v in theta.items()}
+    return _model(about, sample_time, output, input_), about
+
+
+def _spread(model: Model, theta: dict[Key, float], full_theta: dict[Key, float],
+            pruning: Pruning | None, noise_terms: tuple[float, ...], kind: str, y: np.ndarray,
+            u: np.ndarray, lag: int, build: Any, draws: int) -> RadiusSpread:
+    """r* of the model, of the full model, and the spread over the coefficients."""
+    keys = list(theta)
+    values = np.array([theta[k] for k in keys])
+    if kind == "output error":
+        cov = output_error_covariance(theta, y, u, lag)
+    else:
+        e = residuals(theta, noise_terms, y, u, lag)
+        cov = covariance(keys, values, y, u, lag, float(np.mean(e**2)))
+    full = None
+    if pruning is not None and pruning.removed:
+        try:
+            full = radius(build(full_theta))
+        except GfrfError:
+            full = None
+    return radius_spread(model, keys, values, cov, build, full, draws)
 
 
 def _model(theta: dict[Key, float], sample_time: float, output: str, input_: str) -> Model:

@@ -55,8 +55,10 @@ def residuals(theta: dict[Key, float], noise: tuple[float, ...], y: np.ndarray,
 
 
 def extended_least_squares(keys: list[Key], y: np.ndarray, u: np.ndarray, lag: int,
-                           order: int) -> tuple[dict[Key, float], tuple[float, ...]]:
-    """Process coefficients and ``order`` moving-average noise coefficients by ELS.
+                           order: int, iterations: int = ELS_ITERATIONS
+                           ) -> tuple[dict[Key, float], tuple[float, ...]]:
+    """Process coefficients and ``order`` moving-average noise coefficients by ELS
+    (at most ``iterations`` iterations).
 
     Returns
     -------
@@ -72,7 +74,7 @@ def extended_least_squares(keys: list[Key], y: np.ndarray, u: np.ndarray, lag: i
     theta = np.linalg.lstsq(psi, target, rcond=None)[0]
     e = target - psi @ theta
     noise = np.zeros(order)
-    for _iteration in range(ELS_ITERATIONS):
+    for _iteration in range(iterations):
         lagged = np.column_stack([np.r_[np.zeros(j), e[:e.size - j]]
                                   for j in range(1, order + 1)])
         full = np.linalg.lstsq(np.hstack([psi, lagged]), target, rcond=None)[0]

@@ -9,6 +9,7 @@ terms; :func:`load_text` reads such a text, :func:`write_atomic` saves it.
 from __future__ import annotations
 
 import json
+import re
 import tomllib
 from pathlib import Path
 
@@ -20,7 +21,14 @@ __all__ = ["model_file_text", "load_text", "write_atomic"]
 
 
 def _toml_string(text: str) -> str:
-    return json.dumps(text, ensure_ascii=True)
+    """A TOML basic string of ``text``; lone surrogates (the undecodable bytes of a file
+    name, as Python passes them) become visible ``\\xNN`` text, which TOML accepts."""
+    return json.dumps(re.sub("[\ud800-\udfff]", _surrogate, text), ensure_ascii=True)
+
+
+def _surrogate(match: re.Match[str]) -> str:
+    code = ord(match.group())
+    return f"\\x{code - 0xdc00:02x}" if 0xdc80 <= code <= 0xdcff else f"\\u{code:04x}"
 
 
 def model_file_text(result: Identification, data: str, name: str = "",

@@ -19,7 +19,8 @@ import math
 
 import numpy as np
 
-__all__ = ["refine", "simulate", "recurse", "WINDOW", "MAX_EVALUATIONS"]
+__all__ = ["refine", "simulate", "recurse", "output_error_covariance", "WINDOW",
+           "MAX_EVALUATIONS"]
 
 Key = tuple[tuple[int, ...], tuple[int, ...]]
 #: Training samples the refinement simulates (the first ones): bounds its work.
@@ -87,13 +88,14 @@ def free_run_rrse(theta: dict[Key, float], y: np.ndarray, u: np.ndarray, lag: in
     return math.sqrt(float(np.sum((y[lag:] - sim[lag:]) ** 2)) / spread) if spread else math.inf
 
 
-def refine(theta: dict[Key, float], y: np.ndarray, u: np.ndarray, lag: int
-           ) -> dict[Key, float]:
-    """The output-error coefficients of the same terms, from ``theta`` (Levenberg-Marquardt)."""
+def refine(theta: dict[Key, float], y: np.ndarray, u: np.ndarray, lag: int,
+           evaluations: int = MAX_EVALUATIONS, window: int = WINDOW) -> dict[Key, float]:
+    """The output-error coefficients of the same terms, from ``theta`` (Levenberg-Marquardt
+    with at most ``evaluations`` residual evaluations on the first ``window`` samples)."""
     from scipy.optimize import least_squares
 
     keys = list(theta)
-    n = min(y.size, WINDOW)
+    n = min(y.size, window)
     y, u = y[:n], u[:n]
     limit = _BLOWUP * max(1.0, float(np.max(np.abs(y))))
     penalty = np.full(n - lag, limit)
@@ -106,5 +108,45 @@ def refine(theta: dict[Key, float], y: np.ndarray, u: np.ndarray, lag: int
     if simulate(keys, start, u, y[:lag], limit) is None:
         return dict(theta)  # no finite starting point: nothing to refine
     result = least_squares(residual, start, method="lm", xtol=1e-12, ftol=1e-12,
-                           max_nfev=MAX_EVALUATIONS)
+                           max_nfev=evaluations)
     return {k: float(v) for k, v in zip(keys, result.x, strict=True)}
+
+
+def output_error_covariance(theta: dict[Key, float], y: np.ndarray, u: np.ndarray, lag: int,
+                            window: int = WINDOW) -> np.ndarray:
+    """Covariance ``s^2 (J^T J)^-1`` of output-error coefficients: ``J`` the forward-difference
+    Jacobian of the free run (first ``window`` samples) by the coefficients, ``s^2`` the
+    free-run residual's variance (inf entries when a free run blows up).
+
+    Parameters
+    ----------
+    theta : dict
+        The output-error coefficients.
+    y, u : numpy.ndarray
+        Training samples.
+    lag : int
+        Largest lag.
+    window : int
+        Samples simulated (the first ones).
+    """
+    keys = list(theta)
+    n = min(y.size, window)
+    y, u = y[:n], u[:n]
+    limit = _BLOWUP * max(1.0, float(np.max(np.abs(y))))
+    values = np.array([theta[k] for k in keys])
+    base = simulate(keys, values, u, y[:lag], limit)
+    if base is None:
+        return np.full((len(keys), len(keys)), math.inf)
+    columns = []
+    for i in range(len(keys)):
+        step = 1e-6 * max(abs(values[i]), 1e-8)
+        moved = values.copy()
+        moved[i] += step
+        sim = simulate(keys, moved, u, y[:lag], limit)
+        if sim is None:
+            return np.full((len(keys), len(keys)), math.inf)
+        columns.append((sim[lag:] - base[lag:]) / step)
+    jac = np.column_stack(columns)
+    r = y[lag:] - base[lag:]
+    variance = float(r @ r) / max(1, r.size - len(keys))
+    return variance * np.linalg.pinv(jac.T @ jac)

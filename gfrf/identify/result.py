@@ -10,6 +10,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from gfrf.identify.operating import SIGNIFICANT_DIGITS
+from gfrf.identify.prune import Pruning
+from gfrf.identify.spread import RadiusSpread
 from gfrf.identify.validate import Validation
 from gfrf.model.equation import Model
 
@@ -58,6 +60,13 @@ class Identification:
     noise_model : str
         ``"none"``, ``"narmax"`` (the noise terms ``noise``) or ``"output error"``
         (white noise on the output: coefficients minimise the free-run error).
+    pruning : Pruning or None
+        The backward elimination after the criterion's choice (None: not run).
+    full_model : Model or None
+        The model with every term the criterion chose, when pruning removed some.
+    radius : RadiusSpread or None
+        r* of the model, of the full model, and its spread over the coefficients'
+        uncertainty (None: not computed).
     """
 
     model: Model
@@ -77,6 +86,9 @@ class Identification:
     structure: tuple[dict[str, Any], ...] = field(default=())
     n_fit: int = 0
     noise_model: str = "none"
+    pruning: Pruning | None = None
+    full_model: Model | None = None
+    radius: RadiusSpread | None = None
 
     @property
     def adequate(self) -> bool:
@@ -134,4 +146,7 @@ class Identification:
                 "validation": validation, "adequate": self.adequate,
                 "reason": self.validation.reason if self.validation else "not validated",
                 "significant_digits": SIGNIFICANT_DIGITS,
+                "pruning": self.pruning.to_dict() if self.pruning else None,
+                "full_model": self.full_model.text if self.full_model else None,
+                "radius": self.radius.to_dict() if self.radius else None,
                 "sysidentpy_version": self.sysidentpy_version}

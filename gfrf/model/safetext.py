@@ -2,7 +2,8 @@
 
 :func:`printable` escapes the characters a terminal acts on (C0 and C1 controls, so ESC
 sequences, carriage returns and bells; DEL; the bidirectional overrides and isolates
-U+202A-U+202E, U+2066-U+2069 and marks; the line and paragraph separators) as visible
+U+202A-U+202E, U+2066-U+2069 and marks; the line and paragraph separators; the lone
+surrogates that stand for the undecodable bytes of a file name) as visible
 ``\\x1b``-style escapes.  :func:`markdown_text` also makes text inert in Markdown and the
 HTML it renders to: no tag, no link, no heading, one line.
 
@@ -21,7 +22,7 @@ __all__ = ["printable", "markdown_text", "plot_text"]
 _NAMED = {"\n": "\\n", "\r": "\\r", "\t": "\\t"}
 #: Characters a terminal or a bidirectional renderer acts on.
 _CONTROL = re.compile("[\x00-\x1f\x7f-\x9f\u061c\u200e\u200f\u2028\u2029\u202a-\u202e"
-                      "\u2066-\u2069]")
+                      "\u2066-\u2069\ud800-\udfff]")
 #: What GitHub-flavoured Markdown links on its own: a scheme's colon, ``www.``, an ``@``.
 _AUTOLINK = re.compile(r"(?i)(\b(?:https?|ftp)(?=://)|\bwww(?=\.)|(?=@))([:.@])")
 _MARKDOWN = re.compile(r"([\\`*_{}\[\]()#+!|~>-])")

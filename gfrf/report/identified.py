@@ -23,6 +23,7 @@ from gfrf.identify import example as ex
 from gfrf.identify.data import read_csv
 from gfrf.identify.fit import Identification, identify, same_terms
 from gfrf.identify.output import write_atomic
+from gfrf.identify.trust import identified_verdict
 from gfrf.kernels.recursion import kernel
 from gfrf.model.equation import Model
 from gfrf.model.modelfile import ModelFile, load_model
@@ -67,7 +68,7 @@ def compare(models_dir: str | Path = ex.MODELS_DIR, quick: bool = False) -> Comp
                       file_matches_fit=same_terms(fit.model.terms, identified.plant.terms),
                       errors=ex.kernel_errors(identified.plant, true.plant),
                       verdict_true=verdict(true, order),
-                      verdict_identified=verdict(identified, order))
+                      verdict_identified=identified_verdict(fit, identified, order))
 
 
 def _figures(c: Comparison, out_dir: Path) -> list[str]:
