@@ -18,7 +18,7 @@ from gfrf.sim.simulation import simulate
 
 pytest.importorskip("numba")
 
-MODELS = Path(__file__).resolve().parent.parent / "models"
+MODELS = Path(__file__).resolve().parents[2] / "models"
 OSCILLATOR = "D(y,2) + 0.4*D(y) + 2*y = u"
 RTOL, ATOL = 1e-8, 1e-10
 

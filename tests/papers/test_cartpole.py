@@ -29,7 +29,7 @@ from gfrf.sim.simulation import simulate
 from gfrf.stability.loops import with_lags
 from gfrf.stability.theorem2 import theta_series
 
-MODELS = Path(__file__).resolve().parent.parent / "models"
+MODELS = Path(__file__).resolve().parents[2] / "models"
 REDUCED = MODELS / "cartpole_reduced.toml"
 FULL = MODELS / "cartpole.toml"
 

@@ -28,7 +28,7 @@ from gfrf.sim import integrate
 from gfrf.sim.simulation import simulate
 from gfrf.sim.system import build_system
 
-MODELS = Path(__file__).resolve().parent.parent / "models"
+MODELS = Path(__file__).resolve().parents[2] / "models"
 METHODS = ("rk45", "dop853", "lsoda", "radau")
 _MATH_OK = {"sin", "cos", "tan", "sinh", "cosh", "tanh", "atan", "exp", "log", "sqrt",
             "copysign", "pi", "e"}

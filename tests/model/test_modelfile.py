@@ -7,7 +7,7 @@ import pytest
 from gfrf.errors import ModelError
 from gfrf.model.modelfile import load_model
 
-MODELS = Path(__file__).resolve().parent.parent / "models"
+MODELS = Path(__file__).resolve().parents[2] / "models"
 GFRF_MODELS = [p for p in sorted(MODELS.glob("*.toml")) if "kind = \"parametric\""
                not in p.read_text()]
 

@@ -14,7 +14,7 @@ from scipy.optimize import minimize, rosen
 from gfrf.bounds.simplex import nelder_mead
 from gfrf.errors import ArgumentError
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 TIGHT = {"xatol": 1e-12, "fatol": 1e-14}
 
 

@@ -22,7 +22,7 @@ from gfrf.model.template import model_template, rebuild
 from gfrf.stability.criteria import parameter_margin, verdict
 from gfrf.sweep.run import grid, parse_axis, sweep
 
-MODELS = Path(__file__).resolve().parent.parent / "models"
+MODELS = Path(__file__).resolve().parents[2] / "models"
 PENDULUM = MODELS / "hanging_pendulum.toml"
 CARTPOLE = MODELS / "cartpole.toml"
 

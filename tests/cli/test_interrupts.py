@@ -26,7 +26,7 @@ from gfrf.model.signals import parse_input  # noqa: E402
 from gfrf.sim import fastsim  # noqa: E402
 from gfrf.sim.system import build_system  # noqa: E402
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 DUFFING = "D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"
 #: Seconds between the signal and KeyboardInterrupt (a slice is a few ms of CPU).
 LATENCY = 1.0

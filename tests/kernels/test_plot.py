@@ -13,7 +13,7 @@ from gfrf.kernels.plot import frequency_grid
 from gfrf.kernels.recursion import kernel
 from gfrf.model.equation import parse_model
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 #: Every bundled GFRF model (parametric_pendulum.toml is the periodic-pendulum format).
 MODELS = sorted(p.name for p in (ROOT / "models").glob("*.toml")
                 if p.name != "parametric_pendulum.toml")

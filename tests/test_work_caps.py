@@ -70,7 +70,7 @@ def test_default_norm_order_5_closes_the_bundled_cartpole_reduced() -> None:
 
 
 def _reduced_cartpole_h3() -> float:
-    """||H3|| of the reduced cart-pole in closed form (see tests/test_norms.py)."""
+    """||H3|| of the reduced cart-pole in closed form (see tests/bounds/test_norms.py)."""
     beta1 = 39.3185 / 67.578
     return (19.66 * beta1**2 - 11.2455 * beta1**3) / 67.578
 

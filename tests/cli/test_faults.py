@@ -19,7 +19,7 @@ from gfrf._atomic import atomic_path, atomic_write_text
 from gfrf.cli import main
 from gfrf.cli._output import PLOT_SUFFIXES
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 MODELS = ROOT / "models"
 DUFFING = MODELS / "duffing.toml"
 GFRF = [str(Path(sys.executable).parent / "gfrf")]

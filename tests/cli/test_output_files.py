@@ -17,7 +17,7 @@ import gfrf.sim.simulation
 from gfrf._atomic import atomic_write_text
 from gfrf.cli import main
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 DUFFING = str(ROOT / "models" / "duffing.toml")
 SIM = ["simulate", DUFFING, "--input", "0.1*sin(t)", "--t-end", "1", "--points", "20"]
 

@@ -22,7 +22,7 @@ from gfrf.cli import main
 from gfrf.model.equation import parse_model
 from gfrf.stability.energy import energy_certificate
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 MODELS = ROOT / "models"
 #: The issue's independent scan: smallest escaping tone of hanging_pendulum_damped.
 TONE_THRESHOLD = 1.34

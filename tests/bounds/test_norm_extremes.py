@@ -10,7 +10,7 @@ import math
 
 import mpmath as mp
 import numpy as np
-from test_branch_bound import true_quadratic_max
+from bounds.test_branch_bound import true_quadratic_max
 
 from gfrf.bounds.branch_bound import branch_and_bound
 from gfrf.bounds.norms import kernel_norm

@@ -7,7 +7,7 @@ import pytest
 
 from gfrf.cli import main
 
-MODELS = Path(__file__).resolve().parent.parent / "models"
+MODELS = Path(__file__).resolve().parents[2] / "models"
 
 
 def run(capsys, *argv):

@@ -20,7 +20,7 @@ from gfrf.kernels.recursion import kernel
 from gfrf.model.equation import Model, parse_model
 from gfrf.model.modelfile import load_model
 
-MODELS = Path(__file__).resolve().parent.parent / "models"
+MODELS = Path(__file__).resolve().parents[2] / "models"
 BUNDLED = sorted(p for p in MODELS.glob("*.toml") if p.stem != "parametric_pendulum")
 POINT = (1.565, 1.5, -0.7)
 

@@ -22,7 +22,7 @@ from gfrf.model.modelfile import load_model
 from gfrf.stability.criteria import verdict
 from gfrf.stability.theorem1 import DEFAULT_NORMS, NORM_LEVELS, theorem1
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 MODELS = sorted(p.name for p in (ROOT / "models").glob("*.toml")
                 if 'kind = "parametric"' not in p.read_text())
 ORDER = 3
