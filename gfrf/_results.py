@@ -15,11 +15,13 @@ R(radius=0.125)
 
 from __future__ import annotations
 
+import json
 import math
 from decimal import ROUND_CEILING, ROUND_FLOOR, Decimal
 from typing import Any
 
-__all__ = ["outward_bracket", "short_repr", "plain", "markdown_table", "new_figure",
+__all__ = ["outward_bracket", "short_repr", "plain", "json_ready", "dumps", "markdown_table",
+           "new_figure",
            "verdict_markdown", "verdict_figure", "simulation_markdown", "simulation_figure"]
 
 
@@ -75,6 +77,45 @@ def plain(value: Any) -> Any:
     if isinstance(value, complex):
         return {"re": float(value.real), "im": float(value.imag)}
     return value
+
+
+def json_ready(value: Any) -> Any:
+    """``value`` as strict JSON data: the package's one JSON convention.
+
+    Numpy scalars and arrays become Python numbers and lists, tuples lists, complex
+    numbers ``{"re": ..., "im": ...}``, dictionary keys strings.  JSON has no infinity
+    and no NaN: an infinite float is the string ``"inf"`` (``"-inf"``), a NaN is ``null``
+    (a number that is not known; result objects never carry one where a value was
+    proven).
+
+    >>> json_ready({"r": float("inf"), "x": float("nan"), "z": 1j, 2: (1, -float("inf"))})
+    {'r': 'inf', 'x': None, 'z': {'re': 0.0, 'im': 1.0}, '2': [1, '-inf']}
+    """
+    if isinstance(value, dict):
+        return {str(k): json_ready(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [json_ready(v) for v in value]
+    if hasattr(value, "tolist") and hasattr(value, "dtype"):  # numpy array or scalar
+        return json_ready(value.tolist())
+    if isinstance(value, complex):
+        return {"re": json_ready(value.real), "im": json_ready(value.imag)}
+    if isinstance(value, float):
+        if math.isnan(value):
+            return None
+        if math.isinf(value):
+            return "inf" if value > 0 else "-inf"
+    return value
+
+
+def dumps(value: Any, *, indent: int | None = 2) -> str:
+    """Strict JSON text of ``value`` (:func:`json_ready`, then ``allow_nan=False``): every
+    output parses with ``json.loads(text, parse_constant=...)`` raising on
+    ``NaN``/``Infinity``.
+
+    >>> print(dumps({"lower": float("inf")}, indent=None))
+    {"lower": "inf"}
+    """
+    return json.dumps(json_ready(value), indent=indent, allow_nan=False)
 
 
 def _cell(value: Any) -> str:

@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import json
-import math
 import os
 from pathlib import Path
 from typing import Any
 
+from gfrf._results import dumps, json_ready
 from gfrf.errors import ArgumentError
 from gfrf.model.safetext import printable
 
@@ -96,38 +95,15 @@ def add_json_flag(parser: argparse.ArgumentParser) -> None:
 
 
 def to_jsonable(value: Any) -> Any:
-    """Convert numpy scalars/arrays, complex numbers and infinities to JSON-safe values.
-
-    Infinite floats become the strings ``"inf"``/``"-inf"`` (JSON has no infinity);
-    NaN is never emitted silently: it becomes ``None``.
-    """
-    try:
-        import numpy as np
-    except ImportError:  # pragma: no cover
-        np = None
-    if np is not None:
-        if isinstance(value, np.ndarray):
-            return [to_jsonable(v) for v in value.tolist()]
-        if isinstance(value, np.generic):
-            value = value.item()
-    if isinstance(value, dict):
-        return {str(k): to_jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [to_jsonable(v) for v in value]
-    if isinstance(value, complex):
-        return {"re": to_jsonable(value.real), "im": to_jsonable(value.imag)}
-    if isinstance(value, float):
-        if math.isnan(value):
-            return None
-        if math.isinf(value):
-            return "inf" if value > 0 else "-inf"
-    return value
+    """JSON-safe values (:func:`gfrf._results.json_ready`: infinity is ``"inf"``, NaN
+    ``null``)."""
+    return json_ready(value)
 
 
 def emit(args: argparse.Namespace, payload: dict[str, Any], text: str) -> None:
     """Print ``payload`` as JSON when ``--json`` was given, else ``text``."""
     if getattr(args, "json", False):
-        print(json.dumps(to_jsonable(payload), indent=2))
+        print(dumps(payload))
     else:
         print(terminal_text(text, payload))
 

@@ -4,23 +4,22 @@
 certificate (Theorem 1 or 2's r*, the energy certificate of a damped hardening
 oscillator), the smallest escaping sum of tones the falsifier found (the witness, its
 escape time and what escape meant) and the answer in words; a progress bar on stderr
-when it is a terminal.  ``--json`` prints the contract of issue 27 (``lower`` is
-``Infinity`` for a global certificate).  Exit code 0: both sides closed (a global
-certificate, or a witness); 1: no escape found up to the search cap and no global
-certificate (unknown above ``lower``); 2: bad input.
+when it is a terminal.  ``--json`` prints the JSON contract (``lower`` is the
+string ``"inf"`` for a global certificate, as everywhere in the CLI's JSON).  Exit
+code 0: both sides closed (a global certificate, or a witness); 1: no escape found up
+to the search cap and no global certificate (unknown above ``lower``); 2: bad input.
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 from collections.abc import Callable
 from typing import Any
 
 from gfrf.cli._models import add_model_argument, resolve_model
-from gfrf.cli._output import add_json_flag
+from gfrf.cli._output import add_json_flag, emit
 from gfrf.errors import ArgumentError
 
 __all__ = ["register"]
@@ -73,9 +72,6 @@ def _threshold(args: argparse.Namespace) -> int:
     finally:
         if bar is not None:
             bar.close()
-    if args.json:
-        print(json.dumps(result.to_dict(), indent=2))  # inf -> Infinity (the contract)
-    else:
-        print(result.text())
+    emit(args, result.to_dict(), result.text())
     closed = math.isinf(result.lower) or result.upper is not None
     return 0 if closed else 1
