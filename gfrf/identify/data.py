@@ -224,7 +224,7 @@ def _fill(values: np.ndarray, missing: str, path: Path, columns: str, first_line
                  f"index" + (f" ({dropped} at the ends dropped)" if dropped else "")]
 
 
-def read_data(path: str | Path, output: str, input: str,  # noqa: A002
+def read_data(path: str | Path, output: str, input: str,
               time: str = "t", missing: str = "refuse") -> Data:
     """Read the output, input and (if present) time columns of a CSV file with a header row.
 
@@ -305,7 +305,7 @@ def read_data(path: str | Path, output: str, input: str,  # noqa: A002
                 step, tuple(notes))
 
 
-def read_csv(path: str | Path, output: str, input: str  # noqa: A002
+def read_csv(path: str | Path, output: str, input: str
              ) -> tuple[np.ndarray, np.ndarray]:
     """Read the output and input columns of a CSV file with a header row.
 

@@ -17,11 +17,11 @@ from typing import Any
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.figure import Figure  # noqa: E402
+import matplotlib.pyplot as plt
+from matplotlib.figure import Figure
 
-from gfrf._atomic import atomic_path  # noqa: E402
-from gfrf._results import outward_bracket  # noqa: E402
+from gfrf._atomic import atomic_path
+from gfrf._results import outward_bracket
 
 __all__ = ["num", "bracket_cells", "cell", "table", "header", "save_figure", "mark", "code",
            "DPI"]

@@ -104,7 +104,7 @@ def _initial(system: OdeSystem, initial: Any) -> np.ndarray:
     return z0
 
 
-def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | None = None,  # noqa: A002
+def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | None = None,
              *, t_end: float, closed_loop: bool = False, equation: str = "physical",
              initial: Any = None, method: str = "auto", rtol: float = 1e-8,
              atol: float = 1e-10, t_eval: np.ndarray | None = None, n_out: int = 2001,

@@ -40,7 +40,7 @@ def _cubic(zeta: float) -> str:
     return f"D(y,2) + {2 * zeta!r}*D(y) + y + 0.4*y**2 - 0.3*y**3 = u"
 
 
-def _mp_kernel(den: list[float], a2: float, a3: float):  # noqa: ANN202 - test helper
+def _mp_kernel(den: list[float], a2: float, a3: float):
     """|H_n(j w)| (n = 2, 3) of A(D) y + a2 y^2 + a3 y^3 = u in mpmath, symmetric kernel.
 
     H1 = 1/A, H2 = -a2 H1 H1 / A(s1+s2),
@@ -49,13 +49,13 @@ def _mp_kernel(den: list[float], a2: float, a3: float):  # noqa: ANN202 - test h
     coef = [mp.mpf(c) for c in den]
     b2, b3 = mp.mpf(a2), mp.mpf(a3)
 
-    def h1(s):  # noqa: ANN001, ANN202
+    def h1(s):
         return 1 / mp.polyval(coef, s)
 
-    def h2(s1, s2):  # noqa: ANN001, ANN202
+    def h2(s1, s2):
         return -b2 * h1(s1) * h1(s2) * h1(s1 + s2)
 
-    def h3(s1, s2, s3):  # noqa: ANN001, ANN202
+    def h3(s1, s2, s3):
         p = (b2 * mp.mpf(2) / 3 * (h1(s1) * h2(s2, s3) + h1(s2) * h2(s1, s3)
                                    + h1(s3) * h2(s1, s2)) + b3 * h1(s1) * h1(s2) * h1(s3))
         return -p * h1(s1 + s2 + s3)
@@ -68,7 +68,7 @@ def _mp_kernel(den: list[float], a2: float, a3: float):  # noqa: ANN202 - test h
     return modulus
 
 
-def _corner_max(modulus, lo: np.ndarray, hi: np.ndarray) -> mp.mpf:  # noqa: ANN001
+def _corner_max(modulus, lo: np.ndarray, hi: np.ndarray) -> mp.mpf:
     return max(modulus(*c) for c in itertools.product(*zip(lo.tolist(), hi.tolist(),
                                                            strict=True)))
 

@@ -21,10 +21,10 @@ import pytest
 
 pytest.importorskip("numba")
 
-from gfrf.model.equation import parse_model  # noqa: E402
-from gfrf.model.signals import parse_input  # noqa: E402
-from gfrf.sim import fastsim  # noqa: E402
-from gfrf.sim.system import build_system  # noqa: E402
+from gfrf.model.equation import parse_model
+from gfrf.model.signals import parse_input
+from gfrf.sim import fastsim
+from gfrf.sim.system import build_system
 
 ROOT = Path(__file__).resolve().parents[2]
 DUFFING = "D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"
