@@ -152,15 +152,6 @@ def test_results_have_short_reprs_and_json_dicts() -> None:
         [-math.sqrt(0.99), math.sqrt(0.99)], rel=1e-12)
 
 
-@pytest.mark.parametrize("name", ["gfrf._api", "gfrf._results", "gfrf._atomic"])
-def test_module_examples(name: str) -> None:
-    import doctest
-    import importlib
-
-    result = doctest.testmod(importlib.import_module(name), optionflags=doctest.ELLIPSIS)
-    assert result.attempted > 0 and result.failed == 0
-
-
 def h1_duffing_s(s: complex) -> complex:
     """H1 of the Duffing oscillator at complex s: 1 / (s^2 + 0.2 s + 1)."""
     return 1 / (s * s + 0.2 * s + 1)

@@ -8,17 +8,11 @@ import json
 import math
 
 import pytest
-
-from gfrf.cli import main
+from conftest import run
 
 ZETA = 0.1
 PEAK = 1.0 / (2 * ZETA * math.sqrt(1 - ZETA ** 2))  # ||H1|| of 1/(s^2 + 0.2 s + 1)
 
-
-def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def _cubic_radius(c3: float) -> float:

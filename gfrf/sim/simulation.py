@@ -137,6 +137,8 @@ def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | N
         is not given, to choose its step by step doubling.
     t_eval : array_like, optional
         Output times in seconds; default ``n_out`` points on [0, t_end].
+    n_out : int
+        Number of output times when ``t_eval`` is not given (continuous time).
     blowup : float
         Threshold on |y| at which the run is stopped and reported as a blow-up.
     dt : float, optional

@@ -258,6 +258,8 @@ def select_order(model: Model, amplitude: float, tolerance: float,
 
     Parameters
     ----------
+    model : Model
+        The system whose kernel norms are bounded.
     amplitude : float
         Peak input amplitude A (for a multi-tone input, the sum of the tone amplitudes).
     tolerance : float

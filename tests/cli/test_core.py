@@ -1,19 +1,11 @@
 """CLI contract of `gfrf show` and `gfrf kernel` (JSON keys, exit codes)."""
 
 import json
-from pathlib import Path
 
 import pytest
+from conftest import MODELS, run
 
 from gfrf.cli import main
-
-MODELS = Path(__file__).resolve().parents[2] / "models"
-
-
-def run(capsys, *argv):
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def test_kernel_json_contract(capsys):

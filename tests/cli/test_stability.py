@@ -6,16 +6,12 @@ import json
 import math
 
 import pytest
+from conftest import run
 
 from gfrf.cli import main
 
 STABLE = "D(y,2) + D(y) + 2*y + y**3 = u"
 
-
-def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def test_verdict_json_inconclusive_exit_1(capsys: pytest.CaptureFixture[str]) -> None:

@@ -416,16 +416,6 @@ def test_worked_example_files_are_consistent_and_close_to_the_truth():
                            rtol=1e-12, atol=1e-14)
 
 
-@pytest.mark.parametrize("name", ["gfrf.identify.narx", "gfrf.identify.data",
-                                  "gfrf.identify.operating", "gfrf.identify.validate"])
-def test_module_examples(name):
-    import doctest
-    import importlib
-
-    result = doctest.testmod(importlib.import_module(name), optionflags=doctest.ELLIPSIS)
-    assert result.attempted > 0 and result.failed == 0
-
-
 def test_the_top_level_name_and_the_package_face():
     import gfrf
     import gfrf.identify

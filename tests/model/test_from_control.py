@@ -118,11 +118,3 @@ def test_parse_model_type_check_points_to_the_constructors() -> None:
     with pytest.raises(TypeError, match="takes the equation as a str"):
         gfrf.parse_model(3)
 
-
-def test_module_example() -> None:
-    import doctest
-
-    import gfrf.model.from_control as module
-
-    result = doctest.testmod(module)
-    assert result.attempted > 0 and result.failed == 0

@@ -149,11 +149,3 @@ def test_refusals():
     with pytest.raises(ConvergenceError, match="x\\(0\\)"):
         fourier_transition(0.2, 2.8, "1/4")
 
-
-def test_module_example_runs():
-    import doctest
-
-    import gfrf.periodic.spectral as spectral
-
-    result = doctest.testmod(spectral)
-    assert result.attempted > 0 and result.failed == 0

@@ -3,12 +3,11 @@
 References: a scipy ``solve_ivp`` of the Duffing equation written here (not gfrf's
 simulator), the kernel-based Volterra prediction ``gfrf.sim.volterra.predict`` (the
 compiled recursion of gfrf.kernels, another code path) at several parameter values,
-closed forms of the first orders, and doctests.
+closed forms of the first orders.
 """
 
 from __future__ import annotations
 
-import doctest
 import json
 
 import numpy as np
@@ -156,11 +155,6 @@ def test_cli_bad_input_exit_2(argv: list[str], capsys) -> None:
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert err.startswith("gfrf: error:") and "Traceback" not in err
-
-
-def test_module_example() -> None:
-    result = doctest.testmod(ofrf_module)
-    assert result.attempted > 0 and result.failed == 0
 
 
 def test_frequency_not_reached_is_said() -> None:

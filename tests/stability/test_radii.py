@@ -173,15 +173,6 @@ def test_page_headline_never_says_stable_on_an_estimate() -> None:
     assert "stable" not in verdict(model, 1, 0.1, False, "none").verdict
 
 
-@pytest.mark.parametrize("name", ["gfrf.stability.static", "gfrf.stability.theorem1"])
-def test_module_examples(name: str) -> None:
-    import doctest
-    import importlib
-
-    result = doctest.testmod(importlib.import_module(name), optionflags=doctest.ELLIPSIS)
-    assert result.attempted > 0 and result.failed == 0
-
-
 @pytest.mark.parametrize(("path", "w"), [(PENDULUM, 0.77), (NARX, 2.1), (CARTPOLE, 4.1)])
 def test_harmonic_values_are_symmetric_kernel_values(path: str, w: float) -> None:
     """Y[k, l] / C(n, k) of the harmonic recursion is H_n(w x k, -w x l) of

@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import csv
-import doctest
-import importlib
 import json
 import tomllib
 from dataclasses import replace
@@ -162,12 +160,6 @@ def test_cli_parquet_round_trip(tmp_path: Path, capsys: pytest.CaptureFixture) -
     data = pq.read_table(out).to_pylist()
     assert [r["rho"] for r in data] == [1.0, 2.0]
     assert all(r["h1"] > 0 and r["M3"] > 0 for r in data)
-
-
-@pytest.mark.parametrize("name", ["gfrf.sweep.run", "gfrf.model.template"])
-def test_module_examples(name: str) -> None:
-    result = doctest.testmod(importlib.import_module(name), optionflags=doctest.ELLIPSIS)
-    assert result.attempted > 0 and result.failed == 0
 
 
 def test_map_classes_and_dimension_limit(tmp_path: Path) -> None:
