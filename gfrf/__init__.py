@@ -28,8 +28,7 @@ Time and frequency domain
 Sweeps
     :mod:`gfrf.sweep.run` (``gfrf.sweep.run.sweep``), SweepResult
 Errors
-    GfrfError and its subclasses ModelError, ArgumentError, ConvergenceError,
-    InstabilityError
+    GfrfError and its subclasses ModelError, ArgumentError, ConvergenceError
 
 Result objects have a short ``repr`` and a ``to_dict()`` that :func:`json.dumps`
 accepts; Verdict, Margin, SimulationResult, VolterraPrediction, OFRF and ClosedLoop
@@ -58,7 +57,6 @@ from gfrf.errors import (
     ArgumentError,
     ConvergenceError,
     GfrfError,
-    InstabilityError,
     ModelError,
 )
 
@@ -93,7 +91,6 @@ __all__ = [
     "ArgumentError",
     "ConvergenceError",
     "GfrfError",
-    "InstabilityError",
     "ModelError",
     *sorted({*_LAZY, *_PLANT}),
 ]

@@ -29,6 +29,7 @@ import math
 import sys
 from typing import TYPE_CHECKING
 
+from gfrf._results import proof_word
 from gfrf.cli._models import add_model_argument, resolve_model
 from gfrf.cli._output import add_json_flag, emit
 from gfrf.errors import ArgumentError
@@ -130,11 +131,9 @@ def _bound_line(b: Bound) -> str:
 
 def _check_order(order: int) -> None:
     """Refuse an order outside 1..MAX_KERNEL_ORDER before any work."""
-    from gfrf.kernels.recursion import MAX_KERNEL_ORDER
+    from gfrf.kernels.recursion import check_order
 
-    if not 1 <= order <= MAX_KERNEL_ORDER:
-        raise ArgumentError(f"--order must be between 1 and MAX_KERNEL_ORDER = "
-                            f"{MAX_KERNEL_ORDER}, got {order}")
+    check_order(order, "--order")
 
 
 def _norm(args: argparse.Namespace) -> int:
@@ -187,8 +186,7 @@ def _verdict_text(name: str, v: Verdict, proof: str = "") -> list[str]:
                  if "theta_term" in row else "")
         lines.append(f"  n = {row['order']}: M_n = {_num(row['majorant'])}, "
                      f"term = {_num(row['majorant_term'])}{extra}")
-    kind = ({"interval": "proven", "float": "certified (float)"}.get(v.radius_proof, "estimate")
-            if v.radius_certified else "estimate")
+    kind = proof_word(v.radius_proof) if v.radius_certified else "estimate"
     lines += ["", f"radius (lower bound r*, {kind}): {_num(v.radius)}"
               + (" (units of the reference r)" if v.loop else "")]
     if v.loop_radius_upper is not None:

@@ -20,7 +20,6 @@ from typing import Any
 
 from gfrf.cli._models import add_model_argument, resolve_model
 from gfrf.cli._output import add_json_flag, emit
-from gfrf.errors import ArgumentError
 
 __all__ = ["register"]
 
@@ -58,11 +57,9 @@ def _progress() -> tuple[Callable[[int, int], None] | None, Any]:
 
 
 def _threshold(args: argparse.Namespace) -> int:
-    from gfrf.kernels.recursion import MAX_KERNEL_ORDER
+    from gfrf.kernels.recursion import check_order
 
-    if not 1 <= args.order <= MAX_KERNEL_ORDER:
-        raise ArgumentError(f"--order must be between 1 and MAX_KERNEL_ORDER = "
-                            f"{MAX_KERNEL_ORDER}, got {args.order}")
+    check_order(args.order, "--order")
     mf = resolve_model(args)
     from gfrf.twosided.threshold import threshold
 

@@ -14,10 +14,6 @@ from decimal import ROUND_CEILING, Decimal
 from pathlib import Path
 from typing import Any
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 from matplotlib.figure import Figure
 
 from gfrf._atomic import atomic_path
@@ -120,11 +116,11 @@ def header(title: str, summary: Sequence[str], regenerate: str) -> str:
 
 
 def save_figure(fig: Figure, path: Path) -> str:
-    """Write ``fig`` as PNG (Agg, :data:`DPI`, no date metadata), close it, return the name."""
+    """Write ``fig`` as PNG (Agg, :data:`DPI`, no date metadata), return the name.
+
+    Report figures are made with :func:`gfrf._results.subplots` (no pyplot, so nothing to
+    close and no backend switched)."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    try:
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=DPI, metadata={"Software": None})
-    finally:
-        plt.close(fig)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=DPI, metadata={"Software": None})
     return path.name

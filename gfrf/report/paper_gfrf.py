@@ -205,7 +205,7 @@ def simulation_table(rows: list[list[object]]) -> str:
 
 
 def _cartpole_section(quick: bool) -> tuple[list[str], dict[str, Any], str]:
-    """The cart-pole findings (issue 11, section 3): text, drives by stem, summary line."""
+    """The cart-pole findings: text, drives by stem, summary line."""
     reduced = load_model(MODELS_DIR / MODELS["5 (cart-pole, eq (16))"])
     full = load_model(MODELS_DIR / MODELS["4 (cart-pole, eq (12))"])
     inertia = inertia_reversal(reduced)

@@ -85,12 +85,9 @@ def plot_stability_map(result: SweepResult, path: str | Path, title: str = "") -
     if len(result.axes) > 2:
         raise ArgumentError(f"--plot draws one or two swept parameters, got "
                             f"{len(result.axes)}: sweep fewer or drop --plot")
-    import matplotlib
+    from gfrf._results import subplots
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(6.4, 4.8))
+    fig, ax = subplots(figsize=(6.4, 4.8))
     if len(result.axes) == 1:
         _one(ax, result)
     else:
@@ -98,11 +95,8 @@ def plot_stability_map(result: SweepResult, path: str | Path, title: str = "") -
     ax.set_title(map_title(result, title), fontsize=10)
     fig.tight_layout()
     out = Path(path)
-    try:
-        with atomic_path(out) as tmp:
-            fig.savefig(tmp, dpi=120)
-    finally:
-        plt.close(fig)
+    with atomic_path(out) as tmp:
+        fig.savefig(tmp, dpi=120)
     return out
 
 

@@ -295,7 +295,6 @@ def test_every_output_file_is_written_through_a_temporary_path() -> None:
     allowed = {
         "gfrf/_atomic.py",  # the helper itself
         "gfrf/bench/identify.py",  # benchmark input data in a temporary folder
-        "gfrf/sim/truncation.py",  # figure_error_vs_amplitude: a library helper, no CLI use
         "gfrf/_cache.py",  # numba cache anchors: mkstemp file + rename
         "gfrf/model/modelfile.py",  # fdopen of a model file for reading ("rb")
     }
