@@ -36,6 +36,13 @@ PROOF_WORDS: dict[str, str] = {"interval": "proven", "float": "certified (float)
 def proof_word(level: str) -> str:
     """The word for a number at proof ``level`` (:data:`PROOF_WORDS`; unknown: estimate).
 
+    Parameters
+    ----------
+    level : str
+        ``"interval"``, ``"float"`` or anything else (an estimate).
+
+    Examples
+    --------
     >>> proof_word("interval"), proof_word("float"), proof_word("none")
     ('proven', 'certified (float)', 'estimate')
     """
@@ -105,6 +112,13 @@ def json_ready(value: Any) -> Any:
     (a number that is not known; result objects never carry one where a value was
     proven).
 
+    Parameters
+    ----------
+    value : object
+        Nested dicts, lists, tuples, numbers, numpy values and strings.
+
+    Examples
+    --------
     >>> json_ready({"r": float("inf"), "x": float("nan"), "z": 1j, 2: (1, -float("inf"))})
     {'r': 'inf', 'x': None, 'z': {'re': 0.0, 'im': 1.0}, '2': [1, '-inf']}
     """
@@ -129,6 +143,15 @@ def dumps(value: Any, *, indent: int | None = 2) -> str:
     output parses with ``json.loads(text, parse_constant=...)`` raising on
     ``NaN``/``Infinity``.
 
+    Parameters
+    ----------
+    value : object
+        What :func:`json_ready` accepts.
+    indent : int, optional
+        Indentation (None: one line).
+
+    Examples
+    --------
     >>> print(dumps({"lower": float("inf")}, indent=None))
     {"lower": "inf"}
     """
@@ -234,7 +257,17 @@ def subplots(*args: Any, figsize: tuple[float, float] | None = None,
              **kwargs: Any) -> tuple[Any, Any]:
     """``pyplot.subplots`` without pyplot: a ``Figure`` and its axes (``Figure.subplots``
     arguments), bound to no backend and registered nowhere, so the caller's matplotlib
-    state (a notebook's backend, its open figures) is untouched and nothing needs closing."""
+    state (a notebook's backend, its open figures) is untouched and nothing needs closing.
+
+    Parameters
+    ----------
+    *args
+        Rows and columns, as ``Figure.subplots``.
+    figsize : tuple of float, optional
+        Width and height in inches.
+    **kwargs
+        Passed to ``Figure.subplots`` (``sharex``, ``squeeze``, ...).
+    """
     from matplotlib.figure import Figure
 
     figure = Figure(figsize=figsize)

@@ -96,12 +96,29 @@ def add_json_flag(parser: argparse.ArgumentParser) -> None:
 
 def to_jsonable(value: Any) -> Any:
     """JSON-safe values (:func:`gfrf._results.json_ready`: infinity is ``"inf"``, NaN
-    ``null``)."""
+    ``null``).
+
+    Parameters
+    ----------
+    value : object
+        A payload.
+    """
     return json_ready(value)
 
 
 def emit(args: argparse.Namespace, payload: dict[str, Any], text: str) -> None:
-    """Print ``payload`` as JSON when ``--json`` was given, else ``text``."""
+    """Print ``payload`` as strict JSON when ``--json`` was given, else ``text`` with the
+    payload's user text (and every other control character) escaped: the one way out.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed arguments (``args.json``).
+    payload : dict
+        The result, as :func:`gfrf._results.dumps` encodes it.
+    text : str
+        The human-readable result.
+    """
     if getattr(args, "json", False):
         print(dumps(payload))
     else:

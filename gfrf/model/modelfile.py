@@ -388,6 +388,13 @@ def looks_like_path(text: str) -> bool:
     """True when ``text`` names a file rather than writes an equation: it ends in
     ``.toml``, or has no ``=`` and is an existing file or made of file-name characters only.
 
+    Parameters
+    ----------
+    text : str
+        A MODEL argument.
+
+    Examples
+    --------
     >>> [looks_like_path(t) for t in ("models/duffing.tom", "duffing", "D(y) + y = u")]
     [True, True, False]
     """
