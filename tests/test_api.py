@@ -1,4 +1,4 @@
-"""The Python API of the package (issue 12): ModelFile everywhere, python-control interop,
+"""The Python API of the package: ModelFile everywhere, python-control interop,
 short reprs, JSON-ready results, ``gfrf.simulate`` that stays a function."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Caches are code (issue 23 §1-4): only code this process generated runs.
+"""Caches are code: only code this process generated runs.
 
 Each case warms a cache in a fresh ``GFRF_CACHE_DIR``, plants something that would create a
 canary file (a ``.pyc`` beside a cached module, numba index pickles in a folder that other

@@ -1,4 +1,4 @@
-"""Issue 24: no false sentence at the edges (huge coefficients, poles, pole clusters,
+"""No false sentence at the edges (huge coefficients, poles, pole clusters,
 mixed timebases, exit codes).  Every expected value comes from a closed form, mpmath or
 an exact scaling law, never from the code's own output."""
 

@@ -1,4 +1,4 @@
-"""Notebook habits (issue 26): short reprs, LaTeX and Markdown views, VolterraPrediction.plot,
+"""Notebook habits: short reprs, LaTeX and Markdown views, VolterraPrediction.plot,
 one signature per function (gfrf.verdict's norms=, gfrf.predict's input text)."""
 
 from __future__ import annotations

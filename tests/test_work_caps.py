@@ -1,4 +1,4 @@
-"""Issue 28: tight brackets by default, work caps, memory caps, linear tone parsing,
+"""Tight brackets by default, work caps, memory caps, linear tone parsing,
 CPU-independent report figures, ``gfrf bench`` from any directory."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Hard cases where floats fail and intervals do not (issue 13 section 5).
+"""Hard cases where floats fail and intervals do not.
 
 Each case compares the interval path (``proof="interval"``) and the float path
 (``proof="float"``) with an independent reference: mpmath at 50+ digits on the exact

@@ -1,4 +1,4 @@
-"""Faults of the CLI (issue 10 §4): atomic outputs, Ctrl-C, closed pipes, bad schedulers, --plot."""
+"""Faults of the CLI: atomic outputs, Ctrl-C, closed pipes, bad schedulers, --plot."""
 
 from __future__ import annotations
 

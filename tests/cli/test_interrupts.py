@@ -1,4 +1,4 @@
-"""Ctrl-C reaches compiled loops (issue 23 §10).
+"""Ctrl-C reaches compiled loops.
 
 The fast path's RK4 loop runs in compiled slices that return to Python, so a SIGINT that
 lands inside it raises KeyboardInterrupt within a slice; slicing changes no bit of the

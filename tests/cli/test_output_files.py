@@ -1,4 +1,4 @@
-"""Outputs: write what the user named, nothing else (issue 23 §5, §6).
+"""Outputs: write what the user named, nothing else.
 
 A device or FIFO named as an output is written in place (a device stays a device,
 ``/dev/full`` is an error), and every output path is checked before any work, with the

@@ -1,4 +1,4 @@
-"""Identification you can trust (issue 25): validation, offsets, noise, data checks, bytes.
+"""Identification you can trust: validation, offsets, noise, data checks, bytes.
 
 References are independent of the code under test: correlation statistics of
 synthetic residuals with known structure, the binomial quantile from scipy.stats,

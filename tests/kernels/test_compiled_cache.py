@@ -1,4 +1,4 @@
-"""On-disk cache of the numba-compiled kernels (issue 12): a second process pays no compile,
+"""On-disk cache of the numba-compiled kernels: a second process pays no compile,
 the code that runs is always the freshly generated source, an unwritable cache degrades to
 an in-memory compile."""
 

@@ -1,4 +1,4 @@
-"""Text a model carries is data on a terminal and in a report (issue 23 §7-9)."""
+"""Text a model carries is data on a terminal and in a report."""
 
 from __future__ import annotations
 

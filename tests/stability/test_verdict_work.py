@@ -1,4 +1,4 @@
-"""A verdict does only the work it reports (issue 15 s3): ``norms=none|fast|tight``.
+"""A verdict does only the work it reports: ``norms=none|fast|tight``.
 
 The conclusions (verdict, r*, its proof label, every condition) must not depend on the
 bracket level; tighter brackets lie inside the fast ones; the fast level runs no

@@ -1,4 +1,4 @@
-"""Issue 27: the two-sided answer of ``gfrf threshold`` (lower proven, upper a witness).
+"""The two-sided answer of ``gfrf threshold`` (lower proven, upper a witness).
 
 The checks are independent of the code under test: the energy certificate's dV/dt is
 recomputed with sympy from V and the ODE; the witness is re-simulated with a
