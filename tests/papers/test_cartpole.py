@@ -1,4 +1,4 @@
-"""The paper-001 findings of issue 11 (cart-pole loop, input gain alpha, theta_3 reading).
+"""The paper-001 findings (cart-pole loop, input gain alpha, theta_3 reading).
 
 Every number is pinned to an independent computation: Routh-Hurwitz and static series
 in exact rationals (fractions.Fraction), closed forms of the pendulum majorant, direct

@@ -1,4 +1,4 @@
-"""The three radii of issue 11 s2: proven lower r*, proven upper bound, labelled estimate.
+"""The three radii: proven lower r*, proven upper bound, labelled estimate.
 
 Every reference is independent of gfrf.stability.static and gfrf.stability.estimate:
 closed-form branch points of the static maps, sympy series of the closed-form static branch,
