@@ -36,13 +36,18 @@ demo: $(STAMP)
 report: $(STAMP)
 	$(BIN)/gfrf report --out reports/
 
-# The layers first (import-linter, contracts in pyproject.toml: a few seconds), then the suite.
+# The static checks first (the layers with import-linter, ruff with unused-noqa detection,
+# mypy; configured in pyproject.toml), then the suite on every core (pytest-xdist).
+# `make test-slow` runs the tests marked slow (CI runs both: .ci/run).
+JOBS ?= auto
 test: $(STAMP)
 	$(BIN)/lint-imports --no-cache
-	$(BIN)/python -m pytest -q
+	$(BIN)/ruff check gfrf tests
+	$(BIN)/mypy gfrf
+	$(BIN)/python -m pytest -q -n $(JOBS)
 
 test-slow: $(STAMP)
-	$(BIN)/python -m pytest -q -m slow
+	$(BIN)/python -m pytest -q -n $(JOBS) -m slow
 
 bench: $(STAMP)
 	$(BIN)/gfrf bench --out reports/

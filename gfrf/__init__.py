@@ -35,8 +35,7 @@ Beyond the series radius
 Sweeps
     :mod:`gfrf.sweep.run` (``gfrf.sweep.run.sweep``), SweepResult
 Errors
-    GfrfError and its subclasses ModelError, ArgumentError, ConvergenceError,
-    InstabilityError
+    GfrfError and its subclasses ModelError, ArgumentError, ConvergenceError
 
 Result objects have a short ``repr`` and a ``to_dict()`` that :func:`json.dumps`
 accepts; Verdict, Margin, SimulationResult, VolterraPrediction, OFRF and ClosedLoop
@@ -65,7 +64,6 @@ from gfrf.errors import (
     ArgumentError,
     ConvergenceError,
     GfrfError,
-    InstabilityError,
     ModelError,
 )
 
@@ -105,7 +103,6 @@ __all__ = [
     "ArgumentError",
     "ConvergenceError",
     "GfrfError",
-    "InstabilityError",
     "ModelError",
     *sorted({*_LAZY, *_PLANT}),
 ]

@@ -130,12 +130,13 @@ def verdict(model: Model | ModelFile, order: int = 5, amplitude: float = 1.0,
     """
     from dataclasses import replace
 
-    from gfrf.model.modelfile import ModelFile
+    from gfrf.model.equation import Model
+    from gfrf.model.modelfile import resolve_model
     from gfrf.stability.criteria import verdict as criteria_verdict
 
     if controller is not None:
-        base = model if isinstance(model, ModelFile) else ModelFile(as_plant(model))
+        base = resolve_model(model)
         model = replace(base, controller=_controller(controller, feedback, base.plant))
-    elif not isinstance(model, ModelFile):
-        model = as_plant(model)
+    elif not isinstance(model, Model):
+        model = resolve_model(model)
     return criteria_verdict(model, order, amplitude, with_norms, proof, norms=norms)

@@ -15,12 +15,38 @@ R(radius=0.125)
 
 from __future__ import annotations
 
+import json
 import math
+from dataclasses import dataclass, fields
 from decimal import ROUND_CEILING, ROUND_FLOOR, Decimal
-from typing import Any
+from typing import Any, ClassVar
 
-__all__ = ["outward_bracket", "short_repr", "plain", "markdown_table", "new_figure",
-           "verdict_markdown", "verdict_figure", "simulation_markdown", "simulation_figure"]
+__all__ = ["Result", "PROOF_WORDS", "proof_word", "outward_bracket", "short_repr", "plain",
+           "json_ready", "dumps", "markdown_table", "new_figure", "subplots", "verdict_markdown",
+           "verdict_figure", "simulation_markdown", "simulation_figure"]
+
+
+#: How a number at each level of proof is called in text: the one mapping of the package
+#: (``interval``: proven in exact or ball arithmetic; ``float``: a sound method in floating
+#: point; anything else is an estimate).
+PROOF_WORDS: dict[str, str] = {"interval": "proven", "float": "certified (float)",
+                               "none": "estimate"}
+
+
+def proof_word(level: str) -> str:
+    """The word for a number at proof ``level`` (:data:`PROOF_WORDS`; unknown: estimate).
+
+    Parameters
+    ----------
+    level : str
+        ``"interval"``, ``"float"`` or anything else (an estimate).
+
+    Examples
+    --------
+    >>> proof_word("interval"), proof_word("float"), proof_word("none")
+    ('proven', 'certified (float)', 'estimate')
+    """
+    return PROOF_WORDS.get(level, "estimate")
 
 
 def outward_bracket(lower: float, upper: float, most: int = 6
@@ -77,6 +103,119 @@ def plain(value: Any) -> Any:
     return value
 
 
+def json_ready(value: Any) -> Any:
+    """``value`` as strict JSON data: the package's one JSON convention.
+
+    Numpy scalars and arrays become Python numbers and lists, tuples lists, complex
+    numbers ``{"re": ..., "im": ...}``, dictionary keys strings.  JSON has no infinity
+    and no NaN: an infinite float is the string ``"inf"`` (``"-inf"``), a NaN is ``null``
+    (a number that is not known; result objects never carry one where a value was
+    proven).
+
+    Parameters
+    ----------
+    value : object
+        Nested dicts, lists, tuples, numbers, numpy values and strings.
+
+    Examples
+    --------
+    >>> json_ready({"r": float("inf"), "x": float("nan"), "z": 1j, 2: (1, -float("inf"))})
+    {'r': 'inf', 'x': None, 'z': {'re': 0.0, 'im': 1.0}, '2': [1, '-inf']}
+    """
+    if isinstance(value, dict):
+        return {str(k): json_ready(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [json_ready(v) for v in value]
+    if hasattr(value, "tolist") and hasattr(value, "dtype"):  # numpy array or scalar
+        return json_ready(value.tolist())
+    if isinstance(value, complex):
+        return {"re": json_ready(value.real), "im": json_ready(value.imag)}
+    if isinstance(value, float):
+        if math.isnan(value):
+            return None
+        if math.isinf(value):
+            return "inf" if value > 0 else "-inf"
+    return value
+
+
+def dumps(value: Any, *, indent: int | None = 2) -> str:
+    """Strict JSON text of ``value`` (:func:`json_ready`, then ``allow_nan=False``): every
+    output parses with ``json.loads(text, parse_constant=...)`` raising on
+    ``NaN``/``Infinity``.
+
+    Parameters
+    ----------
+    value : object
+        What :func:`json_ready` accepts.
+    indent : int, optional
+        Indentation (None: one line).
+
+    Examples
+    --------
+    >>> print(dumps({"lower": float("inf")}, indent=None))
+    {"lower": "inf"}
+    """
+    return json.dumps(json_ready(value), indent=indent, allow_nan=False)
+
+
+@dataclass(frozen=True, kw_only=True, repr=False)
+class Result:
+    """The base of result objects: frozen, built by keyword, one ``to_dict``, ``repr`` and
+    Markdown view derived from the fields.
+
+    A subclass is declared ``@dataclass(frozen=True, kw_only=True, repr=False)`` (so the
+    shared ``__repr__`` stays) and may set two class attributes:
+
+    ``_exclude``
+        Fields left out of :meth:`to_dict`, each for a stated reason in the subclass's
+        docstring (a large array, a callable, a derived object with its own view).
+    ``_headline``
+        Fields shown by ``repr`` (default: the first three).
+
+    >>> @dataclass(frozen=True, kw_only=True, repr=False)
+    ... class Radius(Result):
+    ...     _exclude = ("samples",)
+    ...     value: float
+    ...     proof: str
+    ...     samples: tuple[float, ...] = ()
+    >>> r = Radius(value=float("inf"), proof="interval", samples=(1.0, 2.0))
+    >>> r
+    Radius(value=inf, proof='interval', samples=(1.0, 2.0))
+    >>> r.to_dict()
+    {'value': inf, 'proof': 'interval'}
+    >>> dumps(r.to_dict(), indent=None)
+    '{"value": "inf", "proof": "interval"}'
+    """
+
+    _exclude: ClassVar[tuple[str, ...]] = ()
+    _headline: ClassVar[tuple[str, ...]] = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        """The fields (but :attr:`_exclude`) as plain values: nested results as their
+        ``to_dict()``, complex numbers ``{"re", "im"}``, numpy values as Python ones."""
+        return {f.name: _plain_value(getattr(self, f.name)) for f in fields(self)
+                if f.name not in self._exclude}
+
+    def __repr__(self) -> str:
+        names = self._headline or tuple(f.name for f in fields(self))[:3]
+        return short_repr(self, *names)
+
+    def _repr_markdown_(self) -> str:
+        rows = [(name, value) for name, value in self.to_dict().items()
+                if value is None or isinstance(value, (bool, int, float, str))]
+        return f"**{type(self).__name__}**\n\n" + markdown_table(("field", "value"), rows)
+
+
+def _plain_value(value: Any) -> Any:
+    if isinstance(value, Result):
+        return value.to_dict()
+    if isinstance(value, (list, tuple)):
+        return [_plain_value(v) for v in value]
+    if isinstance(value, dict):
+        return {str(k): _plain_value(v) for k, v in value.items()}
+    return plain(value)
+
+
 def _cell(value: Any) -> str:
     """A Markdown table cell: floats to 6 digits, None as an em dash, ``|`` escaped."""
     if value is None:
@@ -112,6 +251,27 @@ def new_figure(rows: int, columns: int, size: tuple[float, float]) -> tuple[Any,
 
     figure = Figure(figsize=size, layout="constrained")
     return figure, figure.subplots(rows, columns, squeeze=False)
+
+
+def subplots(*args: Any, figsize: tuple[float, float] | None = None,
+             **kwargs: Any) -> tuple[Any, Any]:
+    """``pyplot.subplots`` without pyplot: a ``Figure`` and its axes (``Figure.subplots``
+    arguments), bound to no backend and registered nowhere, so the caller's matplotlib
+    state (a notebook's backend, its open figures) is untouched and nothing needs closing.
+
+    Parameters
+    ----------
+    *args
+        Rows and columns, as ``Figure.subplots``.
+    figsize : tuple of float, optional
+        Width and height in inches.
+    **kwargs
+        Passed to ``Figure.subplots`` (``sharex``, ``squeeze``, ...).
+    """
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=figsize)
+    return figure, figure.subplots(*args, **kwargs)
 
 
 def verdict_markdown(verdict: Any) -> str:

@@ -11,7 +11,6 @@ __all__ = [
     "ModelError",
     "ArgumentError",
     "ConvergenceError",
-    "InstabilityError",
 ]
 
 
@@ -30,6 +29,3 @@ class ArgumentError(GfrfError, ValueError):
 class ConvergenceError(GfrfError, RuntimeError):
     """An iterative computation did not reach its tolerance; the message gives the residual."""
 
-
-class InstabilityError(GfrfError, ArithmeticError):
-    """A quantity is undefined because a linear part is unstable or marginally stable."""

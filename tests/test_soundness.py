@@ -1,4 +1,4 @@
-"""Soundness (issue 16): every certified number is right or refused.
+"""Soundness: every certified number is right or refused.
 
 Each case of the audit is checked against an independent reference computed here:
 closed forms evaluated with mpmath at 50 digits on the exact binary values of the

@@ -26,6 +26,7 @@ from typing import Any
 from tqdm import tqdm
 
 from gfrf._atomic import atomic_write_text
+from gfrf._data import MODELS_DIR
 
 __all__ = ["BenchSection", "SECTION_MODULES", "MODELS_DIR", "best_of", "bundled_model",
            "figure_dir", "load_note", "machine_description", "run_all", "write_report",
@@ -33,7 +34,6 @@ __all__ = ["BenchSection", "SECTION_MODULES", "MODELS_DIR", "best_of", "bundled_
 
 #: The bundled model files, found next to the package (a source checkout or an editable
 #: install), so ``gfrf bench`` runs from any directory.
-MODELS_DIR = Path(__file__).resolve().parents[2] / "models"
 
 
 def bundled_model(name: str) -> str:

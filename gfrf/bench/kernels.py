@@ -16,11 +16,11 @@ from __future__ import annotations
 
 import os
 import time
-from pathlib import Path
 
 import numpy as np
 import sympy as sp
 
+from gfrf._data import MODELS_DIR
 from gfrf.bench import BenchSection, best_of, load_note
 from gfrf.kernels.probing import probe_kernel
 from gfrf.kernels.recursion import GFRFGenerator, kernel
@@ -36,7 +36,7 @@ def _rate(points: int, seconds: float) -> str:
 def run(quick: bool) -> BenchSection:
     """Time symbolic generation and numeric evaluation; return the report section."""
     load = os.getloadavg()
-    model = load_model(Path(__file__).resolve().parents[2] / "models" / "cartpole.toml").plant
+    model = load_model(MODELS_DIR / "cartpole.toml").plant
     top = 5 if quick else 7
     fresh = GFRFGenerator(model)
     start = time.perf_counter()

@@ -1,11 +1,11 @@
-"""Limits in seconds: the inputs of issue 28, each answered or refused, beside its baseline.
+"""Limits in seconds: hard inputs, each answered or refused, beside its baseline.
 
 Each input runs as a fresh ``gfrf`` process on one core (BLAS and numba thread pools set
 to 1); CPU is user + system time of that process (imports included), wall time from
 launch to exit, memory its peak resident set.  An input is *answered* (exit 0 or 1: a
 result) or *refused* (exit 2 with a ``gfrf: error:`` line naming the limit, before the
-work).  The baselines are the issue's measurements on main ``d672e5b`` (wall time on a
-loaded 2-core machine).
+work).  The baselines are the wall times of the same inputs without the work caps
+(measured once on a loaded 2-core machine; the record is in reports/).
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ _TIMEOUT = 900.0
 
 
 def _cases(quick: bool) -> list[tuple[str, list[str], str]]:
-    """(label, gfrf arguments, baseline of issue 28)."""
+    """(label, gfrf arguments, baseline without the work caps)."""
     pendulum, cartpole = bundled_model("hanging_pendulum.toml"), bundled_model("cartpole.toml")
     cases = [
         ("kernel, pendulum, order 11",
@@ -86,8 +86,8 @@ def run(quick: bool) -> BenchSection:
              "Refusals name the estimate and the flag that goes on anyway (gfrf kernel "
              "--max-work, gfrf norm --max-boxes).", load_note(load)]
     return BenchSection(
-        title="Limits in seconds: the inputs of issue 28",
+        title="Limits in seconds: hard inputs answered or refused",
         intro=" ".join(__doc__.split("\n\n", 1)[1].split()),
-        columns=["input", "before (issue 28)", "now", "CPU (s)", "wall (s)", "peak MB",
+        columns=["input", "baseline (no caps)", "now", "CPU (s)", "wall (s)", "peak MB",
                  "within 10 s CPU", "last line"],
         rows=rows, notes=notes)

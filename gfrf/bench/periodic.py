@@ -1,4 +1,4 @@
-"""Speed and error of the parametric-pendulum methods (issue 5), all measured in one run.
+"""Speed and error of the parametric-pendulum methods, all measured in one run.
 
 Rows: each method's transition curve over ``eps`` in [0, 0.5] at ``x(0) = 0.5`` (error
 against the exact curve of eq (4)); perturbation order 2/4/6 vs error vs

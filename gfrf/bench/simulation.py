@@ -31,6 +31,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from gfrf._atomic import atomic_write_figure
+from gfrf._data import MODELS_DIR
 from gfrf.bench import BenchSection, best_of, figure_dir, load_note
 from gfrf.model.modelfile import load_model
 from gfrf.model.signals import parse_input
@@ -113,8 +114,7 @@ def _default_vs_rk45(rtols: list[float], repeat: int) -> dict[str, dict[str, Cur
 
 def _model_curves(file: str, loop: bool, f: Any, text: str, y0: tuple[float, ...],
                   t_end: float, rtols: list[float], repeat: int) -> dict[str, Curve]:
-    root = Path(__file__).resolve().parents[2]
-    system = build_system(load_model(root / "models" / file), closed_loop=loop)
+    system = build_system(load_model(MODELS_DIR / file), closed_loop=loop)
     signal = parse_input(text)
     t_eval = np.linspace(0.0, t_end, 2001)
     ref = _plain("DOP853", 1e-13, 1e-15, t_eval, f, y0)
@@ -131,8 +131,7 @@ def _model_curves(file: str, loop: bool, f: Any, text: str, y0: tuple[float, ...
 
 def measure(quick: bool) -> dict[str, Any]:
     """Run the sweeps; return curves of (setting, seconds, error) and the compile time."""
-    root = Path(__file__).resolve().parents[2]
-    system = build_system(load_model(root / "models" / "hanging_pendulum.toml"),
+    system = build_system(load_model(MODELS_DIR / "hanging_pendulum.toml"),
                           equation="polynomial")
     signal = parse_input(_INPUT)
     t_eval = np.linspace(0.0, _T_END, 2001)
@@ -181,11 +180,9 @@ def _time_at(error: float, curve: Curve) -> float | None:
 
 
 def _figure(curves: dict[str, Curve], path: Path) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from gfrf._results import subplots
 
-    fig, ax = plt.subplots(figsize=(5.5, 4))
+    fig, ax = subplots(figsize=(5.5, 4))
     for name, rows in curves.items():
         ax.loglog([e for _, _, e in rows], [s for _, s, _ in rows], "o-", label=name)
     ax.set_xlabel("max error vs DOP853 rtol 1e-13 (rad)")
@@ -194,10 +191,7 @@ def _figure(curves: dict[str, Curve], path: Path) -> None:
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    try:
-        atomic_write_figure(fig, path, dpi=120)
-    finally:
-        plt.close(fig)
+    atomic_write_figure(fig, path, dpi=120)
 
 
 def _span(values: list[float]) -> str:

@@ -21,17 +21,18 @@ import sys
 import time
 from pathlib import Path
 
+from gfrf._data import MODELS_DIR
 from gfrf.bench import BenchSection, gfrf_command, load_note
 
 __all__ = ["run"]
 
 _ROOT = Path(__file__).resolve().parents[2]
-_MODEL = str(_ROOT / "models" / "hanging_pendulum.toml")
+_MODEL = str(MODELS_DIR / "hanging_pendulum.toml")
 _HEAVY = ("control", "matplotlib", "numba", "dask", "distributed", "sympy", "scipy", "mpmath",
           "flint", "pandas")
 _SIMULATE = ["simulate", _MODEL, "--input", "0.05*sin(1.565*t)", "--t-end", "200",
              "--method", "fast", "--dt", "0.01"]
-#: Goals of issue 12 (ratios to the reference command, and seconds).
+#: Goals (ratios to the reference command, and seconds).
 _HELP_GOAL, _NORM_GOAL, _FIRST_FAST_GOAL = 3.0, 3.0, 0.5
 
 _FIRST_CALL = f"""
@@ -139,5 +140,5 @@ def run(quick: bool) -> BenchSection:
     return BenchSection(
         title="Start-up and first call (fresh processes)",
         intro=" ".join(__doc__.split("\n\n", 1)[1].split()),
-        columns=["command", "best (s)", "median (s)", "ratio", "goal (issue 12)", "met"],
+        columns=["command", "best (s)", "median (s)", "ratio", "goal", "met"],
         rows=rows, notes=notes)

@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from gfrf._data import MODELS_DIR
 from gfrf.bench import BenchSection, load_note
 from gfrf.bounds.majorant import majorant, radius
 from gfrf.bounds.norms import h1_norm
@@ -34,7 +35,6 @@ from gfrf.sweep.run import parse_axis, sweep
 
 __all__ = ["run"]
 
-_MODELS = Path(__file__).resolve().parents[2] / "models"
 
 
 def _per_point(stage: Callable[[Any], Any], items: list[Any]) -> float:
@@ -86,7 +86,7 @@ def cost_split(path: Path, names: list[str], points: list[dict[str, float]]
 
 def run(quick: bool) -> BenchSection:
     """Time the sweeps and the cost split; return the report section."""
-    path = _MODELS / "hanging_pendulum.toml"
+    path = MODELS_DIR / "hanging_pendulum.toml"
     data = tomllib.loads(path.read_text(encoding="utf-8"))
     n_rho, n_l = (6, 4) if quick else (12, 8)
     axes = [parse_axis(f"rho=0.2:20:{n_rho}"), parse_axis(f"L=0.5:6:{n_l}")]

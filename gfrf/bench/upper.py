@@ -70,8 +70,7 @@ def _baseline(model: object, cap: float, quick: bool) -> float | None:
 
 def run(quick: bool) -> BenchSection:
     """Time the falsifier, the proof and the baseline per model; return the section."""
-    from gfrf import parse_model
-    from gfrf.model.modelfile import load_model
+    from gfrf.model.modelfile import resolve_model
     from gfrf.twosided.enclose import enclose_witness
     from gfrf.twosided.falsify import falsify
     from gfrf.twosided.threshold import threshold
@@ -79,8 +78,8 @@ def run(quick: bool) -> BenchSection:
     load = os.getloadavg()
     rows: list[list[object]] = []
     for label, source, cap in _cases(quick):
-        mf = load_model(source) if source.endswith(".toml") else parse_model(source)
-        plant = getattr(mf, "plant", mf)
+        mf = resolve_model(source)
+        plant = mf.plant
         lower = threshold(mf, prove=False).lower
         t0 = time.process_time()
         f = falsify(mf, cap, floor=lower)

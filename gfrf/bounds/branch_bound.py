@@ -170,9 +170,9 @@ def _compiled(gen: GFRFGenerator, n: int, symmetric: bool) -> tuple[Callable[...
                                                                      Callable[..., Any]]:
     """(Taylor enclosure function, scalar point function) of H_n."""
     namespace: dict[str, Any] = {"cmath_exp": np.exp}  # the point code of a NARX model
-    exec(compile(_taylor_source(gen, n, symmetric), f"<gfrf taylor H{n}>", "exec"),  # noqa: S102
+    exec(compile(_taylor_source(gen, n, symmetric), f"<gfrf taylor H{n}>", "exec"),
          namespace)
-    exec(compile(kernel_source(gen, n, symmetric, "point_kernel"), f"<gfrf H{n}>", "exec"),  # noqa: S102
+    exec(compile(kernel_source(gen, n, symmetric, "point_kernel"), f"<gfrf H{n}>", "exec"),
          namespace)
     return namespace["taylor_kernel"], namespace["point_kernel"]
 

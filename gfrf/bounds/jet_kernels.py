@@ -18,12 +18,12 @@ __all__ = ["jet_add", "jet_mul"]
 
 
 @njit(cache=True, inline="always")
-def _abs(z):  # noqa: ANN001, ANN202 - numba kernel
+def _abs(z):
     return np.sqrt(z.real * z.real + z.imag * z.imag)
 
 
 @njit(cache=True, inline="always")
-def _tighten(k, v, g, h, d, r):  # noqa: ANN001, ANN202 - numba kernel
+def _tighten(k, v, g, h, d, r):
     n = r.shape[1]
     first = 0.0
     second = 0.0
@@ -43,7 +43,7 @@ def _tighten(k, v, g, h, d, r):  # noqa: ANN001, ANN202 - numba kernel
 
 
 @njit(cache=True)
-def jet_add(av, ag, ah, ad, ia, bv, bg, bh, bd, ib, r):  # noqa: ANN001, ANN201 - numba kernel
+def jet_add(av, ag, ah, ad, ia, bv, bg, bh, bd, ib, r):
     """Sum of two jets, tightened.
 
     ``ag``/``ah`` are derivatives over a's coordinates, placed at positions ``ia`` of the
@@ -68,7 +68,7 @@ def jet_add(av, ag, ah, ad, ia, bv, bg, bh, bd, ib, r):  # noqa: ANN001, ANN201 
 
 
 @njit(cache=True)
-def jet_mul(av, ag, ah, ad, ia, bv, bg, bh, bd, ib, r):  # noqa: ANN001, ANN201 - numba kernel
+def jet_mul(av, ag, ah, ad, ia, bv, bg, bh, bd, ib, r):
     """Product of two jets by Leibniz's rule, tightened (coordinates as in jet_add)."""
     size, m = r.shape
     v = np.empty(size, np.complex128)

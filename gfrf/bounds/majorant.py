@@ -333,7 +333,13 @@ def majorant(model: Model, proof: str = "interval") -> Majorant:
             reasons.append(f"term {t}: an input derivative factor has sup |j w|^k = inf")
         terms.append(MajorantTerm(math.inf if unbounded else abs(t.coefficient),
                                   len(t.u_orders), t.y_orders, str(t)))
-    return Majorant(powers, linear, gains, tuple(terms), exact, tuple(reasons), proof)
+    return Majorant(powers=powers,
+                    linear=linear,
+                    gains=gains,
+                    terms=tuple(terms),
+                    exact=exact,
+                    reasons=tuple(reasons),
+                    proof=proof)
 
 
 def plant_radius(maj: Majorant) -> Radius:

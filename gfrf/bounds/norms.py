@@ -241,8 +241,17 @@ def h1_norm(model: Model, proof: str = "interval", cross_check: bool = False) ->
     no_upper = ("||H1|| = inf: " if sup.lower == math.inf else
                 f"no finite upper end at proof level {proof!r}: ")
     notes += [no_upper + note if note == sup.reason else note for note in sup.notes]
-    return Bound(sup.lower, sup.upper, (sup.omega,), proof != "none", method, 1, True, stable,
-                 tuple(notes), reference, proof)
+    return Bound(lower=sup.lower,
+                 upper=sup.upper,
+                 argmax=(sup.omega,),
+                 certified=proof != "none",
+                 method=method,
+                 order=1,
+                 symmetric=True,
+                 stable=stable,
+                 notes=tuple(notes),
+                 reference=reference,
+                 proof=proof)
 
 
 def _stationary_text(proof: str) -> str:
@@ -351,14 +360,30 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = DEFAU
     k = kernel(model, n, symmetric)
     if n == 1:
         b = h1_norm(model, proof, cross_check)
-        return Bound(b.lower, b.upper, b.argmax, b.certified, b.method, 1, symmetric,
-                     b.stable, b.notes, b.reference, b.proof)
+        return Bound(lower=b.lower,
+                     upper=b.upper,
+                     argmax=b.argmax,
+                     certified=b.certified,
+                     method=b.method,
+                     order=1,
+                     symmetric=symmetric,
+                     stable=b.stable,
+                     notes=b.notes,
+                     reference=b.reference,
+                     proof=b.proof)
     stable, _ = linear_stability(model)
     notes = [] if stable else ["linear part not asymptotically stable: L-infinity norm on the "
                                "frequency axis"]
     if k.is_zero:
-        return Bound(0.0, 0.0, tuple([0.0] * n), True, "kernel identically zero", n,
-                     symmetric, stable, tuple(notes), proof="interval")
+        return Bound(lower=0.0,
+                     upper=0.0,
+                     argmax=tuple([0.0] * n),
+                     certified=True,
+                     method="kernel identically zero",
+                     order=n,
+                     symmetric=symmetric,
+                     stable=stable,
+                     notes=tuple(notes), proof="interval")
     maj = majorant(model, proof)
     upper = maj.proven_upper(n) if proof == "interval" else float(maj.coefficients(n)[n, 0])
     upper_proof = proof
@@ -367,9 +392,15 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = DEFAU
     notes += list(maj.reasons)
     blowup = _axis_blowup(k, model, n)
     if blowup is not None:
-        return Bound(math.inf, math.inf, blowup, True,
-                     "A(j w) = 0 on the axis and P_n != 0 there", n, symmetric, stable,
-                     (*notes, "||H_n|| = inf: H_n = -P_n / A(j(w_1+..+w_n)) with A(j w0) = 0 "
+        return Bound(lower=math.inf,
+                     upper=math.inf,
+                     argmax=blowup,
+                     certified=True,
+                     method="A(j w) = 0 on the axis and P_n != 0 there",
+                     order=n,
+                     symmetric=symmetric,
+                     stable=stable,
+                     notes=(*notes, "||H_n|| = inf: H_n = -P_n / A(j(w_1+..+w_n)) with A(j w0) = 0 "
                       "and P_n bounded away from 0 near the hyperplane w_1+..+w_n = w0"))
     lower, argmax = _search(k, model, n, symmetric, upper, tol, proof, searches)
     method = ({"interval": "recursive majorant in ball arithmetic (proven upper)",
@@ -415,8 +446,18 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = DEFAU
     if lower > upper:  # only rounding of the float levels can do this
         upper = lower
     weakest = min(upper_proof, lower_proof, key=("none", "float", "interval").index)
-    return Bound(lower, upper, argmax, maj.certified, method, n, symmetric, stable,
-                 tuple(notes), proof=weakest, upper_proof=upper_proof, lower_proof=lower_proof,
+    return Bound(lower=lower,
+                 upper=upper,
+                 argmax=argmax,
+                 certified=maj.certified,
+                 method=method,
+                 order=n,
+                 symmetric=symmetric,
+                 stable=stable,
+                 notes=tuple(notes),
+                 proof=weakest,
+                 upper_proof=upper_proof,
+                 lower_proof=lower_proof,
                  boxes=boxes)
 
 

@@ -105,8 +105,15 @@ def check_proof(proof: str) -> str:
 
 
 def _result(res: ExactSup, variable: str = "s", proof: str = "interval") -> SupResult:
-    return SupResult(res.value, res.omega, proof == "interval", res.reason, res.lower,
-                     res.upper, proof, res.cancelled, variable)
+    return SupResult(value=res.value,
+                     omega=res.omega,
+                     exact=proof == "interval",
+                     reason=res.reason,
+                     lower=res.lower,
+                     upper=res.upper,
+                     proof=proof,
+                     cancelled=res.cancelled,
+                     variable=variable)
 
 
 def _method(proof: str) -> str:

@@ -55,8 +55,8 @@ class _Parser(argparse.ArgumentParser):
         super().__init__(*args, **kwargs)
         self._negative_number_matcher = re.compile(r"^-\.?\d")
 
-    def error(self, message: str) -> None:  # noqa: D401 - argparse API
-        self.exit(2, f"gfrf: error: {message}\n")
+    def error(self, message: str) -> None:
+        self.exit(2, f"gfrf: error: {_one_line(message)}\n")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -81,7 +81,7 @@ def _run(argv: Sequence[str] | None) -> int:
     try:
         return int(args.func(args))
     except ConvergenceError as exc:  # valid input, the computation found no answer: exit 1
-        print(f"gfrf: error: {exc}", file=sys.stderr)
+        print(f"gfrf: error: {_one_line(str(exc))}", file=sys.stderr)
         return 1
     except GfrfError as exc:
         print(f"gfrf: error: {_one_line(str(exc))}", file=sys.stderr)

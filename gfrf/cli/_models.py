@@ -1,12 +1,13 @@
-"""Resolve the MODEL argument of a command: a model file path or an equation text."""
+"""The MODEL argument of a command: a model file path or an equation text.
+
+The rule itself is the library's (:func:`gfrf.model.modelfile.resolve_model`); this module
+only adds the arguments.
+"""
 
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 from typing import TYPE_CHECKING
-
-from gfrf.errors import ModelError
 
 if TYPE_CHECKING:
     from gfrf.model.modelfile import ModelFile
@@ -23,26 +24,8 @@ def add_model_argument(parser: argparse.ArgumentParser) -> None:
                         help="sample time in s when MODEL is an inline discrete (NARX) equation")
 
 
-def _is_file(text: str) -> bool:
-    try:
-        return Path(text).is_file()
-    except (OSError, ValueError):  # too long for a file name, or a NUL character
-        return False
-
-
 def resolve_model(args: argparse.Namespace) -> ModelFile:
-    """Load ``args.model`` as a file if it names one (or ends in .toml), else parse it."""
-    from gfrf.model.modelfile import load_model, model_from_dict
+    """The model of ``args.model`` (and ``args.sample_time``), by the library's one rule."""
+    from gfrf.model.modelfile import resolve_model as resolve
 
-    text = args.model
-    if text.endswith(".toml") or ("=" not in text and _is_file(text)):
-        if args.sample_time is not None:
-            raise ModelError("--sample-time is for inline equations; a model file sets "
-                             "sample_time itself")
-        return load_model(text)
-    data: dict[str, object] = {"equation": text, "name": "inline model"}
-    if args.sample_time is not None:
-        data["sample_time"] = args.sample_time
-    elif "[k" in text:
-        raise ModelError("a discrete (NARX) equation needs --sample-time")
-    return model_from_dict(data)
+    return resolve(args.model, sample_time=args.sample_time)

@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import json
-import math
 import os
 from pathlib import Path
 from typing import Any
 
+from gfrf._results import dumps, json_ready
 from gfrf.errors import ArgumentError
 from gfrf.model.safetext import printable
 
@@ -81,38 +80,32 @@ def add_json_flag(parser: argparse.ArgumentParser) -> None:
 
 
 def to_jsonable(value: Any) -> Any:
-    """Convert numpy scalars/arrays, complex numbers and infinities to JSON-safe values.
+    """JSON-safe values (:func:`gfrf._results.json_ready`: infinity is ``"inf"``, NaN
+    ``null``).
 
-    Infinite floats become the strings ``"inf"``/``"-inf"`` (JSON has no infinity);
-    NaN is never emitted silently: it becomes ``None``.
+    Parameters
+    ----------
+    value : object
+        A payload.
     """
-    try:
-        import numpy as np
-    except ImportError:  # pragma: no cover
-        np = None
-    if np is not None:
-        if isinstance(value, np.ndarray):
-            return [to_jsonable(v) for v in value.tolist()]
-        if isinstance(value, np.generic):
-            value = value.item()
-    if isinstance(value, dict):
-        return {str(k): to_jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [to_jsonable(v) for v in value]
-    if isinstance(value, complex):
-        return {"re": to_jsonable(value.real), "im": to_jsonable(value.imag)}
-    if isinstance(value, float):
-        if math.isnan(value):
-            return None
-        if math.isinf(value):
-            return "inf" if value > 0 else "-inf"
-    return value
+    return json_ready(value)
 
 
 def emit(args: argparse.Namespace, payload: dict[str, Any], text: str) -> None:
-    """Print ``payload`` as JSON when ``--json`` was given, else ``text``."""
+    """Print ``payload`` as strict JSON when ``--json`` was given, else ``text`` with the
+    payload's user text (and every other control character) escaped: the one way out.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed arguments (``args.json``).
+    payload : dict
+        The result, as :func:`gfrf._results.dumps` encodes it.
+    text : str
+        The human-readable result.
+    """
     if getattr(args, "json", False):
-        print(json.dumps(to_jsonable(payload), indent=2))
+        print(dumps(payload))
     else:
         print(terminal_text(text, payload))
 

@@ -31,7 +31,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def _bench(args: argparse.Namespace) -> int:
     from gfrf.bench import run_all, write_report
 
-    check_output_folder("--out", args.out)
+    if args.out is not None:
+        check_output_folder("--out", args.out)
     sections = run_all(quick=args.quick, only=args.only, out_dir=args.out)
     path = None if args.out is None else write_report(sections, args.out)
     payload = {"report": None if path is None else str(path),

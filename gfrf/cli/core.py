@@ -56,14 +56,12 @@ def _format(expr: sp.Expr, latex: bool) -> str:
 
 
 def _show(args: argparse.Namespace) -> int:
-    from gfrf.kernels.recursion import MAX_KERNEL_ORDER, kernel
+    from gfrf.kernels.recursion import check_order, kernel
 
     mf = resolve_model(args)
     model = mf.plant
     symmetric = not args.asymmetric
-    if not 1 <= args.order <= MAX_KERNEL_ORDER:
-        raise ArgumentError(f"--order must be between 1 and {MAX_KERNEL_ORDER}, "
-                            f"got {args.order}")
+    check_order(args.order, "--order")
     rows = []
     for n in range(1, args.order + 1):
         k = kernel(model, n, symmetric)
@@ -106,8 +104,9 @@ def _kernel(args: argparse.Namespace) -> int:
     import numpy as np
 
     from gfrf.kernels.pointwise import point_value
-    from gfrf.kernels.recursion import kernel
+    from gfrf.kernels.recursion import check_order, kernel
 
+    check_order(args.order, "--order")
     mf = resolve_model(args)
     k = kernel(mf.plant, args.order, not args.asymmetric, max_terms=args.max_work)
     omega = _parse_omegas(args.at, args.order)

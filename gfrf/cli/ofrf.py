@@ -16,7 +16,6 @@ import cmath
 import sys
 from typing import Any
 
-from gfrf.cli._models import _is_file
 from gfrf.cli._output import add_json_flag, emit
 from gfrf.errors import ArgumentError
 
@@ -57,10 +56,12 @@ def _pair(z: complex) -> str:
 
 
 def _ofrf(args: argparse.Namespace) -> int:
-    from gfrf.model.modelfile import read_table
+    from gfrf.kernels.recursion import check_order
+    from gfrf.model.modelfile import looks_like_path, read_table
     from gfrf.model.signals import parse_input
     from gfrf.sim.ofrf import ofrf
 
+    check_order(args.order, "--order")
     name, eq, text = args.param.partition("=")
     name = name.strip()
     value = None
@@ -71,7 +72,7 @@ def _ofrf(args: argparse.Namespace) -> int:
             raise ArgumentError(f"--param {args.param!r}: the value after = must be a "
                                 f"number") from None
     args.param = name
-    if args.model.endswith(".toml") or _is_file(args.model):
+    if looks_like_path(args.model):
         data = dict(read_table(args.model))
         if value is not None:
             data["parameters"] = {**(data.get("parameters") or {}), name: value}

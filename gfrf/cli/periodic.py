@@ -1,4 +1,4 @@
-"""``gfrf transition`` and ``gfrf periodic``: the parametrically excited pendulum (issue 5).
+"""``gfrf transition`` and ``gfrf periodic``: the parametrically excited pendulum.
 
 ``gfrf transition --eps E --amplitude A --branch 0|1/4 --method M [--order K] [--json]``
 prints ``delta`` on the transition curve for the orbit with ``x(0) = A``

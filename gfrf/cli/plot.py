@@ -46,8 +46,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def _plot(args: argparse.Namespace) -> int:
     check_plot_path(args.out)
-    if args.order < 1:
-        raise ArgumentError(f"--order must be a positive integer, got {args.order}")
+    from gfrf.kernels.recursion import check_order
+
+    check_order(args.order, "--order")
     if args.omega_range is not None and not 0 < args.omega_range < float("inf"):
         raise ArgumentError(f"--range must be a positive frequency in rad/s, got "
                             f"{args.omega_range}")

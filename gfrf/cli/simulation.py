@@ -194,9 +194,12 @@ def _plot(res: SimulationResult, path: str, title: str, output: str) -> None:
 def _predict(args: argparse.Namespace) -> int:
     import numpy as np
 
+    from gfrf._results import proof_word
+    from gfrf.kernels.recursion import check_order
     from gfrf.model.signals import parse_input
-    from gfrf.sim.volterra import PROOF_WORDS, BeyondRadiusError, NoSteadyStateError, predict
+    from gfrf.sim.volterra import BeyondRadiusError, NoSteadyStateError, predict
 
+    check_order(args.order, "--order")
     mf = resolve_model(args)
     signal = parse_input(args.input)
     if not signal.tones:
@@ -207,7 +210,7 @@ def _predict(args: argparse.Namespace) -> int:
     except (NoSteadyStateError, BeyondRadiusError) as exc:
         print(f"gfrf: refused: {exc} (--force to predict anyway)", file=sys.stderr)
         return 1
-    kind = PROOF_WORDS[p.radius_proof]
+    kind = proof_word(p.radius_proof)
     lines = [f"{mf.name}: steady state to order {args.order} for {args.input}",
              f"  input amplitude {p.amplitude:.6g} (sum of tone amplitudes), "
              f"series radius r* = {p.radius:.6g} ({kind})"]

@@ -130,11 +130,9 @@ def _bound_line(b: Bound) -> str:
 
 def _check_order(order: int) -> None:
     """Refuse an order outside 1..MAX_KERNEL_ORDER before any work."""
-    from gfrf.kernels.recursion import MAX_KERNEL_ORDER
+    from gfrf.kernels.recursion import check_order
 
-    if not 1 <= order <= MAX_KERNEL_ORDER:
-        raise ArgumentError(f"--order must be between 1 and MAX_KERNEL_ORDER = "
-                            f"{MAX_KERNEL_ORDER}, got {order}")
+    check_order(order, "--order")
 
 
 def _norm(args: argparse.Namespace) -> int:

@@ -2,13 +2,14 @@
 
 ``gfrf threshold MODEL [--order N] [--json]`` prints the largest proven radius with its
 certificate (Theorem 1 or 2's r*, the energy certificate of a damped hardening
-oscillator), the smallest escaping bounded input the falsifier found (the witness: a
-switching input or a sum of tones, its escape time, what escape meant, and whether its
-escape is proven) and the answer in words; a progress bar on stderr
-when it is a terminal.  ``--json`` prints the contract of issue 27 (``lower`` is
-``Infinity`` for a global certificate).  Exit code 0: both sides closed (a global
-certificate, or a witness); 1: no escape found up to the search cap and no global
-certificate (unknown above ``lower``); 2: bad input.
+oscillator, the exactly re-checked sum-of-squares certificates), the smallest escaping
+bounded input the falsifier found (the witness: a switching input or a sum of tones, its
+escape time, what escape meant, and whether its escape is proven) and the answer in
+words; a progress bar on stderr when it is a terminal.  ``--json`` prints the JSON
+contract (``lower`` is the string ``"inf"`` for a global certificate, as everywhere in
+the CLI's JSON).  Exit code 0: both sides closed (a global certificate, or a witness);
+1: no escape found up to the search cap and no global certificate (unknown above
+``lower``); 2: bad input.
 """
 
 from __future__ import annotations
@@ -21,8 +22,7 @@ from collections.abc import Callable
 from typing import Any
 
 from gfrf.cli._models import add_model_argument, resolve_model
-from gfrf.cli._output import add_json_flag, check_output_file, emit
-from gfrf.errors import ArgumentError
+from gfrf.cli._output import add_json_flag, check_output_file, emit, terminal_text
 
 __all__ = ["register"]
 
@@ -88,11 +88,9 @@ def _progress() -> tuple[Callable[[int, int], None] | None, Any]:
 
 
 def _threshold(args: argparse.Namespace) -> int:
-    from gfrf.kernels.recursion import MAX_KERNEL_ORDER
+    from gfrf.kernels.recursion import check_order
 
-    if not 1 <= args.order <= MAX_KERNEL_ORDER:
-        raise ArgumentError(f"--order must be between 1 and MAX_KERNEL_ORDER = "
-                            f"{MAX_KERNEL_ORDER}, got {args.order}")
+    check_order(args.order, "--order")
     check_output_file("--certificate-out", args.certificate_out)
     mf = resolve_model(args)
     from gfrf.twosided.threshold import threshold
@@ -103,16 +101,14 @@ def _threshold(args: argparse.Namespace) -> int:
     finally:
         if bar is not None:
             bar.close()
-    if args.json:
-        print(json.dumps(result.to_dict(), indent=2))  # inf -> Infinity (the contract)
-    else:
-        print(result.text())
+    emit(args, result.to_dict(), result.text())
     if args.certificate_out is not None:
         from gfrf._atomic import atomic_write_text
 
         if result.sos is None:
-            print(f"no sum-of-squares certificate to write to {args.certificate_out!r} (the "
-                  "lower side's proof is another method, or none)", file=sys.stderr)
+            print(terminal_text(f"no sum-of-squares certificate to write to "
+                                f"{args.certificate_out!r} (the lower side's proof is another "
+                                "method, or none)"), file=sys.stderr)
         else:
             atomic_write_text(args.certificate_out,
                               json.dumps(result.sos.certificate, indent=1) + "\n")

@@ -263,7 +263,7 @@ def _plain_numeric(path: Path, columns: list[int]) -> np.ndarray | None:
     return values
 
 
-def read_data(path: str | Path, output: str, input: str,  # noqa: A002
+def read_data(path: str | Path, output: str, input: str,
               time: str = "t", missing: str = "refuse") -> Data:
     """Read the output, input and (if present) time columns of a CSV file with a header row.
 
@@ -347,7 +347,7 @@ def read_data(path: str | Path, output: str, input: str,  # noqa: A002
                 step, tuple(notes))
 
 
-def read_csv(path: str | Path, output: str, input: str  # noqa: A002
+def read_csv(path: str | Path, output: str, input: str
              ) -> tuple[np.ndarray, np.ndarray]:
     """Read the output and input columns of a CSV file with a header row.
 

@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from gfrf._data import MODELS_DIR
 from gfrf.identify.data import read_csv
 from gfrf.identify.fit import free_run, identify
 from gfrf.identify.output import model_file_text, write_atomic
@@ -44,7 +45,6 @@ N_SAMPLES = 4000
 #: File stem of the example in ``models/``.
 STEM = "identified_example"
 #: The repository's model folder.
-MODELS_DIR = Path(__file__).resolve().parents[2] / "models"
 
 
 def true_model() -> Model:

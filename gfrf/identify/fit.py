@@ -309,7 +309,7 @@ def _estimate(y: np.ndarray, u: np.ndarray, ylag: int, ulag: int, degree: int,
 def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
              ulag: int | None = 2, degree: int | None = 3, criterion: str = "bic",
              max_terms: int = 15, holdout: float = 0.25, output: str = "y",
-             input: str = "u", noise: bool | None = None,  # noqa: A002
+             input: str = "u", noise: bool | None = None,
              prune: bool = True, radius_draws: int | None = DRAWS) -> Identification:
     """Identify a polynomial NARMAX model from input/output data with sysidentpy's FROLS.
 

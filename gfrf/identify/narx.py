@@ -183,7 +183,7 @@ def _noise_notes(fitted: Any) -> list[str]:
 
 
 def from_sysidentpy(model: Any, sample_time: float, output: str = "y",
-                    input: str = "u") -> Model:  # noqa: A002 - the name a user expects
+                    input: str = "u") -> Model:
     """Convert a fitted sysidentpy polynomial NARX model into a gfrf Model, exactly.
 
     Parameters

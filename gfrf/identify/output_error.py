@@ -77,17 +77,6 @@ def recurse(terms: list[tuple[tuple[int, ...], tuple[int, ...], float]], u: np.n
     return np.asarray(values), None
 
 
-def free_run_rrse(theta: dict[Key, float], y: np.ndarray, u: np.ndarray, lag: int) -> float:
-    """Free-run root relative squared error of the model on ``y, u`` (inf on a blow-up)."""
-    keys = list(theta)
-    limit = _BLOWUP * max(1.0, float(np.max(np.abs(y))))
-    sim = simulate(keys, np.array([theta[k] for k in keys]), u, y[:lag], limit)
-    if sim is None:
-        return math.inf
-    spread = float(np.sum((y[lag:] - np.mean(y[lag:])) ** 2))
-    return math.sqrt(float(np.sum((y[lag:] - sim[lag:]) ** 2)) / spread) if spread else math.inf
-
-
 def refine(theta: dict[Key, float], y: np.ndarray, u: np.ndarray, lag: int,
            evaluations: int = MAX_EVALUATIONS, window: int = WINDOW) -> dict[Key, float]:
     """The output-error coefficients of the same terms, from ``theta`` (Levenberg-Marquardt

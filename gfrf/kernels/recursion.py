@@ -60,7 +60,7 @@ from gfrf.kernels.work import MAX_PLAN_TERMS, MAX_RECURSION_WORK, check_recursio
 from gfrf.model.equation import Model, Term
 from gfrf.model.scaling import normalized
 
-__all__ = ["Kernel", "GFRFGenerator", "generator", "kernel", "MAX_KERNEL_ORDER",
+__all__ = ["Kernel", "GFRFGenerator", "generator", "kernel", "check_order", "MAX_KERNEL_ORDER",
            "MAX_RECURSION_WORK", "MAX_PLAN_TERMS", "check_recursion_work"]
 
 #: Largest kernel order the generator accepts (the symbolic sums grow like p! S(n, p)).
@@ -534,6 +534,40 @@ class Kernel:
         return self._gen.ufunc(self.order, self.symmetric)
 
 
+def check_order(order: object, name: str = "order") -> int:
+    """The one check of a kernel order, before any work: an integer in
+    ``1..MAX_KERNEL_ORDER`` (every function and command that takes an order calls it, so
+    all say the same).
+
+    Parameters
+    ----------
+    order : int
+        The order to check.
+    name : str
+        How the caller names it in the message (``"--order"``, ``"kernel order"``).
+
+    Returns
+    -------
+    int
+        ``order`` as a Python int.
+
+    Raises
+    ------
+    ArgumentError
+        ``order`` is not an integer (bool included) or is outside ``1..MAX_KERNEL_ORDER``.
+
+    >>> check_order(13, "--order")
+    Traceback (most recent call last):
+    ...
+    gfrf.errors.ArgumentError: --order must be an integer between 1 and ... = 12, got 13
+    """
+    if isinstance(order, bool) or not isinstance(order, (int, np.integer)) \
+            or not 1 <= order <= MAX_KERNEL_ORDER:
+        raise ArgumentError(f"{name} must be an integer between 1 and MAX_KERNEL_ORDER = "
+                            f"{MAX_KERNEL_ORDER}, got {order!r}")
+    return int(order)
+
+
 def kernel(model: Model, n: int, symmetric: bool = True, max_terms: int | None = None
            ) -> Kernel:
     """The n-th order GFRF of ``model``.
@@ -555,10 +589,7 @@ def kernel(model: Model, n: int, symmetric: bool = True, max_terms: int | None =
     -------
     Kernel
     """
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
-        raise ArgumentError(f"kernel order must be a positive integer, got {n!r}")
-    if n > MAX_KERNEL_ORDER:
-        raise ArgumentError(f"kernel order {n} exceeds the limit {MAX_KERNEL_ORDER}")
+    check_order(n, "kernel order")
     if max_terms is not None and (isinstance(max_terms, bool) or not isinstance(
             max_terms, (int, np.integer)) or max_terms < 1):
         raise ArgumentError(f"max_terms (gfrf kernel --max-work) must be a positive integer, "

@@ -311,7 +311,7 @@ def _monomial_orders(monom: tuple[int, ...], atoms: list[sp.Symbol], output: str
     return tuple(sorted(y_orders)), tuple(sorted(u_orders))
 
 
-def coefficient_formulas(text: str, *, output: str = "y", input: str = "u",  # noqa: A002
+def coefficient_formulas(text: str, *, output: str = "y", input: str = "u",
                          discrete: bool = False, truncation: int | None = None,
                          symbols: dict[str, sp.Expr | Parsed] | None = None
                          ) -> dict[tuple[tuple[int, ...], tuple[int, ...]], sp.Expr]:
@@ -344,7 +344,7 @@ class ModelTypeError(ModelError, TypeError):
 
 def parse_model(text: str, *, sample_time: float | None = None, truncation: int | None = None,
                 parameters: dict[str, float] | None = None, output: str = "y",
-                input: str = "u") -> Model:  # noqa: A002 - the name a user expects
+                input: str = "u") -> Model:
     """Parse a polynomial ODE (or NARX) equation into a :class:`Model`.
 
     Parameters

@@ -221,7 +221,7 @@ def from_tf(G: Any, nonlinearity: Mapping[int, float] | Sequence[float], *,
 def _call(sys: Any, which: str, x: np.ndarray, u: np.ndarray, size: int) -> np.ndarray:
     try:
         value = (sys.dynamics if which == "rhs" else sys.output)(0.0, x, u)
-    except Exception as exc:  # noqa: BLE001 - user code: report, never a traceback
+    except Exception as exc:
         raise ModelError(f"the system's {'update' if which == 'rhs' else 'output'} function "
                          f"failed at x = {x.tolist()}, u = {u.tolist()}: "
                          f"{type(exc).__name__}: {exc}") from None

@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import stat
 import tomllib
 from collections.abc import Mapping
@@ -41,14 +42,14 @@ from typing import Any
 
 import sympy as sp
 
-from gfrf.errors import ArgumentError, ModelError
+from gfrf.errors import ModelError
 from gfrf.model.equation import Model, parse_model
 from gfrf.model.expr import UnknownNames, check_name, parse_expression
 from gfrf.model.limits import quote
 
 __all__ = ["Controller", "ModelFile", "load_model", "model_from_dict", "read_table",
            "MAX_FILE_BYTES", "MAX_PARAMETERS", "MAX_CONTROLLER_COEFFICIENTS", "parse_number",
-           "as_plant"]
+           "as_plant", "resolve_model", "looks_like_path", "MODEL_TYPES"]
 
 #: Largest model file accepted, in bytes (checked before reading it).
 MAX_FILE_BYTES = 256 * 1024
@@ -189,7 +190,7 @@ def _read_regular(p: Path) -> bytes:
     try:
         st = os.stat(p)
     except FileNotFoundError:
-        raise ModelError(f"model file {quote(str(p))} does not exist") from None
+        raise ModelError(f"model file {quote(str(p))} does not exist (no such file)") from None
     except OSError as exc:
         raise ModelError(f"model file {quote(str(p))}: {exc.strerror}") from None
     if not stat.S_ISREG(st.st_mode):
@@ -376,17 +377,105 @@ def _timebase(dt: float | None) -> str:
     return "continuous-time (dt = 0)" if dt is None else f"discrete-time (dt = {dt:g} s)"
 
 
-def as_plant(model: Model | ModelFile) -> Model:
-    """The plant :class:`~gfrf.model.equation.Model` of ``model`` (a Model, or a ModelFile's plant).
+#: What every public function that takes a model accepts (for messages).
+MODEL_TYPES = "a model file path (str or Path), an equation string, a Model or a ModelFile"
+#: Characters of a file name: text made only of these (and no ``=``) is a path, never an
+#: equation, so ``duffing`` or ``models/duffing.tom`` is "does not exist", not a parse error.
+_FILE_NAME = re.compile(r"[\w.\-/\\~:]+")
+
+
+def looks_like_path(text: str) -> bool:
+    """True when ``text`` names a file rather than writes an equation: it ends in
+    ``.toml``, or has no ``=`` and is an existing file or made of file-name characters only.
+
+    Parameters
+    ----------
+    text : str
+        A MODEL argument.
+
+    Examples
+    --------
+    >>> [looks_like_path(t) for t in ("models/duffing.tom", "duffing", "D(y) + y = u")]
+    [True, True, False]
+    """
+    if text.endswith(".toml"):
+        return True
+    if "=" in text:
+        return False
+    return _FILE_NAME.fullmatch(text) is not None or _is_file(text)
+
+
+def _is_file(text: str) -> bool:
+    try:
+        return Path(text).is_file()
+    except (OSError, ValueError):  # too long for a file name, or a NUL character
+        return False
+
+
+def resolve_model(model: str | os.PathLike[str] | Model | ModelFile, *,
+                  sample_time: float | None = None) -> ModelFile:
+    """The :class:`ModelFile` of any model argument: the one rule of every function that
+    takes a model.
+
+    Parameters
+    ----------
+    model : str, Path, Model or ModelFile
+        A model file path; an equation string (an inline model named ``"inline model"``;
+        text that looks like a file name, see :func:`looks_like_path`, is a path); a
+        :class:`~gfrf.model.equation.Model` (wrapped); or a ModelFile (returned as is).
+    sample_time : float, optional
+        Sample time in s of an inline discrete (NARX) equation (a model file sets its own).
+
+    Returns
+    -------
+    ModelFile
 
     Raises
     ------
-    ArgumentError
-        ``model`` is neither (a path string, say: load it with :func:`gfrf.load_model`).
+    TypeError
+        ``model`` is none of the accepted types (the message names them).
+    ModelError
+        A missing or invalid file ("does not exist" for a path that names no file), an
+        invalid equation, a NARX equation without ``sample_time``, or ``sample_time``
+        given with a file.
+
+    Examples
+    --------
+    >>> resolve_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u").name
+    'inline model'
+    >>> resolve_model(3)
+    Traceback (most recent call last):
+    ...
+    TypeError: a model is a model file path (str or Path), an equation string, ... not int
     """
     if isinstance(model, ModelFile):
-        return model.plant
+        return model
+    if isinstance(model, Model):
+        return ModelFile(model)
+    if isinstance(model, os.PathLike) or (isinstance(model, str) and looks_like_path(model)):
+        if sample_time is not None:
+            raise ModelError("sample_time (--sample-time) is for inline equations; a model "
+                             "file sets sample_time itself")
+        return load_model(os.fspath(model))
+    if not isinstance(model, str):
+        raise TypeError(f"a model is {MODEL_TYPES}, not {type(model).__name__}")
+    data: dict[str, object] = {"equation": model, "name": "inline model"}
+    if sample_time is not None:
+        data["sample_time"] = sample_time
+    elif "[k" in model:
+        raise ModelError("a discrete (NARX) equation needs --sample-time (sample_time=)")
+    return model_from_dict(data)
+
+
+def as_plant(model: str | os.PathLike[str] | Model | ModelFile) -> Model:
+    """The plant :class:`~gfrf.model.equation.Model` of any model argument
+    (:func:`resolve_model`).
+
+    Raises
+    ------
+    TypeError
+        ``model`` is none of the accepted types.
+    """
     if isinstance(model, Model):
         return model
-    raise ArgumentError(f"expected a Model (gfrf.parse_model) or a ModelFile "
-                        f"(gfrf.load_model), got {type(model).__name__}")
+    return resolve_model(model).plant

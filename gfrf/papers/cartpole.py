@@ -147,10 +147,13 @@ def inertia_reversal(mf: ModelFile) -> InertiaReversal:
     num_p, den_p, num_c, den_c, f = _loop_parts(mf)
     chi = characteristic((num_p, den_p), (num_c, den_c), f)
     lead = float(den_p[0] * den_c[0] - f * num_p[0] * num_c[0])
-    return InertiaReversal(float(-num_p[0] / den_p[0]), float(num_c[0] / den_c[0]), f, lead,
-                           tuple(float(x) for x in chi),
-                           tuple(complex(p) for p in _poles(num_p, den_p, num_c, den_c, f)),
-                           float(den_p[0] * den_c[0]))
+    return InertiaReversal(input_gain=float(-num_p[0] / den_p[0]),
+                           a=float(num_c[0] / den_c[0]),
+                           feedback=f,
+                           coefficient=lead,
+                           characteristic=tuple(float(x) for x in chi),
+                           poles=tuple(complex(p) for p in _poles(num_p, den_p, num_c, den_c, f)),
+                           plant_leading=float(den_p[0] * den_c[0]))
 
 
 @dataclass(frozen=True)
@@ -301,8 +304,14 @@ def sign_margin(mf: ModelFile, taus: tuple[float, ...] = LAG_TIME_CONSTANTS,
         c_max[float(tau)] = float((d0 - a2 * a1 / (d2 * t)) / k) if a2 > 0 and a1 > 0 \
             else float(c_min)
         lag_poles[float(tau)] = poles(float(c_min) * (1 + step), [float(tau), 1.0])
-    return SignMargin(float(c), poles(float(c)), c_min, poles(float(c_min) * (1 - step)),
-                      poles(float(c_min) * (1 + step)), step, c_max, lag_poles)
+    return SignMargin(c_file=float(c),
+                      poles_file=poles(float(c)),
+                      c_min=c_min,
+                      poles_below=poles(float(c_min) * (1 - step)),
+                      poles_above=poles(float(c_min) * (1 + step)),
+                      step=step,
+                      c_max=c_max,
+                      lag_poles_above=lag_poles)
 
 
 def _static_series(mf: ModelFile) -> tuple[Fraction, Fraction, Fraction]:
@@ -477,8 +486,29 @@ def theorem2_obstruction(mf: ModelFile, grid: tuple[tuple[float, float, float], 
                  / math.sqrt(float(abs(c3))))
         if loop.stable:
             v = theorem2(trial_mf, order=3, with_norms=False)
-            trials.append(ControllerTrial(kp, kd, tf, True, lam, rho, v.radius, v.verdict,
-                                          bound))
+            trials.append(ControllerTrial(kp=kp,
+                                          kd=kd,
+                                          tau_f=tf,
+                                          stable=True,
+                                          lambda1=lam,
+                                          rho1=rho,
+                                          radius=v.radius,
+                                          verdict=v.verdict,
+                                          bound=bound))
         else:
-            trials.append(ControllerTrial(kp, kd, tf, False, lam, rho, 0.0, "unstable", bound))
-    return Theorem2Obstruction(beta, c3, h1_0, h3_0, ceiling, holds, tuple(trials))
+            trials.append(ControllerTrial(kp=kp,
+                                          kd=kd,
+                                          tau_f=tf,
+                                          stable=False,
+                                          lambda1=lam,
+                                          rho1=rho,
+                                          radius=0.0,
+                                          verdict="unstable",
+                                          bound=bound))
+    return Theorem2Obstruction(beta1_floor=beta,
+                               c3=c3,
+                               kernel_h1_0=h1_0,
+                               kernel_h3_0=h3_0,
+                               ceiling=ceiling,
+                               holds=holds,
+                               trials=tuple(trials))

@@ -172,8 +172,14 @@ def lagged_simulation(mf: ModelFile, tau: float, theta0: float = math.radians(5.
         i, j = int(np.argmax(size >= lo)), int(np.argmax(size >= hi))
         if j > i:
             growth = float(math.log(size[j] / size[i]) / (grid[j] - grid[i]))
-    return LagSimulation(float(tau), float(theta0), float(escape), escape_time, float(t_end),
-                         growth, f, float(size.max()))
+    return LagSimulation(tau=float(tau),
+                         theta0=float(theta0),
+                         escape=float(escape),
+                         escape_time=escape_time,
+                         t_end=float(t_end),
+                         growth_rate=growth,
+                         feedback=f,
+                         peak=float(size.max()))
 
 
 @dataclass(frozen=True)
@@ -270,5 +276,10 @@ def loop_drive(mf: ModelFile, angles_deg: tuple[float, ...] = (5.0, 10.0, 15.0),
             res = simulate(system, f"{amp!r}*cos({omega!r}*t)", t_end=t_end, rtol=1e-8,
                            atol=1e-11, blowup=blowup)
             trials.append(DriveTrial(eq, deg, amp, res.bounded, res.peak, res.blowup_time))
-    return LoopDrive(poles, bool(pairs), float(omega), gain, float(t_end), periods,
-                     tuple(trials))
+    return LoopDrive(poles=poles,
+                     resonant=bool(pairs),
+                     omega=float(omega),
+                     gain=gain,
+                     t_end=float(t_end),
+                     periods=periods,
+                     trials=tuple(trials))

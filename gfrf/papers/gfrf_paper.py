@@ -400,10 +400,19 @@ def alpha_variants(models_dir: str | Path = "models", tolerance: float = 1e-6,
             run = simulate(mf, f"cos({w_r!r}*t)", t_end=t_end, equation="polynomial",
                            rtol=1e-8, atol=1e-11, blowup=1e3)
             margin = parameter_margin(mf, "rho", 1.0, tolerance)
-            rows.append(AlphaRow(Path(name).stem, float(abs(num[-1] / den[0])),
-                                 float(mf.parameters["rho"]), h1_norm(mf.plant).upper,
-                                 v.radius, v.radius_proof, v.verdict, margin.value,
-                                 tolerance, w_r, run.bounded, run.peak, t_end))
+            rows.append(AlphaRow(model=Path(name).stem,
+                                 alpha=float(abs(num[-1] / den[0])),
+                                 rho=float(mf.parameters["rho"]),
+                                 h1_norm=h1_norm(mf.plant).upper,
+                                 radius=v.radius,
+                                 radius_proof=v.radius_proof,
+                                 verdict=v.verdict,
+                                 margin=margin.value,
+                                 margin_tolerance=tolerance,
+                                 resonance=w_r,
+                                 bounded=run.bounded,
+                                 peak=run.peak,
+                                 t_end=t_end))
     return rows
 
 
@@ -452,12 +461,20 @@ def theta_readings(models_dir: str | Path = "models") -> list[ThetaReading]:
                         ("hanging_pendulum_damped.toml", "3 (rho = 8)")):
         p = load_model(d / name).paper
         phi = [p["rho_1"], p["rho_2"], p["rho_3"]]
-        out.append(ThetaReading(label, p["theta_3"], p["rho_1"], p["rho_3"], 1.0,
-                                theta_series(phi, 1.0, p["rho_1"], 3)[2],
-                                theta_series(phi, 1.0, 1.0, 3)[2]))
+        out.append(ThetaReading(section=label,
+                                printed=p["theta_3"],
+                                rho1=p["rho_1"],
+                                phi3=p["rho_3"],
+                                lambda1=1.0,
+                                kept=theta_series(phi, 1.0, p["rho_1"], 3)[2],
+                                dropped=theta_series(phi, 1.0, 1.0, 3)[2]))
     p = load_model(d / "cartpole.toml").paper
     phi = [p["beta_1"], 0.0, p["beta_3"]]
-    out.append(ThetaReading("5 (cart-pole)", p["theta_3"], p["rho_1"], p["beta_3"],
-                            p["lambda_1"], theta_series(phi, p["lambda_1"], p["rho_1"], 3)[2],
-                            theta_series(phi, p["lambda_1"], 1.0, 3)[2]))
+    out.append(ThetaReading(section="5 (cart-pole)",
+                            printed=p["theta_3"],
+                            rho1=p["rho_1"],
+                            phi3=p["beta_3"],
+                            lambda1=p["lambda_1"],
+                            kept=theta_series(phi, p["lambda_1"], p["rho_1"], 3)[2],
+                            dropped=theta_series(phi, p["lambda_1"], 1.0, 3)[2]))
     return out

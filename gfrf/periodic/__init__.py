@@ -1,4 +1,4 @@
-"""Periodic solutions of the parametrically excited inverted pendulum (issue 5).
+"""Periodic solutions of the parametrically excited inverted pendulum.
 
 Independent of the GFRF core.  Equation (3)/(4) of Zhang, Zhen & Li (2019),
 ``x'' + (delta + eps cos t) g(x) = 0`` with dimensionless time (excitation angular

@@ -25,11 +25,12 @@ from __future__ import annotations
 import functools
 import math
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import brentq
 
+from gfrf._results import Result
 from gfrf.errors import ArgumentError, ConvergenceError
 from gfrf.periodic.averaging import averaging_solution, averaging_transition
 from gfrf.periodic.energy import energy_solution, energy_transition
@@ -51,7 +52,7 @@ __all__ = [
 ]
 
 METHODS: tuple[str, ...] = ("perturbation", "homotopy", "energy", "averaging", "exact")
-#: Orders used when none is given (the paper stops at 2; the issue asks for >= 4).
+#: Orders used when none is given (the paper stops at 2; 4 shows the convergence).
 DEFAULT_ORDER: dict[str, int] = {"perturbation": 4, "homotopy": 4}
 _N_SAMPLES = 401
 #: Taylor degree of ``sin`` standing for eq (3) in perturbation (branch 0) and homotopy.
@@ -105,8 +106,8 @@ def _check_side(method: str, branch: str, side: str) -> str:
     return side
 
 
-@dataclass
-class TransitionResult:
+@dataclass(frozen=True, kw_only=True, repr=False)
+class TransitionResult(Result):
     """``delta`` on a transition curve from one method.
 
     Attributes
@@ -133,10 +134,6 @@ class TransitionResult:
     seconds: float
     side: str = "lower"
     equation: int = 4
-
-    def to_dict(self) -> dict[str, object]:
-        """Plain-dict view for JSON and reports."""
-        return asdict(self)
 
 
 def _sign(side: str) -> float:
@@ -174,8 +171,15 @@ def method_transition(method: str, eps: float, amplitude: float, branch: str = "
         raise ArgumentError(f"amplitude must be positive, got {amplitude}")
     t0 = time.perf_counter()
     d = _delta(method, eps, amplitude, b, k, side, equation)
-    return TransitionResult(method, eps, amplitude, b, k, d, time.perf_counter() - t0, side,
-                            equation)
+    return TransitionResult(method=method,
+                            eps=eps,
+                            amplitude=amplitude,
+                            branch=b,
+                            order=k,
+                            delta=d,
+                            seconds=time.perf_counter() - t0,
+                            side=side,
+                            equation=equation)
 
 
 def transition_curve(method: str, eps: np.ndarray, amplitude: float, branch: str = "0",
@@ -239,8 +243,8 @@ def _evaluate(orbit: PeriodicOrbit, t: np.ndarray, side: str) -> np.ndarray:
     return orbit.evaluate(s_times)[index]
 
 
-@dataclass
-class PeriodicComparison:
+@dataclass(frozen=True, kw_only=True, repr=False)
+class PeriodicComparison(Result):
     """Error of one method's periodic orbit against the shooting orbit.
 
     Attributes
@@ -276,10 +280,6 @@ class PeriodicComparison:
     seconds: float
     side: str = "lower"
     equation: int = 4
-
-    def to_dict(self) -> dict[str, object]:
-        """Plain-dict view for JSON and reports."""
-        return asdict(self)
 
 
 def _method_amplitude(method: str, eps: float, delta: float, branch: str, order: int | None,
@@ -362,8 +362,19 @@ def compare_periodic(method: str, eps: float, amplitude: float, branch: str = "1
         d_m, x_m = math.nan, np.full_like(t, np.nan)
     secs = time.perf_counter() - t0
     err = float(np.max(np.abs(x_m - x_exact))) if np.all(np.isfinite(x_m)) else math.nan
-    return PeriodicComparison(method, b, eps, k, a_m, exact.amplitude, d_m, exact.delta,
-                              abs(d_m - exact.delta), err, secs, side, equation)
+    return PeriodicComparison(method=method,
+                              branch=b,
+                              eps=eps,
+                              order=k,
+                              amplitude_method=a_m,
+                              amplitude_exact=exact.amplitude,
+                              delta_method=d_m,
+                              delta_exact=exact.delta,
+                              delta_error=abs(d_m - exact.delta),
+                              max_error=err,
+                              seconds=secs,
+                              side=side,
+                              equation=equation)
 
 
 def error_table(methods: tuple[str, ...], eps_values: tuple[float, ...],

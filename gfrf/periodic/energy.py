@@ -125,6 +125,8 @@ def energy_solution(eps: float, amplitude: float, t: np.ndarray, delta: float | 
         Sorted non-negative times.
     delta : float, optional
         Default: the energy transition value (48) or (49).
+    branch : {"1/4"}
+        The transition tongue; the energy method covers the 1/4 branch only.
     side : {"lower", "upper"}
         ``phi = 0`` ((48), (50)) or ``phi = pi/2`` ((49), (51)).
 

@@ -25,12 +25,14 @@ import math
 import tomllib
 import warnings
 from collections.abc import Callable
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
 
 import numpy as np
 
+from gfrf._data import MODELS_DIR
+from gfrf._results import Result
 from gfrf.errors import ArgumentError, ModelError
 
 __all__ = [
@@ -55,7 +57,7 @@ BRANCHES: tuple[str, ...] = ("0", "1/4")
 #: (the ``1/4`` tongue's upper boundary ``1/4 + eps/2 + ...``, orbits with ``x(0) = 0``).
 SIDES: tuple[str, ...] = ("lower", "upper")
 
-DEFAULT_MODEL = Path(__file__).resolve().parents[2] / "models" / "parametric_pendulum.toml"
+DEFAULT_MODEL = MODELS_DIR / "parametric_pendulum.toml"
 
 
 def parse_branch(branch: str | float) -> str:
@@ -152,8 +154,8 @@ def nonlinearity(truncation: int | None) -> tuple[Callable[[np.ndarray], np.ndar
     return g, dg
 
 
-@dataclass(frozen=True)
-class PendulumModel:
+@dataclass(frozen=True, kw_only=True, repr=False)
+class PendulumModel(Result):
     """A parametric-pendulum model file (``kind = "parametric"``).
 
     Attributes
@@ -178,10 +180,6 @@ class PendulumModel:
     g: float
     eps: float
     delta: float
-
-    def to_dict(self) -> dict[str, object]:
-        """Plain-dict view for JSON and reports."""
-        return asdict(self)
 
 
 def load_model(path: str | Path = DEFAULT_MODEL) -> PendulumModel:

@@ -86,12 +86,15 @@ def _lagrangian_checks() -> list[FormulaCheck]:
 
     ok_fixed, res_printed = _zero(residual(T_fixed)), residual(T_printed)
     return [
-        FormulaCheck("(1)", "kinetic energy T",
-                     "T = m/2 [L θ' cos(θ)^2 + (y' - L θ' sin θ)^2]",
-                     "T = m/2 [(L θ' cos θ)^2 + (y' - L θ' sin θ)^2] gives (3) exactly",
-                     _zero(res_printed), "T = m/2 [(L θ' cos θ)^2 + (y' - L θ' sin θ)^2]",
-                     "the printed T (square on cos only) is not even dimensionally consistent; "
-                     "its Euler-Lagrange equation is not (3), the corrected T gives (3)"),
+        FormulaCheck(equation="(1)",
+                     quantity="kinetic energy T",
+                     printed="T = m/2 [L θ' cos(θ)^2 + (y' - L θ' sin θ)^2]",
+                     regenerated="T = m/2 [(L θ' cos θ)^2 + (y' - L θ' sin θ)^2] gives (3) exactly",
+                     agrees=_zero(res_printed),
+                     corrected="T = m/2 [(L θ' cos θ)^2 + (y' - L θ' sin θ)^2]",
+                     note="the printed T (square on cos only) is not even dimensionally "
+                          "consistent; its Euler-Lagrange equation is not (3), the corrected T "
+                          "gives (3)"),
         FormulaCheck("(3)", "equation of motion, eps = A/L, delta = -g/(L omega^2)",
                      "θ'' + (δ + ε cos t) sin θ = 0", "same (t = ω t_phys)", ok_fixed),
     ]
@@ -112,36 +115,55 @@ def _perturbation_checks() -> list[FormulaCheck]:
     return [
         FormulaCheck("(10)", "x1", "x1 = -(1/6) cos(t) a (a^2 - 6)",
                      f"x1 = ({x1}) cos t", _zero(x1 - printed_x1)),
-        FormulaCheck("(11)", "x2", "x2 = (1/96) a (12 - 8a^2 + a^4)(cos 2t - 1)",
-                     f"x2 = ({x2c2}) cos 2t + C2", _zero(x2c2 - printed_x2), "",
-                     "the cos 2t coefficient agrees; the constant -1 (x2(0) = 0) contradicts "
+        FormulaCheck(equation="(11)",
+                     quantity="x2",
+                     printed="x2 = (1/96) a (12 - 8a^2 + a^4)(cos 2t - 1)",
+                     regenerated=f"x2 = ({x2c2}) cos 2t + C2",
+                     agrees=_zero(x2c2 - printed_x2),
+                     corrected="",
+                     note="the cos 2t coefficient agrees; the constant -1 (x2(0) = 0) contradicts "
                      "the rule C1 = C2 = 0 the paper applies to x1 in (10) (zero mean). Either "
                      "choice is legitimate but changes what 'a' means at O(eps^3)"),
         FormulaCheck("(12)", "delta2", "δ2 = (1/4)(a^2 - 2)", str(d0.coeff(e, 2)),
                      _zero(d0.coeff(e, 2) - (a**2 - 2) / 4)),
-        FormulaCheck("(13)", "transition curve through 0", "δ = (1/4)(a^2 - 2) ε^2",
-                     str(d0), _zero(d0 - (a**2 - 2) / 4 * e**2), "",
-                     "'a' is the mean of x (x0 = a), not x(0): by (14) "
+        FormulaCheck(equation="(13)",
+                     quantity="transition curve through 0",
+                     printed="δ = (1/4)(a^2 - 2) ε^2",
+                     regenerated=str(d0),
+                     agrees=_zero(d0 - (a**2 - 2) / 4 * e**2),
+                     corrected="",
+                     note="'a' is the mean of x (x0 = a), not x(0): by (14) "
                      "x(0) = a + ε a (1 - a^2/6) + O(ε^2); the program uses x(0)"),
-        FormulaCheck("(15)", "transition curve through 1/4",
-                     "δ = 1/4 - ε/2 + (a^2/32 - 1/8) ε^2", str(d4), _zero(d4 - printed_d4), "",
-                     "'a' scales with 1/eps: the orbit is x = ε a cos(t/2) + ..., so "
+        FormulaCheck(equation="(15)",
+                     quantity="transition curve through 1/4",
+                     printed="δ = 1/4 - ε/2 + (a^2/32 - 1/8) ε^2",
+                     regenerated=str(d4),
+                     agrees=_zero(d4 - printed_d4),
+                     corrected="",
+                     note="'a' scales with 1/eps: the orbit is x = ε a cos(t/2) + ..., so "
                      "x(0) = ε a (1 + ε/4 + O(ε^2)); the program uses a = x(0)/ε"),
-        FormulaCheck("(16)", "orbit on the 1/4 curve",
-                     "x = a{cos(t/2)ε + (1/4)cos(3t/2)ε^2 + (1/48 cos(5t/2) - "
+        FormulaCheck(equation="(16)",
+                     quantity="orbit on the 1/4 curve",
+                     printed="x = a{cos(t/2)ε + (1/4)cos(3t/2)ε^2 + (1/48 cos(5t/2) - "
                      "(a^2/192 + 1/16) cos(3t/2) ε^3)}",
-                     f"u1 = ({u1}) cos(3t/2); u2 = ({u2_5}) cos(5t/2) + ({u2_3}) cos(3t/2)",
-                     False,
-                     "x = a{cos(t/2)ε + (1/4)cos(3t/2)ε^2 + (1/48 cos(5t/2) - "
+                     regenerated=f"u1 = ({u1}) cos(3t/2); u2 = ({u2_5}) cos(5t/2) + "
+                                 f"({u2_3}) cos(3t/2)",
+                     agrees=False,
+                     corrected="x = a{cos(t/2)ε + (1/4)cos(3t/2)ε^2 + (1/48 cos(5t/2) - "
                      "(a^2/192 + 1/16) cos(3t/2)) ε^3}",
-                     ("all three coefficients agree" if _zero(u1 - a / 4) and _zero(u2_5 - a / 48)
-                      and _zero(u2_3 + a**3 / 192 + a / 16) else "COEFFICIENTS DIFFER")
+                     note=("all three coefficients agree"
+                           if _zero(u1 - a / 4) and _zero(u2_5 - a / 48)
+                           and _zero(u2_3 + a**3 / 192 + a / 16) else "COEFFICIENTS DIFFER")
                      + "; the closing parenthesis is misplaced so that ε^3 multiplies only "
                      "the cos(3t/2) term"),
-        FormulaCheck("Figure 2 caption", "equation cited",
-                     "analytical results of Equation (24)", "section 3 text: (16)", False,
-                     "Equation (16)", "(24) is the m-th order deformation equation of the HAM",
-                     "text"),
+        FormulaCheck(equation="Figure 2 caption",
+                     quantity="equation cited",
+                     printed="analytical results of Equation (24)",
+                     regenerated="section 3 text: (16)",
+                     agrees=False,
+                     corrected="Equation (16)",
+                     note="(24) is the m-th order deformation equation of the HAM",
+                     kind="text"),
     ]
 
 
@@ -156,24 +178,39 @@ def _ham_checks() -> list[FormulaCheck]:
                                  - 6 * d) * sp.cos(tau) + 3 * d * tau * sp.sin(tau))
     g1 = out["gamma1"]
     return [
-        FormulaCheck("(17)", "time scaling", "γ x'' + (δ + ε cos τ)(x - x^3/6) = 0, τ = Ω t",
-                     "with τ = Ω t the excitation is cos(τ/Ω), not cos τ", False,
-                     "γ x'' + (δ + ε cos(τ/Ω))(x - x^3/6) = 0",
-                     "as printed, (17) is (4) only if Ω = 1; moreover γ0 = δ(1 - c^2/8) < 0 "
+        FormulaCheck(equation="(17)",
+                     quantity="time scaling",
+                     printed="γ x'' + (δ + ε cos τ)(x - x^3/6) = 0, τ = Ω t",
+                     regenerated="with τ = Ω t the excitation is cos(τ/Ω), not cos τ",
+                     agrees=False,
+                     corrected="γ x'' + (δ + ε cos(τ/Ω))(x - x^3/6) = 0",
+                     note="as printed, (17) is (4) only if Ω = 1; moreover γ0 = δ(1 - c^2/8) < 0 "
                      "for δ < 0, so Ω is imaginary and (32) is not a periodic orbit of (4)"),
-        FormulaCheck("(23)", "γ_n", "γ(q) = γ0 + Σ γ_n(τ) q^n", "γ_n are constants", False,
-                     "γ(q) = γ0 + Σ γ_n q^n", "(23) second line itself defines constants",
-                     "text"),
-        FormulaCheck("(29)", "x1 of the HAM", "x1 = (1/6)hc(c^2 ε cos^5 τ + ... + 3δτ sin τ)",
-                     f"x1 = {out['x1']}", _zero(printed_x1 - out["x1"]),
-                     f"x1 = {out['x1']}",
-                     "the printed x1 contains secular terms τ sin τ although γ0 of (30) "
+        FormulaCheck(equation="(23)",
+                     quantity="γ_n",
+                     printed="γ(q) = γ0 + Σ γ_n(τ) q^n",
+                     regenerated="γ_n are constants",
+                     agrees=False,
+                     corrected="γ(q) = γ0 + Σ γ_n q^n",
+                     note="(23) second line itself defines constants",
+                     kind="text"),
+        FormulaCheck(equation="(29)",
+                     quantity="x1 of the HAM",
+                     printed="x1 = (1/6)hc(c^2 ε cos^5 τ + ... + 3δτ sin τ)",
+                     regenerated=f"x1 = {out['x1']}",
+                     agrees=_zero(printed_x1 - out["x1"]),
+                     corrected=f"x1 = {out['x1']}",
+                     note="the printed x1 contains secular terms τ sin τ although γ0 of (30) "
                      "removes the only resonant harmonic; regenerated with x1(0) = x1'(0) = 0"),
         FormulaCheck("(30)", "γ0", "γ0 = -(1/8) δ (c^2 - 8)", str(out["gamma0"]),
                      _zero(out["gamma0"] - printed_g0)),
-        FormulaCheck("(30)", "γ1", "γ1 = (1/64) δ^2 (c^2 - 8)(9c^2 - 8) h", str(g1),
-                     _zero(g1 - printed_g1), str(g1),
-                     "the printed γ1 does not vanish in the linear autonomous limit "
+        FormulaCheck(equation="(30)",
+                     quantity="γ1",
+                     printed="γ1 = (1/64) δ^2 (c^2 - 8)(9c^2 - 8) h",
+                     regenerated=str(g1),
+                     agrees=_zero(g1 - printed_g1),
+                     corrected=str(g1),
+                     note="the printed γ1 does not vanish in the linear autonomous limit "
                      "(c -> 0, ε = 0) where γ = δ exactly; the regenerated one does and, "
                      "with h = -1, δ = 1, reproduces the Lindstedt value 1 - c^2/8 - c^4/1536"),
     ]
@@ -189,30 +226,53 @@ def _energy_checks() -> list[FormulaCheck]:
     printed47e = a**2 / 4 * sp.sqrt(d) * e * (1 - a**2 / 12) * sp.sin(2 * ph) * (1 - a**2 / 16)
     diff47e = sp.expand(f["47_energy"] - printed47e)
     return [
-        FormulaCheck("(33)-(38)", "system cited", "根据能量法, 系统(43)对应的能量坐标变换",
-                     "the transformation belongs to system (33)", False, "系统(33)",
-                     "(43) is the θ-equation derived later", "text"),
-        FormulaCheck("(34)", "condition x g(x) > 0", "x g(x) > 0 (x ≠ 0)",
-                     "x g(x) = δ x^2 (1 - x^2/6) < 0 for δ < 0", False,
-                     "needs δ > 0 (and |x| < √6)",
-                     "the energy method therefore cannot treat the inverted pendulum δ < 0; "
+        FormulaCheck(equation="(33)-(38)",
+                     quantity="system cited",
+                     printed="根据能量法, 系统(43)对应的能量坐标变换",
+                     regenerated="the transformation belongs to system (33)",
+                     agrees=False,
+                     corrected="系统(33)",
+                     note="(43) is the θ-equation derived later",
+                     kind="text"),
+        FormulaCheck(equation="(34)",
+                     quantity="condition x g(x) > 0",
+                     printed="x g(x) > 0 (x ≠ 0)",
+                     regenerated="x g(x) = δ x^2 (1 - x^2/6) < 0 for δ < 0",
+                     agrees=False,
+                     corrected="needs δ > 0 (and |x| < √6)",
+                     note="the energy method therefore cannot treat the inverted pendulum δ < 0; "
                      "sqrt(δ) in (39) is imaginary there"),
-        FormulaCheck("(39)", "velocity factor", "1 - a^2/16 - a^2 cos(2θ)/48",
-                     str(f["39_factor"]), _zero(f["39_factor"] - printed39), "",
-                     "first-order expansion of sqrt(1 - a^2/8 - a^2 cos(2θ)/24)"),
-        FormulaCheck("(44)", "da/dE", "(g(-a) - g(a)) / (2 g(-a) g(a))", str(f["44"]),
-                     _zero(f["44"] - 1 / (d * a * (1 - a**2 / 6))), "", "= 1/g(a)"),
-        FormulaCheck("(47) first", "θ-average of dE/dt", "(a^2/4)√δ ε (1 - a^2/12) sin 2φ "
-                     "(1 - a^2/16)", str(f["47_energy"]),
-                     diff47e.coeff(a, 2) == 0 and diff47e.coeff(a, 4) == 0, "",
-                     f"agrees to O(a^4): exact average - printed = {diff47e} (the printed "
+        FormulaCheck(equation="(39)",
+                     quantity="velocity factor",
+                     printed="1 - a^2/16 - a^2 cos(2θ)/48",
+                     regenerated=str(f["39_factor"]),
+                     agrees=_zero(f["39_factor"] - printed39),
+                     corrected="",
+                     note="first-order expansion of sqrt(1 - a^2/8 - a^2 cos(2θ)/24)"),
+        FormulaCheck(equation="(44)",
+                     quantity="da/dE",
+                     printed="(g(-a) - g(a)) / (2 g(-a) g(a))",
+                     regenerated=str(f["44"]),
+                     agrees=_zero(f["44"] - 1 / (d * a * (1 - a**2 / 6))),
+                     corrected="",
+                     note="= 1/g(a)"),
+        FormulaCheck(equation="(47) first",
+                     quantity="θ-average of dE/dt",
+                     printed="(a^2/4)√δ ε (1 - a^2/12) sin 2φ "
+                     "(1 - a^2/16)",
+                     regenerated=str(f["47_energy"]),
+                     agrees=diff47e.coeff(a, 2) == 0 and diff47e.coeff(a, 4) == 0,
+                     corrected="",
+                     note=f"agrees to O(a^4): exact average - printed = {diff47e} (the printed "
                      "product drops this a^6 term, which is beyond the O(a^2) accuracy of the "
                      "velocity factor (39); it does not change the roots φ = 0, π/2)"),
-        FormulaCheck("(47) second", "θ-average of dθ/dt (times √δ(1 - a^2/6))",
-                     "√δ(1 - a^2/16) + (1 - a^2/16) ε cos 2φ (1 - a^2/12)/(4√δ(1 - a^2/6))",
-                     str(f["47_theta"]), _zero(diff47),
-                     f"{f['47_theta']} = √δ(1 - a^2/6)/2",
-                     "the printed average keeps only part of the O(ε a^2) terms: coefficient "
+        FormulaCheck(equation="(47) second",
+                     quantity="θ-average of dθ/dt (times √δ(1 - a^2/6))",
+                     printed="√δ(1 - a^2/16) + (1 - a^2/16) ε cos 2φ (1 - a^2/12)/(4√δ(1 - a^2/6))",
+                     regenerated=str(f["47_theta"]),
+                     agrees=_zero(diff47),
+                     corrected=f"{f['47_theta']} = √δ(1 - a^2/6)/2",
+                     note="the printed average keeps only part of the O(ε a^2) terms: coefficient "
                      f"of ε a^2 cos 2φ is {f['47_theta'].coeff(e).coeff(a, 2) / sp.cos(2 * ph)}"
                      f" exactly, {sp.expand(printed47).coeff(e).coeff(a, 2) / sp.cos(2 * ph)} "
                      "as printed; (48)-(49) inherit this (energy variant 'consistent' fixes it)"),
@@ -248,20 +308,29 @@ def _energy_upper_checks(f: dict[str, sp.Expr], printed47: sp.Expr) -> list[Form
                 "'consistent'")
 
     return [
-        FormulaCheck("(48)", "lower curve from (47), φ = 0",
-                     "√δ(1 - a^2/16)(1 + ε(1 - a^2/12)/(4δ(1 - a^2/6))) = 1/2",
-                     f"{sp.factor(regen[1])} = √δ(1 - a^2/6)/2", False,
-                     f"{exact[1]} = √δ(1 - a^2/6)/2", inherited(1), inherits="(47) second"),
-        FormulaCheck("(49)", "upper curve from (47), φ = π/2",
-                     "√δ(1 - a^2/16)(1 - ε(1 - a^2/12)/(4δ(1 - a^2/6))) = 1/2",
-                     f"{sp.factor(regen[-1])} = √δ(1 - a^2/6)/2", False,
-                     f"{exact[-1]} = √δ(1 - a^2/6)/2",
-                     inherited(-1) + "; (49) is (48) with ε -> -ε and always has a real root",
+        FormulaCheck(equation="(48)",
+                     quantity="lower curve from (47), φ = 0",
+                     printed="√δ(1 - a^2/16)(1 + ε(1 - a^2/12)/(4δ(1 - a^2/6))) = 1/2",
+                     regenerated=f"{sp.factor(regen[1])} = √δ(1 - a^2/6)/2",
+                     agrees=False,
+                     corrected=f"{exact[1]} = √δ(1 - a^2/6)/2",
+                     note=inherited(1), inherits="(47) second"),
+        FormulaCheck(equation="(49)",
+                     quantity="upper curve from (47), φ = π/2",
+                     printed="√δ(1 - a^2/16)(1 - ε(1 - a^2/12)/(4δ(1 - a^2/6))) = 1/2",
+                     regenerated=f"{sp.factor(regen[-1])} = √δ(1 - a^2/6)/2",
+                     agrees=False,
+                     corrected=f"{exact[-1]} = √δ(1 - a^2/6)/2",
+                     note=inherited(-1) + "; (49) is (48) with ε -> -ε and always has a real root",
                      inherits="(47) second"),
-        FormulaCheck("(51)", "system at φ = π/2",
-                     "(50) with sin 4θ -> -sin 4θ and 1 + 2cos 2θ + cos 4θ -> its negative",
-                     "(46) at φ = π/2 = (50) with ε -> -ε", ok51, "",
-                     "x(0) = a cos(π/2) = 0: the orbit is odd, its turning point a is at t ≈ π"),
+        FormulaCheck(equation="(51)",
+                     quantity="system at φ = π/2",
+                     printed="(50) with sin 4θ -> -sin 4θ and 1 + 2cos 2θ + cos 4θ -> its negative",
+                     regenerated="(46) at φ = π/2 = (50) with ε -> -ε",
+                     agrees=ok51,
+                     corrected="",
+                     note="x(0) = a cos(π/2) = 0: the orbit is odd, its turning point a is "
+                          "at t ≈ π"),
     ]
 
 
@@ -279,10 +348,13 @@ def _averaging_checks() -> list[FormulaCheck]:
     printed_case2 = d - sp.Rational(1, 4) - d * B**2 / 8 + e / 2 - e * B**2 / 12
     printed_case3 = d - sp.Rational(1, 4) - d * B**2 / 8 - e / 2 + e * B**2 / 12
     return [
-        FormulaCheck("(54)", "variation-of-constants condition", "B' cos θ + B θ' sin θ = 0",
-                     f"{constraint} = 0", _zero(constraint - printed54),
-                     "B' cos θ + B φ' sin θ = 0",
-                     "θ' = 1/2 - φ' appears where φ' is needed; (55)-(59) are right and use "
+        FormulaCheck(equation="(54)",
+                     quantity="variation-of-constants condition",
+                     printed="B' cos θ + B θ' sin θ = 0",
+                     regenerated=f"{constraint} = 0",
+                     agrees=_zero(constraint - printed54),
+                     corrected="B' cos θ + B φ' sin θ = 0",
+                     note="θ' = 1/2 - φ' appears where φ' is needed; (55)-(59) are right and use "
                      "the corrected form (with the factor 1/2 when combining (54), (55))"),
         FormulaCheck("(58)", "averaged phase equation", str(p58), str(e58), _zero(e58 - p58)),
         FormulaCheck("(59)", "averaged amplitude equation", str(p59), str(e59),
@@ -290,13 +362,22 @@ def _averaging_checks() -> list[FormulaCheck]:
         FormulaCheck("section 6, case 2", "equilibrium 2φ = 0 (lower curve)",
                      "δ - 1/4 - δB^2/8 + ε/2 - εB^2/12 = 0", f"{cases['case2']} = 0",
                      _zero(cases["case2"] - printed_case2)),
-        FormulaCheck("section 6, case 3", "equilibrium 2φ = π (upper curve)",
-                     "δ - 1/4 - δB^2/8 - ε/2 + εB^2/12 = 0", f"{cases['case3']} = 0",
-                     _zero(cases["case3"] - printed_case3), "",
-                     "case 2 with ε -> -ε; orbit x = B cos(t/2 - π/2) = B sin(t/2), x(0) = 0"),
-        FormulaCheck("Figure 10 caption", "parameters", "ε = 0.1, 0.2, x(0) = 0.5",
-                     "section 6 text: ε = 0.1, 0.3", False, "ε = 0.1, 0.3 (or the text is "
-                     "wrong)", "caption and text disagree", "text"),
+        FormulaCheck(equation="section 6, case 3",
+                     quantity="equilibrium 2φ = π (upper curve)",
+                     printed="δ - 1/4 - δB^2/8 - ε/2 + εB^2/12 = 0",
+                     regenerated=f"{cases['case3']} = 0",
+                     agrees=_zero(cases["case3"] - printed_case3),
+                     corrected="",
+                     note="case 2 with ε -> -ε; orbit x = B cos(t/2 - π/2) = B sin(t/2), x(0) = 0"),
+        FormulaCheck(equation="Figure 10 caption",
+                     quantity="parameters",
+                     printed="ε = 0.1, 0.2, x(0) = 0.5",
+                     regenerated="section 6 text: ε = 0.1, 0.3",
+                     agrees=False,
+                     corrected="ε = 0.1, 0.3 (or the text is "
+                     "wrong)",
+                     note="caption and text disagree",
+                     kind="text"),
     ]
 
 

@@ -32,6 +32,7 @@ import numpy as np
 import sympy as sp
 from scipy.optimize import minimize_scalar
 
+from gfrf._results import Result
 from gfrf.errors import ArgumentError
 from gfrf.periodic.equation import parse_branch, sin_taylor_coefficients
 from gfrf.periodic.fourier import CosSeries
@@ -39,8 +40,8 @@ from gfrf.periodic.fourier import CosSeries
 __all__ = ["HamResult", "ham", "ham_optimal", "paper_ham_first_order"]
 
 
-@dataclass
-class HamResult:
+@dataclass(frozen=True, kw_only=True, repr=False)
+class HamResult(Result):
     """HAM approximation of the periodic orbit on a transition curve.
 
     Attributes
@@ -55,8 +56,11 @@ class HamResult:
     residual : float
         RMS of ``x'' + (delta + eps cos t) g(x)`` over a period.
     series : CosSeries
-        The orbit as a function of ``tau`` (``t`` or ``t/2``).
+        The orbit as a function of ``tau`` (``t`` or ``t/2``); not in :meth:`to_dict`
+        (its coefficients are a solver's internals; :meth:`solution` evaluates it).
     """
+
+    _exclude = ("series",)
 
     branch: str
     eps: float
@@ -71,12 +75,6 @@ class HamResult:
         """``x(t)`` of the HAM approximation."""
         tau = np.asarray(t, dtype=float) / (1 if self.branch == "0" else 2)
         return self.series.evaluate(tau)
-
-    def to_dict(self) -> dict[str, object]:
-        """Plain-dict view for JSON and reports."""
-        return {"branch": self.branch, "eps": self.eps, "amplitude": self.amplitude,
-                "h": self.h, "order": self.order, "delta": self.delta,
-                "residual": self.residual}
 
 
 def _g(x: CosSeries, coeffs: dict[int, float]) -> CosSeries:
@@ -143,8 +141,14 @@ def ham(eps: float, amplitude: float, branch: str = "1/4", order: int = 4, h: fl
         partial = partial + xm
     delta = float(sum(deltas))
     res = d2(partial) + _g(partial, cf) * delta + _g(partial, cf).mul_cos(p) * eps
-    return HamResult(b, eps, amplitude, h, order, delta, float(np.sqrt(res.mean_square())),
-                     partial)
+    return HamResult(branch=b,
+                     eps=eps,
+                     amplitude=amplitude,
+                     h=h,
+                     order=order,
+                     delta=delta,
+                     residual=float(np.sqrt(res.mean_square())),
+                     series=partial)
 
 
 def _q_coefficient(xs: list[CosSeries], cf: dict[int, float], j: int) -> CosSeries:

@@ -190,7 +190,13 @@ def _newton(eps: float, delta: float, amp: float, branch: str, truncation: int |
                 raise ConvergenceError(
                     f"shooting converged to the equilibrium x = {amp:.6g} (g(x) = 0), not to "
                     f"a {b}-branch orbit at eps={eps}, delta={delta:.6g}; try another amplitude")
-            return PeriodicOrbit(float(eps), float(delta), float(amp), b, truncation, res, it)
+            return PeriodicOrbit(eps=float(eps),
+                                 delta=float(delta),
+                                 amplitude=float(amp),
+                                 branch=b,
+                                 truncation=truncation,
+                                 shooting_residual=res,
+                                 iterations=it)
         if unknown == "delta":
             delta -= f / y[2 + idx]
         else:  # damped: the amplitude moves by at most half of itself per step
@@ -246,8 +252,14 @@ def _checked(series: FourierOrbit, tol: float) -> PeriodicOrbit:
     y = _half_period(eps, delta, amp, series.truncation)
     res = abs(y[1 if b == "0" else 0]) / amp
     if res <= tol:
-        return PeriodicOrbit(eps, delta, amp, b, series.truncation, res, series.iterations,
-                             series)
+        return PeriodicOrbit(eps=eps,
+                             delta=delta,
+                             amplitude=amp,
+                             branch=b,
+                             truncation=series.truncation,
+                             shooting_residual=res,
+                             iterations=series.iterations,
+                             series=series)
     return _newton(eps, delta, amp, b, series.truncation, "delta", tol, 30)
 
 

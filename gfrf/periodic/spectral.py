@@ -313,8 +313,14 @@ def fourier_transition(eps: float, amplitude: float, branch: str = "0",
         n = len(a)
         tail = float(np.max(np.abs(a[-(n // 4):]))) / float(np.max(np.abs(a)))
         if tail <= _TAIL_TOL:
-            return FourierOrbit(float(eps), float(delta), float(amplitude), b, truncation,
-                                a, total, tail)
+            return FourierOrbit(eps=float(eps),
+                                delta=float(delta),
+                                amplitude=float(amplitude),
+                                branch=b,
+                                truncation=truncation,
+                                coefficients=a,
+                                iterations=total,
+                                tail=tail)
         if 2 * n > MAX_MODES:
             raise ConvergenceError(
                 f"the {b} transition orbit (eps={eps}, x(0)={amplitude:g}) needs more than "

@@ -11,10 +11,10 @@ import math
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.colors import LogNorm
 
+from gfrf._results import subplots
 from gfrf.kernels.recursion import kernel
 from gfrf.model.equation import Model
 from gfrf.report._format import save_figure
@@ -51,7 +51,7 @@ def h1_figure(model: Model, path: Path, *, hz: bool = False,
         w = np.geomspace(1e-2 * scale, 1e2 * scale, 2000)
     h = kernel(model, 1)(w)
     x = w / (2 * math.pi) if hz else w
-    fig, (ax_g, ax_p) = plt.subplots(2, 1, figsize=(6, 5), sharex=True)
+    fig, (ax_g, ax_p) = subplots(2, 1, figsize=(6, 5), sharex=True)
     ax_g.loglog(x, np.abs(h), label="H1 (this model)")
     ax_p.semilogx(x, _phase_deg(h))
     for label, f in extra:
@@ -79,7 +79,7 @@ def h3_slice_figure(model: Model, path: Path, w3: float, half_width: float, *,
     h = kernel(model, 3)(w1, w2, w3)
     x = w / (2 * math.pi) if hz else w
     unit = "Hz" if hz else "rad/s"
-    fig, ax = plt.subplots(figsize=(5.5, 4.5))
+    fig, ax = subplots(figsize=(5.5, 4.5))
     if phase:
         image = ax.pcolormesh(x, x, _phase_deg(h), cmap="twilight", vmin=-180,
                               vmax=180, shading="auto")
@@ -103,7 +103,7 @@ def h3_slice_figure(model: Model, path: Path, w3: float, half_width: float, *,
 def response_figure(responses: Sequence[Response], path: Path, title: str,
                     ylabel: str) -> str:
     """Output y(t) of each response; a blow-up is marked where the run stopped."""
-    fig, ax = plt.subplots(figsize=(6.5, 3.8))
+    fig, ax = subplots(figsize=(6.5, 3.8))
     for r in responses:
         res = r.result
         line = ax.plot(res.t, res.y, lw=0.9, label=r.label

@@ -14,14 +14,10 @@ from decimal import ROUND_CEILING, Decimal
 from pathlib import Path
 from typing import Any
 
-import matplotlib
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.figure import Figure  # noqa: E402
-
-from gfrf._atomic import atomic_write_figure  # noqa: E402
-from gfrf._results import outward_bracket  # noqa: E402
+from gfrf._atomic import atomic_write_figure
+from gfrf._results import outward_bracket
 
 __all__ = ["num", "bracket_cells", "cell", "table", "header", "save_figure", "mark", "code",
            "DPI"]
@@ -120,10 +116,10 @@ def header(title: str, summary: Sequence[str], regenerate: str) -> str:
 
 
 def save_figure(fig: Figure, path: Path) -> str:
-    """Write ``fig`` as PNG (Agg, :data:`DPI`, no date metadata), close it, return the name."""
+    """Write ``fig`` as PNG (Agg, :data:`DPI`, no date metadata), return the name.
+
+    Report figures are made with :func:`gfrf._results.subplots` (no pyplot, so nothing to
+    close and no backend switched)."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    try:
-        atomic_write_figure(fig, path, dpi=DPI, metadata={"Software": None})
-    finally:
-        plt.close(fig)
+    atomic_write_figure(fig, path, dpi=DPI, metadata={"Software": None})
     return path.name

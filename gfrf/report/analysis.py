@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from gfrf._data import MODELS_DIR
 from gfrf.errors import GfrfError
 from gfrf.model.modelfile import ModelFile, load_model
 from gfrf.model.template import ModelTemplate, model_template
@@ -40,7 +41,6 @@ __all__ = ["MODELS_DIR", "MARGIN_OCTAVES", "ModelAnalysis", "ParameterScan", "Re
 MARGIN_OCTAVES = 6
 
 #: The bundled model files (``models/`` beside the package).
-MODELS_DIR = Path(__file__).resolve().parent.parent.parent / "models"
 
 
 @dataclass(frozen=True)
@@ -181,8 +181,17 @@ def analyse(path: str, quick: bool = False) -> ModelAnalysis:
                         ParameterScan(name, mf.parameters[name], (), (), None,
                                       "defined by an expression of other parameters")
                         for name in mf.parameters)
-    return ModelAnalysis(path, mf, v, order, w_r, scale, certified, validation, responses,
-                         t_end, margins)
+    return ModelAnalysis(path=path,
+                         model_file=mf,
+                         verdict=v,
+                         order=order,
+                         resonance=w_r,
+                         trial_scale=scale,
+                         trial_scale_certified=certified,
+                         validation=validation,
+                         responses=responses,
+                         t_end=t_end,
+                         margins=margins)
 
 
 def scan_parameter(mf: ModelFile, template: ModelTemplate, name: str,

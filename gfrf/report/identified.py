@@ -72,14 +72,13 @@ def compare(models_dir: str | Path = ex.MODELS_DIR, quick: bool = False) -> Comp
 
 
 def _figures(c: Comparison, out_dir: Path) -> list[str]:
-    import matplotlib.pyplot as plt
-
+    from gfrf._results import subplots
     from gfrf.report._format import save_figure
 
     true, ident = c.true.plant, c.identified.plant
     nyquist = math.pi / float(true.sample_time)  # type: ignore[arg-type]
     w = np.linspace(0.0, nyquist, 600)
-    fig, ax = plt.subplots(figsize=(6, 3.6))
+    fig, ax = subplots(figsize=(6, 3.6))
     for model, label, style in ((true, "true model", "-"), (ident, "identified", "--")):
         ax.plot(w, np.abs(kernel(model, 1)(w)), style, label=label)
     ax.set_xlabel("angular frequency w (rad/s), up to the Nyquist frequency pi/T")
@@ -89,7 +88,7 @@ def _figures(c: Comparison, out_dir: Path) -> list[str]:
     ax.legend(fontsize=8)
     fig.tight_layout()
     names = [save_figure(fig, out_dir / "identified-example-h1.png")]
-    fig, axes = plt.subplots(1, 2, figsize=(9, 3.6), sharey=True)
+    fig, axes = subplots(1, 2, figsize=(9, 3.6), sharey=True)
     for ax, sign, title in ((axes[0], 1.0, "diagonal |H2(jw, jw)|"),
                             (axes[1], -1.0, "anti-diagonal |H2(jw, -jw)|")):
         for model, label, style in ((true, "true model", "-"), (ident, "identified", "--")):

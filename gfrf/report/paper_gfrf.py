@@ -205,7 +205,7 @@ def simulation_table(rows: list[list[object]]) -> str:
 
 
 def _cartpole_section(quick: bool) -> tuple[list[str], dict[str, Any], str]:
-    """The cart-pole findings (issue 11, section 3): text, drives by stem, summary line."""
+    """The cart-pole findings: text, drives by stem, summary line."""
     reduced = load_model(MODELS_DIR / MODELS["5 (cart-pole, eq (16))"])
     full = load_model(MODELS_DIR / MODELS["4 (cart-pole, eq (12))"])
     inertia = inertia_reversal(reduced)
@@ -236,7 +236,7 @@ def _cartpole_section(quick: bool) -> tuple[list[str], dict[str, Any], str]:
                for t in sorted(stab, key=lambda t: -t.radius)[:5]]
     text = [
         "## The cart-pole loop, told straight", "",
-        "Computed by `gfrf.papers.cartpole` (tests: `tests/test_paper_findings.py`, "
+        "Computed by `gfrf.papers.cartpole` (tests: `tests/papers/test_cartpole.py`, "
         "against exact Routh-Hurwitz arrays in rationals, the static series, python-control "
         "and direct integrations).", "",
         "**The ideal loop is stable only by reversing the inertia.** With the model's own "

@@ -10,9 +10,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.axes import Axes
 
+from gfrf._results import subplots
 from gfrf.periodic.compare import PeriodicComparison, compare_periodic, transition_curve
 from gfrf.periodic.floquet import mathieu_transition, upper_quarter_transition
 from gfrf.periodic.homotopy import ham
@@ -24,7 +25,7 @@ from gfrf.report.periodic_checks import UPPER_METHODS
 __all__: list[str] = []
 
 
-def _orbit_panel(ax: plt.Axes, t: np.ndarray, x_exact: np.ndarray, x_method: np.ndarray,
+def _orbit_panel(ax: Axes, t: np.ndarray, x_exact: np.ndarray, x_method: np.ndarray,
                  title: str) -> None:
     ax.plot(t, x_exact, "-", color="k", lw=1.2, label="exact (shooting)")
     step = max(1, len(t) // 60)
@@ -37,7 +38,7 @@ def _orbit_panel(ax: plt.Axes, t: np.ndarray, x_exact: np.ndarray, x_method: np.
     ax.set_xticks(np.pi * np.arange(5), ["0", "π", "2π", "3π", "4π"])
 
 
-def _label_orbit_axes(axes: list[list[plt.Axes]]) -> None:
+def _label_orbit_axes(axes: list[list[Axes]]) -> None:
     """Axis labels on the outer panels of a grid of orbit panels (time t = omega t_phys)."""
     for row in axes:
         row[0].set_ylabel("x (rad)", fontsize=8)
@@ -50,7 +51,7 @@ def _fig2(out: Path, quick: bool) -> tuple[str, list[list[object]]]:
     s = perturbation_series("1/4", 2, "kernel")
     eps_list = (0.1, 0.5) if quick else (0.1, 0.2, 0.5)
     a_list = (0.05, 1.0) if quick else (0.05, 0.5, 1.0)
-    fig, axes = plt.subplots(len(eps_list), len(a_list), figsize=(9, 2.2 * len(eps_list)),
+    fig, axes = subplots(len(eps_list), len(a_list), figsize=(9, 2.2 * len(eps_list)),
                              squeeze=False)
     rows = []
     t = np.linspace(0, 4 * np.pi, 241)
@@ -72,7 +73,7 @@ def _transition_figure(out: Path, name: str, branches: tuple[str, ...],
                        amplitudes: tuple[float, ...], methods: tuple[tuple[str, str, int | None],
                                                                      ...],
                        eps: np.ndarray) -> tuple[str, list[list[object]]]:
-    fig, ax = plt.subplots(figsize=(7, 4.5))
+    fig, ax = subplots(figsize=(7, 4.5))
     rows = []
     for b in branches:
         for a in amplitudes:
@@ -96,7 +97,7 @@ def _transition_figure(out: Path, name: str, branches: tuple[str, ...],
 
 def _stability_chart(out: Path, quick: bool) -> str:
     eps = np.linspace(0.0, 0.5, 201)
-    fig, ax = plt.subplots(figsize=(9.5, 5))
+    fig, ax = subplots(figsize=(9.5, 5))
     d0, d1, du = (mathieu_transition(eps, "0"), mathieu_transition(eps, "1/4"),
                   upper_quarter_transition(eps))
     ax.fill_between(eps, d0, np.minimum(d1, 0.3), where=d1 > d0, color="0.9",
@@ -139,7 +140,7 @@ def _orbit_figure(out: Path, name: str, method: str, cases: list[list[tuple[floa
     from gfrf.periodic.compare import method_orbit
 
     ncol = max(len(row) for row in cases)
-    fig, axes = plt.subplots(len(cases), ncol, figsize=(3 * ncol, 0.4 + 2.4 * len(cases)),
+    fig, axes = subplots(len(cases), ncol, figsize=(3 * ncol, 0.4 + 2.4 * len(cases)),
                              squeeze=False)
     rows = []
     t = np.linspace(0, 4 * np.pi, 401)
@@ -164,7 +165,7 @@ def _fig10(out: Path, quick: bool) -> tuple[str, list[PeriodicComparison]]:
 
     eps_list = (0.1, 0.3)
     methods = (("perturbation", 2), ("homotopy", 2), ("energy", None), ("averaging", None))
-    fig, axes = plt.subplots(len(eps_list), 4, figsize=(11, 2.3 * len(eps_list)),
+    fig, axes = subplots(len(eps_list), 4, figsize=(11, 2.3 * len(eps_list)),
                              squeeze=False)
     t = np.linspace(0, 4 * np.pi, 401)
     rows = []
@@ -185,7 +186,7 @@ def _fig10(out: Path, quick: bool) -> tuple[str, list[PeriodicComparison]]:
 def _ham_h_figure(out: Path) -> tuple[str, list[list[object]]]:
     """h-curves: delta and residual of the order-4 HAM against h (paper: h = -1/1000)."""
     hs = np.linspace(-1.6, -0.001, 60)
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(9, 3))
+    fig, (ax1, ax2) = subplots(1, 2, figsize=(9, 3))
     rows = []
     for e in (0.01, 0.05, 0.08):
         res = [ham(e, 0.5, "1/4", 4, float(h)) for h in hs]

@@ -12,9 +12,8 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-import matplotlib.pyplot as plt
-
 from gfrf._atomic import atomic_write_text
+from gfrf._results import subplots
 from gfrf.model.modelfile import load_model
 from gfrf.report._format import header, save_figure, table
 from gfrf.twosided.falsify import MARGINS
@@ -58,7 +57,7 @@ def threshold_figure(results: dict[str, Threshold], path: Path) -> str:
     finite = [v for t in results.values() for v in (t.lower, t.upper or 0.0, t.static_bound or 0)
               if 0 < v < math.inf]
     lo, hi = min(finite) / 10, max(finite) * 10
-    fig, ax = plt.subplots(figsize=(8, 0.45 * len(results) + 1.6))
+    fig, ax = subplots(figsize=(8, 0.45 * len(results) + 1.6))
     for i, t in enumerate(results.values()):
         lower = min(max(t.lower, lo), hi)
         top = hi if t.upper is None else t.upper

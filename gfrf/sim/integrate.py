@@ -106,7 +106,7 @@ class OdeSystem:
         """The compiled pure-Python function ``rhs`` or ``plant_input`` of :attr:`source`."""
         if name not in self._functions:
             namespace: dict[str, Any] = {"math": math}
-            exec(compile(self.source, f"<gfrf rhs {self.label}>", "exec"), namespace)  # noqa: S102
+            exec(compile(self.source, f"<gfrf rhs {self.label}>", "exec"), namespace)
             self._functions.update({k: namespace[k] for k in ("rhs", "plant_input")})
         return self._functions[name]
 
@@ -119,7 +119,7 @@ class OdeSystem:
         key = f"{name}[numpy]"
         if key not in self._functions:
             namespace: dict[str, Any] = {"math": _NUMPY_MATH}
-            exec(compile(self.source, f"<gfrf rhs {self.label}>", "exec"), namespace)  # noqa: S102
+            exec(compile(self.source, f"<gfrf rhs {self.label}>", "exec"), namespace)
             self._functions.update({f"{k}[numpy]": namespace[k] for k in ("rhs", "plant_input")})
         return self._functions[key]
 
@@ -288,7 +288,7 @@ def _fused_rhs(system: OdeSystem, signal: InputSignal,
         return None
     cached = system._functions.get("fused")
     if cached is not None and cached[0] == codes:  # the same input on the same system
-        return cached[1]  # type: ignore[no-any-return]
+        return cached[1]
     lines = [f"def f({_TIME}, _z):", "    try:"]
     if system.state_names:
         lines.append(f"        {', '.join(system.state_names)}, = _z.tolist()")
@@ -297,10 +297,10 @@ def _fused_rhs(system: OdeSystem, signal: InputSignal,
     lines += [f"        {line}" for line in system.rhs_body]
     lines += ["    except (ArithmeticError, ValueError):", f"        return _slow({_TIME}, _z)"]
     namespace: dict[str, Any] = {"math": math, "_slow": slow}
-    exec(compile("\n".join(lines) + "\n", f"<gfrf rhs {system.label}>", "exec"),  # noqa: S102
+    exec(compile("\n".join(lines) + "\n", f"<gfrf rhs {system.label}>", "exec"),
          namespace)
     system._functions["fused"] = (codes, namespace["f"])  # one entry: a sweep changes it
-    return namespace["f"]  # type: ignore[no-any-return]
+    return namespace["f"]
 
 
 #: Dense outputs evaluated together (a batch holds ~0.5 kB per step of a small system).
@@ -344,7 +344,7 @@ def _batched(pieces: list[tuple[int, int, Any]], dense: list[Any], t: np.ndarray
         for k in range(f.shape[1]):
             y += f[:, f.shape[1] - 1 - k, :].T
             y *= x if k % 2 == 0 else 1 - x
-    return y + y_old  # type: ignore[no-any-return]
+    return y + y_old
 
 
 def integrate_scipy(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end: float,

@@ -82,16 +82,17 @@ def to_nlsys(model: Model | ModelFile, closed_loop: bool = False, *,
     """
     import control
 
-    from gfrf.model.modelfile import ModelFile, as_plant
+    from gfrf.model.equation import Model
+    from gfrf.model.modelfile import ModelFile, as_plant, resolve_model
     from gfrf.sim.system import build_system
 
-    source = model if isinstance(model, ModelFile) else as_plant(model)
-    plant = as_plant(model)
+    source = model if isinstance(model, Model) else resolve_model(model)
+    plant = as_plant(source)
     system = build_system(source, closed_loop=closed_loop, equation=equation)
     inputs = ["r"] if closed_loop else [plant.input]
     outputs = [plant.output] + ([plant.input] if closed_loop else [])
-    if name is None and isinstance(model, ModelFile) and model.name:
-        name = model.name
+    if name is None and isinstance(source, ModelFile) and source.name:
+        name = source.name
     kwargs: dict[str, Any] = {"inputs": inputs, "outputs": outputs, "name": name}
     if system.discrete:
         update, output, states = _discrete(system, plant.output, closed_loop)

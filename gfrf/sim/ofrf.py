@@ -53,6 +53,7 @@ from __future__ import annotations
 
 import cmath
 import math
+import os
 import sys
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -64,9 +65,15 @@ import numpy as np
 from gfrf._results import short_repr
 from gfrf.errors import ArgumentError
 from gfrf.kernels.combinatorics import compositions
-from gfrf.kernels.recursion import MAX_KERNEL_ORDER
+from gfrf.kernels.recursion import check_order
 from gfrf.model.equation import Model
-from gfrf.model.modelfile import model_from_dict, read_table
+from gfrf.model.modelfile import (
+    MODEL_TYPES,
+    ModelFile,
+    looks_like_path,
+    model_from_dict,
+    read_table,
+)
 from gfrf.model.template import parameter_names
 from gfrf.sim.volterra import _check_tones, _steady_state_problem, series_radius
 
@@ -112,7 +119,7 @@ class OFRF:
         r* of the Volterra series at ``value``; the truncated series means something only
         for ``amplitude`` below it.
     radius_proof : str
-        Proof level of ``radius`` (:data:`gfrf.sim.volterra.PROOF_WORDS`).
+        Proof level of ``radius`` (:data:`gfrf._results.PROOF_WORDS`).
     """
 
     parameter: str
@@ -295,15 +302,35 @@ def _work(n_tones: int, order: int, model: Model) -> int:
     return total
 
 
-def ofrf(data: Mapping[str, Any] | str | Path, parameter: str, tones: Sequence[Any] | str,
-         omega: float, order: int, *, path: str = "") -> OFRF:
+def _table(data: Any, path: str) -> tuple[Mapping[str, Any], str]:
+    """The model table behind any model argument of :func:`ofrf`, and its path."""
+    if isinstance(data, ModelFile):
+        if not data.path:
+            raise ArgumentError("ofrf needs the model's [parameters] as symbols: pass the "
+                                "model file's path, or a ModelFile read by gfrf.load_model")
+        return read_table(data.path), path or data.path
+    if isinstance(data, os.PathLike) or (isinstance(data, str) and looks_like_path(data)):
+        return read_table(data), path or os.fspath(data)
+    if isinstance(data, str):
+        return {"equation": data, "name": "inline model"}, path
+    if isinstance(data, Mapping):
+        return data, path
+    raise TypeError(f"ofrf takes {MODEL_TYPES.replace('a Model or ', '')} read from a file, "
+                    f"or a model file's table (a Model has its parameters substituted), "
+                    f"not {type(data).__name__}")
+
+
+def ofrf(data: Mapping[str, Any] | str | Path | ModelFile, parameter: str,
+         tones: Sequence[Any] | str, omega: float, order: int, *, path: str = "") -> OFRF:
     """OFRF of ``parameter`` at the output frequency ``omega`` for ``tones`` up to ``order``.
 
     Parameters
     ----------
-    data : mapping, str or Path
-        A model file, or its table (:func:`gfrf.model.modelfile.read_table`), with
-        ``parameter`` in its ``[parameters]``.
+    data : mapping, str, Path or ModelFile
+        A model file (its path, or what :func:`gfrf.load_model` returned), an equation
+        string, or a model file's table (:func:`gfrf.model.modelfile.read_table`), with
+        ``parameter`` in its ``[parameters]`` (the parameter stays a symbol: a
+        :class:`~gfrf.model.equation.Model` has it substituted, and is refused).
     parameter : str
         The parameter; it may enter any term except the linear output part A, as a
         polynomial.
@@ -327,12 +354,9 @@ def ofrf(data: Mapping[str, Any] | str | Path, parameter: str, tones: Sequence[A
         Unknown parameter, a parameter in A or non-polynomial, no steady state (linear
         part not asymptotically stable), bad tones, order or omega, or too much work.
     """
-    if isinstance(data, (str, Path)):
-        path = path or str(data)
-        data = read_table(data)
+    data, path = _table(data, path)
     tones = _check_tones(tones)
-    if isinstance(order, bool) or not isinstance(order, int) or not 1 <= order <= MAX_KERNEL_ORDER:
-        raise ArgumentError(f"order must be an integer in 1..{MAX_KERNEL_ORDER}, got {order!r}")
+    check_order(order)
     omega = float(omega)
     if not math.isfinite(omega) or omega < 0:
         raise ArgumentError(f"omega must be a finite frequency >= 0 in rad/s, got {omega!r}")

@@ -104,7 +104,7 @@ def _initial(system: OdeSystem, initial: Any) -> np.ndarray:
     return z0
 
 
-def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | None = None,  # noqa: A002
+def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | None = None,
              *, t_end: float, closed_loop: bool = False, equation: str = "physical",
              initial: Any = None, method: str = "auto", rtol: float = 1e-8,
              atol: float = 1e-10, t_eval: np.ndarray | None = None, n_out: int = 2001,
@@ -137,6 +137,8 @@ def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | N
         is not given, to choose its step by step doubling.
     t_eval : array_like, optional
         Output times in seconds; default ``n_out`` points on [0, t_end].
+    n_out : int
+        Number of output times when ``t_eval`` is not given (continuous time).
     blowup : float
         Threshold on |y| at which the run is stopped and reported as a blow-up.
     dt : float, optional

@@ -43,7 +43,7 @@ import sympy as sp
 
 from gfrf.errors import ArgumentError, ModelError
 from gfrf.model.equation import Model
-from gfrf.model.modelfile import Controller, ModelFile
+from gfrf.model.modelfile import Controller, ModelFile, resolve_model
 from gfrf.sim.integrate import OdeSystem
 
 __all__ = ["build_system"]
@@ -237,6 +237,8 @@ def build_system(source: ModelFile | Model, *, closed_loop: bool = False,
         derivatives in a loop with a transfer-function controller, a non-causal discrete
         controller.
     """
+    if not isinstance(source, Model):
+        source = resolve_model(source)
     mf = source if isinstance(source, ModelFile) else None
     model = source.plant if isinstance(source, ModelFile) else source
     if equation not in ("physical", "polynomial"):

@@ -7,7 +7,7 @@ is periodic with period 2 pi / w_0, found here by Newton shooting on the period 
 over exactly one period is exact for the harmonics m w_0.
 The truncation error of the order-N prediction falls like A^(N+1), or like A^(N+2)
 when H_{N+1} vanishes (odd systems such as the pendulum): :func:`compare` and
-:func:`error_vs_amplitude` measure it, :func:`figure_error_vs_amplitude` draws it.
+:func:`error_vs_amplitude` measure it.
 
 :func:`select_order` picks the smallest N whose truncation bound
 ``sum_{n>N} sup|H_n| (sum_k A_k)^n`` (upper bounds of :func:`gfrf.bounds.norms.kernel_norm`)
@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from gfrf._results import Result
 from gfrf.errors import ArgumentError, ConvergenceError
 from gfrf.kernels.recursion import kernel
 from gfrf.model.equation import Model
@@ -46,7 +47,7 @@ from gfrf.sim.volterra import (
 )
 
 __all__ = ["SteadyState", "steady_state", "compare", "error_vs_amplitude",
-           "figure_error_vs_amplitude", "OrderChoice", "select_order", "base_frequency"]
+           "OrderChoice", "select_order", "base_frequency"]
 
 
 def _truncate(p: VolterraPrediction, order: int) -> VolterraPrediction:
@@ -190,48 +191,8 @@ def error_vs_amplitude(model: Model, omega: float, amplitudes: Any,
             "slopes": slopes}
 
 
-def figure_error_vs_amplitude(out_path: str, model: Model | None = None,
-                              omega: float = math.sqrt(2.45),
-                              amplitudes: Any = None) -> dict[str, Any]:
-    """Write the log-log figure of Volterra error vs input amplitude (1, 3, 5 terms).
-
-    Defaults: the hanging pendulum (rho = 0.8, polynomial model) driven at its H1 peak
-    omega = sqrt(2.45) rad/s (0.249 Hz), amplitudes 1e-3 .. 8e-3 N m.
-
-    Returns
-    -------
-    dict
-        The data of :func:`error_vs_amplitude` plus ``"figure": out_path``.
-    """
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    if model is None:
-        from pathlib import Path
-
-        from gfrf.model.modelfile import load_model
-        model = load_model(Path(__file__).resolve().parent.parent / "models"
-                           / "hanging_pendulum.toml").plant
-    amplitudes = np.geomspace(1e-3, 8e-3, 6) if amplitudes is None else amplitudes
-    data = error_vs_amplitude(model, omega, amplitudes)
-    fig, ax = plt.subplots(figsize=(5.5, 4))
-    for n, errs in data["errors"].items():
-        ax.loglog(data["amplitudes"], errs, "o-",
-                  label=f"N = {n} (slope {data['slopes'][n]:.2f})")
-    ax.set_xlabel("input amplitude A (N m)")
-    ax.set_ylabel("max |y_sim - y_N| over a period (rad)")
-    ax.set_title(f"Volterra prediction error, sinusoid at {omega:.4g} rad/s")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend()
-    fig.tight_layout()
-    fig.savefig(out_path, dpi=120)
-    plt.close(fig)
-    return {**data, "figure": str(out_path)}
-
-
-@dataclass(frozen=True)
-class OrderChoice:
+@dataclass(frozen=True, kw_only=True, repr=False)
+class OrderChoice(Result):
     """Result of :func:`select_order`: N, its tail bound and the terms sup|H_n| A^n.
 
     ``certified`` is False whenever the tail beyond ``max_order`` is extrapolated.
@@ -245,12 +206,6 @@ class OrderChoice:
     certified: bool = False
     note: str = ""
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready description."""
-        return {"order": self.order, "bound": self.bound, "amplitude": self.amplitude,
-                "tolerance": self.tolerance, "certified": self.certified, "note": self.note,
-                "terms": {str(n): v for n, v in self.terms.items()}}
-
 
 def select_order(model: Model, amplitude: float, tolerance: float,
                  max_order: int = 7) -> OrderChoice:
@@ -258,6 +213,8 @@ def select_order(model: Model, amplitude: float, tolerance: float,
 
     Parameters
     ----------
+    model : Model
+        The system whose kernel norms are bounded.
     amplitude : float
         Peak input amplitude A (for a multi-tone input, the sum of the tone amplitudes).
     tolerance : float
@@ -297,6 +254,12 @@ def select_order(model: Model, amplitude: float, tolerance: float,
         if bound < tolerance:
             note = (f"orders <= {max_order} from upper norm bounds, beyond that a geometric "
                     f"extrapolation (ratio {ratio:.3g})")
-            return OrderChoice(order, bound, amplitude, tolerance, terms, False, note)
+            return OrderChoice(order=order,
+                               bound=bound,
+                               amplitude=amplitude,
+                               tolerance=tolerance,
+                               terms=terms,
+                               certified=False,
+                               note=note)
     raise ArgumentError(f"no kernel order <= {max_order} meets tolerance {tolerance:g} at "
                         f"amplitude {amplitude:g} (series ratio {ratio:.3g})")

@@ -285,8 +285,14 @@ def validate(mf: ModelFile, scale: float | None = None, *,
     closed = mf.controller is not None
     system = build_system(mf, closed_loop=closed, equation="polynomial")
     w_r = resonance(mf.plant)
-    result = ValidationResult(mf.name, v.verdict, v.theorem, v.radius, v.radius_certified,
-                              v.radius_estimate if v.theorem == 1 else None, w_r, t_end)
+    result = ValidationResult(model=mf.name,
+                              verdict=v.verdict,
+                              theorem=v.theorem,
+                              radius=v.radius,
+                              radius_certified=v.radius_certified,
+                              radius_estimate=v.radius_estimate if v.theorem == 1 else None,
+                              resonance=w_r,
+                              t_end=t_end)
     if not v.radius > 0:
         result.notes.append(f"Theorem {v.theorem} gives no radius (r* = {v.radius:g}): no "
                             "input amplitude is certified, so no simulation can contradict "
@@ -299,9 +305,15 @@ def validate(mf: ModelFile, scale: float | None = None, *,
     for label, r in _amplitudes(v, scale, factors):
         for kind, signal in _inputs(r, w_r, t_end, seed).items():
             res = _run(system, signal, t_end, None, blowup, method)
-            result.trials.append(Trial(kind, label, r, float(np.max(np.abs(signal(grid)))),
-                                       r < v.radius, res.bounded, res.peak,
-                                       res.blowup_time, closed))
+            result.trials.append(Trial(kind=kind,
+                                       label=label,
+                                       amplitude=r,
+                                       input_peak=float(np.max(np.abs(signal(grid)))),
+                                       below_radius=r < v.radius,
+                                       bounded=res.bounded,
+                                       peak=res.peak,
+                                       blowup_time=res.blowup_time,
+                                       closed_loop=closed))
     if closed:
         equations = ["polynomial"] + (["physical"] if mf.plant.physical is not None else [])
         for eq in equations:
@@ -309,9 +321,16 @@ def validate(mf: ModelFile, scale: float | None = None, *,
                                                                     equation=eq)
             for angle in angles_deg:
                 res = _run(sys_eq, None, t_end, [math.radians(angle), 0.0], blowup, method)
-                result.trials.append(Trial(f"initial angle {angle:g} deg", "", 0.0, 0.0,
-                                           None, res.bounded, res.peak, res.blowup_time,
-                                           True, eq))
+                result.trials.append(Trial(kind=f"initial angle {angle:g} deg",
+                                           label="",
+                                           amplitude=0.0,
+                                           input_peak=0.0,
+                                           below_radius=None,
+                                           bounded=res.bounded,
+                                           peak=res.peak,
+                                           blowup_time=res.blowup_time,
+                                           closed_loop=True,
+                                           equation=eq))
     return result
 
 

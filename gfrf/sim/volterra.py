@@ -51,9 +51,9 @@ from typing import Any
 
 import numpy as np
 
-from gfrf._results import short_repr
+from gfrf._results import PROOF_WORDS, proof_word, short_repr
 from gfrf.errors import ArgumentError
-from gfrf.kernels.recursion import MAX_KERNEL_ORDER, generator, kernel
+from gfrf.kernels.recursion import check_order, generator, kernel
 from gfrf.model.equation import Model
 from gfrf.model.signals import Tone
 
@@ -241,10 +241,6 @@ def input_amplitude(tones: Any) -> float:
     return float(sum(abs(a) for a, _, _ in _check_tones(tones)))
 
 
-#: How each proof level of a radius is named in text.
-PROOF_WORDS = {"interval": "proven", "float": "certified (float)", "none": "estimated"}
-
-
 def series_radius(model: Model) -> tuple[float, float, str]:
     """(r*, certified_below, proof) of the Volterra series of ``model``: the radius of the
     norm series that ``gfrf verdict`` reports (:func:`gfrf.bounds.majorant.plant_radius`), so the
@@ -315,10 +311,7 @@ def predict(model: Model, tones: Any, order: int, *, force: bool = False
         or a non-finite predicted component.
     """
     tones = _check_tones(tones)
-    if isinstance(order, bool) or not isinstance(order, int) or order < 1:
-        raise ArgumentError(f"order must be a positive integer, got {order!r}")
-    if order > MAX_KERNEL_ORDER:
-        raise ArgumentError(f"order {order} exceeds MAX_KERNEL_ORDER = {MAX_KERNEL_ORDER}")
+    check_order(order)
     count = intermodulation_count(model, len(tones), order)
     if count > MAX_PRODUCTS:
         raise ArgumentError(f"{len(tones)} tones to order {order} give {count} "
@@ -333,7 +326,7 @@ def predict(model: Model, tones: Any, order: int, *, force: bool = False
         cautions.append(problem)
     r_star, inside, proof = series_radius(model)
     if amplitude >= inside:
-        kind = PROOF_WORDS[proof]
+        kind = proof_word(proof)
         warning = (f"input amplitude {amplitude:.6g} (sum of the tone amplitudes, the peak |u| "
                    f"over all phases) is at or beyond the {kind} radius r* = {r_star:.6g} of "
                    f"the Volterra series: the series is not known to converge and the "
@@ -377,5 +370,10 @@ def predict(model: Model, tones: Any, order: int, *, force: bool = False
     if bad:
         raise ArgumentError(f"the prediction is not finite (overflow) at omega = {bad[0]:.6g} "
                             f"rad/s for input amplitude {amplitude:.6g}")
-    return VolterraPrediction(tones, order, comps, amplitude, r_star, proof,
-                              "; ".join(cautions) or None)
+    return VolterraPrediction(tones=tones,
+                              order=order,
+                              components=comps,
+                              amplitude=amplitude,
+                              radius=r_star,
+                              radius_proof=proof,
+                              warning="; ".join(cautions) or None)

@@ -15,7 +15,7 @@ from typing import Any
 from gfrf._results import markdown_table, short_repr
 from gfrf.errors import ArgumentError
 from gfrf.model.equation import Model
-from gfrf.model.modelfile import ModelFile, model_from_dict
+from gfrf.model.modelfile import ModelFile, model_from_dict, resolve_model
 from gfrf.stability.theorem1 import theorem1
 from gfrf.stability.theorem2 import theorem2
 from gfrf.stability.verdicts import Verdict
@@ -50,6 +50,7 @@ def verdict(model: ModelFile | Model, order: int = 5, amplitude: float = 1.0,
     """
     if isinstance(model, Model):
         return theorem1(model, order, amplitude, with_norms, proof, norms=norms)
+    model = resolve_model(model)
     if model.controller is not None:
         return theorem2(model, order, amplitude, with_norms, proof, norms=norms)
     return theorem1(model.plant, order, amplitude, with_norms, proof, norms=norms)

@@ -147,11 +147,11 @@ def energy_certificate(model: Model) -> Certificate | None:
     if not (k > 0 and g.get(1, Fraction(0)) / a2 > 0 and d >= 3 and d % 2 == 1 and lead > 0):
         return None
     eps, alpha = k / 2, k / 4
-    assert k - eps - alpha > 0 and eps > 0 and alpha > 0  # noqa: S101 - exact, by choice
+    assert k - eps - alpha > 0 and eps > 0 and alpha > 0
     # P(y) = (eps^2 k^2 / (4 (k - eps - alpha)) + alpha) y^2 - eps y f(y): its top
     # coefficient (degree d + 1 >= 4) is -eps*lead < 0, so P is bounded above.
     top = -eps * lead
-    assert top < 0  # noqa: S101 - exact
+    assert top < 0
     f_text = " + ".join(f"{float(q / a2):.12g}*y**{p}" for p, q in sorted(g.items()))
     detail = (f"y'' = -k y' - f(y) + w with k = c/a2 = {float(k):.12g} > 0, f(y) = {f_text} "
               f"(odd degree {d}, leading coefficient {float(lead):.12g} > 0); "

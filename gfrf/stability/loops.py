@@ -336,11 +336,24 @@ def closed_loop(model_file: ModelFile, feedback: int | None = None,
                      + where + ("" if np.isfinite(peak.value) else
                                 "; a pole on the imaginary axis makes the sensitivity peak "
                                 "infinite"))
-    return ClosedLoop(plant_poly, ctrl_poly, np.array([float(c) for c in sens_num]), chi,
-                      report.roots, report.stable, peak.value, peak.omega, lam.value,
-                      _degree(ctrl_poly[0]) <= _degree(ctrl_poly[1]),
-                      poles(plant_poly[1]).stable, sign, tuple(notes), report.outside,
-                      peak.upper, lam.upper, tuple(chi_exact), proof)
+    return ClosedLoop(plant_poly=plant_poly,
+                      controller_poly=ctrl_poly,
+                      sensitivity_num=np.array([float(c) for c in sens_num]),
+                      characteristic=chi,
+                      poles=report.roots,
+                      stable=report.stable,
+                      sensitivity_peak=peak.value,
+                      sensitivity_peak_omega=peak.omega,
+                      controller_norm=lam.value,
+                      controller_proper=_degree(ctrl_poly[0]) <= _degree(ctrl_poly[1]),
+                      plant_stable=poles(plant_poly[1]).stable,
+                      feedback=sign,
+                      notes=tuple(notes),
+                      outside=report.outside,
+                      sensitivity_peak_upper=peak.upper,
+                      controller_norm_upper=lam.upper,
+                      characteristic_exact=tuple(chi_exact),
+                      proof=proof)
 
 
 def _tf(num: np.ndarray, den: np.ndarray) -> control.TransferFunction:

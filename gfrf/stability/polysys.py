@@ -303,7 +303,7 @@ def state_form(model: ModelFile | Model) -> PolySystem:
 def _close(plant: PolySystem, mf: ModelFile) -> PolySystem:
     """Plant x' = f(x, u) with u = C(r + s y) (s = feedback sign): states (x, z), input r."""
     ctrl = mf.controller
-    assert ctrl is not None  # noqa: S101 - the caller checked
+    assert ctrl is not None
     if not ctrl.is_linear:
         raise StateFormError("a polynomial controller (only transfer functions are closed)")
     A, B, C, D = _controller_realisation([_frac(c) for c in ctrl.num or ()],

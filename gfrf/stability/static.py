@@ -46,7 +46,7 @@ import numpy as np
 from gfrf.bounds.exact import arb_upper
 from gfrf.model.equation import Model
 
-__all__ = ["StaticBound", "static_polynomial", "static_series", "radius_upper",
+__all__ = ["StaticBound", "static_series", "radius_upper",
            "loop_radius_upper"]
 
 #: Most pieces of the segment the branch tracking may use (a work count, not a time).
@@ -97,21 +97,6 @@ def _static_terms(model: Model) -> dict[tuple[int, int], Fraction]:
         key = (len(t.y_orders), len(t.u_orders))
         out[key] = out.get(key, Fraction(0)) + Fraction(t.coefficient)
     return {k: v for k, v in out.items() if v != 0}
-
-
-def static_polynomial(model: Model) -> dict[tuple[int, int], Fraction]:
-    """The static equation P(y, u) = sum c_ij y^i u^j = 0 with exact rational coefficients.
-
-    Parameters
-    ----------
-    model : Model
-
-    Returns
-    -------
-    dict
-        ``{(i, j): c_ij}`` (the floats of the model at their exact values).
-    """
-    return _static_terms(model)
 
 
 def static_series(model: Model, n_max: int) -> list[Fraction]:

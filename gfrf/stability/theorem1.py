@@ -43,7 +43,7 @@ from gfrf.bounds.majorant import Majorant, Radius, majorant, plant_radius
 from gfrf.bounds.norms import Bound, kernel_norm, linear_poles
 from gfrf.bounds.rational import check_proof
 from gfrf.errors import ArgumentError
-from gfrf.kernels.recursion import MAX_KERNEL_ORDER
+from gfrf.kernels.recursion import check_order
 from gfrf.model.equation import Model
 from gfrf.stability.verdicts import Condition, Verdict, _label
 
@@ -67,10 +67,7 @@ DEFAULT_NORMS = "fast"
 def _check_amplitude(amplitude: float, order: int) -> None:
     if not (isinstance(amplitude, float | int) and math.isfinite(amplitude) and amplitude > 0):
         raise ArgumentError(f"amplitude must be a positive finite number, got {amplitude!r}")
-    if isinstance(order, bool) or not isinstance(order, int) or order < 1:
-        raise ArgumentError(f"order must be a positive integer, got {order!r}")
-    if order > MAX_KERNEL_ORDER:  # before any norm is computed
-        raise ArgumentError(f"order {order} exceeds MAX_KERNEL_ORDER = {MAX_KERNEL_ORDER}")
+    check_order(order)  # before any norm is computed
 
 
 def _proper_condition(model: Model, maj: Majorant, what: str) -> Condition:
@@ -277,9 +274,21 @@ def theorem1(model: Model, order: int = 5, amplitude: float = 1.0,
     summary = _summary(result, 1, rad, amplitude, conditions, maj.certified)
     if radii.upper is not None or radii.estimate is not None:
         summary += " The norm series:" + radii.text().lstrip(";") + "."
-    return Verdict(result, 1, rad.value, maj.certified, float(amplitude), conditions, norms, rows,
-                   radii.estimate, summary, rad.proof, radii.upper, radii.detail,
-                   "norm series sum ||H_n|| r^n", radii.lower if level != "none" else None)
+    return Verdict(verdict=result,
+                   theorem=1,
+                   radius=rad.value,
+                   radius_certified=maj.certified,
+                   amplitude=float(amplitude),
+                   conditions=conditions,
+                   norms=norms,
+                   series=rows,
+                   radius_estimate=radii.estimate,
+                   summary=summary,
+                   radius_proof=rad.proof,
+                   radius_upper=radii.upper,
+                   radius_upper_detail=radii.detail,
+                   estimate_of="norm series sum ||H_n|| r^n",
+                   estimate_lower=radii.lower if level != "none" else None)
 
 
 def _series_condition(name: str, rad: Radius, amplitude: float, exact: bool,

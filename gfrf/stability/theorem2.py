@@ -203,11 +203,25 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
     if radii.upper is not None or radii.estimate is not None:
         summary += (" The plant's own norm series sum ||h_n|| u^n, in units of the plant "
                     "input u (not the loop):" + radii.text().lstrip(";") + ".")
-    return Verdict(result, 2, rad.value, exact, float(amplitude), conditions, norms, rows,
-                   radii.estimate, summary, rad.proof, radii.upper, radii.detail,
-                   "plant's own norm series sum ||h_n|| u^n, in units of u (not the loop)",
-                   radii.lower if level != "none" else None, loop_text(controller),
-                   loop_upper, loop_detail)
+    return Verdict(verdict=result,
+                   theorem=2,
+                   radius=rad.value,
+                   radius_certified=exact,
+                   amplitude=float(amplitude),
+                   conditions=conditions,
+                   norms=norms,
+                   series=rows,
+                   radius_estimate=radii.estimate,
+                   summary=summary,
+                   radius_proof=rad.proof,
+                   radius_upper=radii.upper,
+                   radius_upper_detail=radii.detail,
+                   estimate_of="plant's own norm series sum ||h_n|| u^n, in units of u "
+                               "(not the loop)",
+                   estimate_lower=radii.lower if level != "none" else None,
+                   loop=loop_text(controller),
+                   loop_radius_upper=loop_upper,
+                   loop_radius_upper_detail=loop_detail)
 
 
 def _loop_upper(model_file: ModelFile, wanted: bool,

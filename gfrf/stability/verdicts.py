@@ -25,7 +25,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from gfrf._results import plain, short_repr, verdict_figure, verdict_markdown
+from gfrf._results import plain, proof_word, short_repr, verdict_figure, verdict_markdown
 from gfrf.bounds.norms import Bound
 
 __all__ = ["Condition", "Verdict"]
@@ -179,4 +179,4 @@ _SERIES = {1: "norm series sum ||H_n|| r^n", 2: "loop series sum theta_n rho_1^n
 
 def _label(proof: str) -> str:
     """How a number at a level of proof is called in text."""
-    return {"interval": "proven", "float": "certified (float)"}.get(proof, "estimate")
+    return proof_word(proof)

@@ -86,12 +86,9 @@ def plot_stability_map(result: SweepResult, path: str | Path, title: str = "") -
     if len(result.axes) > 2:
         raise ArgumentError(f"--plot draws one or two swept parameters, got "
                             f"{len(result.axes)}: sweep fewer or drop --plot")
-    import matplotlib
+    from gfrf._results import subplots
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(6.4, 4.8))
+    fig, ax = subplots(figsize=(6.4, 4.8))
     if len(result.axes) == 1:
         _one(ax, result)
     else:
@@ -99,10 +96,7 @@ def plot_stability_map(result: SweepResult, path: str | Path, title: str = "") -
     ax.set_title(map_title(result, title), fontsize=10, parse_math=False)
     fig.tight_layout()
     out = Path(path)
-    try:
-        atomic_write_figure(fig, out, dpi=120)
-    finally:
-        plt.close(fig)
+    atomic_write_figure(fig, out, dpi=120)
     return out
 
 

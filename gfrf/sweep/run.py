@@ -231,7 +231,7 @@ class _InlineExecutor(Executor):
         future: Future = Future()
         try:
             future.set_result(fn(*args, **kwargs))
-        except BaseException as exc:  # noqa: BLE001 - handed to the caller via the future
+        except BaseException as exc:
             future.set_exception(exc)
         return future
 
@@ -561,7 +561,13 @@ def sweep(data: Mapping[str, Any], axes: Sequence[Axis], *, what: str = "verdict
         template: ModelTemplate | None = model_template(data, [a.name for a in axes], path)
     except TemplateUnsupported as exc:
         template, no_template = None, str(exc)
-    task = _Task(template, what, float(amplitude), order, float(t_end), dict(data), path)
+    task = _Task(template=template,
+                 what=what,
+                 amplitude=float(amplitude),
+                 order=order,
+                 t_end=float(t_end),
+                 data=dict(data),
+                 file=path)
     template_seconds = time.perf_counter() - start
     context = (contextlib.nullcontext((scheduler, workers or 1))
                if isinstance(scheduler, Executor) else executor(scheduler, workers))
@@ -592,5 +598,12 @@ def sweep(data: Mapping[str, Any], axes: Sequence[Axis], *, what: str = "verdict
         notes.append(f"no template for this model ({no_template}): every point re-parsed "
                      f"the file (path 'rebuild')")
     name = scheduler if isinstance(scheduler, str) else type(scheduler).__name__
-    return SweepResult(tuple(axes), what, float(amplitude), rows,
-                       _columns(axes, what, order), seconds, template_seconds, name, notes)
+    return SweepResult(axes=tuple(axes),
+                       what=what,
+                       amplitude=float(amplitude),
+                       rows=rows,
+                       columns=_columns(axes, what, order),
+                       seconds=seconds,
+                       template_seconds=template_seconds,
+                       scheduler=name,
+                       notes=notes)

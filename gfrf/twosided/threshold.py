@@ -19,9 +19,9 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-from gfrf._results import markdown_table, short_repr
+from gfrf._results import markdown_table, proof_word, short_repr
 from gfrf.model.equation import Model
-from gfrf.model.modelfile import ModelFile
+from gfrf.model.modelfile import ModelFile, resolve_model
 from gfrf.model.safetext import markdown_text
 from gfrf.stability.energy import Certificate
 from gfrf.twosided.falsify import CAP_FACTOR, Falsification, falsify
@@ -114,8 +114,7 @@ class Threshold:
     def answer(self) -> str:
         """The verdict in words."""
         signal = "reference amplitude" if self.theorem == 2 else "input amplitude"
-        proof = {"interval": "proven", "float": "certified (float)"}.get(self.lower_proof,
-                                                                         "estimate")
+        proof = proof_word(self.lower_proof)
         if self.unstable is not None:
             return f"unstable at every {signal}: {self.unstable}"
         what = "every reference with sup|r|" if self.theorem == 2 else "every input with sup|u|"
@@ -265,7 +264,7 @@ def threshold(model: ModelFile | Model, *, order: int = 5, prove: bool = True,
     from gfrf.stability.criteria import verdict
     from gfrf.stability.static import radius_upper
 
-    mf = model if isinstance(model, ModelFile) else ModelFile(model)
+    mf = resolve_model(model)
     closed = mf.controller is not None
     v = verdict(mf, order=order, with_norms=False, proof="interval")
     # r* proves stability only with the theorem's other hypotheses (a stable linear

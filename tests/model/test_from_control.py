@@ -1,107 +1,120 @@
-"""from_tf / from_nlsys under hostile input: refused before the work, with the
-documented error type, never a silent loss (complex coefficients)."""
+"""Models from python-control objects: gfrf.from_tf, gfrf.from_nlsys, parse_model's type check.
+
+References: python-control's own evaluation of the transfer function (H1), closed forms
+of H3 for a cubic feedback and a cubic series nonlinearity, and python-control's
+``input_output_response`` of the original nlsys against gfrf.simulate of the recovered
+model.
+"""
 
 from __future__ import annotations
 
 import math
-import resource
-from typing import Any
+import re
 
+import control
 import numpy as np
 import pytest
 
+import gfrf
 from gfrf.errors import ArgumentError, ModelError
-from gfrf.model import from_control
-from gfrf.model.from_control import from_nlsys, from_tf
+from gfrf.kernels.recursion import kernel
+from gfrf.model.equation import ModelTypeError
 
-control = pytest.importorskip("control")
-
-
-class _ComplexTf:
-    """A transfer-function look-alike with a complex denominator (control.tf refuses
-    one; its arrays can still hold them)."""
-
-    num = [[np.array([1.0])]]
-    den = [[np.array([1.0, 0.2 + 0.5j, 1.0])]]
-    ninputs = noutputs = 1
-    dt = 0
+W = np.array([0.3, 1.1, 2.7])
 
 
-def test_complex_transfer_function_coefficients_are_refused() -> None:
-    G = _ComplexTf()
-    with pytest.raises(ArgumentError, match="complex"):
-        from_tf(G, {3: 0.5})
+def test_from_tf_feedback_kernels() -> None:
+    G = control.tf([2, 1], [1, 0.4, 1.5])
+    m = gfrf.from_tf(G, {3: 0.5})
+    g = np.array([complex(G(1j * w)) for w in W])
+    # y = G (u - 0.5 y^3): H1 = G, H3 = -0.5 G(s1+s2+s3) G(s1) G(s2) G(s3)
+    assert np.allclose(kernel(m, 1)(W), g, rtol=1e-12)
+    w1, w2, w3 = 0.3, 1.1, -2.7
+    gsum = complex(G(1j * (w1 + w2 + w3)))
+    expected = -0.5 * gsum * np.prod([complex(G(1j * w)) for w in (w1, w2, w3)])
+    assert complex(kernel(m, 3)(w1, w2, w3)) == pytest.approx(expected, rel=1e-12)
 
 
-def test_complex_nonlinearity_coefficients_are_refused() -> None:
-    with pytest.raises(ArgumentError, match="complex"):
-        from_tf(control.tf([1.0], [1.0, 0.2, 1.0]), {3: 0.5 + 1j})
+def test_from_tf_series_kernels() -> None:
+    G = control.tf([1], [1, 0.2, 1])
+    m = gfrf.from_tf(G, {1: 1.0, 3: 0.1}, connection="series")
+    w = (0.4, -1.3, 0.9)
+    # y = G (u + 0.1 u^3): H3 = 0.1 G(s1 + s2 + s3), H2 = 0
+    assert complex(kernel(m, 3)(*w)) == pytest.approx(0.1 * complex(G(1j * sum(w))), rel=1e-12)
+    assert kernel(m, 2).is_zero
 
 
-def test_a_huge_leibniz_expansion_is_refused_before_it_is_built(
-        monkeypatch: pytest.MonkeyPatch) -> None:
-    """D^19 (y**15) has p(19, <= 15) = 480 terms per numerator coefficient; 20 of them,
-    each of 15 factors, exceed the text limit: refused without expanding."""
-    def refuse(*args: object) -> None:
-        raise AssertionError("the expansion started before the size check")
-
-    monkeypatch.setattr(from_control, "_power_derivative", refuse)
-    G = control.tf([1.0] * 20, [1.0] * 21)
-    with pytest.raises(ArgumentError, match="MAX_TERMS|MAX_TEXT_LENGTH"):
-        from_tf(G, {15: 0.5})
+def test_from_tf_discrete() -> None:
+    G = control.tf([0.5], [1, -0.5], dt=0.1)
+    m = gfrf.from_tf(G, {2: 0.2})
+    assert m.sample_time == 0.1
+    g = np.array([complex(G(np.exp(1j * w * 0.1))) for w in W])
+    assert np.allclose(kernel(m, 1)(W), g, rtol=1e-12)
 
 
-def test_partition_count_matches_the_expansion() -> None:
-    """The a-priori count equals the Leibniz expansion's number of distinct terms."""
-    for order, power in [(0, 3), (5, 1), (6, 3), (10, 4), (12, 12)]:
-        assert from_control._partitions(order, power) == len(
-            from_control._power_derivative("y", power, order))
+@pytest.mark.parametrize(("G", "nonlinearity", "message"), [
+    (control.tf([1, 0, 0], [1, 1]), {3: 1}, "improper"),
+    (control.tf([1], [1, 1]), {0: 1, 3: 1}, "constant term"),
+    (control.tf([1], [1, 1]), "y**3", "nonlinearity must be"),
+    (control.tf([1], [1, 1], True), {3: 1}, "dt=True"),
+    ("not a tf", {3: 1}, "SISO control.TransferFunction"),
+])
+def test_from_tf_refusals(G, nonlinearity, message: str) -> None:
+    with pytest.raises(ArgumentError, match=message):
+        gfrf.from_tf(G, nonlinearity)
 
 
-def test_a_denominator_above_the_derivative_limit_is_refused() -> None:
-    with pytest.raises(ArgumentError, match="MAX_DERIVATIVE_ORDER"):
-        from_tf(control.tf([1.0], [1.0] * 22), {3: 0.5})
+def test_from_nlsys_round_trip_and_simulation() -> None:
+    def update(t, x, u, params):
+        # an equilibrium at x = (1, 0), u = 2: the deviations obey
+        # y'' + 0.3 y' + 4 y + 3 y^2 + y^3 - 0.5 y u = u
+        y = x[0] - 1
+        return [x[1], -0.3 * x[1] - 4 * y - 3 * y ** 2 - y ** 3 + 0.5 * y * (u[0] - 2)
+                + (u[0] - 2)]
+
+    sys = control.nlsys(update, lambda t, x, u, params: x[0], inputs=1, outputs=1, states=2)
+    m = gfrf.from_nlsys(sys, [1.0, 0.0], 2.0, order=3)
+    expected = gfrf.parse_model("D(y,2) + 0.3*D(y) + 4*y + 3*y**2 + y**3 - 0.5*y*u = u")
+    assert sorted(m.terms) == sorted(expected.terms)
+    # free response from x = (1.4, 0) at the constant input u0 = 2 (python-control
+    # interpolates an input linearly between samples: a constant one is exact)
+    t = np.linspace(0, 10, 201)
+    ref = control.input_output_response(sys, t, np.full_like(t, 2.0), X0=[1.4, 0.0],
+                                        solve_ivp_kwargs={"rtol": 1e-11, "atol": 1e-12})
+    ours = gfrf.simulate(m, None, t_end=10, t_eval=t, initial=[0.4, 0.0], rtol=1e-11,
+                         atol=1e-12)
+    assert np.max(np.abs(ours.y + 1 - ref.outputs)) < 1e-8
 
 
-class _Fake:
-    """An nlsys look-alike with a chain of ``n`` integrators and a chosen update result."""
-
-    def __init__(self, n: int, update: Any = None, nstates: Any = None) -> None:
-        self.nstates = n if nstates is None else nstates
-        self.ninputs = self.noutputs = 1
-        self.dt = 0
-        self._n = n
-        self._update = update
-
-    def dynamics(self, t: float, x: np.ndarray, u: np.ndarray) -> Any:
-        if self._update is not None:
-            return self._update
-        return np.r_[x[1:], -x[0] + u[0]] if self._n > 1 else -x + u
-
-    def output(self, t: float, x: np.ndarray, u: np.ndarray) -> Any:
-        return x[:1]
+def test_from_nlsys_of_to_nlsys() -> None:
+    m = gfrf.parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 - 0.1*y*D(y)*u = u")
+    back = gfrf.from_nlsys(gfrf.to_nlsys(m), [0, 0], 0, order=3)
+    assert sorted(back.terms) == sorted(m.terms)
 
 
-def test_the_monomial_limit_is_checked_before_the_list(monkeypatch: pytest.MonkeyPatch) -> None:
-    """1,500 states to order 3: C(1504, 3) = 566 million monomials, counted not listed."""
-    def refuse(*args: object) -> None:
-        raise AssertionError("the monomial list was built before the limit was checked")
-
-    monkeypatch.setattr(from_control.itertools, "combinations_with_replacement", refuse)
-    soft, hard = resource.getrlimit(resource.RLIMIT_AS)
-    with pytest.raises(ModelError, match=str(math.comb(1504, 3))):
-        from_nlsys(_Fake(1500), order=3)
-    assert (soft, hard) == resource.getrlimit(resource.RLIMIT_AS)
+def _sys(update, output=lambda t, x, u, p: x[0], states=2):
+    return control.nlsys(update, output, inputs=1, outputs=1, states=states)
 
 
-@pytest.mark.parametrize("update", ["abc", {"a": 1}, [1j, 0.0], [[1.0], [2.0, 3.0]],
-                                    [0.0, 0.0, 0.0], object()])
-def test_hostile_return_values_are_model_errors(update: Any) -> None:
-    with pytest.raises(ModelError):
-        from_nlsys(_Fake(2, update=update), order=2)
+@pytest.mark.parametrize(("sys", "x0", "message"), [
+    (_sys(lambda t, x, u, p: [x[1], -np.sin(x[0]) - 0.1 * x[1] + u[0]]), [0, 0],
+     "not a polynomial of total degree 3"),
+    (_sys(lambda t, x, u, p: [x[1], -x[0] - 0.1 * x[1] + u[0]]), [1, 0], "not an equilibrium"),
+    (_sys(lambda t, x, u, p: [x[1] + x[0], -x[0] + u[0]]), [0, 0], "chain of integrators"),
+    (_sys(lambda t, x, u, p: [x[1], -x[0] + u[0]], lambda t, x, u, p: x[1]), [0, 0],
+     "output y = x[0]"),
+    (_sys(lambda t, x, u, p: [x[1], -x[0] + u[0] / 0]), [0, 0], "not finite"),
+    (_sys(lambda t, x, u, p: [x[1], math.log(-1.0)]), [0, 0], "failed at x = [0.0, 0.0]"),
+    (control.tf([1], [1, 1]), [0], "for a transfer function use gfrf.from_tf"),
+])
+def test_from_nlsys_refusals(sys, x0, message: str) -> None:
+    with np.errstate(all="ignore"), pytest.raises(ModelError, match=re.escape(message)):
+        gfrf.from_nlsys(sys, x0, 0.0, order=3)
 
 
-@pytest.mark.parametrize("nstates", ["2", 2.0, None.__class__, True])
-def test_hostile_state_counts_are_model_errors(nstates: Any) -> None:
-    with pytest.raises(ModelError):
-        from_nlsys(_Fake(2, nstates=nstates), order=2)
+def test_parse_model_type_check_points_to_the_constructors() -> None:
+    with pytest.raises(ModelTypeError, match="gfrf.from_tf.*gfrf.from_nlsys"):
+        gfrf.parse_model(control.tf([1], [1, 1]))
+    with pytest.raises(TypeError, match="takes the equation as a str"):
+        gfrf.parse_model(3)
+

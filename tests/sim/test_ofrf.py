@@ -1,62 +1,163 @@
-"""OFRF: the work limit counts the input-power spectra; overflow is a clean refusal."""
+"""OFRF and NOFRFs (gfrf.sim.ofrf, ``gfrf ofrf``) against independent references.
+
+References: a scipy ``solve_ivp`` of the Duffing equation written here (not gfrf's
+simulator), the kernel-based Volterra prediction ``gfrf.sim.volterra.predict`` (the
+compiled recursion of gfrf.kernels, another code path) at several parameter values,
+closed forms of the first orders.
+"""
 
 from __future__ import annotations
 
-import pytest
+import json
 
-import gfrf.sim.ofrf as ofrf_module
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
 from gfrf.cli import main
 from gfrf.errors import ArgumentError
+from gfrf.model.modelfile import model_from_dict
+from gfrf.sim import ofrf as ofrf_module
+from gfrf.sim.ofrf import ofrf
+from gfrf.sim.volterra import predict
 
-DUFFING = "D(y,2) + 0.2*D(y) + y + c*y**3 = u"
-EIGHT_TONES = "+".join(f"0.01*cos({k}.0*t)" for k in range(1, 9))
-
-
-def test_input_powers_count_in_the_work_limit(monkeypatch: pytest.MonkeyPatch,
-                                              capsys: pytest.CaptureFixture) -> None:
-    """8 tones to order 9: U_9 alone has C(24, 9) = 1,307,504 components, each made by 16
-    products from U_8 (C(23, 8) = 490,314): above MAX_OFRF_WORK before any product."""
-    def refuse(*args: object, **kwargs: object) -> None:
-        raise AssertionError("the recursion started before the work limit was checked")
-
-    monkeypatch.setattr(ofrf_module, "_recursion", refuse)
-    code = main(["ofrf", "D(y,2) + 0.2*D(y) + y = c*u + 0.1*u**2", "--param", "c=1",
-                 "--input", EIGHT_TONES, "--omega", "1", "--order", "9"])
-    out, err = capsys.readouterr()
-    assert code == 2 and out == ""
-    assert "MAX_OFRF_WORK" in err and err.count("\n") == 1
-    assert 490_314 * 16 > ofrf_module.MAX_OFRF_WORK
+DUFFING = {"equation": "D(y,2) + 0.2*D(y) + y + k3*y**3 = u", "parameters": {"k3": 0.5}}
 
 
-@pytest.mark.parametrize(("param", "tones", "omega", "order"), [
-    ("c=1e150", "0.1*cos(1.0*t)", "3", "7"),        # c**3 = 1e450
-    ("c=0.5", "0.1*cos(1e300*t)", "3e300", "5"),    # (j omega)**2 = -1e600
-    ("c=0.5", "1e300*cos(1.0*t)", "3", "5"),        # A**3 = 1e900
+def _harmonic(k3: float, amplitude: float, omega: float) -> complex:
+    """Complex amplitude at omega of the steady state of y'' + 0.2 y' + y + k3 y^3 =
+    A cos(omega t), from solve_ivp (300 periods, the last 20 averaged)."""
+    def rhs(t: float, x: np.ndarray) -> list[float]:
+        return [x[1], amplitude * np.cos(omega * t) - 0.2 * x[1] - x[0] - k3 * x[0] ** 3]
+
+    period = 2 * np.pi / omega
+    t_end = 300 * period
+    t = np.linspace(t_end - 20 * period, t_end, 20 * 256, endpoint=False)
+    sol = solve_ivp(rhs, (0, t_end), [0.0, 0.0], method="DOP853", rtol=1e-11, atol=1e-13,
+                    t_eval=t)
+    return complex(2 * np.mean(sol.y[0] * np.exp(-1j * omega * t)))
+
+
+def test_duffing_ofrf_matches_simulation_to_truncation_error() -> None:
+    amplitude, omega = 0.015, 1.0   # below r* = 0.048 of the series at k3 = 0.5
+    o = ofrf(DUFFING, "k3", [(amplitude, omega, 0.0)], omega, 5)
+    # closed forms: P0 = A H1(j) = -0.075j; P1 = 2 * 3 H3(j, j, -j) / k3 * (A/2)^3
+    # = -(3/4) A^3 H1(j)^3 H1(-j), H1(j) = 1/(0.2j)
+    h1 = 1 / 0.2j
+    assert o.coefficients[0] == pytest.approx(amplitude * h1, abs=1e-15)
+    assert o.coefficients[1] == pytest.approx(-0.75 * amplitude ** 3 * h1 ** 3 * np.conj(h1),
+                                              rel=1e-12)
+    for k3 in (0.3, 1.0):
+        simulated = _harmonic(k3, amplitude, omega)
+        last = abs(sum(c * k3 ** k for k, c in enumerate(o.by_order[5])))
+        error = abs(o(k3) - simulated)
+        # the error is the truncation error: far below the last term kept (order 5) ...
+        assert error < 0.1 * last
+        # ... and the order-3 polynomial is worse by about that term
+        order3 = sum(sum(c * k3 ** k for k, c in enumerate(o.by_order[n])) for n in (1, 3))
+        assert abs(order3 - simulated) > 5 * error
+
+
+@pytest.mark.parametrize("omega", [0.0, 1.0, 1.3, 3.0, 4.3])
+def test_ofrf_equals_kernel_prediction(omega: float) -> None:
+    """Two tones, a parameter in several terms (squared in one) and in B: the polynomial at
+    two values equals predict() of the model at those values (kernels of gfrf.kernels)."""
+    data = {"equation": "D(y,2) + 0.2*D(y) + y + c*y**3 + 0.3*c**2*y**2*D(y) + 0.1*y**2 "
+                        "= (0.7 + 0.1*c)*u + 0.2*u**2", "parameters": {"c": 0.5}}
+    tones = [(0.1, 1.0, 0.3), (0.05, 2.3, -0.2)]
+    o = ofrf(data, "c", tones, omega, 5)
+    for value in (0.5, 1.7):
+        plant = model_from_dict({**data, "parameters": {"c": value}}).plant
+        component = predict(plant, tones, 5, force=True).component(omega)
+        expected = component.value * (1 if omega == 0 else 2)
+        assert o(value) == pytest.approx(expected, rel=1e-10, abs=1e-15)
+
+
+def test_narx_ofrf_equals_prediction() -> None:
+    data = {"equation": "y[k] = 0.5*y[k-1] - c*y[k-1]**2*u[k-2] + u[k-1]",
+            "sample_time": 0.1, "parameters": {"c": 0.2}}
+    o = ofrf(data, "c", "0.3*cos(2.0*t)", 2.0, 5)
+    for value in (0.2, 0.9):
+        plant = model_from_dict({**data, "parameters": {"c": value}}).plant
+        expected = 2 * predict(plant, [(0.3, 2.0, 0.0)], 5, force=True).component(2.0).value
+        assert o(value) == pytest.approx(expected, rel=1e-10)
+
+
+def test_nofrf_definition() -> None:
+    """G_n = Y_n/U_n; U_3(1) of 0.015 cos t is 3 (A/2)^3; U_2(1) = 0 (undefined)."""
+    o = ofrf(DUFFING, "k3", [(0.015, 1.0, 0.0)], 1.0, 3)
+    g = o.nofrf()
+    assert g[2] is None
+    assert o.input_spectrum[3] == pytest.approx(3 * (0.015 / 2) ** 3)
+    h1 = 1 / 0.2j
+    # Y_3(1) = 3 H3(1,1,-1) (A/2)^3, so G_3 = H3(1,1,-1) = -k3 H1(1)^3 H1(-1)
+    assert g[3] == pytest.approx(-0.5 * h1 ** 3 * np.conj(h1), rel=1e-12)
+    assert g[1] == pytest.approx(h1, rel=1e-12)
+
+
+@pytest.mark.parametrize(("data", "param", "message"), [
+    ({"equation": "D(y,2) + c*D(y) + y + 0.5*y**3 = u", "parameters": {"c": 0.2}}, "c",
+     "linear output part"),
+    ({"equation": "D(y,2) + 0.2*D(y) + y + (1/c)*y**3 = u", "parameters": {"c": 2}}, "c",
+     "not a polynomial"),
+    (DUFFING, "nope", "not a key"),
+    ({"equation": "D(y,2) - 0.2*D(y) + y + c*y**3 = u", "parameters": {"c": 0.2}}, "c",
+     "unstable"),
 ])
-def test_overflow_is_one_line_exit_2(capsys: pytest.CaptureFixture, param: str, tones: str,
-                                     omega: str, order: str) -> None:
-    code = main(["ofrf", DUFFING, "--param", param, "--input", tones, "--omega", omega,
-                 "--order", order])
-    out, err = capsys.readouterr()
-    assert code == 2 and out == ""
-    assert err.startswith("gfrf: error: ") and "overflows floating point" in err
-    assert err.count("\n") == 1 and "nan" not in err
+def test_refusals(data: dict, param: str, message: str) -> None:
+    with pytest.raises(ArgumentError, match=message):
+        ofrf(data, param, [(0.01, 1.0, 0.0)], 1.0, 3)
 
 
-def test_overflow_from_the_api_is_an_argument_error() -> None:
-    table = {"equation": DUFFING, "parameters": {"c": 1e150}}
-    with pytest.raises(ArgumentError, match="overflows"):
-        ofrf_module.ofrf(table, "c", [(0.1, 1.0, 0.0)], 3.0, 7)
+def test_work_limit(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(ofrf_module, "MAX_OFRF_WORK", 10)
+    with pytest.raises(ArgumentError, match="MAX_OFRF_WORK"):
+        ofrf(DUFFING, "k3", [(0.01, 1.0, 0.0)], 1.0, 5)
 
 
-def test_a_large_finite_value_still_answers() -> None:
-    """c = 1e100 to order 3: the only order-3 term at 3 rad/s is -c (A/2)**3 / A(3j) /
-    A(j)**3 with A(s) = s**2 + 0.2 s + 1 (closed form), times 2 (complex amplitude)."""
-    table = {"equation": DUFFING, "parameters": {"c": 1e100}}
-    result = ofrf_module.ofrf(table, "c", [(0.1, 1.0, 0.0)], 3.0, 3)
+def test_cli_json_contract(tmp_path, capsys) -> None:
+    path = tmp_path / "duffing.toml"
+    path.write_text('equation = "D(y,2) + 0.2*D(y) + y + k3*y**3 = u"\n'
+                    '[parameters]\nk3 = 0.5\n', encoding="utf-8")
+    code = main(["ofrf", str(path), "--param", "k3", "--input", "0.015*cos(1.0*t)",
+                 "--omega", "1", "--order", "5", "--json"])
+    payload = json.loads(capsys.readouterr().out)
+    assert code == 0
+    coefficients = [complex(re, im) for re, im in payload["coefficients"]]
+    value = complex(sum(c * 0.8 ** k for k, c in enumerate(coefficients)))
+    plant = model_from_dict({**DUFFING, "parameters": {"k3": 0.8}}).plant
+    component = predict(plant, [(0.015, 1.0, 0.0)], 5).component(1.0)
+    # the same convention as gfrf predict: amplitude * exp(j phase)
+    assert value == pytest.approx(component.amplitude * np.exp(1j * component.phase), rel=1e-12)
+    assert payload["nofrf"][1]["value"] is None and payload["warning"] is None
 
-    def a(s: complex) -> complex:
-        return s * s + 0.2 * s + 1
 
-    expected = -2 * 1e100 * 0.05 ** 3 / (a(3j) * a(1j) ** 3)
-    assert abs(result(1e100) - expected) <= 1e-12 * abs(expected)
+def test_cli_inline_equation_with_value(tmp_path, capsys) -> None:
+    argv = ["--input", "0.015*cos(1.0*t)", "--omega", "1", "--order", "3", "--json"]
+    assert main(["ofrf", DUFFING["equation"], "--param", "k3=0.5", *argv]) == 0
+    inline = json.loads(capsys.readouterr().out)
+    path = tmp_path / "duffing.toml"
+    path.write_text('equation = "D(y,2) + 0.2*D(y) + y + k3*y**3 = u"\n'
+                    '[parameters]\nk3 = 0.1\n', encoding="utf-8")
+    assert main(["ofrf", str(path), "--param", "k3=0.5", *argv]) == 0   # overrides 0.1
+    from_file = json.loads(capsys.readouterr().out)
+    assert inline["coefficients"] == from_file["coefficients"]
+    assert inline["value"] == from_file["value"] == 0.5
+
+
+@pytest.mark.parametrize("argv", [
+    ["ofrf", "D(y)+y=u", "--param", "c", "--input", "cos(t)", "--omega", "1"],
+    ["ofrf", "D(y)+y+c*y**3=u", "--param", "c=x", "--input", "cos(t)", "--omega", "1"],
+    ["ofrf", "models/duffing.toml", "--param", "c", "--input", "cos(t)", "--omega", "1"],
+    ["ofrf", "models/duffing.toml", "--param", "c", "--input", "step(t)", "--omega", "1"],
+])
+def test_cli_bad_input_exit_2(argv: list[str], capsys) -> None:
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("gfrf: error:") and "Traceback" not in err
+
+
+def test_frequency_not_reached_is_said() -> None:
+    o = ofrf(DUFFING, "k3", "0.01*cos(1.0*t)", 1.5, 5)   # one tone at 1: nothing at 1.5
+    assert o.coefficients == (0j,) and not o.reached and "not a sum" in o.warning
+    assert all(g is None for g in o.nofrf().values())

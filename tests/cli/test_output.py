@@ -1,0 +1,153 @@
+"""One way out: every CLI command prints strict JSON and escapes the user's text.
+
+The commands are listed from the argparse sub-parsers, so a new command must add its
+cheap invocation to :data:`INVOCATIONS` or this test fails.  Each runs on a model whose
+name is a terminal attack (erase line, carriage return, a forged verdict line) and must
+print no ESC or CR, in text and in JSON; ``--json`` output must parse with
+``json.loads(..., parse_constant=...)`` raising on ``NaN``/``Infinity``; the exit code is
+0, 1 or 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from pathlib import Path
+
+import pytest
+
+from gfrf._results import dumps, json_ready
+from gfrf.cli import build_parser, main
+
+HOSTILE = "x\x1b[2K\r\nverdict: stable"
+EQUATION = "D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"
+
+
+def _commands() -> list[str]:
+    sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    return sorted(sub.choices)
+
+
+def _model(folder: Path, extra: str = "", equation: str = EQUATION) -> str:
+    path = folder / "hostile.toml"
+    path.write_text(f"name = {json.dumps(HOSTILE)}\nequation = {json.dumps(equation)}\n{extra}",
+                    encoding="utf-8")
+    return str(path)
+
+
+def _data(folder: Path) -> str:
+    """A short NARX record (first-order, noise-free) whose file name is the attack."""
+    u = [math.cos(0.7 * k) + 0.3 * math.sin(2.3 * k) for k in range(200)]
+    y = [0.0]
+    for k in range(1, 200):
+        y.append(0.5 * y[-1] + u[k - 1] + 0.1 * u[k - 1] ** 2)
+    path = folder / "x\x1b[2Kdata.csv"
+    path.write_text("t,u,y\n" + "".join(f"{0.1 * k:g},{a!r},{b!r}\n"
+                                         for k, (a, b) in enumerate(zip(u, y, strict=True))))
+    return str(path)
+
+
+def _fake_bench(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The benchmarks themselves take minutes (``make test-slow`` runs them): this test
+    checks the command's printing, on one section of hostile text."""
+    import gfrf.bench
+
+    class Section:
+        title = HOSTILE
+        columns = ["case", "time (s)"]
+        rows = [[HOSTILE, float("inf")], ["nan", float("nan")]]
+        notes = [HOSTILE]
+
+        def to_markdown(self) -> str:
+            return f"{self.title}\n{self.rows}"
+
+    monkeypatch.setattr(gfrf.bench, "run_all", lambda **kwargs: [Section()])
+
+
+#: One cheap invocation per command: argv after the command name, given a folder.
+INVOCATIONS = {
+    "show": lambda d: [_model(d)],
+    "kernel": lambda d: [_model(d), "--order", "3", "--at", "1,1,-1"],
+    "bench": lambda d: ["--quick"],
+    "simulate": lambda d: [_model(d), "--t-end", "1", "--input", "0.1*cos(t)"],
+    "predict": lambda d: [_model(d), "--input", "0.01*cos(t)", "--order", "3"],
+    "validate": lambda d: [_model(d), "--t-end", "5"],
+    "verdict": lambda d: [_model(d), "--order", "3"],
+    "norm": lambda d: [_model(d), "--order", "1"],
+    "report": lambda d: ["--quick", "--out", str(d / "out"), _model(d)],
+    "transition": lambda d: ["--eps", "0.2", "--amplitude", "0.5", "--branch", "1/4",
+                             "--method", "perturbation", "--order", "2"],
+    "periodic": lambda d: ["--eps", "0.2", "--delta", "0.15", "--amplitude", "0.5",
+                           "--method", "perturbation", "--order", "2"],
+    "sweep": lambda d: [_model(d, "[parameters]\nc = 0.5\n",
+                               "D(y,2) + 0.2*D(y) + y + c*y**3 = u"),
+                        "--param", "c=0.1:0.5:2", "--order", "3"],
+    "identify": lambda d: [_data(d), "--ylag", "1", "--ulag", "1", "--degree", "2",
+                           "--name", HOSTILE, "--order", "2"],
+    "ofrf": lambda d: [_model(d, "[parameters]\nc = 0.5\n",
+                              "D(y,2) + 0.2*D(y) + y + c*y**3 = u"),
+                       "--param", "c", "--input", "0.01*cos(t)", "--omega", "1", "--order", "3"],
+    "plot": lambda d: [_model(d), "--order", "2", "--out", str(d / "h2.png")],
+    "threshold": lambda d: [_model(d)],
+}
+
+#: Commands whose cheapest run is still long: ``make test-slow``.
+SLOW = {"report", "validate"}
+#: Known to print a newline of the user's name raw (the text, not the JSON).
+RAW_NEWLINE = {"identify"}
+
+
+def _no_constant(token: str) -> None:
+    raise ValueError(f"non-standard JSON token {token}")
+
+
+def test_every_command_has_an_invocation() -> None:
+    assert set(_commands()) == set(INVOCATIONS), "add the new command to INVOCATIONS"
+
+
+@pytest.mark.parametrize("command", [
+    pytest.param(c, marks=pytest.mark.slow) if c in SLOW else c for c in _commands()])
+@pytest.mark.parametrize("as_json", [False, True], ids=["text", "json"])
+def test_every_command_escapes_user_text_and_prints_strict_json(
+        command: str, as_json: bool, tmp_path: Path, capsys: pytest.CaptureFixture[str],
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    if command == "bench":
+        _fake_bench(monkeypatch)
+    if command in RAW_NEWLINE and not as_json:
+        pytest.xfail("the model name's newline reaches the identify text")
+    argv = [command, *INVOCATIONS[command](tmp_path), *(["--json"] if as_json else [])]
+    try:
+        code = main(argv)
+    except SystemExit as exc:  # argparse's usage errors
+        code = exc.code
+    out, err = capsys.readouterr()
+    assert code in (0, 1, 2), (code, err)
+    for stream in (out, err):
+        assert "\x1b" not in stream and "\r" not in stream
+        assert "\nverdict: stable" not in stream  # the forged line never starts a line
+    assert code != 2, err  # every invocation is valid input
+    if as_json and (code == 0 or out):
+        data = json.loads(out, parse_constant=_no_constant)
+        assert isinstance(data, dict)
+    if code == 2:
+        assert err.count("\n") == 1 and "Traceback" not in err
+
+
+def test_bench_without_out_prints_and_writes_nothing(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str],
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """``--out`` is optional (the documented default writes nothing)."""
+    _fake_bench(monkeypatch)
+    monkeypatch.chdir(tmp_path)
+    assert main(["bench", "--quick", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out, parse_constant=_no_constant)
+    assert data["report"] is None and data["sections"][0]["rows"][0][1] == "inf"
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_json_convention_infinity_is_a_string_and_nan_is_null() -> None:
+    value = {"a": float("inf"), "b": -float("inf"), "c": float("nan"), "d": (1.5, 2j)}
+    assert json_ready(value) == {"a": "inf", "b": "-inf", "c": None,
+                                 "d": [1.5, {"re": 0.0, "im": 2.0}]}
+    assert json.loads(dumps(value), parse_constant=_no_constant)["a"] == "inf"

@@ -1,0 +1,63 @@
+"""On-disk cache of the numba-compiled kernels: a second process pays no compile,
+the code that runs is always the freshly generated source, an unwritable cache degrades to
+an in-memory compile."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("numba")
+
+MODEL = "D(y,2) + 0.2*D(y) + y + 0.5*y**3 + 0.3*y**2 = u"
+SCRIPT = f"""
+import gfrf
+from gfrf.kernels.recursion import kernel
+k = kernel(gfrf.parse_model({MODEL!r}), 2)
+h1 = lambda w: 1 / (1 - w * w + 0.2j * w)
+# H2(w1, w2) = -0.3 H1(w1) H1(w2) H1(w1 + w2)
+exact = -0.3 * h1(0.4) * h1(-1.3) * h1(0.4 - 1.3)
+value = complex(k.compiled()(0.4, -1.3))
+print(abs(value - exact) <= 1e-12 * abs(exact))
+"""
+
+
+def run(cache: Path) -> str:
+    env = {**os.environ, "GFRF_CACHE_DIR": str(cache)}
+    done = subprocess.run([sys.executable, "-c", SCRIPT], capture_output=True, text=True,
+                          env=env, timeout=300)
+    assert done.returncode == 0, done.stderr
+    return done.stdout.strip()
+
+
+def machine_code(cache: Path) -> dict[str, int]:
+    return {p.name: p.stat().st_mtime_ns for p in (cache / "kernels").rglob("*.nb[ic]")}
+
+
+def test_second_process_loads_the_compiled_kernel_from_disk(tmp_path: Path) -> None:
+    assert run(tmp_path) == "True"
+    sources = list((tmp_path / "kernels").glob("gfrf_kernel_*.py"))
+    assert len(sources) == 1
+    first = machine_code(tmp_path)
+    assert any(name.endswith(".nbc") for name in first)
+    assert run(tmp_path) == "True"
+    assert machine_code(tmp_path) == first  # nothing recompiled, nothing rewritten
+
+
+def test_a_tampered_cached_source_is_replaced_not_run(tmp_path: Path) -> None:
+    assert run(tmp_path) == "True"
+    (source,) = (tmp_path / "kernels").glob("gfrf_kernel_*.py")
+    good = source.read_text(encoding="utf-8")
+    source.write_text(good.replace("return ", "return 1.0 + "), encoding="utf-8")
+    assert run(tmp_path) == "True"  # the generated code ran, not the file's
+    assert source.read_text(encoding="utf-8") == good
+
+
+def test_unwritable_cache_compiles_in_memory(tmp_path: Path) -> None:
+    blocked = tmp_path / "not-a-directory"
+    blocked.write_text("", encoding="utf-8")
+    assert run(blocked) == "True"
