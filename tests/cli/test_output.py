@@ -48,6 +48,37 @@ def _data(folder: Path) -> str:
     return str(path)
 
 
+def _periodic_data(folder: Path) -> str:
+    """Four periods of an odd multisine through a first-order NARX (file name: the attack)."""
+    period, lines = 64, (1, 3, 5, 7, 9, 11)
+    u = [sum(math.cos(2 * math.pi * k * m / period + 0.7 * m * m) for m in lines)
+         for k in range(4 * period)]
+    y = [0.0]
+    for k in range(1, len(u)):
+        y.append(0.5 * y[-1] + u[k - 1] + 0.05 * u[k - 1] ** 2)
+    path = folder / "x\x1b[2Kperiodic.csv"
+    path.write_text("t,u,y\n" + "".join(f"{0.1 * k:g},{a!r},{b!r}\n"
+                                         for k, (a, b) in enumerate(zip(u, y, strict=True))))
+    return str(path)
+
+
+#: A model with a global sum-of-squares certificate (nonlinear damping, hardening).
+GLOBAL_EQUATION = "D(y,2) + 0.4*D(y) + 2*y + 0.5*y**2*D(y) + 0.8*y**3 = u"
+
+
+def _certificate(folder: Path) -> list[str]:
+    """``check MODEL FILE`` with the certificate the threshold search writes."""
+    from gfrf.model.modelfile import resolve_model
+    from gfrf.twosided.threshold import threshold
+
+    model = _model(folder, equation=GLOBAL_EQUATION)
+    found = threshold(resolve_model(model))
+    assert found.sos is not None
+    path = folder / "certificate.json"
+    path.write_text(json.dumps(found.sos.certificate), encoding="utf-8")
+    return ["check", model, str(path)]
+
+
 def _fake_bench(monkeypatch: pytest.MonkeyPatch) -> None:
     """The benchmarks themselves take minutes (``make test-slow`` runs them): this test
     checks the command's printing, on one section of hostile text."""
@@ -90,6 +121,12 @@ INVOCATIONS = {
                        "--param", "c", "--input", "0.01*cos(t)", "--omega", "1", "--order", "3"],
     "plot": lambda d: [_model(d), "--order", "2", "--out", str(d / "h2.png")],
     "threshold": lambda d: [_model(d)],
+    "frc": lambda d: [_model(d), "--amplitude", "0.1", "--omega", "0.8:1.2",
+                      "--harmonics", "3"],
+    "multisine": lambda d: ["--period", "64", "--sample-time", "0.1", "--out",
+                            str(d / "x\x1b[2Kmultisine.csv")],
+    "estimate": lambda d: [_periodic_data(d), "--period", "64"],
+    "certificate": _certificate,
 }
 
 #: Commands whose cheapest run is still long: ``make test-slow``.
