@@ -1,7 +1,10 @@
 """The README's worked examples are real output: every ``$ gfrf ...`` line in a ``text``
 block is run and its printed lines compared with the README's, where a line ``...``
 stands for any number of lines.  Commands piped to other programs or marked slow
-(``# slow``) are skipped.
+(``# slow``) are skipped.  Each runs in a fresh folder where ``models/`` is the bundled
+models, after the commands before it in the same block that write a file (so ``gfrf
+certificate check`` reads the file ``--certificate-out`` wrote); nothing lands in the
+checkout.
 """
 
 from __future__ import annotations
@@ -18,15 +21,28 @@ ROOT = Path(__file__).resolve().parent.parent
 BLOCK = re.compile(r"```text\n(.*?)```", re.DOTALL)
 
 
-def _examples() -> list[tuple[str, list[str]]]:
-    examples: list[tuple[str, list[str]]] = []
+#: Options whose value is a file a command writes.
+WRITES = ("--certificate-out", "--out", "--csv", "--plot", "--output")
+
+
+def _argv(command: str) -> list[str]:
+    return shlex.split(command.split("  #")[0])[1:]
+
+
+def _examples() -> list[tuple[str, list[str], list[str]]]:
+    """(command, expected lines, earlier commands of its block that write a file)."""
+    examples: list[tuple[str, list[str], list[str]]] = []
     for block in BLOCK.findall((ROOT / "README.md").read_text(encoding="utf-8")):
+        writers: list[str] = []
         for line in block.splitlines():
             if line.startswith("$ gfrf "):
-                examples.append((line[2:], []))
+                examples.append((line[2:], [], list(writers)))
+                if any(option in _argv(line[2:]) for option in WRITES):
+                    writers.append(line[2:])
             elif examples and line.strip():
                 examples[-1][1].append(line)
-    return [(cmd, out) for cmd, out in examples if "|" not in cmd and "# slow" not in cmd]
+    return [example for example in examples
+            if "|" not in example[0] and "# slow" not in example[0]]
 
 
 def _matches(expected: list[str], actual: list[str]) -> bool:
@@ -39,15 +55,27 @@ def _matches(expected: list[str], actual: list[str]) -> bool:
         and _matches(expected[1:], actual[1:])
 
 
-@pytest.mark.parametrize(("command", "expected"), _examples(),
-                         ids=[c for c, _ in _examples()])
-def test_readme_example_is_real_output(command: str, expected: list[str], monkeypatch,
-                                       capsys: pytest.CaptureFixture[str]) -> None:
-    monkeypatch.chdir(ROOT)
-    argv = shlex.split(command.split("  #")[0])[1:]
+def _run(argv: list[str]) -> None:
     try:
         main(argv)
     except SystemExit:
         pass
+
+
+@pytest.mark.parametrize(("command", "expected", "before"), _examples(),
+                         ids=[c for c, _, _ in _examples()])
+def test_readme_example_is_real_output(command: str, expected: list[str], before: list[str],
+                                       monkeypatch, tmp_path: Path,
+                                       capsys: pytest.CaptureFixture[str]) -> None:
+    (tmp_path / "models").symlink_to(ROOT / "models")
+    for argv in (*map(_argv, before), _argv(command)):  # the folders the examples write to
+        for option, value in zip(argv, argv[1:], strict=False):
+            if option in WRITES and not Path(value).is_absolute():
+                (tmp_path / value).parent.mkdir(parents=True, exist_ok=True)
+    monkeypatch.chdir(tmp_path)
+    for earlier in before:
+        _run(_argv(earlier))
+    capsys.readouterr()
+    _run(_argv(command))
     actual = [line for line in capsys.readouterr().out.splitlines() if line.strip()]
     assert _matches(expected, actual), "\n".join(["README:", *expected, "actual:", *actual])
