@@ -20,7 +20,8 @@ import pytest
 from gfrf._results import dumps, json_ready
 from gfrf.cli import build_parser, main
 
-HOSTILE = "x\x1b[2K\r\nverdict: stable"
+#: The forged line says "(forged)": a real verdict line ("verdict: stable") may start a line.
+HOSTILE = "x\x1b[2K\r\nverdict: stable (forged)"
 EQUATION = "D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"
 
 
@@ -94,8 +95,6 @@ INVOCATIONS = {
 
 #: Commands whose cheapest run is still long: ``make test-slow``.
 SLOW = {"report", "validate"}
-#: Known to print a newline of the user's name raw (the text, not the JSON).
-RAW_NEWLINE = {"identify"}
 
 
 def _no_constant(token: str) -> None:
@@ -114,8 +113,6 @@ def test_every_command_escapes_user_text_and_prints_strict_json(
         monkeypatch: pytest.MonkeyPatch) -> None:
     if command == "bench":
         _fake_bench(monkeypatch)
-    if command in RAW_NEWLINE and not as_json:
-        pytest.xfail("the model name's newline reaches the identify text")
     argv = [command, *INVOCATIONS[command](tmp_path), *(["--json"] if as_json else [])]
     try:
         code = main(argv)
@@ -125,7 +122,7 @@ def test_every_command_escapes_user_text_and_prints_strict_json(
     assert code in (0, 1, 2), (code, err)
     for stream in (out, err):
         assert "\x1b" not in stream and "\r" not in stream
-        assert "\nverdict: stable" not in stream  # the forged line never starts a line
+        assert "\nverdict: stable (forged)" not in stream  # never starts a line
     assert code != 2, err  # every invocation is valid input
     if as_json and (code == 0 or out):
         data = json.loads(out, parse_constant=_no_constant)
