@@ -81,6 +81,10 @@ def _run(argv: Sequence[str] | None) -> int:
     try:
         return int(args.func(args))
     except ConvergenceError as exc:  # valid input, the computation found no answer: exit 1
+        if getattr(args, "json", False):
+            from gfrf._results import dumps
+
+            print(dumps({"command": args.command, "error": str(exc)}), flush=True)
         print(f"gfrf: error: {_one_line(str(exc))}", file=sys.stderr)
         return 1
     except GfrfError as exc:

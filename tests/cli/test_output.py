@@ -148,3 +148,41 @@ def test_json_convention_infinity_is_a_string_and_nan_is_null() -> None:
     assert json_ready(value) == {"a": "inf", "b": "-inf", "c": None,
                                  "d": [1.5, {"re": 0.0, "im": 2.0}]}
     assert json.loads(dumps(value), parse_constant=_no_constant)["a"] == "inf"
+
+
+@pytest.mark.parametrize("as_json", [False, True], ids=["text", "json"])
+def test_predict_beyond_the_radius_refuses_in_one_line_and_strict_json(
+        as_json: bool, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """An amplitude of 50 is far beyond r* of a cubic oscillator (about 0.05): refused,
+    exit 1, one line on stderr; ``--json`` prints the refusal as strict JSON."""
+    argv = ["predict", _model(tmp_path), "--input", "50*cos(t)", "--order", "3"]
+    assert main([*argv, *(["--json"] if as_json else [])]) == 1
+    out, err = capsys.readouterr()
+    (line,) = err.splitlines()
+    assert line.startswith("gfrf: refused:") and "--force" in line and "Traceback" not in err
+    if not as_json:
+        assert out == ""
+        return
+    data = json.loads(out, parse_constant=_no_constant)
+    assert data["amplitude"] == 50.0 and 0 < data["radius"] < 50.0
+    assert data["refused"] in line and data["model"] == HOSTILE
+
+
+def test_a_computation_without_answer_still_prints_strict_json(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str],
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """Exit 1 from a computation that found no answer: one line on stderr and, with
+    ``--json``, a JSON object (a JSON reader never gets an empty stdout)."""
+    import gfrf.cli.core
+    from gfrf.errors import ConvergenceError
+
+    def no_answer(args: argparse.Namespace) -> int:
+        raise ConvergenceError(f"no periodic solution near {HOSTILE}")
+
+    monkeypatch.setattr(gfrf.cli.core, "_show", no_answer)
+    assert main(["show", _model(tmp_path), "--json"]) == 1
+    out, err = capsys.readouterr()
+    (line,) = err.splitlines()
+    assert line.startswith("gfrf: error: no periodic solution") and "\x1b" not in err
+    data = json.loads(out, parse_constant=_no_constant)
+    assert data == {"command": "show", "error": f"no periodic solution near {HOSTILE}"}
