@@ -49,6 +49,27 @@ def _data(folder: Path) -> str:
     return str(path)
 
 
+def _periodic_data(folder: Path) -> str:
+    """Two realisations of three periods (N = 64) of an odd multisine through
+    y = u + 0.1 u^2, in a file whose name is the attack."""
+    rows = ["t,u,y,realisation"]
+    for r in range(2):
+        for k in range(3 * 64):
+            u = sum(math.cos(2 * math.pi * line * k / 64 + 0.7 * line**2 + r)
+                    for line in (1, 3, 5, 7))
+            rows.append(f"{0.1 * k:g},{u!r},{u + 0.1 * u * u!r},{r}")
+    path = folder / "x\x1b[2Kperiodic.csv"
+    path.write_text("\n".join(rows) + "\n")
+    return str(path)
+
+
+def _certificate(folder: Path) -> str:
+    """A certificate file that is not one: the check refuses it (exit 1)."""
+    path = folder / "x\x1b[2Kcertificate.json"
+    path.write_text("{}")
+    return str(path)
+
+
 def _fake_bench(monkeypatch: pytest.MonkeyPatch) -> None:
     """The benchmarks themselves take minutes (``make test-slow`` runs them): this test
     checks the command's printing, on one section of hostile text."""
@@ -91,6 +112,12 @@ INVOCATIONS = {
                        "--param", "c", "--input", "0.01*cos(t)", "--omega", "1", "--order", "3"],
     "plot": lambda d: [_model(d), "--order", "2", "--out", str(d / "h2.png")],
     "threshold": lambda d: [_model(d)],
+    "certificate": lambda d: ["check", _model(d), _certificate(d)],
+    "multisine": lambda d: ["--period", "64", "--sample-time", "0.1", "--realisations", "2",
+                            "--periods", "2", "--out", str(d / "x\x1b[2Kms.csv")],
+    "estimate": lambda d: [_periodic_data(d), "--period", "64", "--model", _model(d)],
+    "frc": lambda d: [_model(d), "--amplitude", "0.01", "--omega", "0.9:1.1",
+                      "--max-points", "10"],
 }
 
 #: Commands whose cheapest run is still long: ``make test-slow``.
