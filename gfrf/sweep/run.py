@@ -336,11 +336,13 @@ def _start_cluster(n: int) -> Any:
             box["error"] = exc
 
     thread = threading.Thread(target=build, name="gfrf-cluster-start", daemon=True)
-    blocked = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    masks = hasattr(signal, "pthread_sigmask")  # POSIX
+    blocked = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT}) if masks else None
     try:
         thread.start()
     finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
+        if blocked is not None:
+            signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
     try:
         while thread.is_alive():
             thread.join(0.05)
