@@ -180,6 +180,7 @@ def test_a_budget_above_the_default_is_announced_with_its_time() -> None:
     assert budget_note(m, 3, True, cap) is None
     note = budget_note(m, 3, True, 100 * cap)
     assert note is not None and "allows up to about" in note and str(cap) in note
+    assert "at most 500000 open boxes, 32 MB" in note  # 500000 boxes of 2*3+2 doubles
     seconds = float(note.split("about ")[1].split(" s")[0])
     default_seconds = float(note.split("about ")[2].split(" s")[0])
     assert seconds == pytest.approx(100 * default_seconds, rel=0.1)

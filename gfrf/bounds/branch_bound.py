@@ -274,7 +274,8 @@ SECONDS_PER_WORK = 8.0 / DEFAULT_WORK
 
 def budget_note(model: Model, n: int, symmetric: bool, max_boxes: int) -> str | None:
     """A line announcing, before the search, that ``max_boxes`` allows more work than the
-    default cap (with its time estimate), or None when it does not."""
+    default cap (with its time estimate and its memory bound: :data:`MAX_OPEN` open boxes
+    of 16 (n + 1) bytes), or None when it does not."""
     if not 2 <= n <= MAX_ORDER:
         return None
     default = default_budget(model, n, symmetric)
@@ -284,7 +285,8 @@ def budget_note(model: Model, n: int, symmetric: bool, max_boxes: int) -> str | 
     return (f"max_boxes {max_boxes} allows up to about {seconds:.3g} s of branch-and-bound "
             f"on one core (the default cap is {default} boxes, about "
             f"{default * box_work(model, n, symmetric) * SECONDS_PER_WORK:.2g} s); the "
-            "search stops sooner when the gap reaches tol")
+            "search stops sooner when the gap reaches tol; its memory stays bounded: at "
+            f"most {MAX_OPEN} open boxes, {MAX_OPEN * 16 * (n + 1) / 1e6:.0f} MB of box arrays")
 
 
 def check_budget(max_boxes: object, least: int) -> int:

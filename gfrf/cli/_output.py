@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -11,8 +12,8 @@ from gfrf._results import dumps, json_ready
 from gfrf.errors import ArgumentError
 from gfrf.model.safetext import printable
 
-__all__ = ["add_json_flag", "emit", "to_jsonable", "check_plot_path", "check_output_file",
-           "check_output_folder", "terminal_text", "PLOT_SUFFIXES"]
+__all__ = ["add_json_flag", "emit", "emit_refusal", "to_jsonable", "check_plot_path",
+           "check_output_file", "check_output_folder", "terminal_text", "PLOT_SUFFIXES"]
 
 #: Figure formats of ``--plot`` (chosen by the file suffix; all written by matplotlib's
 #: Agg backend, checked before any computation so a typo costs nothing).
@@ -108,6 +109,25 @@ def emit(args: argparse.Namespace, payload: dict[str, Any], text: str) -> None:
         print(dumps(payload))
     else:
         print(terminal_text(text, payload))
+
+
+def emit_refusal(args: argparse.Namespace, payload: dict[str, Any], line: str) -> None:
+    """Say why a valid request got no answer (exit 1): ``line`` as one escaped line on
+    stderr and, with ``--json``, ``payload`` plus ``"refused": line`` as strict JSON on
+    stdout (a JSON reader never gets an empty stdout).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed arguments (``args.json``).
+    payload : dict
+        What is known of the request (model, amplitude, ...).
+    line : str
+        The reason, without the ``gfrf: refused:`` prefix.
+    """
+    if getattr(args, "json", False):
+        print(dumps({**payload, "refused": line}), flush=True)
+    print(f"gfrf: refused: {printable(line)}", file=sys.stderr)
 
 
 def _free_text(value: Any) -> set[str]:

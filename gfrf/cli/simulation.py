@@ -20,13 +20,12 @@ contradicts the verdict, 1 when one does.
 from __future__ import annotations
 
 import argparse
-import sys
 import warnings
 from typing import TYPE_CHECKING, Any
 
 from gfrf._atomic import atomic_open, atomic_write_figure
 from gfrf.cli._models import add_model_argument, resolve_model
-from gfrf.cli._output import add_json_flag, check_output_file, check_plot_path, emit
+from gfrf.cli._output import add_json_flag, check_output_file, check_plot_path, emit, emit_refusal
 from gfrf.errors import ArgumentError
 from gfrf.model.safetext import plot_text
 
@@ -208,7 +207,10 @@ def _predict(args: argparse.Namespace) -> int:
     try:
         p = predict(mf.plant, signal.tones, args.order, force=args.force)
     except (NoSteadyStateError, BeyondRadiusError) as exc:
-        print(f"gfrf: refused: {exc} (--force to predict anyway)", file=sys.stderr)
+        emit_refusal(args, {"model": mf.name, "input": args.input, "order": args.order,
+                            "amplitude": getattr(exc, "amplitude", None),
+                            "radius": getattr(exc, "radius", None)},
+                     f"{exc} (--force to predict anyway)")
         return 1
     kind = proof_word(p.radius_proof)
     lines = [f"{mf.name}: steady state to order {args.order} for {args.input}",

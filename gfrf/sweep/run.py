@@ -305,29 +305,80 @@ def _probe(address: str, timeout: float) -> None:
         pool.shutdown(wait=False)
 
 
-@contextlib.contextmanager
-def _noting_interrupts() -> Iterator[list[int]]:
-    """A list that gets an entry when SIGINT arrives in the block (the usual handler runs
-    too); nothing is noted outside the main thread, where no handler can be set."""
-    noted: list[int] = []
-    try:
-        previous = signal.getsignal(signal.SIGINT)
+def _start_cluster(n: int) -> Any:
+    """A LocalCluster of ``n`` single-threaded worker processes, started in a helper
+    thread whose signal mask blocks SIGINT.
 
-        def note(signum: int, frame: Any) -> None:
-            noted.append(signum)
-            if callable(previous):
-                previous(signum, frame)
-            elif previous == signal.SIG_DFL:
-                raise KeyboardInterrupt
+    The worker processes inherit that mask (it survives fork and exec): a Ctrl-C sent to
+    the terminal's process group while they start (importing, before their preload
+    ignores it) cannot raise KeyboardInterrupt in them and print their traceback.  This
+    thread stays interruptible: on Ctrl-C the workers started so far are killed, dask's
+    exit-time close of the half-started cluster is dropped (it asserted on the workers'
+    state and printed a traceback), and KeyboardInterrupt propagates.
+    """
+    import threading
 
-        signal.signal(signal.SIGINT, note)
-    except ValueError:
-        yield noted
-        return
+    from distributed import LocalCluster
+
+    box: dict[str, Any] = {}
+
+    def build() -> None:
+        try:
+            # silence_logs: dask's own log lines (on Ctrl-C the nanny and the workers log
+            # ERRORs for the connections torn down) are not gfrf's output; a point's
+            # error reaches the sweep through its future.  The preload makes workers
+            # ignore Ctrl-C for good.
+            box["cluster"] = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                          dashboard_address=None,
+                                          silence_logs=logging.CRITICAL,
+                                          preload=["gfrf.sweep._dask_worker"])
+        except BaseException as exc:  # handed to the caller's thread
+            box["error"] = exc
+
+    thread = threading.Thread(target=build, name="gfrf-cluster-start", daemon=True)
+    masks = hasattr(signal, "pthread_sigmask")  # POSIX
+    blocked = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT}) if masks else None
     try:
-        yield noted
+        thread.start()
     finally:
-        signal.signal(signal.SIGINT, previous)
+        if blocked is not None:
+            signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
+    try:
+        while thread.is_alive():
+            thread.join(0.05)
+    except KeyboardInterrupt:
+        _abandon_start()
+        raise
+    if "error" in box:
+        raise box["error"]
+    return box["cluster"]
+
+
+def _abandon_start() -> None:
+    """Kill the worker processes of an interrupted cluster start (SIGKILL) and drop
+    dask's exit-time close of clusters, which would wait on them."""
+    import atexit
+
+    from distributed.deploy import spec
+
+    atexit.unregister(spec.close_clusters)
+    for name in ("distributed", *logging.root.manager.loggerDict):  # the start goes on
+        if name.startswith("distributed"):  # in its thread: its INFO lines are not ours
+            logging.getLogger(name).setLevel(logging.CRITICAL)
+    _kill_children()
+
+
+def _kill_children() -> None:
+    """SIGKILL this process's multiprocessing children (dask's worker processes) and reap
+    them: no zombie outlives this process."""
+    import multiprocessing
+
+    children = multiprocessing.active_children()
+    for child in children:
+        with contextlib.suppress(OSError, AttributeError):
+            child.kill()
+    for child in children:
+        child.join(1.0)
 
 
 def _kill_workers(cluster: Any) -> None:
@@ -365,29 +416,23 @@ def executor(scheduler: str = "local", workers: int | None = None
         yield _InlineExecutor(), 1
         return
     try:
-        from distributed import Client, LocalCluster
+        from distributed import Client
     except ImportError:
         raise ArgumentError("scheduler 'processes' or an address needs dask.distributed: "
                             "pip install 'gfrf[dask]'") from None
     if scheduler == "processes":
         n = workers or os.cpu_count() or 1
-        # silence_logs: dask's own log lines (on Ctrl-C the nanny and the workers log
-        # ERRORs for the connections torn down) are not gfrf's output; a point's error
-        # reaches the sweep through its future.  The preload makes workers ignore Ctrl-C.
-        with _noting_interrupts() as interrupted:
+        cluster = _start_cluster(n)
+        with cluster:
             try:
-                cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                       dashboard_address=None, silence_logs=logging.CRITICAL,
-                                       preload=["gfrf.sweep._dask_worker"])
-            except RuntimeError:  # a Ctrl-C that killed a starting worker: an interrupt
-                if interrupted:
-                    raise KeyboardInterrupt from None
-                raise
-        with cluster, Client(cluster) as client:
-            try:
-                yield client.get_executor(), n
-            except BaseException:
-                _kill_workers(cluster)  # Ctrl-C or an error: no graceful retirement
+                with Client(cluster) as client:
+                    try:
+                        yield client.get_executor(), n
+                    except BaseException:
+                        _kill_workers(cluster)  # Ctrl-C or an error: no graceful retirement
+                        raise
+            except BaseException:  # also a Ctrl-C while the client connects
+                _kill_workers(cluster)
                 raise
         return
     _probe(scheduler, SCHEDULER_TIMEOUT)

@@ -20,7 +20,8 @@ import pytest
 from gfrf._results import dumps, json_ready
 from gfrf.cli import build_parser, main
 
-HOSTILE = "x\x1b[2K\r\nverdict: stable"
+#: The forged line says "(forged)": a real verdict line ("verdict: stable") may start a line.
+HOSTILE = "x\x1b[2K\r\nverdict: stable (forged)"
 EQUATION = "D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"
 
 
@@ -49,16 +50,16 @@ def _data(folder: Path) -> str:
 
 
 def _periodic_data(folder: Path) -> str:
-    """Four periods of an odd multisine through a first-order NARX (file name: the attack)."""
-    period, lines = 64, (1, 3, 5, 7, 9, 11)
-    u = [sum(math.cos(2 * math.pi * k * m / period + 0.7 * m * m) for m in lines)
-         for k in range(4 * period)]
-    y = [0.0]
-    for k in range(1, len(u)):
-        y.append(0.5 * y[-1] + u[k - 1] + 0.05 * u[k - 1] ** 2)
+    """Two realisations of three periods (N = 64) of an odd multisine through
+    y = u + 0.1 u^2, in a file whose name is the attack."""
+    rows = ["t,u,y,realisation"]
+    for r in range(2):
+        for k in range(3 * 64):
+            u = sum(math.cos(2 * math.pi * line * k / 64 + 0.7 * line**2 + r)
+                    for line in (1, 3, 5, 7))
+            rows.append(f"{0.1 * k:g},{u!r},{u + 0.1 * u * u!r},{r}")
     path = folder / "x\x1b[2Kperiodic.csv"
-    path.write_text("t,u,y\n" + "".join(f"{0.1 * k:g},{a!r},{b!r}\n"
-                                         for k, (a, b) in enumerate(zip(u, y, strict=True))))
+    path.write_text("\n".join(rows) + "\n")
     return str(path)
 
 
@@ -121,18 +122,16 @@ INVOCATIONS = {
                        "--param", "c", "--input", "0.01*cos(t)", "--omega", "1", "--order", "3"],
     "plot": lambda d: [_model(d), "--order", "2", "--out", str(d / "h2.png")],
     "threshold": lambda d: [_model(d)],
-    "frc": lambda d: [_model(d), "--amplitude", "0.1", "--omega", "0.8:1.2",
-                      "--harmonics", "3"],
-    "multisine": lambda d: ["--period", "64", "--sample-time", "0.1", "--out",
-                            str(d / "x\x1b[2Kmultisine.csv")],
-    "estimate": lambda d: [_periodic_data(d), "--period", "64"],
     "certificate": _certificate,
+    "multisine": lambda d: ["--period", "64", "--sample-time", "0.1", "--realisations", "2",
+                            "--periods", "2", "--out", str(d / "x\x1b[2Kms.csv")],
+    "estimate": lambda d: [_periodic_data(d), "--period", "64", "--model", _model(d)],
+    "frc": lambda d: [_model(d), "--amplitude", "0.01", "--omega", "0.9:1.1",
+                      "--max-points", "10"],
 }
 
 #: Commands whose cheapest run is still long: ``make test-slow``.
 SLOW = {"report", "validate"}
-#: Known to print a newline of the user's name raw (the text, not the JSON).
-RAW_NEWLINE = {"identify"}
 
 
 def _no_constant(token: str) -> None:
@@ -151,8 +150,6 @@ def test_every_command_escapes_user_text_and_prints_strict_json(
         monkeypatch: pytest.MonkeyPatch) -> None:
     if command == "bench":
         _fake_bench(monkeypatch)
-    if command in RAW_NEWLINE and not as_json:
-        pytest.xfail("the model name's newline reaches the identify text")
     argv = [command, *INVOCATIONS[command](tmp_path), *(["--json"] if as_json else [])]
     try:
         code = main(argv)
@@ -162,7 +159,7 @@ def test_every_command_escapes_user_text_and_prints_strict_json(
     assert code in (0, 1, 2), (code, err)
     for stream in (out, err):
         assert "\x1b" not in stream and "\r" not in stream
-        assert "\nverdict: stable" not in stream  # the forged line never starts a line
+        assert "\nverdict: stable (forged)" not in stream  # never starts a line
     assert code != 2, err  # every invocation is valid input
     if as_json and (code == 0 or out):
         data = json.loads(out, parse_constant=_no_constant)
@@ -188,3 +185,41 @@ def test_json_convention_infinity_is_a_string_and_nan_is_null() -> None:
     assert json_ready(value) == {"a": "inf", "b": "-inf", "c": None,
                                  "d": [1.5, {"re": 0.0, "im": 2.0}]}
     assert json.loads(dumps(value), parse_constant=_no_constant)["a"] == "inf"
+
+
+@pytest.mark.parametrize("as_json", [False, True], ids=["text", "json"])
+def test_predict_beyond_the_radius_refuses_in_one_line_and_strict_json(
+        as_json: bool, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """An amplitude of 50 is far beyond r* of a cubic oscillator (about 0.05): refused,
+    exit 1, one line on stderr; ``--json`` prints the refusal as strict JSON."""
+    argv = ["predict", _model(tmp_path), "--input", "50*cos(t)", "--order", "3"]
+    assert main([*argv, *(["--json"] if as_json else [])]) == 1
+    out, err = capsys.readouterr()
+    (line,) = err.splitlines()
+    assert line.startswith("gfrf: refused:") and "--force" in line and "Traceback" not in err
+    if not as_json:
+        assert out == ""
+        return
+    data = json.loads(out, parse_constant=_no_constant)
+    assert data["amplitude"] == 50.0 and 0 < data["radius"] < 50.0
+    assert data["refused"] in line and data["model"] == HOSTILE
+
+
+def test_a_computation_without_answer_still_prints_strict_json(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str],
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """Exit 1 from a computation that found no answer: one line on stderr and, with
+    ``--json``, a JSON object (a JSON reader never gets an empty stdout)."""
+    import gfrf.cli.core
+    from gfrf.errors import ConvergenceError
+
+    def no_answer(args: argparse.Namespace) -> int:
+        raise ConvergenceError(f"no periodic solution near {HOSTILE}")
+
+    monkeypatch.setattr(gfrf.cli.core, "_show", no_answer)
+    assert main(["show", _model(tmp_path), "--json"]) == 1
+    out, err = capsys.readouterr()
+    (line,) = err.splitlines()
+    assert line.startswith("gfrf: error: no periodic solution") and "\x1b" not in err
+    data = json.loads(out, parse_constant=_no_constant)
+    assert data == {"command": "show", "error": f"no periodic solution near {HOSTILE}"}
