@@ -130,6 +130,30 @@ def test_cli_json_contract(tmp_path, capsys) -> None:
     # the same convention as gfrf predict: amplitude * exp(j phase)
     assert value == pytest.approx(component.amplitude * np.exp(1j * component.phase), rel=1e-12)
     assert payload["nofrf"][1]["value"] is None and payload["warning"] is None
+    assert payload["truncation_proof"] == "interval"
+    assert 0 < payload["truncation_bound"] < 1e-5
+
+
+@pytest.mark.parametrize("k3", [0.3, 1.0, 2.0])
+def test_truncation_bound_contains_the_simulated_error(k3: float) -> None:
+    """|OFRF - simulated harmonic| <= the stated truncation bound, and the bound is
+    within 100x of that error where the series converges fast (amplitude / r* <= 0.62)."""
+    amplitude = 0.015
+    simulated = _harmonic(k3, amplitude, 1.0)
+    data = {**DUFFING, "parameters": {"k3": k3}}
+    for order in (3, 5):
+        o = ofrf(data, "k3", [(amplitude, 1.0, 0.0)], 1.0, order)
+        error = abs(o(k3) - simulated)
+        assert o.truncation_proof == "interval"
+        assert error <= o.truncation_bound <= 100 * error
+
+
+def test_truncation_bound_is_inf_beyond_the_radius(capsys) -> None:
+    argv = ["ofrf", DUFFING["equation"], "--param", "k3=8", "--input", "0.05*cos(1.0*t)",
+            "--omega", "1", "--order", "5", "--json"]
+    assert main(argv) == 0
+    payload = json.loads(capsys.readouterr().out)
+    assert payload["truncation_bound"] == "inf" and payload["truncation_proof"] == "none"
 
 
 def test_cli_inline_equation_with_value(tmp_path, capsys) -> None:
