@@ -108,7 +108,7 @@ def series_tail(maj: Majorant, amplitude: float, order: int) -> tuple[float, str
         or an infinite majorant) and its proof level (``"interval"``, ``"float"`` or
         ``"none"``).
     """
-    if amplitude == 0.0:
+    if amplitude == 0.0 or not any(t.weight for t in maj.terms):  # H_n = 0 for n >= 2
         return 0.0, maj.proof if maj.finite else "none"
     if not maj.finite:
         return math.inf, "none"
@@ -135,7 +135,10 @@ def series_tail(maj: Majorant, amplitude: float, order: int) -> tuple[float, str
 
 
 def _candidates(amplitude: float, limit: float) -> tuple[float, ...]:
-    """Amplitudes rho in (amplitude, limit) at which the Cauchy estimate is tried."""
+    """Amplitudes rho in (amplitude, limit) at which the Cauchy estimate is tried (far
+    above the amplitude when the series converges everywhere)."""
+    if math.isinf(limit):
+        return (amplitude * 2.0 ** 10, amplitude * 2.0 ** 20)
     return tuple(amplitude + f * (limit - amplitude) for f in (0.9, 0.5))
 
 
