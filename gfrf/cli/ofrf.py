@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import cmath
+import math
 import sys
 from typing import Any
 
@@ -53,6 +54,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def _pair(z: complex) -> str:
     return f"{z.real:+.10g} {z.imag:+.10g}j"
+
+
+def _truncation_line(o: Any, size: float) -> str:
+    """The truncation error bound at the file's value, or why there is none."""
+    if o.truncation_bound == math.inf:
+        return (f"  truncation error: not bounded (input amplitude {o.amplitude:.6g} not "
+                f"below the certified series radius): simulate instead")
+    relative = o.truncation_bound / size if size > 0 else math.inf
+    return (f"  truncation error (orders > {o.order}) at {o.parameter} = {o.value:.6g}: "
+            f"at most {o.truncation_bound:.3g} ({relative:.3g} relative, "
+            f"{o.truncation_proof}); for a smaller error simulation + a fit is the better tool")
 
 
 def _ofrf(args: argparse.Namespace) -> int:
@@ -103,6 +115,7 @@ def _ofrf(args: argparse.Namespace) -> int:
                  f"order {o.order}): amplitude {abs(at):.6g}, phase "
                  f"{cmath.phase(at):+.6f} rad; input amplitude "
                  f"{o.amplitude:.6g}, series radius r* = {o.radius:.6g}")
+    lines.append(_truncation_line(o, abs(at)))
     lines.append(f"  NOFRFs G_n(j{o.omega:.6g}) = Y_n/U_n at {o.parameter} = {o.value:.6g}:")
     for n, g in o.nofrf().items():
         lines.append(f"  n = {n:<2d} " + ("undefined (U_n = 0 at this frequency)"

@@ -35,11 +35,15 @@ The OFRF is that of the polynomial model the GFRFs describe (a file's ``truncati
 ``sin`` etc. applied), as for ``gfrf predict``.
 
 What kind of number: the coefficients are the exact order-N truncation of the Volterra
-series, evaluated in float arithmetic (an *estimate* of the steady state: the
-truncation error is not bounded here).  The truncated series approximates the steady
-state only for input amplitudes below the radius r* of the series at the parameter's
-value (:func:`gfrf.sim.volterra.series_radius`); :attr:`OFRF.radius` is r* at the model
-file's own value.
+series, evaluated in float arithmetic (an *estimate* of the steady state).  The
+truncated series approximates the steady state only for input amplitudes below the
+radius r* of the series at the parameter's value
+(:func:`gfrf.sim.volterra.series_radius`); :attr:`OFRF.radius` is r* at the model file's
+own value.  :attr:`OFRF.truncation_bound` bounds the truncation error there: the tail
+sum_{n > N} ||H_n|| a^n of the norm series at the input amplitude a (the order-n part
+of the complex amplitude at W is at most ||H_n|| a^n), from the certified majorant
+(:func:`gfrf.bounds.series_tail.series_tail`), with its proof level.  When that bound is
+above the accuracy needed, simulation + a fit is the better tool.
 
 Examples
 --------
@@ -120,6 +124,15 @@ class OFRF:
         for ``amplitude`` below it.
     radius_proof : str
         Proof level of ``radius`` (:data:`gfrf._results.PROOF_WORDS`).
+    truncation_bound : float
+        Upper bound on |complex amplitude of the steady state at W minus the order-N
+        value| at the file's value: the tail sum_{n > N} ||H_n|| amplitude^n of the norm
+        series (:func:`gfrf.bounds.series_tail.series_tail`; the tuples of tones reaching
+        W > 0 carry at most half of amplitude^n, which the factor 2 of the complex
+        amplitude doubles back); ``inf`` when the amplitude is not below the certified
+        radius.
+    truncation_proof : str
+        Proof level of ``truncation_bound`` (``"interval"``, ``"float"`` or ``"none"``).
     """
 
     parameter: str
@@ -133,6 +146,8 @@ class OFRF:
     amplitude: float
     radius: float
     radius_proof: str
+    truncation_bound: float
+    truncation_proof: str
 
     def __call__(self, value: float) -> complex:
         """Complex amplitude of the output at W for the parameter ``value``."""
@@ -208,8 +223,11 @@ class OFRF:
                 "amplitude": self.amplitude, "radius": self.radius,
                 "radius_proof": self.radius_proof, "reached": self.reached,
                 "warning": self.warning,
+                "truncation_bound": self.truncation_bound,
+                "truncation_proof": self.truncation_proof,
                 "kind": "estimate (exact order-N truncation of the Volterra series in float "
-                        "arithmetic; truncation error not bounded)"}
+                        "arithmetic; its truncation error at value is at most "
+                        "truncation_bound)"}
 
 
 # -- polynomials in the parameter (coefficient arrays, lowest power first) ------------
@@ -404,11 +422,16 @@ def _evaluate(model: Model, polys: dict[tuple, np.ndarray],
     for poly in per_order.values():
         total = _add(total, poly)
     u_spectrum = {n: complex(at(s)[0]) for n, s in spectra.items()}
+    from gfrf.bounds.majorant import majorant
+    from gfrf.bounds.series_tail import series_tail
+
     r_star, _, proof = series_radius(model)
+    amplitude = float(sum(abs(a) for a, _, _ in tones))
+    bound, bound_proof = series_tail(majorant(model), amplitude, order)
     return OFRF(parameter, value, omega, order, tones,
                 tuple(complex(c) for c in _trim(total)),
                 {n: tuple(complex(c) for c in p) for n, p in per_order.items()},
-                u_spectrum, float(sum(abs(a) for a, _, _ in tones)), r_star, proof)
+                u_spectrum, amplitude, r_star, proof, bound, bound_proof)
 
 
 def _trim(poly: np.ndarray) -> np.ndarray:

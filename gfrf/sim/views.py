@@ -67,7 +67,9 @@ def prediction_figure(p: Any, simulated: Any = None, *, periods: float = 20.0) -
 def ofrf_markdown(o: Any) -> str:
     """The OFRF coefficients and NOFRFs as Markdown tables."""
     head = (f"**OFRF of {o.parameter}** at omega = {o.omega:.6g} rad/s, order {o.order}: "
-            f"complex amplitude = sum P_k {o.parameter}^k (estimate: truncated series)")
+            f"complex amplitude = sum P_k {o.parameter}^k (estimate: truncated series; "
+            f"truncation error at {o.parameter} = {o.value:.6g} at most "
+            f"{o.truncation_bound:.3g}, {o.truncation_proof})")
     coeffs = markdown_table(("k", "Re P_k", "Im P_k"),
                             [(k, c.real, c.imag) for k, c in enumerate(o.coefficients)])
     nofrf = markdown_table(("n", f"G_n at {o.parameter} = {o.value:.6g}"),

@@ -130,6 +130,52 @@ def test_cli_json_contract(tmp_path, capsys) -> None:
     # the same convention as gfrf predict: amplitude * exp(j phase)
     assert value == pytest.approx(component.amplitude * np.exp(1j * component.phase), rel=1e-12)
     assert payload["nofrf"][1]["value"] is None and payload["warning"] is None
+    assert payload["truncation_proof"] == "interval"
+    assert 0 < payload["truncation_bound"] < 1e-5
+
+
+@pytest.mark.parametrize("k3", [0.3, 1.0, 2.0])
+def test_truncation_bound_contains_the_simulated_error(k3: float) -> None:
+    """|OFRF - simulated harmonic| <= the stated truncation bound, and the bound is
+    within 100x of that error where the series converges fast (amplitude / r* <= 0.62)."""
+    amplitude = 0.015
+    simulated = _harmonic(k3, amplitude, 1.0)
+    data = {**DUFFING, "parameters": {"k3": k3}}
+    for order in (3, 5):
+        o = ofrf(data, "k3", [(amplitude, 1.0, 0.0)], 1.0, order)
+        error = abs(o(k3) - simulated)
+        assert o.truncation_proof == "interval"
+        assert error <= o.truncation_bound <= 100 * error
+
+
+@pytest.mark.parametrize("c", [0.1, 0.2])
+def test_narx_truncation_bound_contains_the_simulated_error(c: float) -> None:
+    """The recurrence iterated here to steady state (200 periods of 32 samples), its
+    harmonic by a DFT over the last 50: the error of the order-3 and -5 OFRF is below the
+    stated bound, which is within 20x of it."""
+    sample_time, samples = 0.1, 32
+    omega, amplitude = 2 * np.pi / (sample_time * samples), 0.3
+    k = np.arange(200 * samples)
+    u = amplitude * np.cos(omega * sample_time * k)
+    y = np.zeros(k.size)
+    for i in range(2, k.size):
+        y[i] = 0.5 * y[i - 1] - c * y[i - 1] ** 2 * u[i - 2] + u[i - 1]
+    last = k[-50 * samples:]
+    simulated = 2 * np.mean(y[last] * np.exp(-1j * omega * sample_time * last))
+    data = {"equation": "y[k] = 0.5*y[k-1] - c*y[k-1]**2*u[k-2] + u[k-1]",
+            "sample_time": sample_time, "parameters": {"c": c}}
+    for order in (3, 5):
+        o = ofrf(data, "c", [(amplitude, omega, 0.0)], omega, order)
+        error = abs(o(c) - simulated)
+        assert error <= o.truncation_bound <= 20 * error
+
+
+def test_truncation_bound_is_inf_beyond_the_radius(capsys) -> None:
+    argv = ["ofrf", DUFFING["equation"], "--param", "k3=8", "--input", "0.05*cos(1.0*t)",
+            "--omega", "1", "--order", "5", "--json"]
+    assert main(argv) == 0
+    payload = json.loads(capsys.readouterr().out)
+    assert payload["truncation_bound"] == "inf" and payload["truncation_proof"] == "none"
 
 
 def test_cli_inline_equation_with_value(tmp_path, capsys) -> None:
