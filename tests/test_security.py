@@ -354,9 +354,9 @@ def test_laundered_sizes_are_refused(payload: str, fragment: str) -> None:
 
 def test_numeric_function_towers_are_evaluated_once() -> None:
     inner = "+".join(f"sin({k})" for k in range(1, 2000))
-    start = time.perf_counter()
+    start = time.process_time()  # CPU, not wall: a loaded machine must not fail it
     model = parse_model("D(y) + y + " + "sin(" * 30 + inner + ")" * 30 + "*y**3 = u")
-    assert time.perf_counter() - start < BOUND
+    assert time.process_time() - start < BOUND
     assert model.degree == 3
 
 

@@ -1,0 +1,241 @@
+"""Where the points of a sweep run: in this process, in threads, in local processes (a
+dask cluster started and stopped with the sweep) or on a dask scheduler's workers.
+
+:func:`executor` gives a :class:`concurrent.futures.Executor` and its worker count;
+:func:`check_scheduler` checks the ``--scheduler`` text before any work.  Ctrl-C while a
+cluster starts or computes kills its worker processes at once.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+import signal
+from collections.abc import Iterator
+from concurrent.futures import Executor, Future, ThreadPoolExecutor
+from typing import Any
+from urllib.parse import urlsplit
+
+from gfrf.errors import ArgumentError
+
+__all__ = ["executor", "check_scheduler", "InlineExecutor", "SCHEDULER_TIMEOUT"]
+
+class InlineExecutor(Executor):
+    """Runs each task at submission, in this process: the set-up-free default."""
+
+    def submit(self, fn: Any, /, *args: Any, **kwargs: Any) -> Future:
+        future: Future = Future()
+        try:
+            future.set_result(fn(*args, **kwargs))
+        except BaseException as exc:
+            future.set_exception(exc)
+        return future
+
+
+#: Seconds a dask scheduler address has to answer (connect and handshake) before the
+#: sweep gives up with an error; a listener that is not a dask scheduler never answers.
+SCHEDULER_TIMEOUT = 10.0
+
+
+def check_scheduler(scheduler: str) -> str:
+    """Validate a ``--scheduler`` value; return it (``host:port`` becomes ``tcp://host:port``).
+
+    Accepted: ``local``, ``processes`` and ``tcp://HOST:PORT`` (or ``HOST:PORT``).
+
+    Raises
+    ------
+    ArgumentError
+        Another scheme (``inproc://`` is private to a process, ``tls://`` needs a
+        security context the command line cannot pass, ``ucx://`` needs ucx-py), no
+        host, or a port that is not an integer in 1..65535.
+    """
+    if scheduler in ("local", "processes"):
+        return scheduler
+    address = scheduler if "://" in scheduler else f"tcp://{scheduler}"
+    scheme = address.split("://", 1)[0]
+    why = {"inproc": "an in-process address belongs to another process",
+           "tls": "TLS needs a security context (certificates), which this option cannot "
+                  "pass; use a tcp:// address or the Python API with a Client",
+           "ucx": "UCX needs ucx-py and a UCX network; use a tcp:// address"}
+    if scheme != "tcp":
+        reason = why.get(scheme, f"unknown scheme {scheme + '://'!r}; use 'local', "
+                                 f"'processes' or tcp://host:port")
+        raise ArgumentError(f"scheduler {scheduler!r}: {reason}")
+    parts = urlsplit(address)
+    try:
+        port = parts.port
+    except ValueError:
+        port = None
+    if not parts.hostname or port is None or not 1 <= port <= 65535 \
+            or parts.path or parts.query or parts.fragment:
+        raise ArgumentError(f"scheduler {scheduler!r}: expected tcp://HOST:PORT with a port "
+                            f"in 1..65535, e.g. tcp://127.0.0.1:8786")
+    return address
+
+
+def _probe(address: str, timeout: float) -> None:
+    """Connect to ``address`` and complete dask's handshake within ``timeout`` seconds.
+
+    ``distributed.Client`` waits for the handshake without a time limit, so a listener
+    that accepts but never speaks dask would hang it; this runs the handshake in a
+    thread of its own (with its own event loop) and gives up after ``timeout``.
+    """
+    import asyncio
+
+    from distributed.comm import connect
+
+    async def handshake() -> None:
+        comm = await asyncio.wait_for(connect(address, timeout=timeout), timeout)
+        await comm.close()
+
+    pool = ThreadPoolExecutor(1)
+    try:
+        pool.submit(asyncio.run, handshake()).result(timeout=timeout + 1.0)
+    except TimeoutError:
+        raise ArgumentError(f"no dask scheduler answered at {address!r} within "
+                            f"{timeout:g} s (nothing listens there, or what listens "
+                            f"is not a dask scheduler)") from None
+    except OSError as exc:
+        raise ArgumentError(f"cannot reach the dask scheduler {address!r}: {exc}") from None
+    finally:
+        pool.shutdown(wait=False)
+
+
+def _start_cluster(n: int) -> Any:
+    """A LocalCluster of ``n`` single-threaded worker processes, started in a helper
+    thread whose signal mask blocks SIGINT.
+
+    The worker processes inherit that mask (it survives fork and exec): a Ctrl-C sent to
+    the terminal's process group while they start (importing, before their preload
+    ignores it) cannot raise KeyboardInterrupt in them and print their traceback.  This
+    thread stays interruptible: on Ctrl-C the workers started so far are killed, dask's
+    exit-time close of the half-started cluster is dropped (it asserted on the workers'
+    state and printed a traceback), and KeyboardInterrupt propagates.
+    """
+    import threading
+
+    from distributed import LocalCluster
+
+    box: dict[str, Any] = {}
+
+    def build() -> None:
+        try:
+            # silence_logs: dask's own log lines (on Ctrl-C the nanny and the workers log
+            # ERRORs for the connections torn down) are not gfrf's output; a point's
+            # error reaches the sweep through its future.  The preload makes workers
+            # ignore Ctrl-C for good.
+            box["cluster"] = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                          dashboard_address=None,
+                                          silence_logs=logging.CRITICAL,
+                                          preload=["gfrf.sweep._dask_worker"])
+        except BaseException as exc:  # handed to the caller's thread
+            box["error"] = exc
+
+    thread = threading.Thread(target=build, name="gfrf-cluster-start", daemon=True)
+    masks = hasattr(signal, "pthread_sigmask")  # POSIX
+    blocked = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT}) if masks else None
+    try:
+        thread.start()
+    finally:
+        if blocked is not None:
+            signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
+    try:
+        while thread.is_alive():
+            thread.join(0.05)
+    except KeyboardInterrupt:
+        _abandon_start()
+        raise
+    if "error" in box:
+        raise box["error"]
+    return box["cluster"]
+
+
+def _abandon_start() -> None:
+    """Kill the worker processes of an interrupted cluster start (SIGKILL) and drop
+    dask's exit-time close of clusters, which would wait on them."""
+    import atexit
+
+    from distributed.deploy import spec
+
+    atexit.unregister(spec.close_clusters)
+    for name in ("distributed", *logging.root.manager.loggerDict):  # the start goes on
+        if name.startswith("distributed"):  # in its thread: its INFO lines are not ours
+            logging.getLogger(name).setLevel(logging.CRITICAL)
+    _kill_children()
+
+
+def _kill_children() -> None:
+    """SIGKILL this process's multiprocessing children (dask's worker processes) and reap
+    them: no zombie outlives this process."""
+    import multiprocessing
+
+    children = multiprocessing.active_children()
+    for child in children:
+        with contextlib.suppress(OSError, AttributeError):
+            child.kill()
+    for child in children:
+        child.join(1.0)
+
+
+def _kill_workers(cluster: Any) -> None:
+    """End the worker processes of a local cluster at once (SIGKILL): closing it then
+    takes a fraction of a second instead of the seconds a graceful retirement takes."""
+    for nanny in list(getattr(cluster, "workers", {}).values()):
+        pid = getattr(nanny, "pid", None)
+        if pid:
+            with contextlib.suppress(OSError):
+                os.kill(pid, signal.SIGKILL)
+
+
+@contextlib.contextmanager
+def executor(scheduler: str = "local", workers: int | None = None
+             ) -> Iterator[tuple[Executor, int]]:
+    """An executor for ``scheduler`` and its number of parallel workers; closed on exit.
+
+    Parameters
+    ----------
+    scheduler : str
+        ``local``, ``processes`` or a dask scheduler address ``tcp://host:port`` (see
+        :func:`check_scheduler`).  An address must answer within
+        :data:`SCHEDULER_TIMEOUT` seconds.
+    workers : int, optional
+        Worker processes of ``processes`` (default: the machine's cores).
+
+    Raises
+    ------
+    ArgumentError
+        dask.distributed is missing, the scheduler string is not understood, or no
+        dask scheduler answers at the address in time.
+    """
+    scheduler = check_scheduler(scheduler)
+    if scheduler == "local":
+        yield InlineExecutor(), 1
+        return
+    try:
+        from distributed import Client
+    except ImportError:
+        raise ArgumentError("scheduler 'processes' or an address needs dask.distributed: "
+                            "pip install 'gfrf[dask]'") from None
+    if scheduler == "processes":
+        n = workers or os.cpu_count() or 1
+        cluster = _start_cluster(n)
+        with cluster:
+            try:
+                with Client(cluster) as client:
+                    try:
+                        yield client.get_executor(), n
+                    except BaseException:
+                        _kill_workers(cluster)  # Ctrl-C or an error: no graceful retirement
+                        raise
+            except BaseException:  # also a Ctrl-C while the client connects
+                _kill_workers(cluster)
+                raise
+        return
+    _probe(scheduler, SCHEDULER_TIMEOUT)
+    try:
+        client = Client(scheduler, timeout=SCHEDULER_TIMEOUT)
+    except (OSError, TimeoutError) as exc:
+        raise ArgumentError(f"cannot reach the dask scheduler {scheduler!r}: {exc}") from None
+    with client:
+        yield client.get_executor(), max(1, sum(client.nthreads().values()))
