@@ -161,14 +161,36 @@ class CosSeries:
         return CosSeries(c[H - h:H + h + 1, :max(nz_cols) + 1])
 
     def harmonic(self, k: int) -> np.ndarray:
-        """Polynomial coefficient vector of ``cos(k tau)``."""
+        """Polynomial coefficient vector of ``cos(k tau)``.
+
+        Parameters
+        ----------
+        k : int
+            The harmonic, >= 0.
+
+        Returns
+        -------
+        numpy.ndarray
+            Coefficients in powers of ``a``, lowest first (zeros above the series' order).
+        """
         if k > self.order:
             return _zeros((1,), self.exact)
         row = self.coef[self.order + k]
         return row.copy() if k == 0 else row * 2
 
     def map_harmonics(self, factor: Callable[[int], object]) -> CosSeries:
-        """Apply a diagonal operator: harmonic ``k`` is multiplied by ``factor(k)``."""
+        """Apply a diagonal operator: harmonic ``k`` is multiplied by ``factor(k)``.
+
+        Parameters
+        ----------
+        factor : callable
+            ``factor(k)`` for k = 0..order, a number (Fraction in an exact series).
+
+        Returns
+        -------
+        CosSeries
+            The new series.
+        """
         H = self.order
         out = self.coef.copy()
         for i in range(out.shape[0]):
@@ -176,7 +198,18 @@ class CosSeries:
         return CosSeries(out)
 
     def mul_cos(self, p: int) -> CosSeries:
-        """Multiply by ``cos(p tau)``."""
+        """Multiply by ``cos(p tau)``.
+
+        Parameters
+        ----------
+        p : int
+            The harmonic, >= 0.
+
+        Returns
+        -------
+        CosSeries
+            The product.
+        """
         return self * CosSeries.cos(p, 1, self.exact)
 
     def at_zero(self) -> np.ndarray:
@@ -188,7 +221,20 @@ class CosSeries:
         return float(np.sum(np.asarray(self.coef, dtype=float)[:, 0] ** 2))
 
     def evaluate(self, tau: np.ndarray, a: float = 0.0) -> np.ndarray:
-        """Numerical values at the points ``tau`` for the parameter value ``a``."""
+        """Numerical values at the points ``tau`` for the parameter value ``a``.
+
+        Parameters
+        ----------
+        tau : numpy.ndarray
+            The phases (rad).
+        a : float, optional
+            The parameter's value.
+
+        Returns
+        -------
+        numpy.ndarray
+            Float values, the shape of ``tau``.
+        """
         tau = np.asarray(tau, dtype=float)
         powers = a ** np.arange(self.coef.shape[1])
         cks = np.asarray(self.coef, dtype=float) @ powers

@@ -112,7 +112,20 @@ class PerturbationSeries:
                              for n, d in enumerate(self.delta_coeffs)))
 
     def harmonic_expr(self, n: int, k: int) -> sp.Expr:
-        """Coefficient (polynomial in ``a``) of ``cos(k tau)`` in ``x_n`` (or ``u_n``)."""
+        """Coefficient (polynomial in ``a``) of ``cos(k tau)`` in ``x_n`` (or ``u_n``).
+
+        Parameters
+        ----------
+        n : int
+            The order in eps, 0 <= n <= ``order``.
+        k : int
+            The harmonic, >= 0.
+
+        Returns
+        -------
+        sympy.Expr
+            The exact polynomial in ``a``.
+        """
         a = sp.Symbol("a")
         return sp.expand(sum(sp.Rational(c.numerator, c.denominator) * a**j
                              for j, c in enumerate(self.x_coeffs[n].harmonic(k))))

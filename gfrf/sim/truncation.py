@@ -91,7 +91,18 @@ class SteadyState:
     iterations: int
 
     def harmonic(self, m: int) -> complex:
-        """Phasor Y(m omega0) from the FFT over one period (y = 2 Re(Y e^{j m w0 t}))."""
+        """Phasor Y(m omega0) from the FFT over one period (y = 2 Re(Y e^{j m w0 t})).
+
+        Parameters
+        ----------
+        m : int
+            The harmonic of ``omega0``, 0 <= m <= samples / 2.
+
+        Returns
+        -------
+        complex
+            The phasor Y.
+        """
         return complex(np.fft.rfft(self.y)[m] / self.y.size)
 
 
