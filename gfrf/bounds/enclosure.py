@@ -181,6 +181,20 @@ class InverseA:
 
         ``slack`` bounds the rounding of sigma itself; the Horner errors of a, a', a''
         and the moves of a, a', a'' over ``slack`` are divided by |a|.
+
+        Parameters
+        ----------
+        sigma : numpy.ndarray
+            The centres, angular frequencies in rad/s.
+        slack : numpy.ndarray or float
+            Bound of the rounding error of ``sigma`` itself (rad/s).
+        rho : numpy.ndarray or float
+            Half-widths of the intervals around the centres (rad/s).
+
+        Returns
+        -------
+        numpy.ndarray
+            The relative error bound per centre (inf or NaN where a is 0 there).
         """
         a = np.abs(self.a(sigma))
         moved = (np.abs(self.da(sigma)) + np.abs(self.dda(sigma)) * rho
@@ -191,7 +205,20 @@ class InverseA:
 
     def point(self, sigma: np.ndarray, error: np.ndarray
               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """r, r' and r'' at points (NaN where ``error`` exceeds _POINT_RTOL)."""
+        """r, r' and r'' at points (NaN where ``error`` exceeds _POINT_RTOL).
+
+        Parameters
+        ----------
+        sigma : numpy.ndarray
+            Angular frequencies in rad/s.
+        error : numpy.ndarray
+            Relative error of each point (from :meth:`centre_error`).
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            r, r' and r'' (complex) at ``sigma``.
+        """
         a, da, dda = self.a(sigma), self.da(sigma), self.dda(sigma)
         with np.errstate(divide="ignore", invalid="ignore"):
             bad = ~(error <= _POINT_RTOL)
@@ -204,7 +231,20 @@ class InverseA:
     def modulus_point(self, sigma: np.ndarray, error: np.ndarray
                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """m = 1/|a|, m1 and m2 (its first two derivatives) at points (NaN where
-        ``error`` exceeds _POINT_RTOL)."""
+        ``error`` exceeds _POINT_RTOL).
+
+        Parameters
+        ----------
+        sigma : numpy.ndarray
+            Angular frequencies in rad/s.
+        error : numpy.ndarray
+            Relative error of each point (from :meth:`centre_error`).
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            m, m1 and m2 (real) at ``sigma``.
+        """
         a = self.a(sigma)
         with np.errstate(divide="ignore", invalid="ignore"):
             bad = ~(error <= _POINT_RTOL)
@@ -217,7 +257,18 @@ class InverseA:
                 np.where(bad, np.nan, curve))
 
     def modulus_bounds(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-        """Sups over [lo, hi] of |m| and of its first three derivatives, shape (N, 4)."""
+        """Sups over [lo, hi] of |m| and of its first three derivatives, shape (N, 4).
+
+        Parameters
+        ----------
+        lo, hi : numpy.ndarray
+            Ends of the N intervals of sigma (rad/s), ``lo <= hi``.
+
+        Returns
+        -------
+        numpy.ndarray
+            Upper bounds, shape (N, 4), ``inf`` where |a| may vanish on the interval.
+        """
         a_min, _ = self.a.extrema(lo, hi)
         sups = [modulus.extrema(lo, hi)[1] for modulus in self.mod_slopes]
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -226,7 +277,18 @@ class InverseA:
                                    sups[2] * inv ** 7 / 8], axis=1))
 
     def bounds(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-        """Sups over [lo, hi] of |r|, |r'|, |r''|, |r'''|, shape (N, 4)."""
+        """Sups over [lo, hi] of |r|, |r'|, |r''|, |r'''|, shape (N, 4).
+
+        Parameters
+        ----------
+        lo, hi : numpy.ndarray
+            Ends of the N intervals of sigma (rad/s), ``lo <= hi``.
+
+        Returns
+        -------
+        numpy.ndarray
+            Upper bounds, shape (N, 4), ``inf`` where |a| may vanish on the interval.
+        """
         a_min, _ = self.a.extrema(lo, hi)
         _, d1 = self.da.extrema(lo, hi)
         _, d2 = self.second.extrema(lo, hi)
@@ -387,7 +449,19 @@ class Jet:
         return self
 
     def embedded(self, names: tuple[int, ...]) -> Jet:
-        """The same jet with derivatives over the (larger, sorted) coordinate set ``names``."""
+        """The same jet with derivatives over the (larger, sorted) coordinate set ``names``.
+
+        Parameters
+        ----------
+        names : tuple of int
+            Sorted coordinate indices, a superset of :attr:`names`.
+
+        Returns
+        -------
+        Jet
+            ``self`` when the sets are equal, else a new jet with zero derivatives in the
+            added coordinates.
+        """
         if names == self.names:
             return self
         where = _union(names, self.names)[2]
