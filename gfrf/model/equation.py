@@ -172,7 +172,20 @@ class Model:
         return tuple(t for t in self.terms if t.degree >= 2)
 
     def atom(self, signal: str, order: int) -> sp.Symbol:
-        """The sympy symbol standing for ``D^order signal`` (or ``signal[k-order]``)."""
+        """The sympy symbol standing for ``D^order signal`` (or ``signal[k-order]``).
+
+        Parameters
+        ----------
+        signal : str
+            The signal's name (the model's output or input).
+        order : int
+            The derivative order (continuous) or the lag (discrete), >= 0.
+
+        Returns
+        -------
+        sympy.Symbol
+            The symbol.
+        """
         return _atom(signal, order)
 
     def polynomial(self) -> sp.Expr:
