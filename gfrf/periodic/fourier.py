@@ -32,7 +32,18 @@ def _zeros(shape: tuple[int, ...], exact: bool) -> np.ndarray:
 
 
 def poly_mul(p: np.ndarray, q: np.ndarray) -> np.ndarray:
-    """Product of two coefficient vectors (ascending powers); exact for object arrays."""
+    """Product of two coefficient vectors (ascending powers); exact for object arrays.
+
+    Parameters
+    ----------
+    p, q : numpy.ndarray
+        Coefficient vectors, ascending powers (float, or object arrays of Fractions).
+
+    Returns
+    -------
+    numpy.ndarray
+        The product.
+    """
     if p.dtype != object and q.dtype != object:
         return np.convolve(p, q)
     out = _zeros((len(p) + len(q) - 1,), True)
@@ -44,6 +55,16 @@ def poly_mul(p: np.ndarray, q: np.ndarray) -> np.ndarray:
 
 def poly_divide(p: np.ndarray, q: np.ndarray) -> np.ndarray:
     """Exact quotient ``p / q`` of ascending coefficient vectors.
+
+    Parameters
+    ----------
+    p, q : numpy.ndarray
+        Coefficient vectors, ascending powers; ``q`` not zero.
+
+    Returns
+    -------
+    numpy.ndarray
+        The quotient, an object array of Fractions.
 
     Raises
     ------
@@ -70,7 +91,20 @@ def poly_divide(p: np.ndarray, q: np.ndarray) -> np.ndarray:
 
 
 def poly_eval(p: np.ndarray, a: float | np.ndarray) -> float | np.ndarray:
-    """Evaluate an ascending coefficient vector at ``a`` (as floats)."""
+    """Evaluate an ascending coefficient vector at ``a`` (as floats).
+
+    Parameters
+    ----------
+    p : numpy.ndarray
+        Coefficient vector, ascending powers.
+    a : float or numpy.ndarray
+        The point(s).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The values.
+    """
     return np.polynomial.polynomial.polyval(a, np.asarray(p, dtype=float))
 
 
@@ -98,7 +132,22 @@ class CosSeries:
 
     @classmethod
     def cos(cls, k: int, poly: object = 1, exact: bool = True) -> CosSeries:
-        """The series ``poly(a) * cos(k tau)`` (``poly``: number or ascending vector)."""
+        """The series ``poly(a) * cos(k tau)`` (``poly``: number or ascending vector).
+
+        Parameters
+        ----------
+        k : int
+            The harmonic, >= 0.
+        poly : number or sequence, optional
+            The coefficient: a number or an ascending coefficient vector in ``a``.
+        exact : bool, optional
+            Fractions (object array) instead of floats.
+
+        Returns
+        -------
+        CosSeries
+            The series.
+        """
         p = np.atleast_1d(np.array(poly, dtype=object if exact else float))
         if exact:
             p = np.array([Fraction(c) for c in p], dtype=object)
@@ -111,7 +160,18 @@ class CosSeries:
 
     @classmethod
     def zero(cls, exact: bool = True) -> CosSeries:
-        """The zero series."""
+        """The zero series.
+
+        Parameters
+        ----------
+        exact : bool, optional
+            Fractions (object array) instead of floats.
+
+        Returns
+        -------
+        CosSeries
+            The series.
+        """
         return cls(_zeros((1, 1), exact))
 
     def _padded(self, h: int, p: int) -> np.ndarray:
@@ -145,7 +205,18 @@ class CosSeries:
     __rmul__ = __mul__
 
     def mul_poly(self, poly: np.ndarray) -> CosSeries:
-        """Multiply every coefficient by the polynomial ``poly(a)``."""
+        """Multiply every coefficient by the polynomial ``poly(a)``.
+
+        Parameters
+        ----------
+        poly : numpy.ndarray
+            Ascending coefficient vector in ``a``.
+
+        Returns
+        -------
+        CosSeries
+            The product.
+        """
         rows = [poly_mul(row, np.asarray(poly)) for row in self.coef]
         return CosSeries(np.array(rows, dtype=self.coef.dtype))
 
