@@ -72,7 +72,18 @@ class HamResult(Result):
     series: CosSeries
 
     def solution(self, t: np.ndarray) -> np.ndarray:
-        """``x(t)`` of the HAM approximation."""
+        """``x(t)`` of the HAM approximation.
+
+        Parameters
+        ----------
+        t : numpy.ndarray
+            Dimensionless times.
+
+        Returns
+        -------
+        numpy.ndarray
+            x(t).
+        """
         tau = np.asarray(t, dtype=float) / (1 if self.branch == "0" else 2)
         return self.series.evaluate(tau)
 
