@@ -335,6 +335,20 @@ def coefficient_formulas(text: str, *, output: str = "y", input: str = "u",
     so the structure is parsed once and only the formulas are evaluated per point.
     The text is assumed valid (parse it once with :func:`parse_model` first).
 
+    Parameters
+    ----------
+    text : str
+        The equation, already accepted by :func:`parse_model`.
+    output, input : str, optional
+        Names of the output and input signals.
+    discrete : bool, optional
+        A NARX equation (lags) instead of an ODE (derivatives).
+    truncation : int, optional
+        Total Taylor order to which non-polynomial terms are expanded; None: the equation
+        is expanded as it is.
+    symbols : dict, optional
+        Names mapped to values or sympy symbols (a symbol stays free in the formulas).
+
     Returns
     -------
     dict

@@ -394,6 +394,18 @@ def linear_vs_nonlinear(mf: ModelFile, angle_deg: float, t_end: float = 5.0,
     The linear loop is :func:`gfrf.stability.loops.closed_loop`'s characteristic polynomial,
     realised with states (y, y') and simulated by ``control.initial_response``.
 
+    Parameters
+    ----------
+    mf : ModelFile
+        A model file with a controller whose loop has a second-order characteristic
+        polynomial.
+    angle_deg : float
+        The initial angle in degrees (zero initial velocity).
+    t_end : float, optional
+        The horizon in s.
+    equation : str, optional
+        Which equation of the model file is simulated (``"polynomial"`` or ``"physical"``).
+
     Returns
     -------
     dict
