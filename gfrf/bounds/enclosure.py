@@ -181,20 +181,6 @@ class InverseA:
 
         ``slack`` bounds the rounding of sigma itself; the Horner errors of a, a', a''
         and the moves of a, a', a'' over ``slack`` are divided by |a|.
-
-        Parameters
-        ----------
-        sigma : numpy.ndarray
-            The centres, angular frequencies in rad/s.
-        slack : numpy.ndarray or float
-            Bound of the rounding error of ``sigma`` itself (rad/s).
-        rho : numpy.ndarray or float
-            Half-widths of the intervals around the centres (rad/s).
-
-        Returns
-        -------
-        numpy.ndarray
-            The relative error bound per centre (inf or NaN where a is 0 there).
         """
         a = np.abs(self.a(sigma))
         moved = (np.abs(self.da(sigma)) + np.abs(self.dda(sigma)) * rho
@@ -205,20 +191,7 @@ class InverseA:
 
     def point(self, sigma: np.ndarray, error: np.ndarray
               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """r, r' and r'' at points (NaN where ``error`` exceeds _POINT_RTOL).
-
-        Parameters
-        ----------
-        sigma : numpy.ndarray
-            Angular frequencies in rad/s.
-        error : numpy.ndarray
-            Relative error of each point (from :meth:`centre_error`).
-
-        Returns
-        -------
-        tuple of numpy.ndarray
-            r, r' and r'' (complex) at ``sigma``.
-        """
+        """r, r' and r'' at points (NaN where ``error`` exceeds _POINT_RTOL)."""
         a, da, dda = self.a(sigma), self.da(sigma), self.dda(sigma)
         with np.errstate(divide="ignore", invalid="ignore"):
             bad = ~(error <= _POINT_RTOL)
@@ -231,20 +204,7 @@ class InverseA:
     def modulus_point(self, sigma: np.ndarray, error: np.ndarray
                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """m = 1/|a|, m1 and m2 (its first two derivatives) at points (NaN where
-        ``error`` exceeds _POINT_RTOL).
-
-        Parameters
-        ----------
-        sigma : numpy.ndarray
-            Angular frequencies in rad/s.
-        error : numpy.ndarray
-            Relative error of each point (from :meth:`centre_error`).
-
-        Returns
-        -------
-        tuple of numpy.ndarray
-            m, m1 and m2 (real) at ``sigma``.
-        """
+        ``error`` exceeds _POINT_RTOL)."""
         a = self.a(sigma)
         with np.errstate(divide="ignore", invalid="ignore"):
             bad = ~(error <= _POINT_RTOL)
@@ -263,11 +223,6 @@ class InverseA:
         ----------
         lo, hi : numpy.ndarray
             Ends of the N intervals of sigma (rad/s), ``lo <= hi``.
-
-        Returns
-        -------
-        numpy.ndarray
-            Upper bounds, shape (N, 4), ``inf`` where |a| may vanish on the interval.
         """
         a_min, _ = self.a.extrema(lo, hi)
         sups = [modulus.extrema(lo, hi)[1] for modulus in self.mod_slopes]
@@ -283,11 +238,6 @@ class InverseA:
         ----------
         lo, hi : numpy.ndarray
             Ends of the N intervals of sigma (rad/s), ``lo <= hi``.
-
-        Returns
-        -------
-        numpy.ndarray
-            Upper bounds, shape (N, 4), ``inf`` where |a| may vanish on the interval.
         """
         a_min, _ = self.a.extrema(lo, hi)
         _, d1 = self.da.extrema(lo, hi)
@@ -454,13 +404,7 @@ class Jet:
         Parameters
         ----------
         names : tuple of int
-            Sorted coordinate indices, a superset of :attr:`names`.
-
-        Returns
-        -------
-        Jet
-            ``self`` when the sets are equal, else a new jet with zero derivatives in the
-            added coordinates.
+            Sorted coordinate indices, a superset of the jet's ``names``.
         """
         if names == self.names:
             return self

@@ -179,16 +179,6 @@ def linear_poles(model: Model) -> PoleReport:
     Decided on the exact rational values of the (normalised) coefficients by Routh's
     test (after the Cayley map for NARX), with exact boundary roots; see
     :func:`gfrf.bounds.exact.poles`.
-
-    Parameters
-    ----------
-    model : Model
-        The plant model.
-
-    Returns
-    -------
-    PoleReport
-        The roots and whether A is stable, decided exactly.
     """
     # For a NARX model den is A's coefficients, lowest power of q first; in z = 1/q the
     # polynomial z^L A(1/z) has those same coefficients, highest power of z first.
@@ -197,20 +187,7 @@ def linear_poles(model: Model) -> PoleReport:
 
 
 def linear_stability(model: Model) -> tuple[bool, np.ndarray]:
-    """(stable, poles) of A, stability decided exactly (see :func:`linear_poles`).
-
-    Parameters
-    ----------
-    model : Model
-        The plant model.
-
-    Returns
-    -------
-    bool
-        Whether every pole is inside the stability region.
-    numpy.ndarray
-        The poles (complex; in z = 1/q for NARX).
-    """
+    """(stable, poles) of A, stability decided exactly (see :func:`linear_poles`)."""
     report = linear_poles(model)
     return report.stable, report.roots
 

@@ -111,18 +111,7 @@ class GFRFGenerator:
 
     # -- variables -----------------------------------------------------------------
     def variables(self, n: int) -> tuple[sp.Symbol, ...]:
-        """Symbols s1..sn (s_i = j*omega_i) or, discrete, q1..qn (q_i = exp(-j*omega_i*T)).
-
-        Parameters
-        ----------
-        n : int
-            The order of the kernel.
-
-        Returns
-        -------
-        tuple of sympy.Symbol
-            n symbols.
-        """
+        """Symbols s1..sn (s_i = j*omega_i) or, discrete, q1..qn (q_i = exp(-j*omega_i*T))."""
         prefix = "q" if self.model.is_discrete else "s"
         return tuple(sp.Symbol(f"{prefix}{i + 1}") for i in range(n))
 
@@ -133,34 +122,12 @@ class GFRFGenerator:
         return sp.Add(*block_vars) ** order
 
     def linear_part(self, var: sp.Expr) -> sp.Expr:
-        """A(var) = sum a_l var^l, the linear output polynomial.
-
-        Parameters
-        ----------
-        var : sympy.Expr
-            The variable substituted (s, a sum of s_i, or a product of q_i).
-
-        Returns
-        -------
-        sympy.Expr
-            The polynomial A(var).
-        """
+        """A(var) = sum a_l var^l, the linear output polynomial."""
         return sp.Add(*(self._coefficients[t] * var ** t.y_orders[0]
                         for t in self.model.terms if t.is_linear_output))
 
     def combined(self, variables: tuple[sp.Symbol, ...]) -> sp.Expr:
-        """The variable of the sum of the frequencies: s1+..+sn, or q1*..*qn.
-
-        Parameters
-        ----------
-        variables : tuple of sympy.Symbol
-            The kernel's variables.
-
-        Returns
-        -------
-        sympy.Expr
-            Their sum (continuous) or product (discrete).
-        """
+        """The variable of the sum of the frequencies: s1+..+sn, or q1*..*qn."""
         return sp.Mul(*variables) if self.model.is_discrete else sp.Add(*variables)
 
     # -- structure -----------------------------------------------------------------
@@ -170,16 +137,6 @@ class GFRFGenerator:
         An order is reachable if a term with p output and q input factors has
         n = q + (sum of p reachable orders).  Even orders of an odd nonlinearity are
         unreachable, so they are known to vanish without any computation.
-
-        Parameters
-        ----------
-        n : int
-            The order, >= 1.
-
-        Returns
-        -------
-        bool
-            False when H_n is identically zero by structure.
         """
         cache = self._possible
         for m in range(1, n + 1):
@@ -201,21 +158,7 @@ class GFRFGenerator:
         return cache[n]
 
     def plan(self, n: int, symmetric: bool) -> _Plan:
-        """The symbolic recursion step of order ``n`` (memoised).
-
-        Parameters
-        ----------
-        n : int
-            The order of the kernel, >= 1.
-        symmetric : bool
-            The symmetric kernel (average over the permutations of the frequencies) instead
-            of the asymmetric one.
-
-        Returns
-        -------
-        _Plan
-            ``is_zero``, ``blocks``, ``placeholders`` and ``numerator`` of the step.
-        """
+        """The symbolic recursion step of order ``n`` (memoised)."""
         key = (n, symmetric)
         if key not in self._plans:
             self._plans[key] = self._build_plan(n, symmetric)
@@ -288,20 +231,7 @@ class GFRFGenerator:
 
     # -- symbolic form -------------------------------------------------------------
     def explicit(self, n: int, symmetric: bool) -> sp.Expr:
-        """H_n as an explicit sympy expression in the variables (lower orders inlined).
-
-        Parameters
-        ----------
-        n : int
-            The order of the kernel, >= 1.
-        symmetric : bool
-            The symmetric kernel instead of the asymmetric one.
-
-        Returns
-        -------
-        sympy.Expr
-            H_n in the variables of :meth:`variables`.
-        """
+        """H_n as an explicit sympy expression in the variables (lower orders inlined)."""
         key = (n, symmetric)
         if key not in self._explicit:
             plan = self.plan(n, symmetric)
@@ -319,20 +249,7 @@ class GFRFGenerator:
         return self._explicit[key]
 
     def recursive(self, n: int, symmetric: bool) -> sp.Expr:
-        """H_n in recursive form: lower kernels appear as functions ``H_m(...)``.
-
-        Parameters
-        ----------
-        n : int
-            The order of the kernel, >= 1.
-        symmetric : bool
-            The symmetric kernel instead of the asymmetric one.
-
-        Returns
-        -------
-        sympy.Expr
-            H_n with lower kernels as unevaluated functions.
-        """
+        """H_n in recursive form: lower kernels appear as functions ``H_m(...)``."""
         plan = self.plan(n, symmetric)
         if plan.is_zero:
             return sp.Integer(0)
@@ -365,22 +282,7 @@ class GFRFGenerator:
         return [1j * w for w in omegas]
 
     def evaluate(self, n: int, omegas: list[np.ndarray], symmetric: bool) -> np.ndarray:
-        """Numeric H_n at broadcastable arrays of angular frequencies (rad/s).
-
-        Parameters
-        ----------
-        n : int
-            The order of the kernel, >= 1.
-        omegas : list of numpy.ndarray
-            n arrays of angular frequencies in rad/s that broadcast together.
-        symmetric : bool
-            The symmetric kernel instead of the asymmetric one.
-
-        Returns
-        -------
-        numpy.ndarray
-            Complex values of H_n with the broadcast shape.
-        """
+        """Numeric H_n at broadcastable arrays of angular frequencies (rad/s)."""
         shape = np.broadcast_shapes(*(np.shape(w) for w in omegas))
         if not self.structurally_nonzero(n):
             return np.zeros(shape, dtype=np.complex128)
@@ -420,20 +322,7 @@ class GFRFGenerator:
 
 
     def ufunc(self, n: int, symmetric: bool) -> Any:
-        """The numba-compiled ufunc of H_n (compiled once, see :mod:`gfrf.kernels.compiled`).
-
-        Parameters
-        ----------
-        n : int
-            The order of the kernel, >= 1.
-        symmetric : bool
-            The symmetric kernel instead of the asymmetric one.
-
-        Returns
-        -------
-        numba ufunc
-            ``f(w1, ..., wn) -> complex128`` over angular frequencies in rad/s.
-        """
+        """The numba-compiled ufunc of H_n (compiled once, see :mod:`gfrf.kernels.compiled`)."""
         key = (n, symmetric)
         if key not in self._ufuncs:
             from gfrf.kernels.compiled import numba_ufunc
@@ -537,19 +426,7 @@ class Kernel:
     def plot(self, **options: Any) -> Any:
         """Figure of the kernel (:func:`gfrf.kernels.plot.plot_kernel`; ``omega_range``,
         ``what``, ``mark``, ``fixed``): Bode plot of H1, |H2| map, slices of Hn >= 3.
-        Returns a matplotlib Figure made without pyplot (no window opens).
-
-        Parameters
-        ----------
-        **options
-            Keyword arguments of :func:`gfrf.kernels.plot.plot_kernel` (``omega_range``,
-            ``what``, ``mark``, ``fixed``).
-
-        Returns
-        -------
-        matplotlib.figure.Figure
-            The figure.
-        """
+        Returns a matplotlib Figure made without pyplot (no window opens)."""
         from gfrf.kernels.plot import plot_kernel
 
         return plot_kernel(self, **options)

@@ -91,16 +91,6 @@ class Axis:
 def parse_axis(spec: str) -> Axis:
     """Parse ``NAME=START:STOP:N`` (N >= 1 equally spaced values, both ends included).
 
-    Parameters
-    ----------
-    spec : str
-        The ``--param`` text.
-
-    Returns
-    -------
-    Axis
-        The parameter's name and its values.
-
     Raises
     ------
     ArgumentError
@@ -134,18 +124,7 @@ def parse_axis(spec: str) -> Axis:
 
 
 def grid(axes: Sequence[Axis]) -> list[dict[str, float]]:
-    """All points of the grid, the last axis varying fastest.
-
-    Parameters
-    ----------
-    axes : sequence of Axis
-        The swept parameters, distinct names, at most :data:`MAX_GRID_POINTS` points in all.
-
-    Returns
-    -------
-    list of dict
-        One ``{name: value}`` per point.
-    """
+    """All points of the grid, the last axis varying fastest."""
     names = [a.name for a in axes]
     size = math.prod(len(a.values) for a in axes)
     if size > MAX_GRID_POINTS:
@@ -184,21 +163,7 @@ def _linear_stable(v: Any) -> bool:
 
 
 def evaluate_point(task: _Task, point: Mapping[str, float]) -> dict[str, Any]:
-    """The row of one grid point (parameters first, then the results, then ``error``).
-
-    Parameters
-    ----------
-    task : _Task
-        The template (or the file data to rebuild from) and the options.
-    point : mapping of str to float
-        The swept parameters' values.
-
-    Returns
-    -------
-    dict
-        The row; a :class:`~gfrf.errors.GfrfError` is caught and its message put in
-        ``error``.
-    """
+    """The row of one grid point (parameters first, then the results, then ``error``)."""
     from gfrf.bounds.majorant import majorant
     from gfrf.bounds.norms import h1_norm
     from gfrf.model.template import rebuild
@@ -280,16 +245,6 @@ def check_scheduler(scheduler: str) -> str:
     """Validate a ``--scheduler`` value; return it (``host:port`` becomes ``tcp://host:port``).
 
     Accepted: ``local``, ``processes`` and ``tcp://HOST:PORT`` (or ``HOST:PORT``).
-
-    Parameters
-    ----------
-    scheduler : str
-        The ``--scheduler`` text.
-
-    Returns
-    -------
-    str
-        The scheduler, normalised.
 
     Raises
     ------
@@ -487,16 +442,6 @@ class SweepResult:
 
         The file is replaced atomically: a write that fails midway leaves the previous
         file as it was.
-
-        Parameters
-        ----------
-        path : str or Path
-            The output file; its suffix chooses the format.
-
-        Returns
-        -------
-        Path
-            The path written.
         """
         p = Path(path)
         kind = check_output(p)
@@ -526,16 +471,6 @@ class SweepResult:
 
 def check_output(path: str | Path) -> str:
     """The table format of ``path`` from its suffix, ``csv`` or ``parquet``.
-
-    Parameters
-    ----------
-    path : str or Path
-        The output file.
-
-    Returns
-    -------
-    str
-        ``"csv"`` or ``"parquet"``.
 
     Raises
     ------

@@ -90,32 +90,12 @@ def tones_text(tones: list[Tone]) -> str:
     ----------
     tones : list of tuple of float
         ``(A, omega, phi)`` per tone: amplitude, angular frequency in rad/s, phase in rad.
-
-    Returns
-    -------
-    str
-        Text that :func:`gfrf.model.signals.parse_input` reads back to the same floats.
     """
     return " + ".join(f"{a!r}*cos({w!r}*t + {p!r})" for a, w, p in tones)
 
 
 def switching_text(amplitude: float, first_sign: int, switch_times: list[float]) -> str:
-    """The switching input in words (all switch times when few, else the first and last).
-
-    Parameters
-    ----------
-    amplitude : float
-        U, the size of the input.
-    first_sign : int
-        +1 or -1: the sign on [0, t1).
-    switch_times : list of float
-        The switch times in s.
-
-    Returns
-    -------
-    str
-        One line of text.
-    """
+    """The switching input in words (all switch times when few, else the first and last)."""
     times = [f"{t:.6g}" for t in switch_times]
     if len(times) > 8:
         times = times[:4] + [f"... ({len(switch_times) - 6} more)"] + times[-2:]
