@@ -28,7 +28,20 @@ __all__ = ["plant_function", "linear_part", "verdict"]
 
 
 def plant_function(module: str, name: str) -> Callable[..., Any]:
-    """``module.name`` with its first argument passed through :func:`as_plant`."""
+    """``module.name`` with its first argument passed through :func:`as_plant`.
+
+    Parameters
+    ----------
+    module : str
+        The module's dotted name.
+    name : str
+        The function's name in it.
+
+    Returns
+    -------
+    callable
+        The wrapped function, its docstring extended.
+    """
     target = getattr(importlib.import_module(module), name)
 
     @functools.wraps(target)

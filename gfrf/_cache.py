@@ -284,6 +284,11 @@ def trust_dispatchers(dispatchers: Iterable[Any]) -> None:
     a user-wide folder; each must pass the same checks as :func:`private_folder`
     (folders above it owned by this user or root) before its pickles are read.  Call
     before the first call of each dispatcher (numba loads its cache then).
+
+    Parameters
+    ----------
+    dispatchers : iterable of numba dispatchers
+        The ``@njit(cache=True)`` functions.
     """
     from numba.core.caching import NullCache
 

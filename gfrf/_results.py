@@ -56,6 +56,20 @@ def outward_bracket(lower: float, upper: float, most: int = 6
     that do not depend on the last bits of a float; None when the bracket is closed to
     more than ``most`` digits, a point, or has a zero, negative or infinite end.
 
+    Parameters
+    ----------
+    lower, upper : float
+        The ends of the bracket.
+    most : int, optional
+        Most significant digits printed.
+
+    Returns
+    -------
+    tuple of (float, float, int) or None
+        The rounded ends and the number of digits, or None.
+
+    Examples
+    --------
     >>> outward_bracket(0.0111398, 0.0209773)
     (0.0111, 0.021, 3)
     """
@@ -83,7 +97,22 @@ def _value(value: Any) -> str:
 
 
 def short_repr(obj: object, *fields: str, **extra: Any) -> str:
-    """``Type(field=value, ...)`` of the named attributes and ``extra`` values (floats 6 digits)."""
+    """``Type(field=value, ...)`` of the named attributes and ``extra`` values (floats 6 digits).
+
+    Parameters
+    ----------
+    obj : object
+        The result object.
+    *fields : str
+        Names of its attributes to show, in order.
+    **extra
+        Further ``name=value`` pairs shown after them.
+
+    Returns
+    -------
+    str
+        The one-line representation.
+    """
     items = [(name, getattr(obj, name)) for name in fields] + list(extra.items())
     return f"{type(obj).__name__}({', '.join(f'{k}={_value(v)}' for k, v in items)})"
 
@@ -91,7 +120,19 @@ def short_repr(obj: object, *fields: str, **extra: Any) -> str:
 def plain(value: Any) -> Any:
     """``value`` with complex numbers as ``{"re", "im"}``, numpy values as Python ones and
     tuples as lists, so that :func:`json.dumps` accepts it (floats are kept, infinities
-    included)."""
+    included).
+
+    Parameters
+    ----------
+    value : object
+        Nested dicts, lists, tuples, numpy arrays or scalars, complex numbers and plain
+        values.
+
+    Returns
+    -------
+    object
+        The same structure of JSON-compatible Python values (dict keys as str).
+    """
     if isinstance(value, dict):
         return {str(k): plain(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
@@ -232,6 +273,21 @@ def _cell(value: Any) -> str:
 def markdown_table(header: tuple[str, ...], rows: list[tuple[Any, ...]]) -> str:
     """A Markdown table (GitHub/Jupyter pipe syntax) of ``rows`` under ``header``.
 
+    Parameters
+    ----------
+    header : tuple of str
+        The column headings.
+    rows : list of tuple
+        The rows, as long as ``header``; floats are printed with 6 significant digits,
+        None as a dash, booleans as yes/no, ``|`` escaped and newlines as spaces.
+
+    Returns
+    -------
+    str
+        The table, without a final newline.
+
+    Examples
+    --------
     >>> print(markdown_table(("n", "||H_n||"), [(1, 5.0251890762960), (2, None)]))
     | n | \\|\\|H_n\\|\\| |
     |---|---|
@@ -246,7 +302,22 @@ def markdown_table(header: tuple[str, ...], rows: list[tuple[Any, ...]]) -> str:
 
 def new_figure(rows: int, columns: int, size: tuple[float, float]) -> tuple[Any, Any]:
     """A matplotlib ``Figure`` and its axes, made without pyplot (any backend, Agg included;
-    no global figure state).  matplotlib is imported here, on first plot only."""
+    no global figure state).  matplotlib is imported here, on first plot only.
+
+    Parameters
+    ----------
+    rows, columns : int
+        Grid of axes.
+    size : tuple of float
+        Width and height in inches.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+    numpy.ndarray
+        Its axes, always 2-D (``rows`` x ``columns``).
+    """
     from matplotlib.figure import Figure
 
     figure = Figure(figsize=size, layout="constrained")
@@ -276,7 +347,18 @@ def subplots(*args: Any, figsize: tuple[float, float] | None = None,
 
 def verdict_markdown(verdict: Any) -> str:
     """Markdown of a :class:`gfrf.stability.verdicts.Verdict`: r*, r and the bounds, the conditions,
-    the norm brackets."""
+    the norm brackets.
+
+    Parameters
+    ----------
+    verdict : Verdict
+        The verdict.
+
+    Returns
+    -------
+    str
+        The Markdown text.
+    """
     kind = (f"certified, {verdict.radius_proof}" if verdict.radius_certified
             else "estimate, not certified")
     held = {True: "yes", False: "no", None: "not established"}
@@ -309,7 +391,18 @@ def verdict_figure(verdict: Any) -> Any:
     radii c_n^(-1/n) of the majorant with r*, r and the radius bounds, on a log amplitude
     axis (r* = 5e-4 is not on the zero line), every line labelled (for Theorem 2 with the
     units it is in: the plant's in units of u, the loop's in units of the reference r),
-    the legends beside the axes, off the data."""
+    the legends beside the axes, off the data.
+
+    Parameters
+    ----------
+    verdict : Verdict
+        The verdict, with its ``series`` rows.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure, two panels.
+    """
     from matplotlib.ticker import MaxNLocator
 
     loop = verdict.theorem == 2
@@ -354,7 +447,18 @@ def verdict_figure(verdict: Any) -> Any:
 
 
 def simulation_markdown(result: Any) -> str:
-    """Markdown of a :class:`gfrf.sim.integrate.SimulationResult` (no wall time)."""
+    """Markdown of a :class:`gfrf.sim.integrate.SimulationResult` (no wall time).
+
+    Parameters
+    ----------
+    result : SimulationResult
+        The simulation.
+
+    Returns
+    -------
+    str
+        A one-row Markdown table.
+    """
     t_final = float(result.t[-1]) if result.t.size else 0.0
     y_final = float(result.y[-1]) if result.y.size else None
     return markdown_table(("status", "method", "t_final (s)", "samples", "max |y|",
@@ -364,7 +468,18 @@ def simulation_markdown(result: Any) -> str:
 
 
 def simulation_figure(result: Any) -> Any:
-    """y(t) and u(t) of a simulation, stacked, with the blow-up time marked."""
+    """y(t) and u(t) of a simulation, stacked, with the blow-up time marked.
+
+    Parameters
+    ----------
+    result : SimulationResult
+        The simulation.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure, two stacked panels sharing the time axis.
+    """
     figure, axes = new_figure(2, 1, (7.0, 4.5))
     top, bottom = axes[0][0], axes[1][0]
     top.plot(result.t, result.y)

@@ -37,7 +37,18 @@ __all__ = ["BenchSection", "SECTION_MODULES", "MODELS_DIR", "best_of", "bundled_
 
 
 def bundled_model(name: str) -> str:
-    """Absolute path of the bundled model file ``name`` (e.g. ``"cartpole.toml"``)."""
+    """Absolute path of the bundled model file ``name`` (e.g. ``"cartpole.toml"``).
+
+    Parameters
+    ----------
+    name : str
+        File name in the bundled models folder.
+
+    Returns
+    -------
+    str
+        The absolute path.
+    """
     return str(MODELS_DIR / name)
 
 #: Modules that each define ``run(quick: bool) -> BenchSection``.
@@ -59,7 +70,18 @@ SECTION_MODULES: tuple[str, ...] = (
 
 
 def gfrf_command(args: list[str]) -> list[str]:
-    """The console script a user runs (or the same entry point through ``-c``)."""
+    """The console script a user runs (or the same entry point through ``-c``).
+
+    Parameters
+    ----------
+    args : list of str
+        The arguments after ``gfrf``.
+
+    Returns
+    -------
+    list of str
+        The command line, for :mod:`subprocess`.
+    """
     import sys
 
     script = Path(sys.executable).with_name("gfrf")
@@ -112,7 +134,24 @@ class BenchSection:
 def best_of(call: Callable[[], Any], repeat: int,
             before: Callable[[], None] | None = None) -> tuple[float, Any]:
     """Best wall time in seconds of ``repeat`` calls (``before`` runs untimed before each,
-    e.g. to clear a cache) and the last call's result."""
+    e.g. to clear a cache) and the last call's result.
+
+    Parameters
+    ----------
+    call : callable
+        The timed call, without arguments.
+    repeat : int
+        Number of timed calls, >= 1.
+    before : callable, optional
+        Untimed call before each timed one.
+
+    Returns
+    -------
+    float
+        The best wall time in s.
+    object
+        The last call's result.
+    """
     best, out = math.inf, None
     for _ in range(repeat):
         if before is not None:
@@ -124,7 +163,18 @@ def best_of(call: Callable[[], Any], repeat: int,
 
 
 def load_note(load: tuple[float, float, float]) -> str:
-    """The report line stating the load average ``load`` at the start of a section."""
+    """The report line stating the load average ``load`` at the start of a section.
+
+    Parameters
+    ----------
+    load : tuple of float
+        The 1, 5 and 15 minute load averages (:func:`os.getloadavg`).
+
+    Returns
+    -------
+    str
+        One sentence for the section's notes.
+    """
     return (f"Load average (1, 5, 15 min) at the start of this section: "
             f"{load[0]:.2f}, {load[1]:.2f}, {load[2]:.2f} on {os.cpu_count()} cores.")
 
@@ -158,6 +208,20 @@ def run_all(quick: bool = False, only: list[str] | None = None,
 
     Figures go to ``out_dir`` (sections read it through :func:`figure_dir`); None writes
     them to a temporary folder that is removed afterwards (nothing is left behind).
+
+    Parameters
+    ----------
+    quick : bool, optional
+        Passed to every section's ``run``: smaller, faster settings.
+    only : list of str, optional
+        Substrings of the section module names to run; None or empty runs all.
+    out_dir : str, Path or None, optional
+        Folder of the figures; None: a temporary folder.
+
+    Returns
+    -------
+    list of BenchSection
+        The sections, in :data:`SECTION_MODULES` order.
     """
     import tempfile
 
@@ -178,7 +242,20 @@ def run_all(quick: bool = False, only: list[str] | None = None,
 
 
 def write_report(sections: list[BenchSection], out_dir: str | Path) -> Path:
-    """Write ``speed-vs-error.md`` into ``out_dir`` and return its path."""
+    """Write ``speed-vs-error.md`` into ``out_dir`` and return its path.
+
+    Parameters
+    ----------
+    sections : list of BenchSection
+        The sections, in order.
+    out_dir : str or Path
+        The folder (created if missing); the file is replaced atomically.
+
+    Returns
+    -------
+    Path
+        The path of ``speed-vs-error.md``.
+    """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     text = ["# Speed versus error", "",

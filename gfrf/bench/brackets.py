@@ -63,7 +63,18 @@ def _bracket(path: str, n: int, tol: float, budget: int | None
 
 
 def run(quick: bool) -> BenchSection:
-    """Bracket each case; return the report section."""
+    """Bracket each case; return the report section.
+
+    Parameters
+    ----------
+    quick : bool
+        Only the hanging pendulum's order-3 bracket instead of every case.
+
+    Returns
+    -------
+    BenchSection
+        The section of ``speed-vs-error.md``.
+    """
     load = os.getloadavg()
     rows: list[list[object]] = []
     for path, n, tol, budget, goal, seconds in _QUICK if quick else _CASES:

@@ -128,7 +128,18 @@ def _median(code: str, args: list[str], repeat: int, env: dict[str, str] | None 
 
 
 def run(quick: bool) -> BenchSection:
-    """Time the cold, cached, NARX-norm and prepared-simulation paths against baselines."""
+    """Time the cold, cached, NARX-norm and prepared-simulation paths against baselines.
+
+    Parameters
+    ----------
+    quick : bool
+        One timing per row instead of the mean of three.
+
+    Returns
+    -------
+    BenchSection
+        The section of ``speed-vs-error.md``: rows of times and ratios to the baselines.
+    """
     load = os.getloadavg()
     repeat = 1 if quick else 3
     rows: list[list[object]] = []

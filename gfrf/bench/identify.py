@@ -34,6 +34,13 @@ def _write_csv(path: Path, u: np.ndarray, y: np.ndarray) -> None:
 def measure(n: int, folder: Path) -> dict[str, Any]:
     """Time identification and CSV -> verdict on ``n`` samples of the example model.
 
+    Parameters
+    ----------
+    n : int
+        Number of samples of the example model's data set.
+    folder : pathlib.Path
+        Scratch folder for the CSV and model files.
+
     Returns
     -------
     dict
@@ -76,7 +83,18 @@ def measure(n: int, folder: Path) -> dict[str, Any]:
 
 
 def run(quick: bool = False) -> Any:
-    """The bench section: identification and CSV -> verdict times at two data sizes."""
+    """The bench section: identification and CSV -> verdict times at two data sizes.
+
+    Parameters
+    ----------
+    quick : bool
+        Data sets of 2,000 and 10,000 samples instead of 10,000 and 100,000.
+
+    Returns
+    -------
+    BenchSection
+        The section of ``speed-vs-error.md``.
+    """
     from gfrf.bench import BenchSection
 
     sizes = (2_000, 10_000) if quick else (10_000, 100_000)

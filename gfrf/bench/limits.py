@@ -72,7 +72,18 @@ def _measure(args: list[str]) -> tuple[int, str, float, float, float]:
 
 
 def run(quick: bool) -> BenchSection:
-    """Run every input; return the report section."""
+    """Run every input; return the report section.
+
+    Parameters
+    ----------
+    quick : bool
+        Only the two kernel cases, not the verdict and norm ones.
+
+    Returns
+    -------
+    BenchSection
+        The section of ``speed-vs-error.md``.
+    """
     load = os.getloadavg()
     rows: list[list[object]] = []
     for label, args, baseline in _cases(quick):

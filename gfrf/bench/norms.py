@@ -113,7 +113,18 @@ def _search_rows(model: Model, n: int, exact: float | None) -> tuple[list[list[o
 
 
 def run(quick: bool) -> BenchSection:
-    """Time the norm brackets and the baselines; return the report section."""
+    """Time the norm brackets and the baselines; return the report section.
+
+    Parameters
+    ----------
+    quick : bool
+        Grid resolutions 25 and 50 instead of 50, 100 and 200, and no order-5 search.
+
+    Returns
+    -------
+    BenchSection
+        The section of ``speed-vs-error.md``.
+    """
     load = os.getloadavg()
     beta1 = 1.0 / (_B * math.sqrt(_C - _B * _B / 4.0))
     exact3 = _C3 * beta1**4

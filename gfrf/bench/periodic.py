@@ -130,7 +130,18 @@ def _transition_rows(quick: bool) -> tuple[list[list[object]], list[str]]:
 
 
 def run(quick: bool) -> BenchSection:
-    """Run the periodic-pendulum benchmarks and return the report section."""
+    """Run the periodic-pendulum benchmarks and return the report section.
+
+    Parameters
+    ----------
+    quick : bool
+        Fewer eps values (6 instead of 26; 3 naive runs instead of 20).
+
+    Returns
+    -------
+    BenchSection
+        The section of ``speed-vs-error.md``.
+    """
     load = os.getloadavg()
     rows: list[list[object]] = []
     n_eps = 6 if quick else 26

@@ -76,7 +76,18 @@ def _cases() -> list[tuple[str, str, Callable[[str], Any], Callable[[Any], float
 
 
 def run(quick: bool) -> BenchSection:
-    """Time every case at every level; return the report section."""
+    """Time every case at every level; return the report section.
+
+    Parameters
+    ----------
+    quick : bool
+        Two repeats per timing instead of five.
+
+    Returns
+    -------
+    BenchSection
+        The section of ``speed-vs-error.md``.
+    """
     from gfrf.bounds.exact_sup import clear_caches
 
     repeats = 2 if quick else 5

@@ -130,7 +130,21 @@ def _model_curves(file: str, loop: bool, f: Any, text: str, y0: tuple[float, ...
 
 
 def measure(quick: bool) -> dict[str, Any]:
-    """Run the sweeps; return curves of (setting, seconds, error) and the compile time."""
+    """Run the sweeps; return curves of (setting, seconds, error) and the compile time.
+
+    Parameters
+    ----------
+    quick : bool
+        One repeat, tolerances 1e-4, 1e-6, 1e-8 and steps 0.1 .. 0.01 s instead of three
+        repeats and 1e-3 .. 1e-10, 0.2 .. 0.0025 s.
+
+    Returns
+    -------
+    dict
+        ``curves`` (per method, (setting, seconds, error) triples), ``compile_time``,
+        ``reference_time`` (s), ``fast_auto`` (the automatic step's seconds, error and
+        note) and ``models`` (the default against RK45).
+    """
     system = build_system(load_model(MODELS_DIR / "hanging_pendulum.toml"),
                           equation="polynomial")
     signal = parse_input(_INPUT)
@@ -212,7 +226,18 @@ def _ratios(default: Curve, plain: Curve) -> tuple[list[float], list[float]]:
 
 
 def run(quick: bool) -> BenchSection:
-    """The speed-vs-error section of ``gfrf bench`` (figure written to reports/)."""
+    """The speed-vs-error section of ``gfrf bench`` (figure written to reports/).
+
+    Parameters
+    ----------
+    quick : bool
+        One repeat and fewer tolerances and step sizes.
+
+    Returns
+    -------
+    BenchSection
+        The section of ``speed-vs-error.md``.
+    """
     load = os.getloadavg()
     data = measure(quick)
     curves: dict[str, Curve] = data["curves"]

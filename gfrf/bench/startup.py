@@ -85,7 +85,18 @@ def _met(value: float, goal: float) -> str:
 
 
 def run(quick: bool) -> BenchSection:
-    """Time the fresh-process commands; return the report section."""
+    """Time the fresh-process commands; return the report section.
+
+    Parameters
+    ----------
+    quick : bool
+        Two repeats per timing instead of seven.
+
+    Returns
+    -------
+    BenchSection
+        The section of ``speed-vs-error.md``.
+    """
     load = os.getloadavg()
     repeat = 2 if quick else 7
     py = sys.executable

@@ -85,7 +85,18 @@ def cost_split(path: Path, names: list[str], points: list[dict[str, float]]
 
 
 def run(quick: bool) -> BenchSection:
-    """Time the sweeps and the cost split; return the report section."""
+    """Time the sweeps and the cost split; return the report section.
+
+    Parameters
+    ----------
+    quick : bool
+        A 6 x 4 grid instead of 12 x 8.
+
+    Returns
+    -------
+    BenchSection
+        The section of ``speed-vs-error.md``.
+    """
     path = MODELS_DIR / "hanging_pendulum.toml"
     data = tomllib.loads(path.read_text(encoding="utf-8"))
     n_rho, n_l = (6, 4) if quick else (12, 8)

@@ -69,7 +69,20 @@ def _baseline(model: object, cap: float, quick: bool) -> float | None:
 
 
 def run(quick: bool) -> BenchSection:
-    """Time the falsifier, the proof and the baseline per model; return the section."""
+    """Time the falsifier, the proof and the baseline per model; return the section.
+
+    Parameters
+    ----------
+    quick : bool
+        Leave out the undamped hanging pendulum and coarsen the baseline (6 frequencies
+        and 8 amplitude bisections instead of 16 and 12).
+
+    Returns
+    -------
+    BenchSection
+        The section of ``speed-vs-error.md``: per model, the times of the falsifier, the
+        proof and the baseline.
+    """
     from gfrf.model.modelfile import resolve_model
     from gfrf.twosided.enclose import enclose_witness
     from gfrf.twosided.falsify import falsify

@@ -253,6 +253,20 @@ def box_work(model: Model, n: int, symmetric: bool = True) -> int:
     A count from the kernel's straight-line code, independent of the machine: the cost
     of a box is about proportional to it (0.2-0.3 us per operation on one core of a
     2-core 2026 machine, fused loops).
+
+    Parameters
+    ----------
+    model : Model
+        The plant model.
+    n : int
+        The order of the kernel.
+    symmetric : bool, optional
+        The symmetric kernel instead of the asymmetric one.
+
+    Returns
+    -------
+    int
+        The count, at least 2.
     """
     return 2 * _operations(generator(model), n, symmetric)
 
@@ -263,6 +277,20 @@ def default_budget(model: Model, n: int, symmetric: bool = True) -> int:
     :data:`LEAST_BUDGET`.  The order enters through the kernel's size; the tolerance
     through where the search stops (on ``tol`` or on this budget, whichever is first).
     A count of work, so the bracket never depends on the machine's speed.
+
+    Parameters
+    ----------
+    model : Model
+        The plant model.
+    n : int
+        The order of the kernel.
+    symmetric : bool, optional
+        The symmetric kernel instead of the asymmetric one.
+
+    Returns
+    -------
+    int
+        The number of boxes, in [:data:`LEAST_BUDGET`, :data:`BOX_LIMIT`].
     """
     return min(BOX_LIMIT, max(LEAST_BUDGET, DEFAULT_WORK // box_work(model, n, symmetric)))
 
@@ -275,7 +303,24 @@ SECONDS_PER_WORK = 8.0 / DEFAULT_WORK
 def budget_note(model: Model, n: int, symmetric: bool, max_boxes: int) -> str | None:
     """A line announcing, before the search, that ``max_boxes`` allows more work than the
     default cap (with its time estimate and its memory bound: :data:`MAX_OPEN` open boxes
-    of 16 (n + 1) bytes), or None when it does not."""
+    of 16 (n + 1) bytes), or None when it does not.
+
+    Parameters
+    ----------
+    model : Model
+        The plant model.
+    n : int
+        The order of the kernel.
+    symmetric : bool
+        The symmetric kernel instead of the asymmetric one.
+    max_boxes : int
+        The budget asked for.
+
+    Returns
+    -------
+    str or None
+        The line, or None.
+    """
     if not 2 <= n <= MAX_ORDER:
         return None
     default = default_budget(model, n, symmetric)
@@ -290,7 +335,20 @@ def budget_note(model: Model, n: int, symmetric: bool, max_boxes: int) -> str | 
 
 
 def check_budget(max_boxes: object, least: int) -> int:
-    """``max_boxes`` as an int in [least, BOX_LIMIT] (any integer type), else ArgumentError."""
+    """``max_boxes`` as an int in [least, BOX_LIMIT] (any integer type), else ArgumentError.
+
+    Parameters
+    ----------
+    max_boxes : object
+        The value given.
+    least : int
+        The smallest budget accepted.
+
+    Returns
+    -------
+    int
+        ``max_boxes`` as a Python int.
+    """
     if (isinstance(max_boxes, bool) or not isinstance(max_boxes, numbers.Integral)
             or not least <= max_boxes <= BOX_LIMIT):
         raise ArgumentError(f"max_boxes must be an integer in [{least}, {BOX_LIMIT}], got "

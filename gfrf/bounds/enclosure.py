@@ -217,7 +217,13 @@ class InverseA:
                 np.where(bad, np.nan, curve))
 
     def modulus_bounds(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-        """Sups over [lo, hi] of |m| and of its first three derivatives, shape (N, 4)."""
+        """Sups over [lo, hi] of |m| and of its first three derivatives, shape (N, 4).
+
+        Parameters
+        ----------
+        lo, hi : numpy.ndarray
+            Ends of the N intervals of sigma (rad/s), ``lo <= hi``.
+        """
         a_min, _ = self.a.extrema(lo, hi)
         sups = [modulus.extrema(lo, hi)[1] for modulus in self.mod_slopes]
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -226,7 +232,13 @@ class InverseA:
                                    sups[2] * inv ** 7 / 8], axis=1))
 
     def bounds(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-        """Sups over [lo, hi] of |r|, |r'|, |r''|, |r'''|, shape (N, 4)."""
+        """Sups over [lo, hi] of |r|, |r'|, |r''|, |r'''|, shape (N, 4).
+
+        Parameters
+        ----------
+        lo, hi : numpy.ndarray
+            Ends of the N intervals of sigma (rad/s), ``lo <= hi``.
+        """
         a_min, _ = self.a.extrema(lo, hi)
         _, d1 = self.da.extrema(lo, hi)
         _, d2 = self.second.extrema(lo, hi)
@@ -395,7 +407,13 @@ class Jet:
         return self
 
     def embedded(self, names: tuple[int, ...]) -> Jet:
-        """The same jet with derivatives over the (larger, sorted) coordinate set ``names``."""
+        """The same jet with derivatives over the (larger, sorted) coordinate set ``names``.
+
+        Parameters
+        ----------
+        names : tuple of int
+            Sorted coordinate indices, a superset of the jet's ``names``.
+        """
         if names == self.names:
             return self
         where = _union(names, self.names)[2]

@@ -69,6 +69,16 @@ def fractions(coefficients: Sequence[Any] | np.ndarray) -> list[Fraction]:
 
     Floats are taken at their exact (dyadic) values; Fractions and ints as they are,
     so exactly formed products (e.g. a closed-loop polynomial) stay exact.
+
+    Parameters
+    ----------
+    coefficients : sequence or numpy.ndarray
+        Coefficients, highest power first: floats, ints or Fractions.
+
+    Returns
+    -------
+    list of Fraction
+        The exact values, at least one (``[0]`` for the zero polynomial).
     """
     if isinstance(coefficients, list | tuple) and any(
             isinstance(c, Fraction | int) and not isinstance(c, bool) for c in coefficients):
@@ -124,6 +134,16 @@ def hurwitz(coefficients: Sequence[float] | np.ndarray) -> bool:
     """Whether the polynomial (highest power first) has all roots in Re s < 0, exactly.
 
     Routh's criterion in rational arithmetic on the exact values of the floats.
+
+    Parameters
+    ----------
+    coefficients : sequence of float or numpy.ndarray
+        The polynomial in s, highest power first, not all zero.
+
+    Returns
+    -------
+    bool
+        True when every root has Re s < 0.
     """
     a = fractions(coefficients)
     if a[0] == 0:
@@ -135,6 +155,18 @@ def cayley(highest_first: Sequence[Fraction], degree: int) -> list[Fraction]:
     """sum p_k (1 + s)^k (1 - s)^(degree - k) for p(z) = sum p_k z^k (highest first in, out).
 
     Maps |z| < 1 to Re s < 0 and |z| = 1 to the imaginary axis (z = -1 to s = inf).
+
+    Parameters
+    ----------
+    highest_first : sequence of Fraction
+        p, highest power of z first.
+    degree : int
+        The degree used for the map, at least that of p.
+
+    Returns
+    -------
+    list of Fraction
+        The mapped polynomial in s, highest power first.
     """
     flint = _flint()
     low = list(reversed(highest_first))
@@ -148,7 +180,18 @@ def cayley(highest_first: Sequence[Fraction], degree: int) -> list[Fraction]:
 
 
 def schur(coefficients: Sequence[float] | np.ndarray) -> bool:
-    """Whether the polynomial in z (highest power first) has all roots in |z| < 1, exactly."""
+    """Whether the polynomial in z (highest power first) has all roots in |z| < 1, exactly.
+
+    Parameters
+    ----------
+    coefficients : sequence of float or numpy.ndarray
+        The polynomial in z, highest power first, not all zero.
+
+    Returns
+    -------
+    bool
+        True when every root has |z| < 1.
+    """
     a = fractions(coefficients)
     if a[0] == 0:
         raise ArgumentError("the polynomial is zero")
@@ -279,17 +322,52 @@ def poles(coefficients: Sequence[float] | np.ndarray, discrete: bool = False) ->
 
 # -- Arb balls to floats, roots as text -----------------------------------------------
 def arb_lower(x: Any) -> float:
-    """The largest float <= every point of the Arb ball ``x`` (-inf if unbounded)."""
+    """The largest float <= every point of the Arb ball ``x`` (-inf if unbounded).
+
+    Parameters
+    ----------
+    x : flint.arb
+        The ball.
+
+    Returns
+    -------
+    float
+        The lower end, rounded down.
+    """
     return _down(x)
 
 
 def arb_upper(x: Any) -> float:
-    """The smallest float >= every point of the Arb ball ``x`` (inf if unbounded)."""
+    """The smallest float >= every point of the Arb ball ``x`` (inf if unbounded).
+
+    Parameters
+    ----------
+    x : flint.arb
+        The ball.
+
+    Returns
+    -------
+    float
+        The upper end, rounded up.
+    """
     return _up(x)
 
 
 def format_roots(roots: Sequence[complex], name: str = "s") -> str:
-    """Roots as text, conjugate pairs merged: ``s = 0, s = -0.5 +- 2j``."""
+    """Roots as text, conjugate pairs merged: ``s = 0, s = -0.5 +- 2j``.
+
+    Parameters
+    ----------
+    roots : sequence of complex
+        The roots.
+    name : str, optional
+        The variable's name.
+
+    Returns
+    -------
+    str
+        Comma-separated ``name = value`` items.
+    """
     parts = []
     for r in roots:
         if r.imag < 0 and any(abs(q - r.conjugate()) <= 1e-12 * (1 + abs(r)) for q in roots):

@@ -349,6 +349,18 @@ def sup_abs_beyond(num: Sequence[float] | np.ndarray, den: Sequence[float] | np.
 
     The tail bound a branch-and-bound needs outside its box; same method and
     conventions as :func:`sup_abs` (omega_min >= 0 is used exactly).
+
+    Parameters
+    ----------
+    num, den : sequence of float or numpy.ndarray
+        N and D, highest power of s first.
+    omega_min : float
+        The lower end of the frequency range in rad/s, finite and >= 0.
+
+    Returns
+    -------
+    ExactSup
+        The enclosure.
     """
     if not (math.isfinite(omega_min) and omega_min >= 0):
         raise ArgumentError(f"omega_min must be finite and >= 0, got {omega_min!r}")
@@ -409,7 +421,18 @@ class SupBeyond:
                        if self._p.degree() == self._q.degree() else flint.fmpq(0))
 
     def upper(self, v: float) -> float:
-        """Proven upper bound of sup over |w| >= v (rad/s, v finite and >= 0)."""
+        """Proven upper bound of sup over |w| >= v (rad/s, v finite and >= 0).
+
+        Parameters
+        ----------
+        v : float
+            The lower end of the frequency range in rad/s.
+
+        Returns
+        -------
+        float
+            The bound (``inf`` for an unbounded ratio).
+        """
         if not (math.isfinite(v) and v >= 0):
             raise ArgumentError(f"v must be finite and >= 0, got {v!r}")
         if not math.isfinite(self.full.upper) or self.full.upper == 0.0:

@@ -53,6 +53,22 @@ def certify(step: Callable[[np.ndarray, float], np.ndarray], dim: int, r: float,
     A nonnegative solution x' satisfies step(x', r) <= step(x', r') = x' (monotone in
     r), so the monotone iteration from 0 at amplitude r stays below x' and converges:
     that is the certificate, checked componentwise up to 1e-12 relative rounding.
+
+    Parameters
+    ----------
+    step : callable
+        ``step(x, r)``, nonnegative and monotone in x and r.
+    dim : int
+        Size of x.
+    r : float
+        The amplitude.
+    start : numpy.ndarray, optional
+        Initial guess of Newton's method; default zero.
+
+    Returns
+    -------
+    numpy.ndarray or None
+        The supersolution x', or None.
     """
     r_up = r * (1 + _MARGIN)
     x = np.zeros(dim) if start is None else start.copy()

@@ -117,18 +117,51 @@ class Majorant:
         return all(math.isfinite(v) for v in values)
 
     def rhs(self, x: np.ndarray, r: float, amplitude: float | None = None) -> np.ndarray:
-        """Right-hand side of (*): r v_l + K_l G(x, a) with a = amplitude or r."""
+        """Right-hand side of (*): r v_l + K_l G(x, a) with a = amplitude or r.
+
+        Parameters
+        ----------
+        x : numpy.ndarray
+            One value x_l >= 0 per entry of :attr:`powers`.
+        r : float
+            The amplitude in the linear part.
+        amplitude : float, optional
+            The amplitude a in G; None: r.
+
+        Returns
+        -------
+        numpy.ndarray
+            One value per entry of :attr:`powers` (float arithmetic).
+        """
         a = r if amplitude is None else amplitude
         g = _nonlinear_sum(self, x, a)
         return np.array([r * self.linear[ell] + _mul(self.gains[ell], g)
                          for ell in self.powers])
 
     def nonlinear(self, x: np.ndarray, amplitude: float) -> float:
-        """G(x, a) = sum_terms |c| U a^q prod x_{l_i} (the part of order >= 2)."""
+        """G(x, a) = sum_terms |c| U a^q prod x_{l_i} (the part of order >= 2).
+
+        Parameters
+        ----------
+        x : numpy.ndarray
+            One value x_l >= 0 per entry of :attr:`powers`.
+        amplitude : float
+            The amplitude a.
+
+        Returns
+        -------
+        float
+            G(x, a) (float arithmetic).
+        """
         return _nonlinear_sum(self, x, amplitude)
 
     def coefficients(self, n_max: int) -> np.ndarray:
         """Array M[n, i] = M_{n, powers[i]} for n = 0..n_max (row 0 is zero).
+
+        Parameters
+        ----------
+        n_max : int
+            Highest order, >= 0.
 
         Returns
         -------
@@ -192,6 +225,18 @@ class Majorant:
 
         For x >= 0 this proves that the monotone iteration from 0 stays below x, so
         the majorant series (hence the norm series) converges at amplitude r.
+
+        Parameters
+        ----------
+        x : numpy.ndarray
+            The candidate supersolution, one value per entry of :attr:`powers`.
+        r : float
+            The amplitude.
+
+        Returns
+        -------
+        bool
+            True when the check passes (False for a negative, non-finite or estimated input).
         """
         if not (self.finite and np.all(np.isfinite(x)) and np.all(x >= 0)):
             return False
@@ -202,7 +247,20 @@ class Majorant:
         return all(v <= xs[i] for i, v in enumerate(new))
 
     def nonlinear_ball(self, xs: list[Any], amplitude: Any) -> Any:
-        """G(x, a) of :meth:`nonlinear` in Arb ball arithmetic (x, a: arb balls)."""
+        """G(x, a) of :meth:`nonlinear` in Arb ball arithmetic (x, a: arb balls).
+
+        Parameters
+        ----------
+        xs : list of flint.arb
+            One ball per entry of :attr:`powers`.
+        amplitude : flint.arb
+            The amplitude a.
+
+        Returns
+        -------
+        flint.arb
+            A ball containing G(x, a).
+        """
         from flint import arb
 
         idx = {ell: i for i, ell in enumerate(self.powers)}
@@ -217,7 +275,22 @@ class Majorant:
         return g
 
     def rhs_ball(self, xs: list[Any], r: Any, amplitude: Any) -> list[Any]:
-        """:meth:`rhs` in Arb ball arithmetic: r v_l + K_l G(x, amplitude) as arb balls."""
+        """:meth:`rhs` in Arb ball arithmetic: r v_l + K_l G(x, amplitude) as arb balls.
+
+        Parameters
+        ----------
+        xs : list of flint.arb
+            One ball per entry of :attr:`powers`.
+        r : flint.arb
+            The amplitude in the linear part.
+        amplitude : flint.arb
+            The amplitude a in G.
+
+        Returns
+        -------
+        list of flint.arb
+            One ball per entry of :attr:`powers`.
+        """
         from flint import arb
 
         g = self.nonlinear_ball(xs, amplitude)
@@ -271,6 +344,16 @@ def linear_polynomials(model: Model) -> tuple[np.ndarray, np.ndarray]:
     For a discrete model the arrays are lowest power of q first.  Both are taken from
     the normalised model (:func:`gfrf.model.scaling.normalized`): H1 is unchanged, A's
     leading coefficient lies in [1, 2).
+
+    Parameters
+    ----------
+    model : Model
+        The plant model.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(num, den)``.
     """
     model = normalized(model)
     a, b = model.linear_output, model.linear_input
@@ -347,5 +430,16 @@ def plant_radius(maj: Majorant) -> Radius:
     the Volterra prediction), computed on an O(1) rescaled system and scaled back exactly
     (:func:`gfrf.bounds.radius_scaling.scaled_plant_radius`); ``proof = "interval"`` when
     the sups are proven and the supersolution passes the ball-arithmetic check
-    rhs(x, r) <= x, ``"none"`` for an estimated majorant."""
+    rhs(x, r) <= x, ``"none"`` for an estimated majorant.
+
+    Parameters
+    ----------
+    maj : Majorant
+        The plant's majorant (:func:`majorant`).
+
+    Returns
+    -------
+    Radius
+        r*, the amplitude at which convergence is certified, and the proof level.
+    """
     return scaled_plant_radius(maj)

@@ -118,6 +118,16 @@ def scaled_plant_radius(maj: Any) -> Radius:
     passes the ball check (``Majorant.proves``, the same real inequality as for
     ``maj``), ``"none"`` for an estimated majorant, else ``"float"``.  Without a usable
     scaling (:func:`scaled_majorant` None) the radius is computed on ``maj`` itself.
+
+    Parameters
+    ----------
+    maj : Majorant
+        The plant's majorant.
+
+    Returns
+    -------
+    Radius
+        r* and the amplitude certified below it, in the original units.
     """
     found = scaled_majorant(maj)
     if found is None:
@@ -145,6 +155,17 @@ def amplitude_shift(maj: Any) -> int:
     """b of beta = 2^b, the amplitude unit in which ``maj``'s problem is O(1) (0 when
     :func:`scaled_majorant` finds no scaling): the shift for
     :func:`gfrf.model.scaling.amplitude_scaled` and
-    :func:`gfrf.stability.static.radius_upper`."""
+    :func:`gfrf.stability.static.radius_upper`.
+
+    Parameters
+    ----------
+    maj : Majorant
+        The plant's majorant.
+
+    Returns
+    -------
+    int
+        The exponent b.
+    """
     found = scaled_majorant(maj)
     return 0 if found is None else found[1]

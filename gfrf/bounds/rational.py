@@ -98,7 +98,18 @@ PROOF_LEVELS = ("none", "float", "interval")
 
 
 def check_proof(proof: str) -> str:
-    """``proof`` if it is one of :data:`PROOF_LEVELS`, else ArgumentError."""
+    """``proof`` if it is one of :data:`PROOF_LEVELS`, else ArgumentError.
+
+    Parameters
+    ----------
+    proof : str
+        The proof level asked for.
+
+    Returns
+    -------
+    str
+        ``proof``.
+    """
     if proof not in PROOF_LEVELS:
         raise ArgumentError(f"proof must be one of {', '.join(PROOF_LEVELS)}; got {proof!r}")
     return proof

@@ -23,6 +23,20 @@ def start_points(freqs: Iterable[float], n: int) -> np.ndarray:
     Each multiset is one representative up to permutation and global sign (|H_n| of the
     symmetric kernel is invariant under both); about :data:`MAX_STARTS` of each kind.
 
+    Parameters
+    ----------
+    freqs : iterable of float
+        The resonance frequencies in rad/s (0 may be among them).
+    n : int
+        The order of the kernel, >= 1.
+
+    Returns
+    -------
+    numpy.ndarray
+        One start point of n frequencies (rad/s) per row.
+
+    Examples
+    --------
     >>> start_points([0.0, 1.0], 2).tolist()
     [[-2.0, 1.0], [-1.0, -1.0], [-1.0, 0.0], [-1.0, 1.0], [0.0, 0.0]]
     """

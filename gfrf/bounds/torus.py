@@ -60,7 +60,21 @@ class InverseTrig:
         self.gamma = (4 * self.coef.size + 16) * 2.0 ** -53
 
     def derivatives(self, sigma: np.ndarray, count: int) -> np.ndarray:
-        """a, a', .., a^(count-1) at the points ``sigma``, shape (count, N)."""
+        """a, a', .., a^(count-1) at the points ``sigma``, shape (count, N).
+
+        Parameters
+        ----------
+        sigma : numpy.ndarray
+            Angular frequencies in rad/s, any shape.
+        count : int
+            Number of derivatives, the value included.
+
+        Returns
+        -------
+        numpy.ndarray
+            Complex, shape ``(count, *sigma.shape)``: the k-th derivative with respect to sigma
+            in row k (double-precision sums, error at most ``gamma * S_k``).
+        """
         sigma = np.asarray(sigma, dtype=float)
         z = np.exp(-1j * self.step * sigma)
         out = np.zeros((count, *sigma.shape), dtype=complex)
@@ -91,7 +105,22 @@ class InverseTrig:
     def centre_error(self, sigma: np.ndarray, slack: np.ndarray, rho: np.ndarray
                      ) -> np.ndarray:
         """Relative error of 1/a and of its Taylor terms r' rho, r'' rho^2 at sigma
-        (``slack`` bounds the rounding of sigma itself)."""
+        (``slack`` bounds the rounding of sigma itself).
+
+        Parameters
+        ----------
+        sigma : numpy.ndarray
+            The centres, angular frequencies in rad/s.
+        slack : numpy.ndarray or float
+            Bound of the rounding error of ``sigma`` itself (rad/s).
+        rho : numpy.ndarray or float
+            Half-widths of the intervals around the centres (rad/s).
+
+        Returns
+        -------
+        numpy.ndarray
+            The relative error bound per centre (inf or NaN where a is 0 there).
+        """
         d = np.abs(self.derivatives(sigma, 4))
         err = self.gamma * self.sups
         moved = (d[1] + d[2] * rho + d[3] * rho * rho) * slack
@@ -100,7 +129,20 @@ class InverseTrig:
 
     def point(self, sigma: np.ndarray, error: np.ndarray
               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """r, r' and r'' at points (NaN where ``error`` exceeds the accepted error)."""
+        """r, r' and r'' at points (NaN where ``error`` exceeds the accepted error).
+
+        Parameters
+        ----------
+        sigma : numpy.ndarray
+            Angular frequencies in rad/s.
+        error : numpy.ndarray
+            Relative error of each point (from :meth:`centre_error`); points above 1e-5 get NaN.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            r, r' and r'' (complex) at ``sigma``.
+        """
         a, da, dda = self.derivatives(sigma, 3)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             bad = ~(error <= _POINT_RTOL)
@@ -111,7 +153,18 @@ class InverseTrig:
                 np.where(bad, np.nan, curve))
 
     def bounds(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-        """Sups over [lo, hi] of |r|, |r'|, |r''|, |r'''|, shape (N, 4)."""
+        """Sups over [lo, hi] of |r|, |r'|, |r''|, |r'''|, shape (N, 4).
+
+        Parameters
+        ----------
+        lo, hi : numpy.ndarray
+            Ends of the N intervals of sigma (rad/s), ``lo <= hi``.
+
+        Returns
+        -------
+        numpy.ndarray
+            Upper bounds, shape (N, 4), ``inf`` where |a| may vanish on the interval.
+        """
         small, (u0, u1, u2, u3) = self._local(lo, hi)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             inv = np.where(small > 0, 1.0 / small, np.inf)
@@ -130,7 +183,20 @@ class InverseTrig:
 
     def modulus_point(self, sigma: np.ndarray, error: np.ndarray
                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """m = 1/|a|, m' and m'' at points (NaN where ``error`` exceeds the accepted error)."""
+        """m = 1/|a|, m' and m'' at points (NaN where ``error`` exceeds the accepted error).
+
+        Parameters
+        ----------
+        sigma : numpy.ndarray
+            Angular frequencies in rad/s.
+        error : numpy.ndarray
+            Relative error of each point (from :meth:`centre_error`); points above 1e-5 get NaN.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            m, m' and m'' (real) at ``sigma``.
+        """
         q, q1, q2 = self._squared(sigma)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             bad = ~(error <= _POINT_RTOL)
@@ -146,6 +212,16 @@ class InverseTrig:
         With q = |a|^2: m' = -q'/(2 q^(3/2)), m'' = (3 q'^2 - 2 q q'')/(4 q^(5/2)),
         m''' = (-15 q'^3 + 18 q q' q'' - 4 q^2 q''')/(8 q^(7/2)); q' = 2 Re(conj(a) a'),
         q'' = 2 (|a'|^2 + Re(conj(a) a'')), q''' = 2 Re(3 conj(a') a'' + conj(a) a''').
+
+        Parameters
+        ----------
+        lo, hi : numpy.ndarray
+            Ends of the N intervals of sigma (rad/s), ``lo <= hi``.
+
+        Returns
+        -------
+        numpy.ndarray
+            Upper bounds, shape (N, 4), ``inf`` where |a| may vanish on the interval.
         """
         small, (u0, u1, u2, u3) = self._local(lo, hi)
         c = 0.5 * (lo + hi)

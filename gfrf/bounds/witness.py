@@ -177,6 +177,17 @@ def witness_bound(model: Model, n: int, omegas: Sequence[float],
     Evaluated at 128 bits, then at 512 bits if the ball is wider than :data:`WIDTH`
     relative (heavy cancellation); the ends are rounded outward to floats.
 
+    Parameters
+    ----------
+    model : Model
+        The plant model.
+    n : int
+        The order of the kernel.
+    omegas : sequence of float
+        n angular frequencies in rad/s.
+    symmetric : bool, optional
+        The symmetric kernel instead of the asymmetric one.
+
     Returns
     -------
     WitnessBound

@@ -140,6 +140,17 @@ def main(argv: Sequence[str] | None = None) -> int:
     were: outputs are replaced atomically); called without ``argv`` (the ``gfrf``
     command) the process then ends at once (``os._exit``).  A closed stdout (``gfrf ... | head``)
     exits quietly with 141, as a process killed by SIGPIPE.
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        The arguments after the program name; ``None`` reads ``sys.argv[1:]``.
+
+    Returns
+    -------
+    int
+        The exit code: 0 answered, 1 not proven / not converged, 2 bad input,
+        130 interrupted, 141 closed stdout.
     """
     formatwarning = warnings.formatwarning  # formatting only: recorders still record
     warnings.formatwarning = _warning_line

@@ -16,7 +16,13 @@ __all__ = ["add_model_argument", "resolve_model"]
 
 
 def add_model_argument(parser: argparse.ArgumentParser) -> None:
-    """Add the positional MODEL and the ``--sample-time`` option for inline NARX text."""
+    """Add the positional MODEL and the ``--sample-time`` option for inline NARX text.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The subcommand parser that gets the arguments.
+    """
     parser.add_argument("model", metavar="MODEL",
                         help="a model file (models/*.toml) or an equation in quotes, "
                              "e.g. 'D(y,2) + 0.05*D(y) + 2.45*y - 0.41*y**3 = u'")
@@ -25,7 +31,19 @@ def add_model_argument(parser: argparse.ArgumentParser) -> None:
 
 
 def resolve_model(args: argparse.Namespace) -> ModelFile:
-    """The model of ``args.model`` (and ``args.sample_time``), by the library's one rule."""
+    """The model of ``args.model`` (and ``args.sample_time``), by the library's one rule.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed arguments with ``model`` (a model file path or an equation in quotes)
+        and ``sample_time`` (s, or ``None``).
+
+    Returns
+    -------
+    ModelFile
+        The resolved model file.
+    """
     from gfrf.model.modelfile import resolve_model as resolve
 
     return resolve(args.model, sample_time=args.sample_time)

@@ -24,6 +24,11 @@ PLOT_SUFFIXES: tuple[str, ...] = (".png", ".pdf", ".svg", ".svgz", ".eps", ".ps"
 def check_plot_path(path: str | None) -> None:
     """Refuse a ``--plot`` file whose suffix matplotlib cannot write, naming the good ones.
 
+    Parameters
+    ----------
+    path : str or None
+        The ``--plot`` file name; ``None`` (no plot asked for) passes.
+
     Raises
     ------
     ArgumentError
@@ -42,6 +47,13 @@ def check_output_file(option: str, path: str | None) -> None:
     """Refuse, before any work, an output file that cannot be written
     (:func:`gfrf._atomic.check_output_path`, the one check of every output file).
 
+    Parameters
+    ----------
+    option : str
+        The option's name as the user wrote it, e.g. ``"--out"``, quoted in the message.
+    path : str or None
+        The output file name; ``None`` (no file asked for) passes.
+
     Raises
     ------
     ArgumentError
@@ -54,6 +66,14 @@ def check_output_file(option: str, path: str | None) -> None:
 
 def check_output_folder(option: str, path: str) -> None:
     """Refuse, before any work, an output folder that cannot be made or written.
+
+    Parameters
+    ----------
+    option : str
+        The option's name as the user wrote it, quoted in the message.
+    path : str
+        The output folder; it may not exist yet if its nearest existing parent is a
+        writable folder.
 
     Raises
     ------
@@ -76,7 +96,13 @@ def check_output_folder(option: str, path: str) -> None:
 
 
 def add_json_flag(parser: argparse.ArgumentParser) -> None:
-    """Add the ``--json`` flag every printing command has."""
+    """Add the ``--json`` flag every printing command has.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The subcommand parser that gets ``--json``.
+    """
     parser.add_argument("--json", action="store_true", help="print one JSON object instead of text")
 
 
@@ -145,7 +171,21 @@ def terminal_text(text: str, payload: Any = None) -> str:
     """``text`` safe for a terminal: text of the payload (a model's name, description,
     input, ...) with its newlines and controls escaped where it appears, then every other
     control character but newline and tab escaped (no ESC sequence, carriage return or
-    bidirectional override reaches the terminal)."""
+    bidirectional override reaches the terminal).
+
+    Parameters
+    ----------
+    text : str
+        The human-readable result.
+    payload : object, optional
+        The result payload (dict, list or str); its strings holding control characters
+        are escaped where they appear in ``text``.
+
+    Returns
+    -------
+    str
+        ``text`` with every control character but newline and tab escaped.
+    """
     for value in sorted(_free_text(payload), key=len, reverse=True):
         text = text.replace(value, printable(value))
     return printable(text, keep="\n\t")

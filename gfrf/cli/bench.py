@@ -13,7 +13,13 @@ __all__ = ["register"]
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    """Register ``bench``."""
+    """Register ``bench``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The gfrf parser's subcommand collection the parsers are added to.
+    """
     bench = subparsers.add_parser(
         "bench", help="time each kernel against its naive baseline; write speed-vs-error.md",
         description="Measure time and error of every computational kernel and of the naive "

@@ -17,7 +17,13 @@ __all__ = ["register"]
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    """Register ``show`` and ``kernel``."""
+    """Register ``show`` and ``kernel``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The gfrf parser's subcommand collection the parsers are added to.
+    """
     show = subparsers.add_parser(
         "show", help="print a model, its coefficient table and its GFRFs H1..Hn",
         description="Print the polynomial model, its coefficients and the symbolic GFRFs "

@@ -25,7 +25,13 @@ __all__ = ["register"]
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    """Register ``multisine`` and ``estimate``."""
+    """Register ``multisine`` and ``estimate``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The gfrf parser's subcommand collection the parsers are added to.
+    """
     m = subparsers.add_parser(
         "multisine", help="write an odd random-phase multisine excitation (CSV t,u,realisation)",
         description="Design an odd random-phase multisine: the random-odd grid (one odd line "

@@ -29,7 +29,13 @@ TABLE_ROWS = 12
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    """Register ``frc``."""
+    """Register ``frc``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The gfrf parser's subcommand collection the parsers are added to.
+    """
     p = subparsers.add_parser(
         "frc", help="frequency response curve beyond r*: harmonic balance, folds, stability",
         description="Periodic steady states of the model under u = A*cos(omega*t) by "

@@ -26,7 +26,13 @@ __all__ = ["register"]
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    """Register ``identify``."""
+    """Register ``identify``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The gfrf parser's subcommand collection the parsers are added to.
+    """
     p = subparsers.add_parser(
         "identify", help="identify a polynomial NARMAX model from CSV data (sysidentpy "
                          "FROLS), validate it and give its verdict",

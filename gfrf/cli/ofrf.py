@@ -24,7 +24,13 @@ __all__ = ["register"]
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    """Register ``ofrf``."""
+    """Register ``ofrf``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The gfrf parser's subcommand collection the parsers are added to.
+    """
     cmd = subparsers.add_parser(
         "ofrf", help="output frequency response function: Y(jW) as a polynomial in a parameter",
         description="Lang & Billings' OFRF: the complex amplitude of the steady-state output "

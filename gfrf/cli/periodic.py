@@ -45,7 +45,13 @@ def _common(p: argparse.ArgumentParser) -> None:
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    """Register ``transition`` and ``periodic``."""
+    """Register ``transition`` and ``periodic``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The gfrf parser's subcommand collection the parsers are added to.
+    """
     tr = subparsers.add_parser(
         "transition", help="delta on a transition curve of the parametric pendulum",
         description="delta on the transition curve (branch 0 or 1/4) of "

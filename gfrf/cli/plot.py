@@ -22,7 +22,13 @@ __all__ = ["register"]
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    """Register ``plot``."""
+    """Register ``plot``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The gfrf parser's subcommand collection the parsers are added to.
+    """
     cmd = subparsers.add_parser(
         "plot", help="picture of the kernel H_n (Bode of H1, |H2| map, slices of Hn)",
         description="Draw H_n of a model (rad/s): H1 as a Bode plot (dB, degrees), H2 as "

@@ -16,7 +16,13 @@ __all__ = ["register"]
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    """Register ``report``."""
+    """Register ``report``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The gfrf parser's subcommand collection the parsers are added to.
+    """
     rep = subparsers.add_parser(
         "report", help="regenerate the Markdown reports (paper reproduction, model pages)",
         description="Write OUT/paper-gfrf.md, OUT/paper-periodic.md, OUT/models/<model>.md "

@@ -43,7 +43,13 @@ METHODS: tuple[str, ...] = ("auto", "rk45", "dop853", "radau", "lsoda", "fast")
 MAX_OUTPUT_POINTS = 1_000_000
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    """Register ``simulate``, ``predict`` and ``validate``."""
+    """Register ``simulate``, ``predict`` and ``validate``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The gfrf parser's subcommand collection the parsers are added to.
+    """
     sim = subparsers.add_parser(
         "simulate", help="time simulation of a model (open or closed loop)",
         description="Simulate a model from an input u(t) (t in seconds) and/or initial "

@@ -52,7 +52,13 @@ def _add_proof(parser: argparse.ArgumentParser) -> None:
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    """Register ``verdict`` and ``norm``."""
+    """Register ``verdict`` and ``norm``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The gfrf parser's subcommand collection the parsers are added to.
+    """
     v = subparsers.add_parser(
         "verdict", help="stability verdict by Theorem 1 (open loop) or 2 (with controller)",
         description="Check every condition of the paper's Theorem 1 (no controller) or "

@@ -30,7 +30,13 @@ __all__ = ["register"]
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    """Register ``sweep``."""
+    """Register ``sweep``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The gfrf parser's subcommand collection the parsers are added to.
+    """
     p = subparsers.add_parser(
         "sweep", help="stability map: verdict / r* / norms / simulations over a parameter grid",
         description="Evaluate the verdict and certified radius r* (or norms, or simulated "

@@ -28,7 +28,13 @@ __all__ = ["register"]
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    """Register ``threshold``."""
+    """Register ``threshold``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The gfrf parser's subcommand collection the parsers are added to.
+    """
     p = subparsers.add_parser(
         "threshold", help="two-sided answer: proven-stable amplitude and escaping witness",
         description="Stable below 'lower' for every input with sup|u| <= lower (for a loop: "

@@ -126,7 +126,20 @@ class Balance:
 
     def multipliers(self, order: int, omega: float) -> tuple[np.ndarray, np.ndarray]:
         """Complex factors of harmonics 0..H for ``D^order`` (or lag ``order``) and their
-        derivative with respect to omega."""
+        derivative with respect to omega.
+
+        Parameters
+        ----------
+        order : int
+            l: the derivative order (continuous) or the lag (discrete).
+        omega : float
+            The fundamental angular frequency in rad/s.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            The H + 1 complex factors and their H + 1 derivatives with respect to omega.
+        """
         k = self._k
         if self.sample_time is not None:
             m = np.exp(-1j * k * omega * order * self.sample_time)
@@ -143,7 +156,19 @@ class Balance:
         return self._cache[order]
 
     def operator(self, factors: np.ndarray) -> np.ndarray:
-        """The real (2H+1)-square matrix multiplying harmonic k's amplitude by ``factors[k]``."""
+        """The real (2H+1)-square matrix multiplying harmonic k's amplitude by ``factors[k]``.
+
+        Parameters
+        ----------
+        factors : numpy.ndarray
+            H + 1 complex factors, one per harmonic 0..H (the imaginary part of the first is
+            ignored).
+
+        Returns
+        -------
+        numpy.ndarray
+            The real matrix acting on ``x = (a0, a1, b1, ..., aH, bH)``.
+        """
         out = np.zeros((self.size, self.size))
         out[0, 0] = factors[0].real
         idx = np.arange(1, self.size, 2)
@@ -174,11 +199,37 @@ class Balance:
 
     def multiplication(self, samples: np.ndarray) -> np.ndarray:
         """The (2H+1)-square matrix of multiplication by a trigonometric polynomial of
-        degree <= (degree - 1) H given by its samples, projected on harmonics 0..H."""
+        degree <= (degree - 1) H given by its samples, projected on harmonics 0..H.
+
+        Parameters
+        ----------
+        samples : numpy.ndarray
+            The trigonometric polynomial's values at the :attr:`samples` points of one period.
+
+        Returns
+        -------
+        numpy.ndarray
+            The real (2H+1)-square matrix acting on ``x``.
+        """
         return (self.projection * samples) @ self.basis
 
     def evaluate(self, x: np.ndarray, omega: float, amplitude: float) -> Evaluation:
-        """Residual and Jacobians at coefficients ``x``, frequency omega, forcing A."""
+        """Residual and Jacobians at coefficients ``x``, frequency omega, forcing A.
+
+        Parameters
+        ----------
+        x : numpy.ndarray
+            The 2H + 1 coefficients ``(a0, a1, b1, ..., aH, bH)``.
+        omega : float
+            The forcing's angular frequency in rad/s.
+        amplitude : float
+            A, the forcing's amplitude.
+
+        Returns
+        -------
+        Evaluation
+            The projected residual, its Jacobians and the partial derivatives along the orbit.
+        """
         mult: dict[int, np.ndarray] = {}
         ys: dict[int, np.ndarray] = {}
         dys: dict[int, np.ndarray] = {}
@@ -226,7 +277,24 @@ class Balance:
     def residual_samples(self, x: np.ndarray, omega: float, amplitude: float,
                          samples: int) -> tuple[np.ndarray, np.ndarray]:
         """The residual of the equation and the largest term, on ``samples`` points of
-        one period (the full residual, harmonics above H included)."""
+        one period (the full residual, harmonics above H included).
+
+        Parameters
+        ----------
+        x : numpy.ndarray
+            The 2H + 1 coefficients ``(a0, a1, b1, ..., aH, bH)``.
+        omega : float
+            The forcing's angular frequency in rad/s.
+        amplitude : float
+            A, the forcing's amplitude.
+        samples : int
+            Number of equally spaced points of the period.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            The residual and the largest absolute value of a single term, at each point.
+        """
         tau = 2.0 * math.pi * np.arange(samples) / samples
         k = np.arange(self.harmonics + 1)
         phase = np.exp(1j * np.outer(tau, k))
@@ -245,7 +313,20 @@ class Balance:
 
     def linear_guess(self, omega: float, amplitude: float) -> np.ndarray:
         """Coefficients of the linear part's steady state (H1 times the forcing), or
-        zeros where H1 is undefined."""
+        zeros where H1 is undefined.
+
+        Parameters
+        ----------
+        omega : float
+            The forcing's angular frequency in rad/s.
+        amplitude : float
+            A, the forcing's amplitude.
+
+        Returns
+        -------
+        numpy.ndarray
+            The 2H + 1 coefficients, nonzero only at ``a1, b1``.
+        """
         den = 0j
         num = 0j
         for term in self.terms:
@@ -265,7 +346,20 @@ class Balance:
 
     def linear_factor(self, k: int, omega: float) -> complex:
         """The linear output part at harmonic k: sum_l a_l (j k omega)^l, or with lags
-        sum_l a_l exp(-j k omega l T)."""
+        sum_l a_l exp(-j k omega l T).
+
+        Parameters
+        ----------
+        k : int
+            The harmonic, >= 0.
+        omega : float
+            The fundamental angular frequency in rad/s.
+
+        Returns
+        -------
+        complex
+            The factor multiplying the complex amplitude of harmonic k of y.
+        """
         return sum((t.coefficient * _factor(t.y_orders[0], k, omega, self.sample_time)
                     for t in self.terms if t.is_linear_output), 0j)
 

@@ -115,7 +115,18 @@ class Tracer:
         self.size = balance.size
 
     def param(self, point: Point) -> float:
-        """The continuation parameter of a point."""
+        """The continuation parameter of a point.
+
+        Parameters
+        ----------
+        point : Point
+            A point of the branch.
+
+        Returns
+        -------
+        float
+            Its omega (rad/s) or its amplitude A, whichever is varied.
+        """
         return point.omega if self.vary == "omega" else point.amplitude
 
     def _state(self, point: Point) -> np.ndarray:
@@ -139,7 +150,20 @@ class Tracer:
 
     def tangent(self, point: Point, previous: np.ndarray | None) -> np.ndarray:
         """Unit tangent at ``point`` in the scaled variables, oriented like ``previous``
-        (or towards increasing p)."""
+        (or towards increasing p).
+
+        Parameters
+        ----------
+        point : Point
+            A corrected point (its evaluation holds the Jacobians).
+        previous : numpy.ndarray or None
+            The previous tangent (scaled variables), None at the first point.
+
+        Returns
+        -------
+        numpy.ndarray
+            The unit null vector of the scaled (2H+1, 2H+2) Jacobian, length 2H + 2.
+        """
         e = point.evaluation
         jp = e.jac_omega if self.vary == "omega" else e.jac_amplitude
         k = np.column_stack([e.jac_x * self.sx, jp * self.sp])
@@ -149,13 +173,41 @@ class Tracer:
 
     def arclength(self, start: Point, tangent: np.ndarray, end: Point) -> float:
         """``tangent . (z_end - z_start)``: the arclength coordinate of ``end`` on the
-        corrector's hyperplanes through ``start``."""
+        corrector's hyperplanes through ``start``.
+
+        Parameters
+        ----------
+        start, end : Point
+            Points of the branch.
+        tangent : numpy.ndarray
+            The unit tangent at ``start`` in the scaled variables.
+
+        Returns
+        -------
+        float
+            The arclength coordinate, in the scaled variables.
+        """
         return float(tangent @ (self._state(end) - self._state(start)))
 
     def correct(self, start: Point, tangent: np.ndarray, ds: float
                 ) -> tuple[Point, int] | None:
         """The point at arclength ``ds`` from ``start`` along ``tangent`` and the
-        iterations it took, or None when Newton fails."""
+        iterations it took, or None when Newton fails.
+
+        Parameters
+        ----------
+        start : Point
+            The last corrected point.
+        tangent : numpy.ndarray
+            The unit tangent at ``start`` in the scaled variables.
+        ds : float
+            Arclength step in the scaled variables.
+
+        Returns
+        -------
+        tuple of (Point, int) or None
+            The corrected point and the Newton iterations, or None.
+        """
         z0 = self._state(start)
         z = z0 + ds * tangent
         for it in range(1, MAX_NEWTON + 1):
@@ -173,7 +225,22 @@ class Tracer:
 
     def at_parameter(self, start: Point, tangent: np.ndarray, p: float) -> Point | None:
         """The point of the branch through ``start`` whose parameter is exactly p (the
-        end of the range), by Newton at fixed p from the linear prediction."""
+        end of the range), by Newton at fixed p from the linear prediction.
+
+        Parameters
+        ----------
+        start : Point
+            A point of the branch near the end of the range.
+        tangent : numpy.ndarray
+            The unit tangent at ``start`` in the scaled variables.
+        p : float
+            The parameter wanted: omega in rad/s or the amplitude A.
+
+        Returns
+        -------
+        Point or None
+            The corrected point, or None when Newton fails.
+        """
         dp = tangent[-1] * self.sp
         step = (p - self.param(start)) / dp if dp != 0 else 0.0
         x = start.x + step * tangent[:-1] * self.sx
@@ -184,7 +251,23 @@ class Tracer:
     def fold(self, start: Point, tangent: np.ndarray, ds: float) -> Point | None:
         """The fold between ``start`` and the point at arclength ``ds``: the root of the
         tangent's parameter component in the arclength, by the Illinois (regula falsi)
-        method, each evaluation a corrected point and its tangent."""
+        method, each evaluation a corrected point and its tangent.
+
+        Parameters
+        ----------
+        start : Point
+            The last corrected point before the parameter's direction turned.
+        tangent : numpy.ndarray
+            The unit tangent at ``start`` in the scaled variables.
+        ds : float
+            Arclength (scaled variables) of the corrected point past the fold.
+
+        Returns
+        -------
+        Point or None
+            The point nearest the fold, or None when a correction fails or the tangent's
+            parameter component does not change sign on [0, ds].
+        """
         def component(s: float) -> tuple[float, Point] | None:
             out = self.correct(start, tangent, s) if s > 0 else (start, 0)
             if out is None:
@@ -227,6 +310,19 @@ class Tracer:
         parameter's direction just before each (+1: p was increasing), and whether the end
         was reached (False when ``max_points`` ran out or the step shrank to nothing).
         ``accept`` is called on every new point (for a progress count).
+
+        Parameters
+        ----------
+        first : Point
+            The corrected starting point.
+        end : float
+            The parameter value to reach: omega in rad/s or the amplitude A.
+        step : float
+            The largest arclength step, in the scaled variables (the first is a quarter of it).
+        max_points : int
+            Most points of the branch kept, the first included.
+        accept : callable
+            Called with every new point.
         """
         t = self.tangent(first, None)
         if (end - self.param(first)) * t[-1] < 0:

@@ -180,7 +180,19 @@ class BLA:
     def plot(self, ax: Any = None) -> Any:
         """The BLA (dB) with its total, noise and distortion standard deviations against
         rad/s, and (when ``ax`` is None) beside it the detection plot: the output on the
-        excited, odd and even non-excited lines with the noise level."""
+        excited, odd and even non-excited lines with the noise level.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Axes to draw the BLA on (without the detection plot); None makes a new figure
+            with both.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure drawn on.
+        """
         if ax is None:
             figure, axes = new_figure(1, 2, (12.0, 4.0))
             self.draw(axes[0][0])
@@ -190,7 +202,13 @@ class BLA:
         return ax.figure
 
     def draw(self, ax: Any) -> None:
-        """Draw the BLA and its standard deviations (dB against rad/s) on ``ax``."""
+        """Draw the BLA and its standard deviations (dB against rad/s) on ``ax``.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes
+            The axes to draw on.
+        """
         ax.plot(self.omega, _db(self.bla), "-", color="black", label="BLA")
         for values, style, label in (
                 (self.bla_std, {"marker": "o", "markerfacecolor": "none", "color": "#1971c2"},
@@ -208,7 +226,13 @@ class BLA:
 
     def draw_detection(self, ax: Any) -> None:
         """Draw the output on the excited, odd and even non-excited lines and the noise
-        level (dB against rad/s) on ``ax``."""
+        level (dB against rad/s) on ``ax``.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes
+            The axes to draw on.
+        """
         w0 = 2 * math.pi / (self.period * self.sample_time)
         k = np.arange(1, (self.period + 1) // 2)
         excited = np.isin(k, self.lines)

@@ -62,6 +62,20 @@ def candidate_count(ylag: int, ulag: int, degree: int) -> int:
 
     Monomials of degree 1..``degree`` in ``ylag + ulag`` lagged signals.
 
+    Parameters
+    ----------
+    ylag, ulag : int
+        Largest lags of the output and of the input.
+    degree : int
+        Largest total degree.
+
+    Returns
+    -------
+    int
+        The count.
+
+    Examples
+    --------
     >>> candidate_count(2, 2, 3)
     34
     """
@@ -161,6 +175,13 @@ def _check_data(y: np.ndarray, u: np.ndarray, degree: int) -> None:
 
 def check_rank(columns: np.ndarray, names: list[str]) -> None:
     """Refuse linearly dependent candidate regressors (columns).
+
+    Parameters
+    ----------
+    columns : numpy.ndarray
+        Candidate regressors, one per column (samples in rows).
+    names : list of str
+        The regressors' names, one per column.
 
     Raises
     ------

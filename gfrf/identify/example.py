@@ -58,6 +58,22 @@ def generate(n: int = N_SAMPLES, seed: int = SEED, noise: float = NOISE,
 
     The input is uniform white noise in [-1, 1]; the output starts from rest and
     ``noise`` is the standard deviation of the Gaussian noise added to it.
+
+    Parameters
+    ----------
+    n : int, optional
+        Number of samples.
+    seed : int, optional
+        Seed of :func:`numpy.random.default_rng`.
+    noise : float, optional
+        Standard deviation of the output noise.
+    model : Model, optional
+        A NARX model; None: the example's true model.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        u, the measured y and the noise-free y, each of length ``n``.
     """
     model = model or true_model()
     rng = np.random.default_rng(seed)
@@ -69,7 +85,20 @@ def generate(n: int = N_SAMPLES, seed: int = SEED, noise: float = NOISE,
 
 
 def kernel_errors(identified: Model, true: Model, points: int = 400) -> dict[str, float]:
-    """Largest |H_id - H_true| / max |H_true| of H1 (0..pi/T) and H2 (grid on [-pi/T, pi/T]^2)."""
+    """Largest |H_id - H_true| / max |H_true| of H1 (0..pi/T) and H2 (grid on [-pi/T, pi/T]^2).
+
+    Parameters
+    ----------
+    identified, true : Model
+        The identified and the true NARX model.
+    points : int, optional
+        Points of the H1 grid (the H2 grid has about sqrt(40 points) per axis).
+
+    Returns
+    -------
+    dict of str to float
+        ``{"H1": ..., "H2": ...}``.
+    """
     nyquist = math.pi / float(true.sample_time)  # type: ignore[arg-type]
     w = np.linspace(0.0, nyquist, points)
     out = {}
@@ -83,7 +112,18 @@ def kernel_errors(identified: Model, true: Model, points: int = 400) -> dict[str
 
 
 def write_example(models_dir: str | Path = MODELS_DIR) -> list[Path]:
-    """Write the example's CSV, true model file and identified model file."""
+    """Write the example's CSV, true model file and identified model file.
+
+    Parameters
+    ----------
+    models_dir : str or Path, optional
+        The folder the files are written to.
+
+    Returns
+    -------
+    list of Path
+        The paths written.
+    """
     folder = Path(models_dir)
     u, y, _ = generate()
     t = np.arange(u.size) * SAMPLE_TIME

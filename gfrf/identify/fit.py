@@ -104,6 +104,18 @@ def same_terms(a: Sequence[Term], b: Sequence[Term], rtol: float = SAME_TERMS_RT
     coefficients equal to ``rtol`` relative (the scale is each pair's larger modulus).
 
     Exact equality would fail between machines: see :data:`SAME_TERMS_RTOL`.
+
+    Parameters
+    ----------
+    a, b : sequence of Term
+        The terms of the two models.
+    rtol : float, optional
+        The relative tolerance of the coefficients.
+
+    Returns
+    -------
+    bool
+        Whether they match.
     """
     return len(a) == len(b) and all(
         (s.y_orders, s.u_orders) == (t.y_orders, t.u_orders)

@@ -239,7 +239,18 @@ def _transient(y: np.ndarray) -> bool:
 
 def spectra(x: np.ndarray) -> np.ndarray:
     """DFT lines 0..N/2 of each period, scaled so that ``x(t) = sum_k X_k e^{j k w0 t}``
-    (two-sided): shape (realisations, periods, N // 2 + 1)."""
+    (two-sided): shape (realisations, periods, N // 2 + 1).
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        Real samples of shape (realisations, periods, N), one period of N samples per row.
+
+    Returns
+    -------
+    numpy.ndarray
+        Complex, of shape (realisations, periods, N // 2 + 1).
+    """
     return np.fft.rfft(x, axis=-1) / x.shape[-1]
 
 

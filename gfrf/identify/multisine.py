@@ -236,7 +236,18 @@ class Multisine:
                                 self.realisations, self.periods, len(iso[2]), len(iso[3]))])
 
     def plot(self, ax: Any = None) -> Any:
-        """Amplitude spectrum of the first period (dB) against rad/s, excited lines marked."""
+        """Amplitude spectrum of the first period (dB) against rad/s, excited lines marked.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Axes to draw on; None makes a new figure.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure drawn on.
+        """
         from gfrf._results import new_figure
 
         if ax is None:

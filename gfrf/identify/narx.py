@@ -160,6 +160,22 @@ def narx_model(terms: list[Term], sample_time: float, output: str, input_: str,
                no_input: str) -> Model:
     """The NARX :class:`Model` of ``terms`` (sorted, its text written by :func:`narx_equation`).
 
+    Parameters
+    ----------
+    terms : list of Term
+        The terms of the equation.
+    sample_time : float
+        T in s.
+    output, input_ : str
+        Names of the output and of the input.
+    no_input : str
+        The error message for a model without input term.
+
+    Returns
+    -------
+    Model
+        The model.
+
     Raises
     ------
     ModelError

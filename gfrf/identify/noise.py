@@ -26,7 +26,22 @@ ELS_ITERATIONS = 200
 
 
 def regressors(keys: list[Key], y: np.ndarray, u: np.ndarray, lag: int) -> np.ndarray:
-    """The columns ``m(y, u)`` at samples ``lag .. n-1`` (rows), one per key."""
+    """The columns ``m(y, u)`` at samples ``lag .. n-1`` (rows), one per key.
+
+    Parameters
+    ----------
+    keys : list of Key
+        ``(output lags, input lags)`` of each monomial.
+    y, u : numpy.ndarray
+        Output and input samples.
+    lag : int
+        The first sample used, at least the largest lag.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``(n - lag, len(keys))``.
+    """
     n = y.size
     out = np.ones((n - lag, len(keys)))
     for j, (ys, us) in enumerate(keys):
@@ -47,7 +62,24 @@ def _ma_filter(r: np.ndarray, noise: tuple[float, ...]) -> np.ndarray:
 
 def residuals(theta: dict[Key, float], noise: tuple[float, ...], y: np.ndarray,
               u: np.ndarray, lag: int) -> np.ndarray:
-    """One-step residuals ``e[k]`` of the process + noise model at samples ``lag..n-1``."""
+    """One-step residuals ``e[k]`` of the process + noise model at samples ``lag..n-1``.
+
+    Parameters
+    ----------
+    theta : dict of Key to float
+        The process coefficients.
+    noise : tuple of float
+        The moving-average noise coefficients ``(c_1, ..., c_order)``.
+    y, u : numpy.ndarray
+        Output and input samples.
+    lag : int
+        The first sample used, at least the largest lag.
+
+    Returns
+    -------
+    numpy.ndarray
+        The ``n - lag`` residuals.
+    """
     keys = list(theta)
     values = np.array([theta[k] for k in keys])
     r = y[lag:] - regressors(keys, y, u, lag) @ values
@@ -59,6 +91,19 @@ def extended_least_squares(keys: list[Key], y: np.ndarray, u: np.ndarray, lag: i
                            ) -> tuple[dict[Key, float], tuple[float, ...]]:
     """Process coefficients and ``order`` moving-average noise coefficients by ELS
     (at most ``iterations`` iterations).
+
+    Parameters
+    ----------
+    keys : list of Key
+        ``(output lags, input lags)`` of each process monomial.
+    y, u : numpy.ndarray
+        Output and input samples.
+    lag : int
+        The first sample used, at least the largest lag.
+    order : int
+        The order of the moving-average noise model.
+    iterations : int, optional
+        Most iterations.
 
     Returns
     -------

@@ -78,7 +78,15 @@ class KernelLines:
 
     def draw(self, ax: Any, model: np.ndarray | None = None) -> None:
         """|H_n| estimates (dB) with 3-sigma bars against the output line (rad/s); a bar
-        reaching below a tenth of its estimate (0 within 3 sigma) is cut at -20 dB."""
+        reaching below a tenth of its estimate (0 within 3 sigma) is cut at -20 dB.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes
+            The axes to draw on.
+        model : numpy.ndarray, optional
+            The model's H_n (complex) on the same lines, marked with crosses.
+        """
         level = 20 * np.log10(np.maximum(np.abs(self.value), 1e-300))
         if self.value_std is not None:
             top = 20 * np.log10(np.abs(self.value) + SIGMAS * self.value_std)
@@ -208,7 +216,18 @@ class Estimate:
     def plot(self, ax: Any = None) -> Any:
         """The BLA (with the model's H1 when compared) and the detection plot; below them
         |H2| and |H3| on their lines when the excitation isolates any.  With ``ax``: the
-        BLA only, on it."""
+        BLA only, on it.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Axes to draw the BLA on; None makes a new figure with every panel.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure drawn on.
+        """
         if ax is not None:
             self._draw_bla(ax)
             return ax.figure

@@ -36,6 +36,20 @@ SIGNIFICANT_DIGITS = 10
 def round_significant(value: float, digits: int = SIGNIFICANT_DIGITS) -> float:
     """``value`` rounded to ``digits`` significant decimal digits.
 
+    Parameters
+    ----------
+    value : float
+        The number.
+    digits : int, optional
+        Significant decimal digits.
+
+    Returns
+    -------
+    float
+        The rounded number.
+
+    Examples
+    --------
     >>> round_significant(-0.4995686297675639), round_significant(-0.49956862976756367)
     (-0.4995686298, -0.4995686298)
     """
@@ -46,6 +60,20 @@ def equilibrium(theta: dict[Key, float], u0: float, near: float) -> float:
     """The real static output ``y0`` of the model at constant input ``u0`` nearest ``near``.
 
     Solves ``y0 = sum theta * y0^p * u0^q`` (every lag at its static value).
+
+    Parameters
+    ----------
+    theta : dict of Key to float
+        The coefficients.
+    u0 : float
+        The constant input.
+    near : float
+        The output value the chosen equilibrium is nearest to.
+
+    Returns
+    -------
+    float
+        y0.
 
     Raises
     ------
@@ -88,6 +116,18 @@ def shift(theta: dict[Key, float], y0: float, u0: float) -> dict[Key, float]:
 
     ``(y0, u0)`` must be an equilibrium: the constant left over is checked to be
     rounding-small and dropped.
+
+    Parameters
+    ----------
+    theta : dict of Key to float
+        The coefficients in the original variables.
+    y0, u0 : float
+        The equilibrium.
+
+    Returns
+    -------
+    dict of Key to float
+        The coefficients in the deviations.
     """
     out: dict[Key, float] = {}
     for (ys, us), c in theta.items():

@@ -37,6 +37,22 @@ def model_file_text(result: Identification, data: str, name: str = "",
 
     The text is read back before it is returned: its model must have exactly the
     identified terms (same lags, same coefficients), else :class:`ModelError`.
+
+    Parameters
+    ----------
+    result : Identification
+        The identification.
+    data : str
+        The CSV file's path, as the user gave it (in ``source`` and the default name).
+    name : str, optional
+        The model's name; empty: "NARX identified from" the data file's name.
+    description : str, optional
+        Text put before the generated description.
+
+    Returns
+    -------
+    str
+        The TOML text.
     """
     m = result.model
     source = (f"gfrf identify {data} --output {m.output} --input {m.input} --sample-time "
@@ -64,7 +80,20 @@ def model_file_text(result: Identification, data: str, name: str = "",
 
 
 def load_text(text: str, path: str) -> ModelFile:
-    """The ModelFile of a model file text (as ``load_model`` would read it from ``path``)."""
+    """The ModelFile of a model file text (as ``load_model`` would read it from ``path``).
+
+    Parameters
+    ----------
+    text : str
+        The TOML text of a model file.
+    path : str
+        The path the file is (or will be) at.
+
+    Returns
+    -------
+    ModelFile
+        The model file.
+    """
     return model_from_dict(tomllib.loads(text), path=path)
 
 

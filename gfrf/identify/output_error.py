@@ -34,7 +34,26 @@ _BLOWUP = 1e3
 def simulate(keys: list[Key], theta: np.ndarray, u: np.ndarray, y_initial: np.ndarray,
              limit: float) -> np.ndarray | None:
     """Free run of ``y[k] = sum theta_i m_i`` from the measured first outputs; None when
-    ``|y|`` exceeds ``limit``."""
+    ``|y|`` exceeds ``limit``.
+
+    Parameters
+    ----------
+    keys : list of Key
+        ``(output lags, input lags)`` of each monomial.
+    theta : numpy.ndarray
+        The coefficients, one per key.
+    u : numpy.ndarray
+        Input samples.
+    y_initial : numpy.ndarray
+        The measured outputs before the first simulated sample.
+    limit : float
+        The bound on |y| beyond which the run stops.
+
+    Returns
+    -------
+    numpy.ndarray or None
+        The outputs (``u.size`` samples), or None after a blow-up.
+    """
     values, blowup = recurse([(ys, us, float(c)) for (ys, us), c in
                               zip(keys, theta, strict=True)], u, y_initial, limit)
     return None if blowup is not None else values
@@ -47,6 +66,17 @@ def recurse(terms: list[tuple[tuple[int, ...], tuple[int, ...], float]], u: np.n
 
     Returns the outputs (NaN from a blow-up on) and the first sample whose ``|y|``
     exceeds ``limit``, or None.
+
+    Parameters
+    ----------
+    terms : list of tuple
+        ``(output lags, input lags, coefficient)`` per monomial.
+    u : numpy.ndarray
+        Input samples.
+    y_initial : numpy.ndarray
+        The measured outputs before the first simulated sample.
+    limit : float
+        The bound on |y| beyond which the run stops.
     """
     n = u.size
     start = y_initial.size
@@ -80,7 +110,26 @@ def recurse(terms: list[tuple[tuple[int, ...], tuple[int, ...], float]], u: np.n
 def refine(theta: dict[Key, float], y: np.ndarray, u: np.ndarray, lag: int,
            evaluations: int = MAX_EVALUATIONS, window: int = WINDOW) -> dict[Key, float]:
     """The output-error coefficients of the same terms, from ``theta`` (Levenberg-Marquardt
-    with at most ``evaluations`` residual evaluations on the first ``window`` samples)."""
+    with at most ``evaluations`` residual evaluations on the first ``window`` samples).
+
+    Parameters
+    ----------
+    theta : dict of Key to float
+        The starting coefficients (e.g. the least-squares ones).
+    y, u : numpy.ndarray
+        Output and input samples.
+    lag : int
+        The number of measured outputs the simulation starts from.
+    evaluations : int, optional
+        Most residual evaluations.
+    window : int, optional
+        Number of samples fitted, from the first.
+
+    Returns
+    -------
+    dict of Key to float
+        The refined coefficients (``theta`` unchanged when its free run blows up).
+    """
     from scipy.optimize import least_squares
 
     keys = list(theta)

@@ -64,6 +64,20 @@ def allowed_outside(count: int, level: float = 0.05) -> int:
     (each of the five tests at this level: a white residual passes all with probability
     0.99).
 
+    Parameters
+    ----------
+    count : int
+        Number of values tested.
+    level : float, optional
+        The probability that one value of white noise leaves the band.
+
+    Returns
+    -------
+    int
+        k.
+
+    Examples
+    --------
     >>> allowed_outside(20), allowed_outside(21)
     (5, 5)
     """
@@ -132,6 +146,22 @@ def correlation_tests(e: np.ndarray, u: np.ndarray, lags: int = LAGS, floor: flo
     A residual whose root mean square is at most ``floor`` (an exact fit of noise-free
     data: rounding errors, whose correlations mean nothing) passes every test with all
     values 0; a constant non-zero residual fails them.
+
+    Parameters
+    ----------
+    e : numpy.ndarray
+        The residuals.
+    u : numpy.ndarray
+        The input samples, as many.
+    lags : int, optional
+        Largest lag of the correlations.
+    floor : float, optional
+        The root mean square at or below which the residual counts as zero.
+
+    Returns
+    -------
+    tuple of CorrelationTest
+        The five tests.
     """
     e = np.asarray(e, dtype=float)
     u = np.asarray(u, dtype=float)

@@ -32,6 +32,15 @@ def ordered_set_partitions(items: tuple[int, ...], parts: int
                            ) -> Iterator[list[tuple[int, ...]]]:
     """All ordered partitions of ``items`` into ``parts`` non-empty blocks.
 
+    Parameters
+    ----------
+    items : tuple of int
+        The items.
+    parts : int
+        The number of blocks, >= 0.
+
+    Examples
+    --------
     >>> list(ordered_set_partitions((0, 1), 2))
     [[(0,), (1,)], [(1,), (0,)]]
     """
@@ -73,6 +82,20 @@ def recursion_work(degrees: Iterable[int], n: int) -> int:
     It bounds the symbolic plan (the memoised lower orders add at most this much again),
     so a kernel order can be refused before any work.
 
+    Parameters
+    ----------
+    degrees : iterable of int
+        The total degree of each term; degrees below 2 are ignored.
+    n : int
+        The highest order.
+
+    Returns
+    -------
+    int
+        The count.
+
+    Examples
+    --------
     >>> recursion_work([3], 3)
     6
     """

@@ -48,10 +48,25 @@ class Recursion(Hashable, Protocol):
 
     def plan(self, n: int, symmetric: bool) -> Any:
         """The recursion step of H_n: ``is_zero``, ``blocks``, ``placeholders``,
-        ``numerator``."""
+        ``numerator``.
+
+        Parameters
+        ----------
+        n : int
+            The order of the kernel, >= 1.
+        symmetric : bool
+            The symmetric kernel (average over the permutations of the frequencies) instead
+            of the asymmetric one.
+        """
 
     def variables(self, n: int) -> tuple[sp.Symbol, ...]:
-        """The symbolic variables s1..sn (or q1..qn)."""
+        """The symbolic variables s1..sn (or q1..qn).
+
+        Parameters
+        ----------
+        n : int
+            The number of variables (the order of the kernel).
+        """
 
 #: Whether numba (the optional ``fast`` extra) is installed; it is imported only when a
 #: kernel is compiled (importing it costs about half a second).
@@ -81,7 +96,20 @@ _NAME = re.compile(r"\b[A-Za-z_][A-Za-z0-9_]*\b")
 
 def rename(text: str, mapping: dict[str, str]) -> str:
     """``text`` with every identifier in ``mapping`` replaced (one pass, so a new name
-    is never renamed again)."""
+    is never renamed again).
+
+    Parameters
+    ----------
+    text : str
+        Generated Python source.
+    mapping : dict of str to str
+        Old identifier -> new identifier; identifiers not in it are kept.
+
+    Returns
+    -------
+    str
+        The renamed source.
+    """
     return _NAME.sub(lambda m: mapping.get(m.group(0), m.group(0)), text)
 
 
@@ -103,7 +131,25 @@ def step_text(gen: Recursion, m: int, symmetric: bool) -> tuple[tuple[tuple[str,
 
 
 def kernel_source(gen: Recursion, n: int, symmetric: bool, name: str = "kernel") -> str:
-    """Python source of ``name(w0, ..., w{n-1}) -> H_n`` (angular frequencies in rad/s)."""
+    """Python source of ``name(w0, ..., w{n-1}) -> H_n`` (angular frequencies in rad/s).
+
+    Parameters
+    ----------
+    gen : Recursion
+        The model's GFRF generator.
+    n : int
+        The order of the kernel, >= 1.
+    symmetric : bool
+        The symmetric kernel instead of the asymmetric one.
+    name : str, optional
+        Name of the generated function.
+
+    Returns
+    -------
+    str
+        The source of one plain-Python function (no numba), using ``cmath_exp`` for a
+        discrete model.
+    """
     model = gen.model
     lines = [f"def {name}({', '.join(f'w{i}' for i in range(n))}):"]
     for i in range(n):
@@ -178,6 +224,22 @@ def compile_pays(gen: Recursion, n: int, symmetric: bool, points: int) -> bool:
     path, with the same bits, every run.  False without numba or below
     :data:`MIN_POINTS`.  With the calibration constants above, the cart-pole's H7 pays
     from about 1.6e6 points, its H5 from about 3e6, its H3 from about 1e7.
+
+    Parameters
+    ----------
+    gen : Recursion
+        The model's GFRF generator.
+    n : int
+        The order of the kernel, >= 1.
+    symmetric : bool
+        The symmetric kernel instead of the asymmetric one.
+    points : int
+        The number of frequency points of the call.
+
+    Returns
+    -------
+    bool
+        True when the compiled kernel is predicted to be cheaper, compile included.
     """
     if not HAVE_NUMBA or points < MIN_POINTS:
         return False
@@ -269,6 +331,21 @@ def numba_ufunc(gen: Recursion, n: int, symmetric: bool) -> Any:
     cart-pole model: order 5 compiles in 2.5 s and loads from the on-disk cache
     (:func:`cache_dir`) in 0.7 s in a later process (numba's import and target set-up
     are most of that); order 7 compiles in about 40 s.
+
+    Parameters
+    ----------
+    gen : Recursion
+        The model's GFRF generator.
+    n : int
+        The order of the kernel, >= 1.
+    symmetric : bool
+        The symmetric kernel instead of the asymmetric one.
+
+    Returns
+    -------
+    numba ufunc
+        Vectorised ``f(w1, ..., wn) -> complex128`` over float64 angular frequencies in
+        rad/s.
 
     Raises
     ------

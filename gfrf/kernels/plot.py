@@ -48,7 +48,18 @@ MAX_AXIS_POINTS = 1001
 
 def resonances(kernel: Kernel) -> list[tuple[float, float]]:
     """(w_r, half-width) in rad/s of the poles s of the linear part with Im s >= 0: the
-    roots of A(s), or for NARX the roots q of A(q) mapped by q = exp(-s T)."""
+    roots of A(s), or for NARX the roots q of A(q) mapped by q = exp(-s T).
+
+    Parameters
+    ----------
+    kernel : Kernel
+        The kernel; its model's linear part is used.
+
+    Returns
+    -------
+    list of tuple of float
+        One ``(w_r, half-width)`` per pole.
+    """
     model = kernel.model
     linear = model.linear_output
     coeffs = [linear.get(k, 0.0) for k in range(max(linear), -1, -1)]
@@ -86,7 +97,24 @@ def frequency_grid(kernel: Kernel, top: float, centres: Sequence[float] = (),
     and on ``centres`` (rad/s), with the uniform spacing dividing the main resonance
     (when that takes at most twice the uniform points: else the clusters alone resolve
     it).  At most :data:`MAX_AXIS_POINTS` points: a finer grid is thinned evenly (in
-    index, so the clusters stay denser than the rest) and a warning says so."""
+    index, so the clusters stay denser than the rest) and a warning says so.
+
+    Parameters
+    ----------
+    kernel : Kernel
+        The kernel.
+    top : float
+        The end of the range in rad/s, > 0.
+    centres : sequence of float, optional
+        Further frequencies (rad/s) that get a cluster.
+    symmetric : bool, optional
+        The grid is on [-top, top]; False: on [0, top].
+
+    Returns
+    -------
+    numpy.ndarray
+        The sorted grid.
+    """
     res = resonances(kernel)
     low = -top if symmetric else 0.0
     n = _UNIFORM

@@ -54,7 +54,18 @@ class Pole:
     exact: bool
 
     def text(self, discrete: bool) -> str:
-        """One sentence naming the pole."""
+        """One sentence naming the pole.
+
+        Parameters
+        ----------
+        discrete : bool
+            The model is discrete (name q = exp(-j w T) instead of s = j w).
+
+        Returns
+        -------
+        str
+            The sentence.
+        """
         names = " + ".join(f"w{i + 1}" for i in self.block)
         where = (f"q = exp(-j*{self.omega:.12g}*T)" if discrete else f"s = j*{self.omega:.12g}")
         how = "exactly" if self.exact else "to 50 digits"

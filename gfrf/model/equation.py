@@ -172,7 +172,20 @@ class Model:
         return tuple(t for t in self.terms if t.degree >= 2)
 
     def atom(self, signal: str, order: int) -> sp.Symbol:
-        """The sympy symbol standing for ``D^order signal`` (or ``signal[k-order]``)."""
+        """The sympy symbol standing for ``D^order signal`` (or ``signal[k-order]``).
+
+        Parameters
+        ----------
+        signal : str
+            The signal's name (the model's output or input).
+        order : int
+            The derivative order (continuous) or the lag (discrete), >= 0.
+
+        Returns
+        -------
+        sympy.Symbol
+            The symbol.
+        """
         return _atom(signal, order)
 
     def polynomial(self) -> sp.Expr:
@@ -321,6 +334,20 @@ def coefficient_formulas(text: str, *, output: str = "y", input: str = "u",
     constants may stay free symbols (``symbols`` maps names to values or symbols),
     so the structure is parsed once and only the formulas are evaluated per point.
     The text is assumed valid (parse it once with :func:`parse_model` first).
+
+    Parameters
+    ----------
+    text : str
+        The equation, already accepted by :func:`parse_model`.
+    output, input : str, optional
+        Names of the output and input signals.
+    discrete : bool, optional
+        A NARX equation (lags) instead of an ODE (derivatives).
+    truncation : int, optional
+        Total Taylor order to which non-polynomial terms are expanded; None: the equation
+        is expanded as it is.
+    symbols : dict, optional
+        Names mapped to values or sympy symbols (a symbol stays free in the formulas).
 
     Returns
     -------

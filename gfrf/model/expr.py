@@ -99,6 +99,18 @@ def check_name(name: object, what: str) -> str:
     """``name`` if it is a plain identifier: ASCII letters, digits and single underscores,
     not a Python keyword, not starting with ``_``, at most :data:`MAX_NAME_LENGTH` long.
 
+    Parameters
+    ----------
+    name : object
+        The name to check.
+    what : str
+        What it names (e.g. ``"parameter"``), for the message.
+
+    Returns
+    -------
+    str
+        ``name``.
+
     Raises
     ------
     ModelError

@@ -56,7 +56,18 @@ _QUOTE_LENGTH = 80
 
 
 def quote(text: str) -> str:
-    """``repr`` of ``text`` shortened to about 80 characters, for error messages."""
+    """``repr`` of ``text`` shortened to about 80 characters, for error messages.
+
+    Parameters
+    ----------
+    text : str
+        User text.
+
+    Returns
+    -------
+    str
+        The quoted text.
+    """
     if len(text) <= _QUOTE_LENGTH:
         return repr(text)
     return repr(text[:_QUOTE_LENGTH - 20] + " ... " + text[-15:])

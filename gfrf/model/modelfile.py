@@ -158,6 +158,16 @@ def load_model(path: str | Path) -> ModelFile:
 def read_table(path: str | Path) -> dict[str, Any]:
     """The TOML table of a model file, read within :data:`MAX_FILE_BYTES`.
 
+    Parameters
+    ----------
+    path : str or Path
+        The model file.
+
+    Returns
+    -------
+    dict
+        The parsed table.
+
     Raises
     ------
     ModelError
@@ -219,6 +229,20 @@ def parse_number(value: Any, key: str, parameters: Mapping[str, float]) -> float
     ``"1/(m*L**2)"`` in the named ``parameters`` (parsed by :mod:`gfrf.model.expr`, never
     evaluated as code).
 
+    Parameters
+    ----------
+    value : object
+        The TOML value: an int, a float or an expression text.
+    key : str
+        The key it was read from, for the message.
+    parameters : mapping of str to float
+        The names an expression may use, with their values.
+
+    Returns
+    -------
+    float
+        The finite value.
+
     Raises
     ------
     ModelError
@@ -277,7 +301,20 @@ def _text(data: dict[str, Any], key: str, where: str = "") -> str:
 
 
 def model_from_dict(data: dict[str, Any], path: str = "") -> ModelFile:
-    """Build a :class:`ModelFile` from the parsed TOML table ``data``."""
+    """Build a :class:`ModelFile` from the parsed TOML table ``data``.
+
+    Parameters
+    ----------
+    data : dict
+        The parsed TOML table.
+    path : str, optional
+        The file it came from (the default name is its stem); empty for none.
+
+    Returns
+    -------
+    ModelFile
+        The model file.
+    """
     unknown = sorted(set(data) - _TOP_KEYS)
     if unknown:
         raise ModelError(f"unknown model file key(s) {', '.join(map(repr, unknown))}; "
@@ -470,6 +507,16 @@ def resolve_model(model: str | os.PathLike[str] | Model | ModelFile, *,
 def as_plant(model: str | os.PathLike[str] | Model | ModelFile) -> Model:
     """The plant :class:`~gfrf.model.equation.Model` of any model argument
     (:func:`resolve_model`).
+
+    Parameters
+    ----------
+    model : str, Path, Model or ModelFile
+        A model file path, an equation string, a Model or a ModelFile.
+
+    Returns
+    -------
+    Model
+        The plant.
 
     Raises
     ------

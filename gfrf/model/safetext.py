@@ -37,7 +37,20 @@ def _escape(match: re.Match[str]) -> str:
 
 
 def printable(text: str, keep: str = "") -> str:
-    """``text`` with every control character (except those in ``keep``) escaped."""
+    """``text`` with every control character (except those in ``keep``) escaped.
+
+    Parameters
+    ----------
+    text : str
+        User text.
+    keep : str, optional
+        Control characters left as they are (e.g. newline and tab).
+
+    Returns
+    -------
+    str
+        The text, each escaped character as its Python escape sequence.
+    """
     if keep:
         return "".join(c if c in keep else _CONTROL.sub(_escape, c) for c in text)
     return _CONTROL.sub(_escape, text)
@@ -47,7 +60,18 @@ def markdown_text(text: str) -> str:
     """``text`` as one inert line of Markdown: controls escaped, no HTML, no markup, and
     no link: GitHub-flavoured Markdown links bare ``http://``, ``https://``, ``www.`` and
     e-mail addresses, so their ``:``, ``.`` and ``@`` are backslash-escaped (shown as
-    they are, but split from the text the autolinker scans)."""
+    they are, but split from the text the autolinker scans).
+
+    Parameters
+    ----------
+    text : str
+        User text.
+
+    Returns
+    -------
+    str
+        One line of Markdown.
+    """
     text = " ".join(printable(text, keep="\n\t").split())
     text = text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
     text = _MARKDOWN.sub(r"\\\1", text)
@@ -58,6 +82,19 @@ def plot_text(text: str, limit: int = 0) -> str:
     """``text`` (a model's name or equation) as one line of a figure: newlines, carriage
     returns, bidirectional overrides and every other control escaped (so no fake line
     and no reordered word is drawn), cut to ``limit`` characters when ``limit`` > 0.
-    Draw it with ``parse_math=False``: a ``$`` stays a dollar sign, never mathtext."""
+    Draw it with ``parse_math=False``: a ``$`` stays a dollar sign, never mathtext.
+
+    Parameters
+    ----------
+    text : str
+        User text.
+    limit : int, optional
+        Longest result in characters, "..." included; 0: no limit.
+
+    Returns
+    -------
+    str
+        One line.
+    """
     text = printable(text)
     return text if limit <= 0 or len(text) <= limit else text[:limit - 3] + "..."

@@ -38,7 +38,18 @@ __all__ = ["normalized", "scale_of", "amplitude_scaled"]
 
 
 def scale_of(model: Model) -> float:
-    """The power of two 2^e <= |leading coefficient of A| < 2^(e+1) (1 without A)."""
+    """The power of two 2^e <= |leading coefficient of A| < 2^(e+1) (1 without A).
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+
+    Returns
+    -------
+    float
+        A power of two.
+    """
     a = {k: c for k, c in model.linear_output.items() if c != 0.0}
     if not a:
         return 1.0

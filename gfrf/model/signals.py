@@ -94,7 +94,18 @@ class InputSignal:
         return self.derivative(0)(t)
 
     def derivative(self, k: int) -> Callable[[Any], np.ndarray]:
-        """The k-th time derivative of u as a callable of t (seconds)."""
+        """The k-th time derivative of u as a callable of t (seconds).
+
+        Parameters
+        ----------
+        k : int
+            The order, 0 <= k <= :attr:`max_derivative`.
+
+        Returns
+        -------
+        callable
+            ``f(t) -> numpy.ndarray``.
+        """
         if not 0 <= k <= self.max_derivative:
             raise ArgumentError(f"derivative {k} of the input was not prepared "
                                 f"(max_derivative={self.max_derivative})")
@@ -161,6 +172,11 @@ class InputSignal:
         Only the derivatives up to :attr:`max_derivative` count; t = 0 does not (the
         run starts after a jump there).  CSV inputs are splines: none.
 
+        Parameters
+        ----------
+        t_end : float
+            The end of the run in s.
+
         Returns
         -------
         numpy.ndarray or None
@@ -198,7 +214,18 @@ class InputSignal:
 
 
 def zero_input(max_derivative: int = 0) -> InputSignal:
-    """The input u(t) = 0 (simulation from initial conditions only)."""
+    """The input u(t) = 0 (simulation from initial conditions only).
+
+    Parameters
+    ----------
+    max_derivative : int, optional
+        Highest derivative of u prepared.
+
+    Returns
+    -------
+    InputSignal
+        The zero input.
+    """
     zero = sp.Integer(0)
     funcs = tuple(sp.lambdify(T, zero, modules=_NUMPY_MODULES)
                   for _ in range(max_derivative + 1))
@@ -206,7 +233,20 @@ def zero_input(max_derivative: int = 0) -> InputSignal:
 
 
 def tones_input(tones: list[Tone] | tuple[Tone, ...], max_derivative: int = 0) -> InputSignal:
-    """The multi-tone input ``sum_k A_k cos(w_k t + phi_k)`` (w in rad/s, phi in rad)."""
+    """The multi-tone input ``sum_k A_k cos(w_k t + phi_k)`` (w in rad/s, phi in rad).
+
+    Parameters
+    ----------
+    tones : sequence of tuple of float
+        ``(A, omega, phi)`` per tone (omega in rad/s, phi in rad); empty: the zero input.
+    max_derivative : int, optional
+        Highest derivative of u prepared.
+
+    Returns
+    -------
+    InputSignal
+        The input.
+    """
     text = " + ".join(f"{float(a)!r}*cos({float(w)!r}*t + {float(p)!r})" for a, w, p in tones)
     return parse_input(text or "0*t", max_derivative=max_derivative)
 

@@ -56,6 +56,16 @@ def parameter_names(data: Mapping[str, Any]) -> dict[str, str]:
 
     Returns ``{name: "parameters"}`` for the top-level table and
     ``{name: "controller.parameters"}`` for the controller's own table.
+
+    Parameters
+    ----------
+    data : mapping
+        The parsed TOML table of a model file.
+
+    Returns
+    -------
+    dict of str to str
+        ``{name: table}``.
     """
     names = {name: "parameters" for name in (data.get("parameters") or {})}
     controller = data.get("controller") or {}
@@ -66,7 +76,22 @@ def parameter_names(data: Mapping[str, Any]) -> dict[str, str]:
 
 
 def rebuild(data: Mapping[str, Any], values: Mapping[str, float], path: str = "") -> ModelFile:
-    """The model file ``data`` with some parameter values replaced (full parse, slow path)."""
+    """The model file ``data`` with some parameter values replaced (full parse, slow path).
+
+    Parameters
+    ----------
+    data : mapping
+        The parsed TOML table of a model file.
+    values : mapping of str to float
+        New values of parameters of ``data``'s parameter tables.
+    path : str, optional
+        The file it came from; empty for none.
+
+    Returns
+    -------
+    ModelFile
+        The model file at the new values.
+    """
     where = parameter_names(data)
     changed: dict[str, Any] = dict(data)
     top = dict(data.get("parameters") or {})
@@ -132,6 +157,16 @@ class ModelTemplate:
 
     def instantiate(self, values: Mapping[str, float]) -> ModelFile:
         """The model file at ``values`` of the swept parameters (numeric work only).
+
+        Parameters
+        ----------
+        values : mapping of str to float
+            Values of the swept parameters.
+
+        Returns
+        -------
+        ModelFile
+            The model file at ``values``.
 
         Raises
         ------

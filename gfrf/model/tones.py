@@ -109,6 +109,16 @@ def read_tone_sum(text: str) -> list[ToneTerm] | None:
     more than :data:`~gfrf.model.limits.MAX_TERMS` terms, or any other form, gives None
     (the general parser then refuses or reads it).
 
+    Parameters
+    ----------
+    text : str
+        The input text.
+
+    Returns
+    -------
+    list of ToneTerm or None
+        The terms, or None.
+
     Examples
     --------
     >>> read_tone_sum("0.5*sin(2*t + 0.1) - cos(3*t)")
@@ -140,6 +150,18 @@ def tone_sum_function(terms: list[ToneTerm], k: int) -> Callable[[Any], Any]:
 
     d/dt sin(w t + p) = w cos(w t + p) and d/dt cos(w t + p) = -w sin(w t + p): each
     term keeps its own function and numbers (no conversion to a common phase form).
+
+    Parameters
+    ----------
+    terms : list of ToneTerm
+        The terms of :func:`read_tone_sum`.
+    k : int
+        The order of the derivative, >= 0.
+
+    Returns
+    -------
+    callable
+        ``f(t) -> numpy.ndarray``.
     """
     amplitude = np.array([a for a, _, _, _ in terms], dtype=float)
     omega = np.array([w for _, _, w, _ in terms], dtype=float)

@@ -143,6 +143,16 @@ def inertia_reversal(mf: ModelFile) -> InertiaReversal:
     With ``u = f (a s^2 + b s + c) theta`` and eq (16) ``theta'' - 67.578 theta + ... +
     39.3185 u = 0`` the closed loop is ``(1 + 39.3185 f a) theta'' + ...``; for
     ``f = -1`` this is ``1 - 39.3185 a``.
+
+    Parameters
+    ----------
+    mf : ModelFile
+        The cart-pole model file, with its controller.
+
+    Returns
+    -------
+    InertiaReversal
+        The coefficient and the gains it is formed from.
     """
     num_p, den_p, num_c, den_c, f = _loop_parts(mf)
     chi = characteristic((num_p, den_p), (num_c, den_c), f)
@@ -278,6 +288,20 @@ def sign_margin(mf: ModelFile, taus: tuple[float, ...] = LAG_TIME_CONSTANTS,
     coefficients (1 - N_P a, -N_P b) are positive for a, b > 0, so the loop is stable iff
     c > c_min = D_P(0)/N_P(0).  With one lag, chi = tau s^3 + A2 s^2 + A1 s + A0 is
     Hurwitz iff all A_i > 0 and A2 A1 > tau A0: the same c_min and an upper limit c_max.
+
+    Parameters
+    ----------
+    mf : ModelFile
+        The cart-pole model file, with its controller.
+    taus : tuple of float, optional
+        Time constants (s) of the one-lag loops examined.
+    step : float, optional
+        Relative offset of c from c_min at which the poles are reported.
+
+    Returns
+    -------
+    SignMargin
+        c_min, c_max per lag and the poles on either side.
     """
     num_p, den_p, num_c, den_c, _ = _loop_parts(mf)
     a, b, c = (_exact(x) / _exact(den_c[0]) for x in num_c)

@@ -241,7 +241,18 @@ class LoopDrive:
 
 def has_physical_equation(mf: ModelFile) -> bool:
     """The file's untruncated equation differs from its polynomial (eq (12)'s file, not
-    eq (16)'s, whose "physical" equation is the polynomial itself)."""
+    eq (16)'s, whose "physical" equation is the polynomial itself).
+
+    Parameters
+    ----------
+    mf : ModelFile
+        The model file.
+
+    Returns
+    -------
+    bool
+        Whether it has a distinct physical equation.
+    """
     physical = mf.plant.physical
     return physical is not None and (physical - mf.plant.polynomial()).expand() != 0
 
@@ -254,6 +265,22 @@ def loop_drive(mf: ModelFile, angles_deg: tuple[float, ...] = (5.0, 10.0, 15.0),
     ``angles_deg``; the nonlinear loop (polynomial equation, and the physical one when
     the file has a distinct one, :func:`has_physical_equation`) is simulated by
     :func:`gfrf.sim.simulation.simulate` over ``periods`` periods.
+
+    Parameters
+    ----------
+    mf : ModelFile
+        The cart-pole model file, with its controller.
+    angles_deg : tuple of float, optional
+        The linear loop's steady angle amplitudes, in degrees.
+    periods : int, optional
+        Periods of the reference simulated.
+    blowup : float, optional
+        The threshold on |y| at which a run counts as blown up.
+
+    Returns
+    -------
+    LoopDrive
+        The runs.
     """
     from gfrf.sim.simulation import simulate
     from gfrf.sim.system import build_system

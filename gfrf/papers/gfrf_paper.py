@@ -78,7 +78,20 @@ class CheckRow:
 
 
 def printed_match(paper: float, ours: float) -> bool:
-    """Whether ``ours`` rounds to ``paper`` at the paper's printed number of decimals."""
+    """Whether ``ours`` rounds to ``paper`` at the paper's printed number of decimals.
+
+    Parameters
+    ----------
+    paper : float
+        The value as printed in the paper.
+    ours : float
+        Our value.
+
+    Returns
+    -------
+    bool
+        Whether they agree to the printed decimals.
+    """
     text = repr(float(paper)).removesuffix(".0")
     decimals = len(text.split(".")[1]) if "." in text and "e" not in text else 0
     return abs(paper - ours) <= 0.5 * 10.0 ** (-decimals) * (1 + 1e-9)
@@ -161,6 +174,20 @@ def loop_sign_variants(gain: float = 39.3185, stiffness: float = 67.568,
     a s^2 + b' s + c with b' = b or the value 12554 / gain implied by the paper,
     feedback -1 or +1.  ``reproduces`` marks the variants whose characteristic
     polynomial rounds to 614 s^2 + 12554 s + 73 coefficient by coefficient.
+
+    Parameters
+    ----------
+    gain : float, optional
+        |k|, the plant's input gain.
+    stiffness : float, optional
+        The plant's stiffness term (1/s^2).
+    a, b, c : float, optional
+        The controller's coefficients.
+
+    Returns
+    -------
+    list of dict
+        One per variant, with its characteristic polynomial and ``reproduces``.
     """
     b_implied = PAPER_CLOSED_LOOP[1] / gain
     rows = []
@@ -263,6 +290,16 @@ def coefficient_rows(path: str | Path) -> list[CheckRow]:
     ``physical_equation`` of the model file (eqs (8)-(9), M, m, L, g of its
     ``[parameters]``) is Taylor-truncated at order 3 and divided by its theta''
     coefficient (4M + m)/3; each monomial of eq (12) is compared in magnitude and sign.
+
+    Parameters
+    ----------
+    path : str or Path
+        The model file of eq (12).
+
+    Returns
+    -------
+    list of CheckRow
+        One row per monomial.
     """
     section = "4 (cart-pole, eq (12))"
     data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
@@ -384,6 +421,20 @@ def alpha_variants(models_dir: str | Path = "models", tolerance: float = 1e-6,
     For each file of :data:`ALPHA_MODELS`: Theorem 1 at r = 1 (:func:`theorem1`), its
     certified radius r*, the damping threshold of :func:`gfrf.stability.criteria.parameter_margin`,
     and a simulation of the polynomial model with u = cos(w_r t) at the resonance w_r.
+
+    Parameters
+    ----------
+    models_dir : str or Path, optional
+        The folder of the model files.
+    tolerance : float, optional
+        Tolerance of the damping threshold search.
+    t_end : float, optional
+        Horizon of the simulations in s.
+
+    Returns
+    -------
+    list of AlphaRow
+        One row per model file.
     """
     from gfrf.bounds.majorant import linear_polynomials
     from gfrf.sim.simulation import simulate
@@ -454,6 +505,16 @@ def theta_readings(models_dir: str | Path = "models") -> list[ThetaReading]:
 
     Uses :func:`gfrf.stability.theorem2.theta_series` (the printed recursion) with the paper's
     rho_1 and with rho_1 = 1 (dropped).
+
+    Parameters
+    ----------
+    models_dir : str or Path, optional
+        The folder of the model files.
+
+    Returns
+    -------
+    list of ThetaReading
+        One reading per section and convention.
     """
     d = Path(models_dir)
     out = []

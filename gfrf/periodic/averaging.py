@@ -77,6 +77,25 @@ def averaging_solution(eps: float, amplitude: float, t: np.ndarray, branch: str 
     """Averaging orbit ``B cos(t/2)`` (lower side) or ``B sin(t/2)`` (upper side).
 
     The same for eq (3) and eq (4): first-order averaging gives only the harmonic.
+
+    Parameters
+    ----------
+    eps : float
+        The dimensionless forcing amplitude (first-order averaging's orbit does not depend
+        on it).
+    amplitude : float
+        B, the orbit's amplitude.
+    t : numpy.ndarray
+        Dimensionless times.
+    branch : str, optional
+        Must be ``"1/4"``.
+    side : str, optional
+        ``"lower"`` or ``"upper"``.
+
+    Returns
+    -------
+    numpy.ndarray
+        x(t).
     """
     _require_quarter(branch)
     t = np.asarray(t, dtype=float)

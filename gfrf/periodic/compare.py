@@ -161,6 +161,28 @@ def method_transition(method: str, eps: float, amplitude: float, branch: str = "
     """``delta`` on ``branch`` (and ``side``) for ``amplitude`` by ``method`` (timed).
 
     ``equation`` is 4 (truncated) or 3 (``sin x``; not for the energy method).
+
+    Parameters
+    ----------
+    method : str
+        One of :data:`METHODS`.
+    eps : float
+        The dimensionless forcing amplitude.
+    amplitude : float
+        x(0) of the orbit, > 0.
+    branch : str, optional
+        ``"0"`` or ``"1/4"``.
+    order : int, optional
+        The method's order (perturbation, homotopy); None: its default.
+    side : str, optional
+        ``"lower"`` or ``"upper"`` (branch 1/4 only).
+    equation : int, optional
+        4 or 3.
+
+    Returns
+    -------
+    TransitionResult
+        delta, the settings and the wall time of the call.
     """
     _check_method(method)
     b = parse_branch(branch)
@@ -184,7 +206,28 @@ def method_transition(method: str, eps: float, amplitude: float, branch: str = "
 
 def transition_curve(method: str, eps: np.ndarray, amplitude: float, branch: str = "0",
                      order: int | None = None, side: str = "lower") -> np.ndarray:
-    """``delta`` of ``method`` at every ``eps`` (NaN where the method has no value)."""
+    """``delta`` of ``method`` at every ``eps`` (NaN where the method has no value).
+
+    Parameters
+    ----------
+    method : str
+        One of :data:`METHODS`.
+    eps : numpy.ndarray
+        The values of eps.
+    amplitude : float
+        x(0) of the orbits.
+    branch : str, optional
+        ``"0"`` or ``"1/4"``.
+    order : int, optional
+        The method's order (perturbation, homotopy); None: its default.
+    side : str, optional
+        ``"lower"`` or ``"upper"`` (branch 1/4 only).
+
+    Returns
+    -------
+    numpy.ndarray
+        delta at each eps.
+    """
     _check_method(method)
     b = parse_branch(branch)
     _check_side(method, b, side)
@@ -212,6 +255,27 @@ def method_orbit(method: str, eps: float, amplitude: float, branch: str, t: np.n
     ``delta`` defaults to the method's own transition value; only the energy method
     uses a different one (it integrates (50) at that ``delta``).  On the upper side
     ``amplitude`` is ``x(pi)``.
+
+    Parameters
+    ----------
+    method : str
+        One of :data:`METHODS`.
+    eps : float
+        The dimensionless forcing amplitude.
+    amplitude : float
+        x(0) of the orbit (x(pi) on the upper side).
+    branch : str
+        ``"0"`` or ``"1/4"``.
+    t : numpy.ndarray
+        Dimensionless times.
+    order : int, optional
+        The method's order (perturbation, homotopy); None: its default.
+    delta : float, optional
+        delta of the energy method's orbit; None: its transition value.
+    side : str, optional
+        ``"lower"`` or ``"upper"`` (branch 1/4 only).
+    equation : int, optional
+        4 (truncated) or 3 (``sin x``).
     """
     _check_method(method)
     b = parse_branch(branch)
@@ -381,7 +445,28 @@ def error_table(methods: tuple[str, ...], eps_values: tuple[float, ...],
                 amplitudes: tuple[float, ...], branch: str = "1/4",
                 orders: dict[str, int] | None = None,
                 side: str = "lower") -> list[PeriodicComparison]:
-    """Compare every method at every ``(eps, amplitude)`` (equal ``x(0)``)."""
+    """Compare every method at every ``(eps, amplitude)`` (equal ``x(0)``).
+
+    Parameters
+    ----------
+    methods : tuple of str
+        Methods of :data:`METHODS`.
+    eps_values : tuple of float
+        The values of eps.
+    amplitudes : tuple of float
+        The values of x(0).
+    branch : str, optional
+        ``"0"`` or ``"1/4"``.
+    orders : dict of str to int, optional
+        Order per method; a method not in it gets its default.
+    side : str, optional
+        ``"lower"`` or ``"upper"`` (branch 1/4 only).
+
+    Returns
+    -------
+    list of PeriodicComparison
+        One per (eps, amplitude, method), in that nesting order.
+    """
     rows = []
     for e in eps_values:
         for a in amplitudes:

@@ -67,6 +67,24 @@ def energy_transition(eps: float | np.ndarray, amplitude: float, branch: str = "
     ``theta``-average of (46) (see :func:`energy_formulas`):
     ``A = 1 - 11 a**2/48 + a**4/96`` and ``C = 1/4 - a**2/16 + 31 a**4/9216``.
     NaN where there is no real root.
+
+    Parameters
+    ----------
+    eps : float or numpy.ndarray
+        The dimensionless forcing amplitude.
+    amplitude : float
+        a, the orbit's amplitude.
+    branch : str, optional
+        Must be ``"1/4"``.
+    variant : str, optional
+        ``"paper"`` or ``"consistent"``.
+    side : str, optional
+        ``"lower"`` or ``"upper"``.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        delta (NaN without a real root).
     """
     _require_quarter(branch)
     A, B, C = _quadratic(amplitude, variant)
@@ -100,6 +118,18 @@ def energy_cutoff(amplitude: float | Fraction, variant: str = "paper") -> float 
     ``(1 - a**2/6) / (4 (1 - a**2/16)**2 (1 - a**2/12))`` (``1/4`` at ``a = 0``,
     ``47104/186543 = 0.252510...`` at ``a = 1/2``).  A ``Fraction`` amplitude gives the
     exact rational value.  The upper side (49) has a real root for every ``eps > 0``.
+
+    Parameters
+    ----------
+    amplitude : float or Fraction
+        a, with a**2 < 6.
+    variant : str, optional
+        ``"paper"`` or ``"consistent"``.
+
+    Returns
+    -------
+    float or Fraction
+        The cut-off eps (a Fraction for a Fraction amplitude).
 
     Raises
     ------

@@ -63,6 +63,16 @@ DEFAULT_MODEL = MODELS_DIR / "parametric_pendulum.toml"
 def parse_branch(branch: str | float) -> str:
     """Normalise a branch label (``"0"``, ``"1/4"``, ``0.25`` ...) to ``"0"`` or ``"1/4"``.
 
+    Parameters
+    ----------
+    branch : str or float
+        The label.
+
+    Returns
+    -------
+    str
+        ``"0"`` or ``"1/4"``.
+
     Raises
     ------
     ArgumentError
@@ -78,6 +88,18 @@ def parse_branch(branch: str | float) -> str:
 
 def parse_side(side: str, branch: str) -> str:
     """Check ``side`` (``"lower"`` or ``"upper"``) for ``branch``.
+
+    Parameters
+    ----------
+    side : str
+        ``"lower"`` or ``"upper"``.
+    branch : str
+        The branch label.
+
+    Returns
+    -------
+    str
+        ``side``.
 
     Raises
     ------
@@ -98,6 +120,11 @@ def upper_side_times(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
     A lower-side orbit is even in time, so ``y(t - pi) = y(|t - pi|)``.
 
+    Parameters
+    ----------
+    t : numpy.ndarray
+        Times (dimensionless t of eq (3)).
+
     Returns
     -------
     (s, index)
@@ -107,19 +134,50 @@ def upper_side_times(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def branch_period(branch: str) -> float:
-    """Period in ``t`` of the orbits on ``branch``: ``2*pi`` for "0", ``4*pi`` for "1/4"."""
+    """Period in ``t`` of the orbits on ``branch``: ``2*pi`` for "0", ``4*pi`` for "1/4".
+
+    Parameters
+    ----------
+    branch : str
+        The branch label.
+
+    Returns
+    -------
+    float
+        The period.
+    """
     return 2 * math.pi if parse_branch(branch) == "0" else 4 * math.pi
 
 
 def physical_to_dimensionless(L: float, A: float, omega: float, g: float) -> tuple[float, float]:
-    """Return ``(eps, delta) = (A/L, -g/(L*omega**2))`` (eq (3)); omega in rad/s."""
+    """Return ``(eps, delta) = (A/L, -g/(L*omega**2))`` (eq (3)); omega in rad/s.
+
+    Parameters
+    ----------
+    L : float
+        Pendulum length in m, > 0.
+    A : float
+        Amplitude of the pivot's vertical motion in m.
+    omega : float
+        Angular frequency of the pivot's motion in rad/s, > 0.
+    g : float
+        Gravitational acceleration in m/s^2.
+    """
     if L <= 0 or omega <= 0:
         raise ArgumentError(f"need L > 0 and omega > 0, got L={L}, omega={omega}")
     return A / L, -g / (L * omega**2)
 
 
 def check_paper_range(eps: float, delta: float | None = None) -> None:
-    """Warn (``UserWarning``) when ``eps`` or ``delta`` leave the paper's ranges."""
+    """Warn (``UserWarning``) when ``eps`` or ``delta`` leave the paper's ranges.
+
+    Parameters
+    ----------
+    eps : float
+        The dimensionless forcing amplitude.
+    delta : float, optional
+        The dimensionless stiffness; None: not checked.
+    """
     if not 0 < eps < 1:
         warnings.warn(f"eps={eps} is outside the paper's range 0 < eps < 1", UserWarning,
                       stacklevel=2)
@@ -129,7 +187,18 @@ def check_paper_range(eps: float, delta: float | None = None) -> None:
 
 
 def sin_taylor_coefficients(truncation: int) -> dict[int, Fraction]:
-    """Exact odd Taylor coefficients ``{k: c_k}`` of ``sin(x)`` up to degree ``truncation``."""
+    """Exact odd Taylor coefficients ``{k: c_k}`` of ``sin(x)`` up to degree ``truncation``.
+
+    Parameters
+    ----------
+    truncation : int
+        The degree, odd and >= 1.
+
+    Returns
+    -------
+    dict of int to Fraction
+        ``{k: c_k}`` for odd k <= ``truncation``.
+    """
     if truncation < 1 or truncation % 2 == 0:
         raise ArgumentError(f"truncation must be an odd positive degree, got {truncation}")
     return {k: Fraction((-1) ** (k // 2), math.factorial(k)) for k in range(1, truncation + 1, 2)}
@@ -137,7 +206,18 @@ def sin_taylor_coefficients(truncation: int) -> dict[int, Fraction]:
 
 def nonlinearity(truncation: int | None) -> tuple[Callable[[np.ndarray], np.ndarray],
                                                    Callable[[np.ndarray], np.ndarray]]:
-    """Return ``(g, g')`` for ``sin`` (``truncation=None``) or its Taylor polynomial."""
+    """Return ``(g, g')`` for ``sin`` (``truncation=None``) or its Taylor polynomial.
+
+    Parameters
+    ----------
+    truncation : int or None
+        Odd Taylor degree; None: ``sin`` itself.
+
+    Returns
+    -------
+    tuple of callable
+        g and its derivative, on numpy arrays.
+    """
     if truncation is None:
         return np.sin, np.cos
     coeffs = sin_taylor_coefficients(truncation)
@@ -184,6 +264,16 @@ class PendulumModel(Result):
 
 def load_model(path: str | Path = DEFAULT_MODEL) -> PendulumModel:
     """Read a ``kind = "parametric"`` TOML model file with :mod:`tomllib`.
+
+    Parameters
+    ----------
+    path : str or Path, optional
+        The model file; default the bundled parametric pendulum.
+
+    Returns
+    -------
+    PendulumModel
+        The model.
 
     Raises
     ------

@@ -61,7 +61,18 @@ def mathieu_transition(eps: float | np.ndarray, branch: str = "0") -> np.ndarray
 
 
 def upper_quarter_transition(eps: float | np.ndarray) -> np.ndarray:
-    """Upper boundary ``a_1(2 eps)/4 = 1/4 + eps/2 - ...`` of the ``1/4`` tongue (``sin(t/2)``)."""
+    """Upper boundary ``a_1(2 eps)/4 = 1/4 + eps/2 - ...`` of the ``1/4`` tongue (``sin(t/2)``).
+
+    Parameters
+    ----------
+    eps : float or numpy.ndarray
+        The dimensionless forcing amplitude.
+
+    Returns
+    -------
+    numpy.ndarray
+        delta on the curve.
+    """
     return mathieu_a(1, 2.0 * np.asarray(eps, dtype=float)) / 4.0
 
 
@@ -70,6 +81,18 @@ def monodromy(eps: float, delta: float, rtol: float = 1e-12) -> np.ndarray:
 
     Columns are the states ``(x, x')`` at ``t = 2*pi`` of the solutions starting at
     ``(1, 0)`` and ``(0, 1)``.
+
+    Parameters
+    ----------
+    eps, delta : float
+        The parameters of the Mathieu equation.
+    rtol : float, optional
+        DOP853's relative tolerance (absolute: ``rtol * 1e-2``).
+
+    Returns
+    -------
+    numpy.ndarray
+        The 2 x 2 matrix.
     """
     def rhs(t: float, y: np.ndarray) -> np.ndarray:
         k = delta + eps * np.cos(t)
@@ -82,7 +105,18 @@ def monodromy(eps: float, delta: float, rtol: float = 1e-12) -> np.ndarray:
 
 
 def floquet_multipliers(eps: float, delta: float) -> np.ndarray:
-    """Floquet multipliers (eigenvalues of the monodromy matrix; product 1)."""
+    """Floquet multipliers (eigenvalues of the monodromy matrix; product 1).
+
+    Parameters
+    ----------
+    eps, delta : float
+        The parameters of the Mathieu equation.
+
+    Returns
+    -------
+    numpy.ndarray
+        The two multipliers (complex).
+    """
     return np.linalg.eigvals(monodromy(eps, delta))
 
 
@@ -92,6 +126,20 @@ def monodromy_transition(eps: float, branch: str = "0", xtol: float = 1e-12) -> 
     The bracket is ``[-0.5 - 2 eps**2, mid]`` (branch 0) or ``[mid, 1/4]`` (branch 1/4)
     with ``mid`` halfway between the leading-order curves ``-eps**2/2`` and
     ``1/4 - eps/2``; valid for ``0 < eps <= 0.6``.
+
+    Parameters
+    ----------
+    eps : float
+        The dimensionless forcing amplitude, 0 < eps <= 0.6.
+    branch : str, optional
+        ``"0"`` or ``"1/4"``.
+    xtol : float, optional
+        Brent's absolute tolerance on delta.
+
+    Returns
+    -------
+    float
+        delta on the transition curve.
     """
     b = parse_branch(branch)
     mid = 0.5 * (-eps**2 / 2 + 0.25 - eps / 2 - eps**2 / 8)
@@ -111,6 +159,16 @@ def quarter_tongue_zero(xtol: float = 1e-13) -> float:
     unique.  Equals ``q/2`` at the root ``q`` of scipy's ``mathieu_b(1, q)``; the
     physical inverted pendulum (``delta = -g/(L omega**2) < 0``) has ``4 pi``-periodic
     orbits of small amplitude only for ``eps`` beyond this value.
+
+    Parameters
+    ----------
+    xtol : float, optional
+        Brent's absolute tolerance on eps.
+
+    Returns
+    -------
+    float
+        The root eps.
     """
     return float(brentq(lambda e: np.trace(monodromy(e, 0.0)) + 2.0, 0.3, 0.6, xtol=xtol))
 
@@ -120,6 +178,20 @@ def linear_orbit_shape(eps: float, branch: str, t: np.ndarray) -> np.ndarray:
 
     Uses scipy's Mathieu functions at ``z = t/2 + pi/2`` (``q = 2 eps``; scipy takes
     degrees): ``ce_0`` for branch 0, ``se_1`` for branch 1/4.
+
+    Parameters
+    ----------
+    eps : float
+        The dimensionless forcing amplitude.
+    branch : str
+        ``"0"`` or ``"1/4"``.
+    t : numpy.ndarray
+        Dimensionless times.
+
+    Returns
+    -------
+    numpy.ndarray
+        x(t).
     """
     z_deg = np.degrees(np.asarray(t, dtype=float) / 2 + np.pi / 2)
     q = 2.0 * eps

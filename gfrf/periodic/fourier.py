@@ -32,7 +32,18 @@ def _zeros(shape: tuple[int, ...], exact: bool) -> np.ndarray:
 
 
 def poly_mul(p: np.ndarray, q: np.ndarray) -> np.ndarray:
-    """Product of two coefficient vectors (ascending powers); exact for object arrays."""
+    """Product of two coefficient vectors (ascending powers); exact for object arrays.
+
+    Parameters
+    ----------
+    p, q : numpy.ndarray
+        Coefficient vectors, ascending powers (float, or object arrays of Fractions).
+
+    Returns
+    -------
+    numpy.ndarray
+        The product.
+    """
     if p.dtype != object and q.dtype != object:
         return np.convolve(p, q)
     out = _zeros((len(p) + len(q) - 1,), True)
@@ -44,6 +55,16 @@ def poly_mul(p: np.ndarray, q: np.ndarray) -> np.ndarray:
 
 def poly_divide(p: np.ndarray, q: np.ndarray) -> np.ndarray:
     """Exact quotient ``p / q`` of ascending coefficient vectors.
+
+    Parameters
+    ----------
+    p, q : numpy.ndarray
+        Coefficient vectors, ascending powers; ``q`` not zero.
+
+    Returns
+    -------
+    numpy.ndarray
+        The quotient, an object array of Fractions.
 
     Raises
     ------
@@ -70,7 +91,20 @@ def poly_divide(p: np.ndarray, q: np.ndarray) -> np.ndarray:
 
 
 def poly_eval(p: np.ndarray, a: float | np.ndarray) -> float | np.ndarray:
-    """Evaluate an ascending coefficient vector at ``a`` (as floats)."""
+    """Evaluate an ascending coefficient vector at ``a`` (as floats).
+
+    Parameters
+    ----------
+    p : numpy.ndarray
+        Coefficient vector, ascending powers.
+    a : float or numpy.ndarray
+        The point(s).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The values.
+    """
     return np.polynomial.polynomial.polyval(a, np.asarray(p, dtype=float))
 
 
@@ -98,7 +132,22 @@ class CosSeries:
 
     @classmethod
     def cos(cls, k: int, poly: object = 1, exact: bool = True) -> CosSeries:
-        """The series ``poly(a) * cos(k tau)`` (``poly``: number or ascending vector)."""
+        """The series ``poly(a) * cos(k tau)`` (``poly``: number or ascending vector).
+
+        Parameters
+        ----------
+        k : int
+            The harmonic, >= 0.
+        poly : number or sequence, optional
+            The coefficient: a number or an ascending coefficient vector in ``a``.
+        exact : bool, optional
+            Fractions (object array) instead of floats.
+
+        Returns
+        -------
+        CosSeries
+            The series.
+        """
         p = np.atleast_1d(np.array(poly, dtype=object if exact else float))
         if exact:
             p = np.array([Fraction(c) for c in p], dtype=object)
@@ -111,7 +160,18 @@ class CosSeries:
 
     @classmethod
     def zero(cls, exact: bool = True) -> CosSeries:
-        """The zero series."""
+        """The zero series.
+
+        Parameters
+        ----------
+        exact : bool, optional
+            Fractions (object array) instead of floats.
+
+        Returns
+        -------
+        CosSeries
+            The series.
+        """
         return cls(_zeros((1, 1), exact))
 
     def _padded(self, h: int, p: int) -> np.ndarray:
@@ -145,7 +205,18 @@ class CosSeries:
     __rmul__ = __mul__
 
     def mul_poly(self, poly: np.ndarray) -> CosSeries:
-        """Multiply every coefficient by the polynomial ``poly(a)``."""
+        """Multiply every coefficient by the polynomial ``poly(a)``.
+
+        Parameters
+        ----------
+        poly : numpy.ndarray
+            Ascending coefficient vector in ``a``.
+
+        Returns
+        -------
+        CosSeries
+            The product.
+        """
         rows = [poly_mul(row, np.asarray(poly)) for row in self.coef]
         return CosSeries(np.array(rows, dtype=self.coef.dtype))
 
@@ -161,14 +232,36 @@ class CosSeries:
         return CosSeries(c[H - h:H + h + 1, :max(nz_cols) + 1])
 
     def harmonic(self, k: int) -> np.ndarray:
-        """Polynomial coefficient vector of ``cos(k tau)``."""
+        """Polynomial coefficient vector of ``cos(k tau)``.
+
+        Parameters
+        ----------
+        k : int
+            The harmonic, >= 0.
+
+        Returns
+        -------
+        numpy.ndarray
+            Coefficients in powers of ``a``, lowest first (zeros above the series' order).
+        """
         if k > self.order:
             return _zeros((1,), self.exact)
         row = self.coef[self.order + k]
         return row.copy() if k == 0 else row * 2
 
     def map_harmonics(self, factor: Callable[[int], object]) -> CosSeries:
-        """Apply a diagonal operator: harmonic ``k`` is multiplied by ``factor(k)``."""
+        """Apply a diagonal operator: harmonic ``k`` is multiplied by ``factor(k)``.
+
+        Parameters
+        ----------
+        factor : callable
+            ``factor(k)`` for k = 0..order, a number (Fraction in an exact series).
+
+        Returns
+        -------
+        CosSeries
+            The new series.
+        """
         H = self.order
         out = self.coef.copy()
         for i in range(out.shape[0]):
@@ -176,7 +269,18 @@ class CosSeries:
         return CosSeries(out)
 
     def mul_cos(self, p: int) -> CosSeries:
-        """Multiply by ``cos(p tau)``."""
+        """Multiply by ``cos(p tau)``.
+
+        Parameters
+        ----------
+        p : int
+            The harmonic, >= 0.
+
+        Returns
+        -------
+        CosSeries
+            The product.
+        """
         return self * CosSeries.cos(p, 1, self.exact)
 
     def at_zero(self) -> np.ndarray:
@@ -188,7 +292,20 @@ class CosSeries:
         return float(np.sum(np.asarray(self.coef, dtype=float)[:, 0] ** 2))
 
     def evaluate(self, tau: np.ndarray, a: float = 0.0) -> np.ndarray:
-        """Numerical values at the points ``tau`` for the parameter value ``a``."""
+        """Numerical values at the points ``tau`` for the parameter value ``a``.
+
+        Parameters
+        ----------
+        tau : numpy.ndarray
+            The phases (rad).
+        a : float, optional
+            The parameter's value.
+
+        Returns
+        -------
+        numpy.ndarray
+            Float values, the shape of ``tau``.
+        """
         tau = np.asarray(tau, dtype=float)
         powers = a ** np.arange(self.coef.shape[1])
         cks = np.asarray(self.coef, dtype=float) @ powers

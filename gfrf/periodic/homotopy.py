@@ -72,7 +72,18 @@ class HamResult(Result):
     series: CosSeries
 
     def solution(self, t: np.ndarray) -> np.ndarray:
-        """``x(t)`` of the HAM approximation."""
+        """``x(t)`` of the HAM approximation.
+
+        Parameters
+        ----------
+        t : numpy.ndarray
+            Dimensionless times.
+
+        Returns
+        -------
+        numpy.ndarray
+            x(t).
+        """
         tau = np.asarray(t, dtype=float) / (1 if self.branch == "0" else 2)
         return self.series.evaluate(tau)
 
@@ -171,6 +182,26 @@ def ham_optimal(eps: float, amplitude: float, branch: str = "1/4", order: int = 
     """HAM with ``h`` minimising the squared residual on ``h_bounds`` (bounded Brent).
 
     At ``order = 0`` the approximation does not depend on ``h``; ``h = -1`` is reported.
+
+    Parameters
+    ----------
+    eps : float
+        The dimensionless forcing amplitude.
+    amplitude : float
+        x(0) of the orbit.
+    branch : str, optional
+        ``"0"`` or ``"1/4"``.
+    order : int, optional
+        The HAM order, >= 0.
+    truncation : int, optional
+        Odd Taylor degree of ``sin``.
+    h_bounds : tuple of float, optional
+        The interval of the convergence-control parameter h searched.
+
+    Returns
+    -------
+    HamResult
+        The approximation at the best h.
     """
     if order == 0:
         return ham(eps, amplitude, branch, 0, -1.0, truncation)

@@ -68,13 +68,41 @@ class PerturbationSeries:
     x_coeffs: list[CosSeries]
 
     def paper_a(self, eps: float, amplitude: float) -> float:
-        """Series parameter ``a`` for the orbit with ``x(0) = amplitude`` ("initial" only)."""
+        """Series parameter ``a`` for the orbit with ``x(0) = amplitude`` ("initial" only).
+
+        Parameters
+        ----------
+        eps : float
+            The dimensionless forcing amplitude.
+        amplitude : float
+            x(0) of the orbit.
+
+        Returns
+        -------
+        float
+            a.
+        """
         if self.normalization != "initial":
             raise ArgumentError("amplitude = x(0) converts to a only with 'initial' normalisation")
         return amplitude if self.branch == "0" else amplitude / eps
 
     def delta(self, eps: float, amplitude: float, order: int | None = None) -> float:
-        """``delta`` on the transition curve for ``x(0) = amplitude``, truncated at ``order``."""
+        """``delta`` on the transition curve for ``x(0) = amplitude``, truncated at ``order``.
+
+        Parameters
+        ----------
+        eps : float
+            The dimensionless forcing amplitude.
+        amplitude : float
+            x(0) of the orbit.
+        order : int, optional
+            Highest power of eps kept; None: every computed order.
+
+        Returns
+        -------
+        float
+            delta.
+        """
         return self.delta_at(eps, self.paper_a(eps, amplitude), order)
 
     def amplitude_of(self, eps: float, a: float, order: int | None = None) -> float:
@@ -83,22 +111,85 @@ class PerturbationSeries:
         With ``normalization="kernel"`` this is the paper's convention of (10) and (16):
         branch 0 gives ``x(0) = a + eps a (1 - a**2/6) + ...``, branch 1/4 gives
         ``x(0) = eps a (1 + eps/4 + ...)``.
+
+        Parameters
+        ----------
+        eps : float
+            The dimensionless forcing amplitude.
+        a : float
+            The series parameter.
+        order : int, optional
+            Highest power of eps kept; None: every computed order.
+
+        Returns
+        -------
+        float
+            x(0).
         """
         return float(self.evaluate(eps, a, np.array([0.0]), order)[0])
 
     def delta_at(self, eps: float, a: float, order: int | None = None) -> float:
-        """``delta`` at the series parameter ``a`` (any normalisation)."""
+        """``delta`` at the series parameter ``a`` (any normalisation).
+
+        Parameters
+        ----------
+        eps : float
+            The dimensionless forcing amplitude.
+        a : float
+            The series parameter.
+        order : int, optional
+            Highest power of eps kept; None: every computed order.
+
+        Returns
+        -------
+        float
+            delta.
+        """
         k = self.order if order is None else order
         return float(sum(poly_eval(d, a) * eps**n for n, d in enumerate(self.delta_coeffs[:k + 1])))
 
     def solution(self, eps: float, amplitude: float, t: np.ndarray,
                  order: int | None = None) -> np.ndarray:
-        """Periodic orbit ``x(t)`` with ``x(0) = amplitude`` (terms up to ``eps**order``)."""
+        """Periodic orbit ``x(t)`` with ``x(0) = amplitude`` (terms up to ``eps**order``).
+
+        Parameters
+        ----------
+        eps : float
+            The dimensionless forcing amplitude.
+        amplitude : float
+            x(0) of the orbit.
+        t : numpy.ndarray
+            Dimensionless times.
+        order : int, optional
+            Highest power of eps kept; None: every computed order.
+
+        Returns
+        -------
+        numpy.ndarray
+            x(t).
+        """
         return self.evaluate(eps, self.paper_a(eps, amplitude), t, order)
 
     def evaluate(self, eps: float, a: float, t: np.ndarray,
                  order: int | None = None) -> np.ndarray:
-        """Orbit ``x(t)`` at the series parameter ``a`` (any normalisation)."""
+        """Orbit ``x(t)`` at the series parameter ``a`` (any normalisation).
+
+        Parameters
+        ----------
+        eps : float
+            The dimensionless forcing amplitude.
+        a : float
+            The series parameter.
+        t : numpy.ndarray
+            Dimensionless times.
+        order : int, optional
+            Highest power of eps kept; None: every computed order.
+
+        Returns
+        -------
+        numpy.ndarray
+            x(t).
+        """
         k = self.order if order is None else order
         tau = np.asarray(t, dtype=float) / (1 if self.branch == "0" else 2)
         x = sum(s.evaluate(tau, a) * eps**n for n, s in enumerate(self.x_coeffs[:k + 1]))
@@ -112,7 +203,20 @@ class PerturbationSeries:
                              for n, d in enumerate(self.delta_coeffs)))
 
     def harmonic_expr(self, n: int, k: int) -> sp.Expr:
-        """Coefficient (polynomial in ``a``) of ``cos(k tau)`` in ``x_n`` (or ``u_n``)."""
+        """Coefficient (polynomial in ``a``) of ``cos(k tau)`` in ``x_n`` (or ``u_n``).
+
+        Parameters
+        ----------
+        n : int
+            The order in eps, 0 <= n <= ``order``.
+        k : int
+            The harmonic, >= 0.
+
+        Returns
+        -------
+        sympy.Expr
+            The exact polynomial in ``a``.
+        """
         a = sp.Symbol("a")
         return sp.expand(sum(sp.Rational(c.numerator, c.denominator) * a**j
                              for j, c in enumerate(self.x_coeffs[n].harmonic(k))))

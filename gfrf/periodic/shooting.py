@@ -103,7 +103,18 @@ class PeriodicOrbit:
         return self._full_period[1]
 
     def evaluate(self, t: np.ndarray) -> np.ndarray:
-        """Return ``x(t)`` at the (sorted, non-negative) times ``t``."""
+        """Return ``x(t)`` at the (sorted, non-negative) times ``t``.
+
+        Parameters
+        ----------
+        t : numpy.ndarray
+            Dimensionless times, sorted and >= 0.
+
+        Returns
+        -------
+        numpy.ndarray
+            x(t).
+        """
         if self.series is not None:
             return self.series.evaluate(t)
         t = np.asarray(t, dtype=float)
@@ -273,6 +284,26 @@ def transition_delta(eps: float, amplitude: float, branch: str = "0",
     integrating the initial value problem to ``t = pi``: if the relative shooting residual
     exceeds ``tol``, shooting Newton refines ``delta`` to ``tol``.
 
+    Parameters
+    ----------
+    eps : float
+        The dimensionless forcing amplitude.
+    amplitude : float
+        x(0) of the orbit, > 0.
+    branch : str, optional
+        ``"0"`` or ``"1/4"``.
+    truncation : int or None, optional
+        Odd Taylor degree of ``sin``; None: ``sin`` itself.
+    step : float, optional
+        Largest amplitude step of the continuation.
+    tol : float, optional
+        Relative tolerance of the shooting residual.
+
+    Returns
+    -------
+    PeriodicOrbit
+        The orbit, with its ``delta``.
+
     Raises
     ------
     ArgumentError
@@ -291,6 +322,24 @@ def exact_transition_curve(eps: np.ndarray, amplitude: float, branch: str = "0",
 
     Continuation in ``eps``: each collocation solve starts from the previous orbit, and
     each value is checked by integration as in :func:`transition_delta`.
+
+    Parameters
+    ----------
+    eps : numpy.ndarray
+        The values of eps, in the order of the continuation.
+    amplitude : float
+        x(0) of the orbits.
+    branch : str, optional
+        ``"0"`` or ``"1/4"``.
+    truncation : int or None, optional
+        Odd Taylor degree of ``sin``; None: ``sin`` itself.
+    tol : float, optional
+        Relative tolerance of the shooting residual.
+
+    Returns
+    -------
+    numpy.ndarray
+        delta at each eps.
     """
     out = np.empty(len(eps))
     series: FourierOrbit | None = None
@@ -304,6 +353,26 @@ def orbit_at_delta(eps: float, delta: float, amplitude_guess: float, branch: str
                    truncation: int | None = 3, tol: float = 1e-10,
                    maxiter: int = 40) -> PeriodicOrbit:
     """Periodic orbit at fixed ``(eps, delta)``, Newton on the amplitude ``x(0)``.
+
+    Parameters
+    ----------
+    eps, delta : float
+        The parameters.
+    amplitude_guess : float
+        Initial x(0), in (0, pi).
+    branch : str, optional
+        ``"0"`` or ``"1/4"``.
+    truncation : int or None, optional
+        Odd Taylor degree of ``sin``; None: ``sin`` itself.
+    tol : float, optional
+        Tolerance of the shooting residual.
+    maxiter : int, optional
+        Most Newton iterations.
+
+    Returns
+    -------
+    PeriodicOrbit
+        The orbit.
 
     Raises
     ------
@@ -323,6 +392,22 @@ def transition_zero_eps(amplitude: float, branch: str = "1/4",
     Brent's method on ``eps`` of :func:`transition_delta` (shooting residual ``1e-10``
     relative, so ``delta`` and the root are accurate to about ``1e-10``).  The linear
     limit (``amplitude -> 0``) is :func:`~gfrf.periodic.floquet.quarter_tongue_zero`.
+
+    Parameters
+    ----------
+    amplitude : float
+        x(0) of the orbits.
+    branch : str, optional
+        Must be ``"1/4"``.
+    bracket : tuple of float, optional
+        The interval of eps searched; the sign of delta must change over it.
+    xtol : float, optional
+        Brent's absolute tolerance on eps.
+
+    Returns
+    -------
+    float
+        The root eps.
 
     Raises
     ------

@@ -92,7 +92,18 @@ class FourierOrbit:
         return len(self.coefficients)
 
     def evaluate(self, t: np.ndarray) -> np.ndarray:
-        """Return ``x(t)`` at the times ``t`` (any order, any sign)."""
+        """Return ``x(t)`` at the times ``t`` (any order, any sign).
+
+        Parameters
+        ----------
+        t : numpy.ndarray
+            Dimensionless times.
+
+        Returns
+        -------
+        numpy.ndarray
+            x(t).
+        """
         t = np.asarray(t, dtype=float)
         w = _frequencies(self.branch, self.modes)
         return np.cos(np.multiply.outer(t, w)) @ self.coefficients

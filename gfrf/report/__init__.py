@@ -42,7 +42,18 @@ __all__ = ["MODELS_DIR", "bundled_models", "write_reports", "write_index"]
 
 
 def bundled_models(models_dir: Path = MODELS_DIR) -> list[str]:
-    """Paths ``models/<stem>.toml`` of the bundled GFRF models (parametric ones excluded)."""
+    """Paths ``models/<stem>.toml`` of the bundled GFRF models (parametric ones excluded).
+
+    Parameters
+    ----------
+    models_dir : Path, optional
+        The folder of the model files.
+
+    Returns
+    -------
+    list of str
+        The paths, sorted.
+    """
     out = []
     for path in sorted(models_dir.glob("*.toml")):
         kind = tomllib.loads(path.read_text(encoding="utf-8")).get("kind", "ode")
@@ -52,7 +63,22 @@ def bundled_models(models_dir: Path = MODELS_DIR) -> list[str]:
 
 
 def write_index(out_dir: Path, models: list[str], quick: bool) -> Path:
-    """``README.md`` listing every report with its one-line verdict."""
+    """``README.md`` listing every report with its one-line verdict.
+
+    Parameters
+    ----------
+    out_dir : Path
+        The report folder.
+    models : list of str
+        Paths of the model files.
+    quick : bool
+        The quick analysis setting (:func:`gfrf.report.analysis.settings`).
+
+    Returns
+    -------
+    Path
+        The path of ``README.md``.
+    """
     rows = []
     for path in models:
         a = analyse(path, quick)

@@ -24,7 +24,18 @@ __all__ = ["frequency_scale", "h1_figure", "h3_slice_figure", "response_figure"]
 
 
 def frequency_scale(model: Model) -> float:
-    """A characteristic angular frequency (rad/s): largest |pole| of H1, or 1."""
+    """A characteristic angular frequency (rad/s): largest |pole| of H1, or 1.
+
+    Parameters
+    ----------
+    model : Model
+        The plant model.
+
+    Returns
+    -------
+    float
+        The frequency in rad/s (pi / T for a NARX model).
+    """
     if model.is_discrete:
         return math.pi / float(model.sample_time)  # type: ignore[arg-type]
     a = model.linear_output
@@ -43,7 +54,27 @@ def _phase_deg(h: np.ndarray) -> np.ndarray:
 def h1_figure(model: Model, path: Path, *, hz: bool = False,
               extra: Sequence[tuple[str, Callable[[np.ndarray], np.ndarray]]] = (),
               title: str = "") -> str:
-    """Gain (log) and phase (deg) of H1 against frequency; ``extra`` curves dashed."""
+    """Gain (log) and phase (deg) of H1 against frequency; ``extra`` curves dashed.
+
+    Parameters
+    ----------
+    model : Model
+        The plant model.
+    path : Path
+        The PNG file.
+    hz : bool, optional
+        Frequency axis in Hz instead of rad/s.
+    extra : sequence of (str, callable), optional
+        Further curves: a label and a function of the angular frequency (rad/s) giving
+        complex values.
+    title : str, optional
+        The figure's title.
+
+    Returns
+    -------
+    str
+        The file's name.
+    """
     scale = frequency_scale(model)
     if model.is_discrete:
         w = np.linspace(1e-3 * scale, scale, 2000)
@@ -73,7 +104,32 @@ def h1_figure(model: Model, path: Path, *, hz: bool = False,
 def h3_slice_figure(model: Model, path: Path, w3: float, half_width: float, *,
                     points: int = 301, hz: bool = False, phase: bool = False,
                     title: str = "") -> str:
-    """|H3| (log colour) or its phase over (w1, w2) in [-W, W]^2 at fixed w3 (rad/s)."""
+    """|H3| (log colour) or its phase over (w1, w2) in [-W, W]^2 at fixed w3 (rad/s).
+
+    Parameters
+    ----------
+    model : Model
+        The plant model.
+    path : Path
+        The PNG file.
+    w3 : float
+        The fixed third frequency in rad/s.
+    half_width : float
+        W in rad/s.
+    points : int, optional
+        Grid points per axis.
+    hz : bool, optional
+        Axes in Hz instead of rad/s.
+    phase : bool, optional
+        Draw the phase instead of |H3|.
+    title : str, optional
+        The figure's title.
+
+    Returns
+    -------
+    str
+        The file's name.
+    """
     w = np.linspace(-half_width, half_width, points)
     w1, w2 = np.meshgrid(w, w)
     h = kernel(model, 3)(w1, w2, w3)
@@ -102,7 +158,24 @@ def h3_slice_figure(model: Model, path: Path, w3: float, half_width: float, *,
 
 def response_figure(responses: Sequence[Response], path: Path, title: str,
                     ylabel: str) -> str:
-    """Output y(t) of each response; a blow-up is marked where the run stopped."""
+    """Output y(t) of each response; a blow-up is marked where the run stopped.
+
+    Parameters
+    ----------
+    responses : sequence of Response
+        The runs, each with a label and a simulation result.
+    path : Path
+        The PNG file.
+    title : str
+        The figure's title.
+    ylabel : str
+        The label of the y axis.
+
+    Returns
+    -------
+    str
+        The file's name.
+    """
     fig, ax = subplots(figsize=(6.5, 3.8))
     for r in responses:
         res = r.result

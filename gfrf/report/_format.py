@@ -27,7 +27,20 @@ DPI = 100
 
 
 def num(x: float | None, digits: int = 6) -> str:
-    """A float with ``digits`` significant digits; ``inf``, ``-inf``, ``-`` for None."""
+    """A float with ``digits`` significant digits; ``inf``, ``-inf``, ``-`` for None.
+
+    Parameters
+    ----------
+    x : float or None
+        The number.
+    digits : int, optional
+        Significant digits.
+
+    Returns
+    -------
+    str
+        The text.
+    """
     if x is None:
         return "-"
     x = float(x)
@@ -51,6 +64,20 @@ def bracket_cells(lower: float, upper: float, most: int = 6) -> tuple[str, str, 
     exact-algebra and ball-arithmetic values, deterministic), a point value, zero, a
     negative or an infinite end prints as :func:`num` does.
 
+    Parameters
+    ----------
+    lower, upper : float
+        The ends of the bracket.
+    most : int, optional
+        Most significant digits printed.
+
+    Returns
+    -------
+    tuple of str
+        The three cells.
+
+    Examples
+    --------
     >>> bracket_cells(0.0111398, 0.0209773)
     ('0.0111', '0.021', '0.48')
     """
@@ -66,7 +93,18 @@ def bracket_cells(lower: float, upper: float, most: int = 6) -> tuple[str, str, 
 
 
 def cell(value: Any) -> str:
-    """Render one table cell: numbers via :func:`num`, lists element-wise, text escaped."""
+    """Render one table cell: numbers via :func:`num`, lists element-wise, text escaped.
+
+    Parameters
+    ----------
+    value : object
+        A bool, None, number, complex, list, tuple, numpy scalar or other value (as str).
+
+    Returns
+    -------
+    str
+        The cell's text.
+    """
     if isinstance(value, bool):
         return "yes" if value else "no"
     if value is None:
@@ -88,17 +126,52 @@ def cell(value: Any) -> str:
 
 
 def mark(passed: bool | None) -> str:
-    """pass / FAIL / open for a theorem condition."""
+    """pass / FAIL / open for a theorem condition.
+
+    Parameters
+    ----------
+    passed : bool or None
+        The condition's outcome; None: not established.
+
+    Returns
+    -------
+    str
+        ``"pass"``, ``"**FAIL**"`` or ``"open"``.
+    """
     return {True: "pass", False: "**FAIL**", None: "open"}[passed]
 
 
 def code(text: str) -> str:
-    """Inline code span (for commands beside numbers)."""
+    """Inline code span (for commands beside numbers).
+
+    Parameters
+    ----------
+    text : str
+        The text, without backticks.
+
+    Returns
+    -------
+    str
+        The text in backticks.
+    """
     return f"`{text}`"
 
 
 def table(headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
-    """A GitHub Markdown table; every header and entry is rendered by :func:`cell`."""
+    """A GitHub Markdown table; every header and entry is rendered by :func:`cell`.
+
+    Parameters
+    ----------
+    headers : sequence
+        The column headings.
+    rows : sequence of sequence
+        The rows.
+
+    Returns
+    -------
+    str
+        The table, with a final newline.
+    """
     lines = ["| " + " | ".join(cell(h) for h in headers) + " |", "|" + "---|" * len(headers)]
     for row in rows:
         lines.append("| " + " | ".join(cell(c) for c in row) + " |")
@@ -106,7 +179,22 @@ def table(headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
 
 
 def header(title: str, summary: Sequence[str], regenerate: str) -> str:
-    """Title, a three-line summary and the command that regenerates the report."""
+    """Title, a three-line summary and the command that regenerates the report.
+
+    Parameters
+    ----------
+    title : str
+        The report's title.
+    summary : sequence of str
+        Exactly three lines.
+    regenerate : str
+        The command.
+
+    Returns
+    -------
+    str
+        The Markdown text.
+    """
     if len(summary) != 3:
         raise ValueError(f"a report summary has three lines, got {len(summary)}")
     lines = [f"# {title}", "", *(f"> {s}  " for s in summary), "",
@@ -119,7 +207,20 @@ def save_figure(fig: Figure, path: Path) -> str:
     """Write ``fig`` as PNG (Agg, :data:`DPI`, no date metadata), return the name.
 
     Report figures are made with :func:`gfrf._results.subplots` (no pyplot, so nothing to
-    close and no backend switched)."""
+    close and no backend switched).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    path : Path
+        The PNG file; its folder is created if missing.
+
+    Returns
+    -------
+    str
+        The file's name.
+    """
     path.parent.mkdir(parents=True, exist_ok=True)
     atomic_write_figure(fig, path, dpi=DPI, metadata={"Software": None})
     return path.name

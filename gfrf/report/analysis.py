@@ -134,7 +134,18 @@ class ModelAnalysis:
 
 
 def settings(quick: bool) -> dict[str, float]:
-    """Norm order, simulation horizon and margin tolerance of the full and quick setting."""
+    """Norm order, simulation horizon and margin tolerance of the full and quick setting.
+
+    Parameters
+    ----------
+    quick : bool
+        The quick setting (tests) instead of the full one.
+
+    Returns
+    -------
+    dict of str to float
+        ``order``, ``t_end`` (s) and ``margin_tolerance``.
+    """
     return ({"order": 3, "t_end": 20.0, "margin_tolerance": 1e-2} if quick else
             {"order": 5, "t_end": 100.0, "margin_tolerance": 1e-6})
 

@@ -57,7 +57,20 @@ class Comparison:
 
 
 def compare(models_dir: str | Path = ex.MODELS_DIR, quick: bool = False) -> Comparison:
-    """Load the example's files, identify the CSV afresh, compare kernels and verdicts."""
+    """Load the example's files, identify the CSV afresh, compare kernels and verdicts.
+
+    Parameters
+    ----------
+    models_dir : str or Path, optional
+        The folder with the example's CSV, true and identified model files.
+    quick : bool, optional
+        Verdicts of order 3 instead of 5.
+
+    Returns
+    -------
+    Comparison
+        The kernels' errors and the verdicts.
+    """
     folder = Path(models_dir)
     true = load_model(folder / f"{ex.STEM}_true.toml")
     identified = load_model(folder / f"{ex.STEM}.toml")
@@ -128,7 +141,20 @@ def _verdict_rows(c: Comparison) -> list[list[object]]:
 
 
 def write(out_dir: str | Path, quick: bool = False) -> Path:
-    """Write ``identified-example.md`` and its figures into ``out_dir``; return the page."""
+    """Write ``identified-example.md`` and its figures into ``out_dir``; return the page.
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        The report folder.
+    quick : bool, optional
+        Verdicts of order 3 instead of 5.
+
+    Returns
+    -------
+    Path
+        The path of the page.
+    """
     from gfrf.report._format import code, header, table
 
     out = Path(out_dir)

@@ -46,13 +46,35 @@ MAX_EXPLICIT = 700
 
 
 def command_path(path: str) -> str:
-    """The model path as printed in commands: ``models/<file>`` for bundled models."""
+    """The model path as printed in commands: ``models/<file>`` for bundled models.
+
+    Parameters
+    ----------
+    path : str
+        The model file's path.
+
+    Returns
+    -------
+    str
+        The path as printed.
+    """
     p = Path(path)
     return f"models/{p.name}" if p.parent.name == "models" else str(path)
 
 
 def summary_lines(a: ModelAnalysis) -> list[str]:
-    """The three-line summary of a model page (also used in the index)."""
+    """The three-line summary of a model page (also used in the index).
+
+    Parameters
+    ----------
+    a : ModelAnalysis
+        The model's analysis.
+
+    Returns
+    -------
+    list of str
+        Three lines.
+    """
     v = a.verdict
     if v.radius > 0 and v.radius_certified and v.radius_proof != "none":
         level = "proven" if v.radius_proof == "interval" else "certified (float)"

@@ -66,7 +66,18 @@ _COEFFICIENTS = ("python -c \"from gfrf.papers.gfrf_paper import coefficient_row
 
 
 def row_command(row: CheckRow) -> str:
-    """The shell command that reproduces ``row``'s value."""
+    """The shell command that reproduces ``row``'s value.
+
+    Parameters
+    ----------
+    row : CheckRow
+        One row of the reproduction table.
+
+    Returns
+    -------
+    str
+        The command.
+    """
     path = f"models/{MODELS[row.section]}"
     q = row.quantity
     if "coefficient" in q and row.section.startswith("4"):
@@ -83,7 +94,18 @@ def row_command(row: CheckRow) -> str:
 
 
 def check_table(rows: list[CheckRow]) -> str:
-    """The reproduction table: one line per row, every value through :func:`cell`."""
+    """The reproduction table: one line per row, every value through :func:`cell`.
+
+    Parameters
+    ----------
+    rows : list of CheckRow
+        The rows.
+
+    Returns
+    -------
+    str
+        The Markdown table.
+    """
     return table(CHECK_HEADERS, [[r.section, r.quantity, r.paper, r.ours,
                                   "**yes**" if r.match else "no", r.reason,
                                   code(row_command(r))] for r in rows])
@@ -199,7 +221,18 @@ def _simulation_rows(analyses: list[ModelAnalysis], drives: dict[str, Any]
 
 
 def simulation_table(rows: list[list[object]]) -> str:
-    """The simulation table, "below r*" shown as yes / no / n/a."""
+    """The simulation table, "below r*" shown as yes / no / n/a.
+
+    Parameters
+    ----------
+    rows : list of list
+        The rows; entry 5 (below r*) may be None.
+
+    Returns
+    -------
+    str
+        The Markdown table.
+    """
     shown = [[*r[:5], "n/a" if r[5] is None else r[5], *r[6:]] for r in rows]
     return table(SIMULATION_HEADERS, shown)
 

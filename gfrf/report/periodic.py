@@ -111,7 +111,20 @@ def _delta_signs(orbits: dict[str, list[tuple[float, float]]]) -> str:
 
 
 def write(out_dir: Path, quick: bool = False) -> Path:
-    """Write ``out_dir/paper-periodic.md`` and its PNG figures; return the Markdown path."""
+    """Write ``out_dir/paper-periodic.md`` and its PNG figures; return the Markdown path.
+
+    Parameters
+    ----------
+    out_dir : Path
+        The report folder (created if missing).
+    quick : bool, optional
+        Smaller grids of eps and amplitude (tests).
+
+    Returns
+    -------
+    Path
+        The path of ``paper-periodic.md``.
+    """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     model = load_model()

@@ -71,7 +71,24 @@ class ErrorGrid:
 
 def error_grid(branch: str, eps_values: tuple[float, ...], amplitudes: tuple[float, ...],
                side: str = "lower") -> ErrorGrid:
-    """Compare each applicable method at every ``(eps, amplitude)`` of ``branch``/``side``."""
+    """Compare each applicable method at every ``(eps, amplitude)`` of ``branch``/``side``.
+
+    Parameters
+    ----------
+    branch : str
+        The transition branch, ``"0"`` or ``"1/4"``.
+    eps_values : tuple of float
+        The values of eps.
+    amplitudes : tuple of float
+        The orbit amplitudes.
+    side : str, optional
+        ``"lower"`` or ``"upper"``: which transition curve of the branch.
+
+    Returns
+    -------
+    ErrorGrid
+        The errors of every method at every point.
+    """
     rows = {}
     for lab, method, order in (TABLE_METHODS if side == "lower" else UPPER_METHODS):
         if branch == "0" and method in ("energy", "averaging"):
@@ -100,7 +117,18 @@ def _err(grid: ErrorGrid, label: str, e: float, a: float) -> float:
 
 
 def conclusion_checks(grid: ErrorGrid) -> list[ConclusionCheck]:
-    """Test the paper's conclusions 1 and 3 on the 1/4-branch grid (paper orders)."""
+    """Test the paper's conclusions 1 and 3 on the 1/4-branch grid (paper orders).
+
+    Parameters
+    ----------
+    grid : ErrorGrid
+        The error grid of the 1/4 branch.
+
+    Returns
+    -------
+    list of ConclusionCheck
+        The checks.
+    """
     out = []
     amin, amax = min(grid.amplitudes), max(grid.amplitudes)
     for lab in grid.labels():

@@ -32,7 +32,18 @@ def _kind(radius: float) -> str:
 
 
 def rows(results: dict[str, Threshold]) -> list[list[object]]:
-    """One table row per model: r*, second certificate, falsified amplitude, static bound."""
+    """One table row per model: r*, second certificate, falsified amplitude, static bound.
+
+    Parameters
+    ----------
+    results : dict of str to Threshold
+        The two-sided answers by model stem.
+
+    Returns
+    -------
+    list of list
+        One row per model.
+    """
     out: list[list[object]] = []
     for stem, t in results.items():
         theorem = t.certificates[0]
@@ -53,7 +64,20 @@ def rows(results: dict[str, Threshold]) -> list[list[object]]:
 
 
 def threshold_figure(results: dict[str, Threshold], path: Path) -> str:
-    """Three regions per model on a log amplitude axis: proven, unknown, escapes."""
+    """Three regions per model on a log amplitude axis: proven, unknown, escapes.
+
+    Parameters
+    ----------
+    results : dict of str to Threshold
+        The two-sided answers by model stem.
+    path : Path
+        The PNG file.
+
+    Returns
+    -------
+    str
+        The file's name.
+    """
     finite = [v for t in results.values() for v in (t.lower, t.upper or 0.0, t.static_bound or 0)
               if 0 < v < math.inf]
     lo, hi = min(finite) / 10, max(finite) * 10
@@ -82,6 +106,20 @@ def write(out_dir: Path, models: list[str], quick: bool = False) -> Path:
     """Write ``thresholds.md`` and ``thresholds.png`` for ``models`` (paths) into ``out_dir``.
 
     ``quick`` (tests) keeps only :data:`QUICK_MODELS` (about 5 s instead of about 60 s).
+
+    Parameters
+    ----------
+    out_dir : Path
+        The report folder.
+    models : list of str
+        Paths of the model files.
+    quick : bool, optional
+        Only :data:`QUICK_MODELS`.
+
+    Returns
+    -------
+    Path
+        The path of ``thresholds.md``.
     """
     if quick:
         models = [m for m in models if Path(m).stem in QUICK_MODELS]

@@ -177,6 +177,11 @@ def compile_system(system: OdeSystem) -> tuple[ModuleType, float]:
     its cache, ``$GFRF_CACHE_DIR/fastsim``, is used only when it passes the checks of
     :mod:`gfrf._cache`, else the module is compiled in memory.
 
+    Parameters
+    ----------
+    system : OdeSystem
+        The generated state form (:func:`gfrf.sim.system.build_system`).
+
     Returns
     -------
     module : ModuleType

@@ -103,7 +103,18 @@ class OdeSystem:
         return bool(np.any(ev.real > 1e-9 * max(1.0, float(np.max(np.abs(ev))))))
 
     def function(self, name: str) -> Callable[..., Any]:
-        """The compiled pure-Python function ``rhs`` or ``plant_input`` of :attr:`source`."""
+        """The compiled pure-Python function ``rhs`` or ``plant_input`` of :attr:`source`.
+
+        Parameters
+        ----------
+        name : str
+            ``"rhs"`` or ``"plant_input"``.
+
+        Returns
+        -------
+        callable
+            The function, compiled once and kept.
+        """
         if name not in self._functions:
             namespace: dict[str, Any] = {"math": math}
             exec(compile(self.source, f"<gfrf rhs {self.label}>", "exec"), namespace)
@@ -115,6 +126,16 @@ class OdeSystem:
 
         The same generated source, with its ``math`` functions taken from numpy
         (:data:`_NUMPY_MATH`); a function numpy lacks raises ``AttributeError`` when called.
+
+        Parameters
+        ----------
+        name : str
+            ``"rhs"`` or ``"plant_input"``.
+
+        Returns
+        -------
+        callable
+            The function on arrays, compiled once and kept.
         """
         key = f"{name}[numpy]"
         if key not in self._functions:
@@ -171,7 +192,18 @@ class SimulationResult:
         return float(np.max(np.abs(self.y))) if self.y.size else 0.0
 
     def to_dict(self, arrays: bool = False) -> dict[str, Any]:
-        """JSON-ready summary; ``arrays=True`` adds t, y, u."""
+        """JSON-ready summary; ``arrays=True`` adds t, y, u.
+
+        Parameters
+        ----------
+        arrays : bool, optional
+            Include the samples t (s), y and u as lists.
+
+        Returns
+        -------
+        dict
+            The summary.
+        """
         out: dict[str, Any] = {
             "status": self.status, "method": self.method, "blowup_time": self.blowup_time,
             "message": self.message, "t_final": float(self.t[-1]) if self.t.size else 0.0,
@@ -202,12 +234,39 @@ class SimulationResult:
 
 
 def budget_name(max_evaluations: int) -> str:
+    """The name of the work budget for a message.
+
+    Parameters
+    ----------
+    max_evaluations : int
+        The budget of right-hand-side evaluations in force.
+
+    Returns
+    -------
+    str
+        ``"MAX_RHS_EVALUATIONS"`` when it is the default, else ``"max_evaluations"``.
+    """
     return "MAX_RHS_EVALUATIONS" if max_evaluations == MAX_RHS_EVALUATIONS \
         else "max_evaluations"
 
 
 def input_values(signal: InputSignal, n_inputs: int, t: np.ndarray) -> np.ndarray:
-    """Array (n_inputs, len(t)) of u, u', ... at times ``t`` (seconds)."""
+    """Array (n_inputs, len(t)) of u, u', ... at times ``t`` (seconds).
+
+    Parameters
+    ----------
+    signal : InputSignal
+        The input.
+    n_inputs : int
+        Number of rows: u and its first ``n_inputs - 1`` derivatives.
+    t : numpy.ndarray
+        Times in s.
+
+    Returns
+    -------
+    numpy.ndarray
+        Float array of shape (n_inputs, len(t)).
+    """
     return np.array([signal.derivative(k)(t) for k in range(n_inputs)]).reshape(n_inputs, -1)
 
 
@@ -217,6 +276,20 @@ def plant_input(system: OdeSystem, states: np.ndarray, v: np.ndarray) -> np.ndar
     The source is run once on whole rows (its ``math`` functions taken from numpy, see
     :meth:`OdeSystem.vector_function`); a source that does not run on arrays is run
     sample by sample.
+
+    Parameters
+    ----------
+    system : OdeSystem
+        The generated state form.
+    states : numpy.ndarray
+        States, shape (n_states, N), one column per sample.
+    v : numpy.ndarray
+        Input vectors (u, u', ...), shape (n_inputs, N).
+
+    Returns
+    -------
+    numpy.ndarray
+        The N values of u.
     """
     n = states.shape[1]
     try:
@@ -363,6 +436,32 @@ def integrate_scipy(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_en
     source's ``rhs`` on numpy scalars with the input's numpy callables); the evaluations
     counted are the solver's (``nfev``, and for Radau also its finite-difference
     Jacobian's).
+
+    Parameters
+    ----------
+    system : OdeSystem
+        The generated state form.
+    signal : InputSignal
+        The input u(t), t in s.
+    z0 : numpy.ndarray
+        The initial state.
+    t_end : float
+        The end time in s.
+    t_eval : numpy.ndarray
+        Increasing output times in s, within [0, t_end].
+    method : str
+        ``"rk45"``, ``"dop853"``, ``"radau"`` or ``"lsoda"``.
+    rtol, atol : float
+        The solver's relative and absolute tolerances.
+    blowup : float
+        The threshold on |y|.
+    max_evaluations : int, optional
+        The budget of right-hand-side evaluations.
+
+    Returns
+    -------
+    SimulationResult
+        The samples at the ``t_eval`` times reached, and the status.
     """
     import scipy.integrate as si
 

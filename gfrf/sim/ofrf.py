@@ -157,6 +157,16 @@ class OFRF:
         """NOFRFs ``G_n(jW) = Y_n(W) / U_n(W)`` at ``value`` (default: the file's value).
 
         None where ``U_n(W) = 0``; orders with no contribution at W are 0 where defined.
+
+        Parameters
+        ----------
+        value : float, optional
+            The parameter's value; None: the file's value.
+
+        Returns
+        -------
+        dict of int to complex or None
+            ``G_n`` for n = 1..order.
         """
         v = self.value if value is None else value
         out: dict[int, complex | None] = {}
@@ -196,8 +206,20 @@ class OFRF:
         return ofrf_markdown(self)
 
     def plot(self, values: Any = None) -> Any:
-        """|Y(jW)| against the parameter's ``values`` (default: 0 to twice the file's value);
-        a matplotlib Figure made without pyplot."""
+        """|Y(jW)| against the parameter's ``values``; a matplotlib Figure made without
+        pyplot.
+
+        Parameters
+        ----------
+        values : array_like, optional
+            Values of the parameter; default 201 points from ``value - |value|`` to
+            ``value + |value|``.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
+        """
         from gfrf.sim.views import ofrf_figure
 
         return ofrf_figure(self, values)

@@ -74,6 +74,16 @@ def auto_method(rtol: float) -> str:
     cart-pole loop, whose fast closed-loop pole (-24 1/s) limits the step of an
     explicit method, DOP853 is slower there.
 
+    Parameters
+    ----------
+    rtol : float
+        The relative tolerance.
+
+    Returns
+    -------
+    str
+        ``"rk45"`` or ``"dop853"``.
+
     Examples
     --------
     >>> auto_method(1e-3), auto_method(1e-4), auto_method(1e-8)

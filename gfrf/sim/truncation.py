@@ -63,6 +63,18 @@ def _truncate(p: VolterraPrediction, order: int) -> VolterraPrediction:
 def base_frequency(tones: Any, max_denominator: int = 1000) -> float:
     """Largest w0 (rad/s) of which every tone frequency is an integer multiple.
 
+    Parameters
+    ----------
+    tones : str or sequence of tuple
+        ``(A, omega, phi)`` per tone (omega in rad/s, > 0), or input text.
+    max_denominator : int, optional
+        Largest denominator of a frequency ratio accepted.
+
+    Returns
+    -------
+    float
+        w0 in rad/s.
+
     Raises
     ------
     ArgumentError
@@ -91,7 +103,18 @@ class SteadyState:
     iterations: int
 
     def harmonic(self, m: int) -> complex:
-        """Phasor Y(m omega0) from the FFT over one period (y = 2 Re(Y e^{j m w0 t}))."""
+        """Phasor Y(m omega0) from the FFT over one period (y = 2 Re(Y e^{j m w0 t})).
+
+        Parameters
+        ----------
+        m : int
+            The harmonic of ``omega0``, 0 <= m <= samples / 2.
+
+        Returns
+        -------
+        complex
+            The phasor Y.
+        """
         return complex(np.fft.rfft(self.y)[m] / self.y.size)
 
 
@@ -105,6 +128,28 @@ def steady_state(system: OdeSystem, tones: Any, *, samples: int = 256,
     with a finite-difference Jacobian.  All integrations together may evaluate the
     right-hand side at most ``max_evaluations`` times (default
     :data:`gfrf.sim.integrate.MAX_RHS_EVALUATIONS`; tones 1000 times apart need about that).
+
+    Parameters
+    ----------
+    system : OdeSystem
+        The generated state form of a continuous-time model.
+    tones : str or sequence of tuple
+        ``(A, omega, phi)`` per tone, commensurate frequencies in rad/s, or input text.
+    samples : int, optional
+        Samples of the returned period.
+    guess : numpy.ndarray, optional
+        Initial state of the Newton iteration; default zero.
+    tol : float, optional
+        Tolerance of the shooting residual, relative to the state's size.
+    max_iter : int, optional
+        Most Newton iterations.
+    max_evaluations : int, optional
+        Budget of right-hand-side evaluations of all the integrations together.
+
+    Returns
+    -------
+    SteadyState
+        One period of y, sampled at ``samples`` equally spaced times.
 
     Raises
     ------
@@ -159,6 +204,17 @@ def compare(model: Model, tones: Any, orders: tuple[int, ...] = (1, 3, 5), *,
             samples: int = 256) -> dict[str, Any]:
     """Sup-norm error of each order's prediction against the shot steady state.
 
+    Parameters
+    ----------
+    model : Model
+        A continuous-time plant model.
+    tones : str or sequence of tuple
+        ``(A, omega, phi)`` per tone, commensurate frequencies in rad/s, or input text.
+    orders : tuple of int, optional
+        The truncation orders N compared.
+    samples : int, optional
+        Samples of the period.
+
     Returns
     -------
     dict
@@ -178,6 +234,17 @@ def error_vs_amplitude(model: Model, omega: float, amplitudes: Any,
     """Prediction error against amplitude for a sinusoid ``A cos(omega t)`` (rad/s).
 
     Returns ``{"amplitudes", "errors": {N: [...]}, "slopes": {N: fitted log-log slope}}``.
+
+    Parameters
+    ----------
+    model : Model
+        A continuous-time plant model.
+    omega : float
+        The angular frequency in rad/s.
+    amplitudes : array_like
+        The amplitudes A, > 0.
+    orders : tuple of int, optional
+        The truncation orders N compared.
     """
     amplitudes = np.asarray(amplitudes, dtype=float)
     errors: dict[int, list[float]] = {n: [] for n in orders}

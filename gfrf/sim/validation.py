@@ -166,12 +166,33 @@ def resonance(model: Any) -> float:
     nonzero frequency, so "resonance" is the resonance, not a point of a grid.  Where it
     has no such peak (maximal at 0 or as w -> inf, or unbounded) the argmax of |H1| on a
     4001-point log grid 1e-2..1e2 rad/s, a grid value, is the drive frequency instead.
+
+    Parameters
+    ----------
+    model : Model
+        The plant model.
+
+    Returns
+    -------
+    float
+        The drive frequency in rad/s.
     """
     return _resonance(model)[0]
 
 
 def resonance_label(model: Any) -> str:
-    """What :func:`resonance` returns for ``model``, in words (for report text)."""
+    """What :func:`resonance` returns for ``model``, in words (for report text).
+
+    Parameters
+    ----------
+    model : Model
+        The plant model.
+
+    Returns
+    -------
+    str
+        The frequency in rad/s and how it was found.
+    """
     w, exact = _resonance(model)
     if exact:
         return f"{w:.7g} rad/s, the exact peak of |H1| (the witness of ||H1||)"
@@ -196,6 +217,16 @@ def spectrum_size(values: np.ndarray) -> float:
     The Fourier coefficients of the signal are c_k = V_(k mod N) sinc^2(k/N) / N
     (V = DFT of the N knot values, sinc^2 the spectrum of the hat function), and
     sinc^2 sums to one over the aliases k + jN, so sum_k |c_k| = sum_m |V_m| / N.
+
+    Parameters
+    ----------
+    values : numpy.ndarray
+        The N >= 1 knot values of one period.
+
+    Returns
+    -------
+    float
+        ``sum_m |V_m| / N``.
     """
     v = np.asarray(values, dtype=float)
     return float(np.sum(np.abs(np.fft.fft(v))) / v.size)
@@ -209,6 +240,22 @@ def random_input(size: float, seed: int = 0, hold: float = 0.5,
     with period ``knots * hold``, scaled so that the spectrum size is exactly
     ``size``; hence max |u| <= size.  The same seed gives the same signal.  Its kinks,
     the multiples of ``hold``, are its breakpoints (:meth:`InputSignal.breakpoints`).
+
+    Parameters
+    ----------
+    size : float
+        The spectrum size r, > 0.
+    seed : int, optional
+        Seed of :func:`numpy.random.default_rng`.
+    hold : float, optional
+        Spacing of the knots in s, > 0.
+    knots : int, optional
+        Knots per period, >= 2.
+
+    Returns
+    -------
+    InputSignal
+        The periodic signal.
     """
     if not (size > 0 and hold > 0 and knots >= 2):
         raise ArgumentError("size and hold must be positive and knots >= 2")
@@ -346,6 +393,18 @@ def linear_vs_nonlinear(mf: ModelFile, angle_deg: float, t_end: float = 5.0,
 
     The linear loop is :func:`gfrf.stability.loops.closed_loop`'s characteristic polynomial,
     realised with states (y, y') and simulated by ``control.initial_response``.
+
+    Parameters
+    ----------
+    mf : ModelFile
+        A model file with a controller whose loop has a second-order characteristic
+        polynomial.
+    angle_deg : float
+        The initial angle in degrees (zero initial velocity).
+    t_end : float, optional
+        The horizon in s.
+    equation : str, optional
+        Which equation of the model file is simulated (``"polynomial"`` or ``"physical"``).
 
     Returns
     -------

@@ -17,7 +17,18 @@ __all__ = ["prediction_markdown", "prediction_figure", "ofrf_markdown", "ofrf_fi
 
 
 def prediction_markdown(p: Any) -> str:
-    """The components of a Volterra prediction as a Markdown table."""
+    """The components of a Volterra prediction as a Markdown table.
+
+    Parameters
+    ----------
+    p : VolterraPrediction
+        The prediction.
+
+    Returns
+    -------
+    str
+        A heading line and a table of omega (rad/s), amplitude and phase (rad).
+    """
     head = (f"**Volterra prediction, order {p.order}**: input amplitude {p.amplitude:.6g}, "
             f"series radius r* = {p.radius:.6g} ({p.radius_proof})")
     if p.warning:
@@ -32,6 +43,20 @@ def prediction_figure(p: Any, simulated: Any = None, *, periods: float = 20.0) -
     ``simulated`` is a :class:`gfrf.sim.simulation.SimulationResult` (or ``(t, y)``) whose
     last ``periods`` periods of the slowest tone are taken as the steady state; its
     one-sided amplitude spectrum (Hann window) is drawn behind the stems.
+
+    Parameters
+    ----------
+    p : VolterraPrediction
+        The prediction.
+    simulated : SimulationResult or tuple of array_like, optional
+        A simulation, or ``(t, y)`` in s; None: the stems only.
+    periods : float, optional
+        Number of periods of the slowest tone taken from the end of the simulation.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
     """
     figure, axes = new_figure(1, 1, (7.0, 3.8))
     ax = axes[0][0]
@@ -65,7 +90,18 @@ def prediction_figure(p: Any, simulated: Any = None, *, periods: float = 20.0) -
 
 
 def ofrf_markdown(o: Any) -> str:
-    """The OFRF coefficients and NOFRFs as Markdown tables."""
+    """The OFRF coefficients and NOFRFs as Markdown tables.
+
+    Parameters
+    ----------
+    o : OFRF
+        The output frequency response function.
+
+    Returns
+    -------
+    str
+        A heading line and two tables.
+    """
     head = (f"**OFRF of {o.parameter}** at omega = {o.omega:.6g} rad/s, order {o.order}: "
             f"complex amplitude = sum P_k {o.parameter}^k (estimate: truncated series; "
             f"truncation error at {o.parameter} = {o.value:.6g} at most "
@@ -79,7 +115,21 @@ def ofrf_markdown(o: Any) -> str:
 
 
 def ofrf_figure(o: Any, values: Any = None) -> Any:
-    """|Y(jW)| (the amplitude at W) against the parameter's value."""
+    """|Y(jW)| (the amplitude at W) against the parameter's value.
+
+    Parameters
+    ----------
+    o : OFRF
+        The output frequency response function.
+    values : array_like, optional
+        Values of the parameter; default 201 points from ``value - |value|`` to
+        ``value + |value|`` (a span of 1 each side when the file's value is 0).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+    """
     if values is None:
         span = abs(o.value) or 1.0
         values = np.linspace(o.value - span, o.value + span, 201)

@@ -126,14 +126,38 @@ class VolterraPrediction:
         return self.radius_proof != "none"
 
     def component(self, omega: float) -> Component | None:
-        """The component at angular frequency ``omega`` (rad/s), None if absent."""
+        """The component at angular frequency ``omega`` (rad/s), None if absent.
+
+        Parameters
+        ----------
+        omega : float
+            Angular frequency in rad/s (matched within a relative 1e-9).
+
+        Returns
+        -------
+        Component or None
+            The component, or None.
+        """
         for c in self.components:
             if abs(c.omega - omega) <= 1e-9 * max(1.0, abs(omega)):
                 return c
         return None
 
     def waveform(self, t: Any, derivative: int = 0) -> np.ndarray:
-        """The predicted steady state (or its time derivative) at times ``t`` in seconds."""
+        """The predicted steady state (or its time derivative) at times ``t`` in seconds.
+
+        Parameters
+        ----------
+        t : array_like
+            Times in s.
+        derivative : int, optional
+            Order of the time derivative, 0 for y itself.
+
+        Returns
+        -------
+        numpy.ndarray
+            Float values, the shape of ``t``.
+        """
         t = np.asarray(t, dtype=float)
         y = np.zeros_like(t)
         for c in self.components:
@@ -154,7 +178,19 @@ class VolterraPrediction:
     def plot(self, simulated: Any = None) -> Any:
         """The predicted spectrum as stems (rad/s), with the FFT of ``simulated`` (a
         :class:`gfrf.sim.simulation.SimulationResult` or ``(t, y)``) behind it; returns a
-        matplotlib Figure made without pyplot (:func:`gfrf.sim.views.prediction_figure`)."""
+        matplotlib Figure made without pyplot (:func:`gfrf.sim.views.prediction_figure`).
+
+        Parameters
+        ----------
+        simulated : SimulationResult or tuple of array_like, optional
+            A simulation, or ``(t, y)`` in s, drawn behind the prediction; None: the
+            prediction only.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
+        """
         from gfrf.sim.views import prediction_figure
 
         return prediction_figure(self, simulated)
@@ -237,6 +273,17 @@ def input_amplitude(tones: Any) -> float:
     It bounds sup_t |u(t)| for the given phases and equals it when the tones can line
     up (e.g. incommensurate frequencies); it is the amplitude r at which the series
     sum_n ||H_n|| r^n bounds the output (|sum of the phasors| <= sum_k |A_k|).
+
+    Parameters
+    ----------
+    tones : str or sequence of tuple
+        ``(A, omega, phi)`` per tone (omega in rad/s, phi in rad), or input text such as
+        ``"0.1*cos(2*t) + 0.05*sin(3*t)"``.
+
+    Returns
+    -------
+    float
+        ``sum_k |A_k|``.
     """
     return float(sum(abs(a) for a, _, _ in _check_tones(tones)))
 
@@ -246,6 +293,16 @@ def series_radius(model: Model) -> tuple[float, float, str]:
     norm series that ``gfrf verdict`` reports (:func:`gfrf.bounds.majorant.plant_radius`), so the
     series converges for every input amplitude below ``certified_below`` (within 1e-10
     of r*).  ``proof`` is ``"interval"`` (proven), ``"float"`` or ``"none"`` (estimate).
+
+    Parameters
+    ----------
+    model : Model
+        The plant model.
+
+    Returns
+    -------
+    tuple of (float, float, str)
+        r*, the amplitude below which convergence is certified, and the proof level.
     """
     from gfrf.bounds.majorant import majorant, plant_radius
 
@@ -258,6 +315,20 @@ def intermodulation_count(model: Model, n_tones: int, order: int) -> int:
 
     One product per multiset of n of the 2 ``n_tones`` signed tones, for every order
     n <= ``order`` whose kernel is not structurally zero: ``sum_n C(2K + n - 1, n)``.
+
+    Parameters
+    ----------
+    model : Model
+        The plant model.
+    n_tones : int
+        Number of tones K of the input.
+    order : int
+        Highest order of the truncated series.
+
+    Returns
+    -------
+    int
+        The number of products.
     """
     gen = generator(model)
     return sum(math.comb(2 * n_tones + n - 1, n) for n in range(1, order + 1)

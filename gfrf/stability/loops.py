@@ -68,6 +68,16 @@ def linear_plant(model: Model) -> control.TransferFunction:
 
     A discrete (NARX) model gives a discrete transfer function in z = 1/q with
     ``dt = sample_time``.
+
+    Parameters
+    ----------
+    model : Model
+        The plant model.
+
+    Returns
+    -------
+    control.TransferFunction
+        Its linear part H1 (continuous in s, or discrete in z).
     """
     import control
 
@@ -81,7 +91,18 @@ def linear_plant(model: Model) -> control.TransferFunction:
 
 def controller_polynomials(controller: Controller) -> tuple[np.ndarray, np.ndarray]:
     """(N_C, D_C) highest power first: the transfer function, or a polynomial
-    controller's linear part."""
+    controller's linear part.
+
+    Parameters
+    ----------
+    controller : Controller
+        A transfer-function controller, or a continuous polynomial controller.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        Numerator and denominator coefficients, highest power of s first.
+    """
     if controller.is_linear:
         return np.asarray(controller.num, dtype=float), np.asarray(controller.den, dtype=float)
     _continuous(controller.model, "the controller")  # type: ignore[arg-type]
@@ -94,6 +115,16 @@ def loop_text(controller: Controller) -> str:
     Theorem 2 bounds the loop error e = r - y (r + y for positive feedback) driven by the
     reference r, so r, r* and the amplitude are in the units of y (the reference), not
     of the plant input u.
+
+    Parameters
+    ----------
+    controller : Controller
+        The model file's controller.
+
+    Returns
+    -------
+    str
+        One line describing the loop.
     """
     sign = "-" if controller.feedback == -1 else "+"
     if controller.is_linear:
@@ -122,7 +153,18 @@ def _poly_s(c: np.ndarray) -> str:
 
 
 def controller_tf(controller: Controller) -> control.TransferFunction:
-    """The controller's linear part as a :class:`control.TransferFunction` (may be improper)."""
+    """The controller's linear part as a :class:`control.TransferFunction` (may be improper).
+
+    Parameters
+    ----------
+    controller : Controller
+        A transfer-function controller, or a continuous polynomial controller.
+
+    Returns
+    -------
+    control.TransferFunction
+        C(s).
+    """
     import control
 
     num, den = controller_polynomials(controller)
@@ -156,6 +198,18 @@ def characteristic_exact(plant: tuple[np.ndarray, np.ndarray],
 
     The float coefficients are taken at their exact values and multiplied without
     rounding; leading zeros are dropped (``[0]`` for the zero polynomial).
+
+    Parameters
+    ----------
+    plant, ctrl : tuple of numpy.ndarray
+        ``(N, D)`` of the plant and of the controller, highest power of s first.
+    feedback : int
+        -1 for negative feedback u = C(r - y), +1 for positive.
+
+    Returns
+    -------
+    list of Fraction
+        The characteristic polynomial, highest power first.
     """
     den = _polymul(fractions(plant[1]), fractions(ctrl[1]))
     num = _polymul(fractions(plant[0]), fractions(ctrl[0]))
@@ -171,6 +225,18 @@ def characteristic(plant: tuple[np.ndarray, np.ndarray], ctrl: tuple[np.ndarray,
 
     The nearest floats to the exact coefficients of :func:`characteristic_exact`
     (for display and ``control`` objects; decisions use the exact polynomial).
+
+    Parameters
+    ----------
+    plant, ctrl : tuple of numpy.ndarray
+        ``(N, D)`` of the plant and of the controller, highest power of s first.
+    feedback : int
+        -1 for negative feedback u = C(r - y), +1 for positive.
+
+    Returns
+    -------
+    numpy.ndarray
+        Float coefficients, highest power first.
     """
     return np.array([float(c) for c in characteristic_exact(plant, ctrl, feedback)])
 
@@ -368,6 +434,18 @@ def with_lags(model_file: ModelFile, time_constants: tuple[float, ...]) -> Model
 
     Restores the first-order lags of the paper's eq (15), ``(a s^2 + b s + c) /
     ((T1 s + 1)(T2 s + 1)(T3 s + 1))``, which the paper neglects; T_i in seconds.
+
+    Parameters
+    ----------
+    model_file : ModelFile
+        A model file with a transfer-function controller.
+    time_constants : tuple of float
+        The lags' time constants T_i in s, each finite and >= 0.
+
+    Returns
+    -------
+    ModelFile
+        A new model file; the input one is unchanged.
 
     Raises
     ------

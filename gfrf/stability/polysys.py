@@ -40,7 +40,18 @@ MAX_STATES = 6
 
 
 def padd(*ps: Poly) -> Poly:
-    """Sum of polynomials (zero coefficients dropped)."""
+    """Sum of polynomials (zero coefficients dropped).
+
+    Parameters
+    ----------
+    *ps : Poly
+        Polynomials (exponent tuple -> Fraction) in the same number of variables.
+
+    Returns
+    -------
+    Poly
+        Their sum; an empty sum is the zero polynomial ``{}``.
+    """
     out: Poly = {}
     for p in ps:
         for k, c in p.items():
@@ -49,12 +60,36 @@ def padd(*ps: Poly) -> Poly:
 
 
 def pscale(p: Poly, s: Fraction) -> Poly:
-    """s * p."""
+    """s * p.
+
+    Parameters
+    ----------
+    p : Poly
+        The polynomial (exponent tuple -> Fraction).
+    s : Fraction
+        The factor.
+
+    Returns
+    -------
+    Poly
+        ``s * p``, ``{}`` when ``s`` is zero.
+    """
     return {k: c * s for k, c in p.items() if c * s != 0}
 
 
 def pmul(p: Poly, q: Poly) -> Poly:
-    """p * q."""
+    """p * q.
+
+    Parameters
+    ----------
+    p, q : Poly
+        Polynomials (exponent tuple -> Fraction) in the same number of variables.
+
+    Returns
+    -------
+    Poly
+        Their exact product, zero coefficients dropped.
+    """
     out: Poly = {}
     for a, x in p.items():
         for b, y in q.items():
@@ -64,7 +99,20 @@ def pmul(p: Poly, q: Poly) -> Poly:
 
 
 def pdiff(p: Poly, i: int) -> Poly:
-    """d p / d var_i."""
+    """d p / d var_i.
+
+    Parameters
+    ----------
+    p : Poly
+        The polynomial (exponent tuple -> Fraction).
+    i : int
+        Index of the variable, 0-based (a position in the exponent tuples).
+
+    Returns
+    -------
+    Poly
+        The exact partial derivative.
+    """
     out: Poly = {}
     for k, c in p.items():
         if k[i]:
@@ -74,7 +122,22 @@ def pdiff(p: Poly, i: int) -> Poly:
 
 
 def pcompose(p: Poly, subs: list[Poly], nvars: int) -> Poly:
-    """p(subs[0], .., subs[m-1]) with each substitute a polynomial in ``nvars`` variables."""
+    """p(subs[0], .., subs[m-1]) with each substitute a polynomial in ``nvars`` variables.
+
+    Parameters
+    ----------
+    p : Poly
+        The outer polynomial, in ``len(subs)`` variables.
+    subs : list of Poly
+        One substitute per variable of ``p``, each in ``nvars`` variables.
+    nvars : int
+        Number of variables of the substitutes (and of the result).
+
+    Returns
+    -------
+    Poly
+        The exact composition.
+    """
     out: Poly = {}
     zero = (0,) * nvars
     powers: dict[tuple[int, int], Poly] = {}
@@ -96,12 +159,36 @@ def pcompose(p: Poly, subs: list[Poly], nvars: int) -> Poly:
 
 
 def pdegree(p: Poly) -> int:
-    """Total degree (0 for the zero polynomial)."""
+    """Total degree (0 for the zero polynomial).
+
+    Parameters
+    ----------
+    p : Poly
+        The polynomial (exponent tuple -> Fraction).
+
+    Returns
+    -------
+    int
+        The largest total degree of its monomials.
+    """
     return max((sum(k) for k in p), default=0)
 
 
 def peval(p: Poly, points: np.ndarray) -> np.ndarray:
-    """p at the rows of ``points`` (floats; shape (m, nvars))."""
+    """p at the rows of ``points`` (floats; shape (m, nvars)).
+
+    Parameters
+    ----------
+    p : Poly
+        The polynomial (exponent tuple -> Fraction), evaluated in float arithmetic.
+    points : numpy.ndarray
+        Float array of shape (m, nvars), one point per row.
+
+    Returns
+    -------
+    numpy.ndarray
+        The m values, float (an estimate: not an exact check).
+    """
     out = np.zeros(points.shape[0])
     for k, c in p.items():
         out += float(c) * np.prod(points ** np.asarray(k), axis=1)
@@ -109,7 +196,20 @@ def peval(p: Poly, points: np.ndarray) -> np.ndarray:
 
 
 def linear_poly(row: list[Fraction], nvars: int) -> Poly:
-    """sum row[i] * var_i."""
+    """sum row[i] * var_i.
+
+    Parameters
+    ----------
+    row : list of Fraction
+        The coefficients of the variables ``var_0 .. var_{len(row)-1}``.
+    nvars : int
+        Number of variables of the result (at least ``len(row)``).
+
+    Returns
+    -------
+    Poly
+        The linear form, zero coefficients dropped.
+    """
     return {tuple(int(j == i) for j in range(nvars)): c for i, c in enumerate(row) if c != 0}
 
 

@@ -121,7 +121,20 @@ def gram_to(basis: list[tuple[int, ...]], Q: list[list[Fraction]]) -> dict[str, 
 
 
 def gram_poly(basis: list[tuple[int, ...]], Q: list[list[Fraction]]) -> Poly:
-    """z^T Q z."""
+    """z^T Q z.
+
+    Parameters
+    ----------
+    basis : list of tuple of int
+        The monomial vector z, as exponent tuples.
+    Q : list of list of Fraction
+        The Gram matrix, square of side ``len(basis)``.
+
+    Returns
+    -------
+    Poly
+        The exact polynomial ``z^T Q z``.
+    """
     out: Poly = {}
     for i, a in enumerate(basis):
         for j, b in enumerate(basis):
@@ -132,7 +145,18 @@ def gram_poly(basis: list[tuple[int, ...]], Q: list[list[Fraction]]) -> Poly:
 
 
 def is_psd(Q: list[list[Fraction]]) -> bool:
-    """Exact test: Q symmetric positive semidefinite (LDL^T with exact pivots)."""
+    """Exact test: Q symmetric positive semidefinite (LDL^T with exact pivots).
+
+    Parameters
+    ----------
+    Q : list of list of Fraction
+        A square matrix of exact rationals.
+
+    Returns
+    -------
+    bool
+        True if ``Q`` is symmetric positive semidefinite (exact test).
+    """
     from flint import fmpq
 
     n = len(Q)
@@ -158,7 +182,20 @@ def is_psd(Q: list[list[Fraction]]) -> bool:
 
 
 def vdot(V: Poly, system: PolySystem) -> Poly:
-    """dV/dt = grad V . f(x, v) (continuous)."""
+    """dV/dt = grad V . f(x, v) (continuous).
+
+    Parameters
+    ----------
+    V : Poly
+        The Lyapunov candidate, in the variables (x_1, .., x_n, v).
+    system : PolySystem
+        A continuous-time system x' = f(x, v).
+
+    Returns
+    -------
+    Poly
+        The exact polynomial ``grad V . f(x, v)``.
+    """
     return padd(*(pmul(pdiff(V, i), system.f[i]) for i in range(system.n)))
 
 

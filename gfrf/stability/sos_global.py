@@ -36,7 +36,22 @@ def global_certificate(system: PolySystem) -> tuple[SosResult | None, int]:
     """A global certificate (every bounded input), exactly re-checked, or None.
 
     V of degree 2 or 4 with V - g|x|^2 SOS and -dV/dt|_{v=0} - g|x|^2 SOS, then the
-    input's share: -W - a G^2 - a |x|^2 + C SOS (exactly checked)."""
+    input's share: -W - a G^2 - a |x|^2 + C SOS (exactly checked).
+
+    Parameters
+    ----------
+    system : PolySystem
+        The system; a discrete one or one not affine in the input gets ``None`` without
+        any solve.
+
+    Returns
+    -------
+    SosResult or None
+        The exactly re-checked certificate (``radius`` infinite), or None when no
+        candidate passed.
+    int
+        The number of SDP solves made.
+    """
     if system.discrete or not system.affine_in_input():
         return None, 0
     n = system.n

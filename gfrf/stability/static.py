@@ -104,6 +104,18 @@ def static_series(model: Model, n_max: int) -> list[Fraction]:
 
     c_n = H_n(0, .., 0) (s = 0 or q = 1).  Returns an empty list when the static map
     is not defined by the linear part (A(0) = 0: no finite static gain).
+
+    Parameters
+    ----------
+    model : Model
+        The plant model.
+    n_max : int
+        Highest coefficient, >= 0.
+
+    Returns
+    -------
+    list of Fraction
+        c_0..c_{n_max} (c_0 = 0), or ``[]``.
     """
     p = _static_terms(model)
     a0 = p.get((1, 0), Fraction(0))

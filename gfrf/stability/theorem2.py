@@ -63,6 +63,22 @@ def theta_series(phi: list[float], lambda1: float, rho1: float, order: int) -> l
     Theta(x) = sum theta_k x^k (the sum over compositions k_1 + .. + k_m = n).
     An infinite rho_1 (a closed-loop pole on the axis) or phi_m bounds nothing:
     theta_n = inf for n >= 2.
+
+    Parameters
+    ----------
+    phi : list of float
+        phi_1..phi_order of :func:`phi_series` (index 0 is phi_1).
+    lambda1 : float
+        lambda_1, the H-infinity norm of the controller's linear part.
+    rho1 : float
+        rho_1, the sensitivity peak sup|(1 + h_1 s_1)^-1| of the linear closed loop.
+    order : int
+        Number of terms.
+
+    Returns
+    -------
+    list of float
+        theta_1..theta_order.
     """
     if not (math.isfinite(rho1) and all(math.isfinite(p) for p in phi[:order])):
         return [1.0] + [math.inf] * (order - 1)
@@ -83,6 +99,21 @@ def phi_series(beta: list[float], alpha: list[float], order: int) -> list[float]
     """phi_1..phi_order: phi_n = sum_m beta_m sum_{k_1+..+k_m=n} alpha_{k_1}..alpha_{k_m}.
 
     ``beta[0]`` is beta_1 and ``alpha[0]`` is alpha_1 (= 1); phi_1 = beta_1.
+
+    Parameters
+    ----------
+    beta : list of float
+        beta_n = ||H_n||, the plant's kernel norms, index 0 is beta_1 (0: no such term).
+        At least ``order`` entries.
+    alpha : list of float
+        alpha_1.. (``alpha[0]`` = 1); entries past ``order`` are ignored.
+    order : int
+        Number of terms.
+
+    Returns
+    -------
+    list of float
+        phi_1..phi_order.
     """
     a = np.zeros(order + 1)
     a[1:len(alpha) + 1] = alpha[:order]

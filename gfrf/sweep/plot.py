@@ -35,7 +35,18 @@ CLASSES = {
 
 
 def point_class(row: dict) -> str:
-    """The map class of one table row."""
+    """The map class of one table row.
+
+    Parameters
+    ----------
+    row : dict
+        One row of :attr:`SweepResult.rows`.
+
+    Returns
+    -------
+    str
+        A key of :data:`CLASSES`.
+    """
     if row["error"]:
         return "error"
     if "bounded" in row:
@@ -61,6 +72,18 @@ def map_title(result: SweepResult, title: str = "") -> str:
     ``rho``; on a map sweeping ``rho`` that value is not fixed, so each
     ``NAME = NUMBER`` of a swept parameter is removed (with a leading comma) and a
     second line states the swept range of every axis.
+
+    Parameters
+    ----------
+    result : SweepResult
+        The sweep.
+    title : str, optional
+        The title asked for (user text, made safe for matplotlib); empty: the command.
+
+    Returns
+    -------
+    str
+        Two lines.
     """
     base = plot_text(title, limit=80) if title else f"gfrf sweep --what {result.what}"
     for axis in result.axes:
@@ -77,6 +100,20 @@ def plot_stability_map(result: SweepResult, path: str | Path, title: str = "") -
 
     The title is :func:`map_title` of ``title``: the file values of swept parameters
     are dropped from it and the swept ranges are stated.
+
+    Parameters
+    ----------
+    result : SweepResult
+        The sweep, with one or two swept parameters.
+    path : str or Path
+        The figure file; its suffix chooses the format.
+    title : str, optional
+        The title asked for; empty: the command.
+
+    Returns
+    -------
+    Path
+        The path written.
 
     Raises
     ------

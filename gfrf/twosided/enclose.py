@@ -93,6 +93,17 @@ def flow(model: Model) -> tuple[int, Monomials] | None:
     """(n, monomials of y^(n)) with exponents over (y, ..., y^(n-1), u, u', ...), or None.
 
     None: a discrete model, or y^(n) not in one linear term with a constant coefficient.
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+
+    Returns
+    -------
+    tuple or None
+        n, and the monomials of y^(n) as (coefficient, exponents) pairs with exact
+        rational coefficients.
     """
     if model.is_discrete or not model.terms:
         return None

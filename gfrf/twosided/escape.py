@@ -140,7 +140,23 @@ def escape_region(model: Model, amplitude: float) -> EscapeRegion | None:
 
 
 def escape_levels(model: Model, eigenvalues: np.ndarray, n_states: int) -> np.ndarray:
-    """The escape level of each state (y, y', ...; see the module docstring)."""
+    """The escape level of each state (y, y', ...; see the module docstring).
+
+    Parameters
+    ----------
+    model : Model
+        The model; its static terms (no input, no derivative) give the equilibria.
+    eigenvalues : numpy.ndarray
+        Eigenvalues of the Jacobian at rest (``OdeSystem.linear_eigenvalues``); the
+        largest modulus, at least 1, scales the levels of the derivatives.
+    n_states : int
+        Number of states: y, y', ..., y^(n-1) (or the lags of y).
+
+    Returns
+    -------
+    numpy.ndarray
+        The n_states escape levels, each at most 1e300.
+    """
     static: dict[int, float] = {}
     for term in model.terms:
         # at an equilibrium, every lag of a NARX model is y and every derivative is 0

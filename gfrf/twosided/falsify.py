@@ -84,7 +84,13 @@ Tone = tuple[float, float, float]
 
 
 def tones_text(tones: list[Tone]) -> str:
-    """The input u(t) = sum A cos(omega t + phi) as gfrf input text (exact float reprs)."""
+    """The input u(t) = sum A cos(omega t + phi) as gfrf input text (exact float reprs).
+
+    Parameters
+    ----------
+    tones : list of tuple of float
+        ``(A, omega, phi)`` per tone: amplitude, angular frequency in rad/s, phase in rad.
+    """
     return " + ".join(f"{a!r}*cos({w!r}*t + {p!r})" for a, w, p in tones)
 
 

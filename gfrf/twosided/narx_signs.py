@@ -69,14 +69,56 @@ def _rule(name: str) -> Any:
 
 def run_signs(system: Any, rule: str, amplitude: float, samples: int, level: float
               ) -> SwitchRun:
-    """Run the sign rule ``rule`` (one of :data:`RULES`) at amplitude U from rest."""
+    """Run the sign rule ``rule`` (one of :data:`RULES`) at amplitude U from rest.
+
+    Parameters
+    ----------
+    system : OdeSystem
+        The NARX model's generated recursion (its ``rhs``, ``sample_time``, ``order``,
+        ``n_inputs``).
+    rule : str
+        One of :data:`RULES`.
+    amplitude : float
+        U, the size of the input.
+    samples : int
+        Number of samples to run.
+    level : float
+        Escape when |y[k]| reaches it (or y[k] is not finite).
+
+    Returns
+    -------
+    SwitchRun
+        Whether and when (s) y escaped, and the sample times (s) of the sign changes.
+    """
     return _recursion(system, _rule(rule), amplitude, samples, level,
                       float(system.sample_time))
 
 
 def replay_signs(system: Any, amplitude: float, first_sign: int, switch_times: list[float],
                  samples: int, level: float) -> float | None:
-    """Escape time of the open-loop sign sequence (switches at sample times), or None."""
+    """Escape time of the open-loop sign sequence (switches at sample times), or None.
+
+    Parameters
+    ----------
+    system : OdeSystem
+        The NARX model's generated recursion (its ``rhs``, ``sample_time``, ``order``,
+        ``n_inputs``).
+    amplitude : float
+        U, the size of the input.
+    first_sign : int
+        +1 or -1: the sign at k = 0.
+    switch_times : list of float
+        Times in s at which the sign changes, rounded to the nearest sample.
+    samples : int
+        Number of samples to run.
+    level : float
+        Escape when |y[k]| reaches it (or y[k] is not finite).
+
+    Returns
+    -------
+    float or None
+        The escape time in s, or None.
+    """
     period = float(system.sample_time)
     flips = {round(t / period) for t in switch_times}
     state = {"s": first_sign}

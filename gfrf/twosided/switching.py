@@ -94,7 +94,18 @@ _SLICE = 2**15
 
 
 def switching_module(system: Any) -> ModuleType:
-    """The compiled module (``rhs`` and the switching loop ``bang``) of ``system``."""
+    """The compiled module (``rhs`` and the switching loop ``bang``) of ``system``.
+
+    Parameters
+    ----------
+    system : OdeSystem
+        The model's generated state form (:func:`gfrf.sim.system.build_system`).
+
+    Returns
+    -------
+    ModuleType
+        The compiled module, cached on disk by the hash of its source.
+    """
     from gfrf._cache import load_generated
     from gfrf.sim.fastsim import _DECORATOR
 
@@ -177,6 +188,29 @@ def dop853_escape(system: Any, values: Any, edges: list[float], level: np.ndarra
     Escape: a state reaching its level, entering the ``region`` (an
     :class:`~gfrf.twosided.escape.EscapeRegion`), or DOP853 failing (its step size
     collapsing at a finite-time blow-up; the two tolerances must agree on the time).
+
+    Parameters
+    ----------
+    system : OdeSystem
+        The model's generated state form (:func:`gfrf.sim.system.build_system`).
+    values : callable
+        ``values(t, v)`` fills the input vector ``v`` at time ``t`` (s).
+    edges : list of float
+        Increasing segment boundaries in s, from 0 to the horizon; empty segments are
+        skipped.
+    level : numpy.ndarray
+        Escape level of each state.
+    rtol : float
+        DOP853's relative tolerance (the absolute tolerance is ``rtol * 1e-3``).
+    region : EscapeRegion, optional
+        A certified escape region; None: escape by the levels only.
+    piecewise : bool, optional
+        The input is constant on each segment: ``values`` is called once per segment.
+
+    Returns
+    -------
+    float or None
+        The escape time in s, or None when the state stays inside to the last edge.
     """
     from scipy.integrate import solve_ivp
 
@@ -227,6 +261,30 @@ def replay(system: Any, amplitude: float, first_sign: int, switch_times: list[fl
 
     The input is first_sign * U on [0, t1), then its sign alternates at each switch
     time; each segment is one ``solve_ivp`` call (no step crosses a switch).
+
+    Parameters
+    ----------
+    system : OdeSystem
+        The model's generated state form (:func:`gfrf.sim.system.build_system`).
+    amplitude : float
+        U, the size of the input.
+    first_sign : int
+        +1 or -1: the sign on [0, t1).
+    switch_times : list of float
+        Increasing switch times in s; those at or after ``t_end`` are ignored.
+    t_end : float
+        The horizon in s.
+    level : numpy.ndarray
+        Escape level of each state.
+    rtol : float
+        DOP853's relative tolerance (the absolute tolerance is ``rtol * 1e-3``).
+    region : EscapeRegion, optional
+        A certified escape region; None: escape by the levels only.
+
+    Returns
+    -------
+    float or None
+        The escape time in s, or None when the state stays inside to ``t_end``.
     """
     edges = [0.0, *[t for t in switch_times if t < t_end], t_end]
 

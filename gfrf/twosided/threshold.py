@@ -155,7 +155,18 @@ class Threshold:
     def verdict_at(self, amplitude: float) -> str:
         """``stable`` below ``lower`` (proven), ``unstable`` at or above ``upper`` (an input
         of amplitude ``upper`` <= ``amplitude`` escapes: a simulation witness), else
-        ``inconclusive`` (the gap)."""
+        ``inconclusive`` (the gap).
+
+        Parameters
+        ----------
+        amplitude : float
+            The input amplitude sup|u| (for a loop: sup|r| of the reference).
+
+        Returns
+        -------
+        str
+            ``"stable"``, ``"unstable"`` or ``"inconclusive"``.
+        """
         if amplitude < self.lower:  # every input with sup|u| < lower
             return "stable"
         if self.upper is not None and amplitude >= self.upper:
