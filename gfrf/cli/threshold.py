@@ -21,7 +21,7 @@ from collections.abc import Callable
 from typing import Any
 
 from gfrf.cli._models import add_model_argument, resolve_model
-from gfrf.cli._output import add_json_flag, check_output_file, emit
+from gfrf.cli._output import add_json_flag, check_output_file, emit, terminal_text
 from gfrf.errors import ArgumentError
 
 __all__ = ["register"]
@@ -106,7 +106,7 @@ def _threshold(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(result.to_dict(), indent=2))  # inf -> Infinity (the contract)
     else:
-        print(result.text())
+        print(terminal_text(result.text(), result.to_dict()))
     if args.certificate_out is not None:
         from gfrf._atomic import atomic_write_text
 

@@ -1,0 +1,125 @@
+"""Hostile input to ``gfrf threshold``, ``gfrf certificate check`` and ``gfrf frc``.
+
+A hostile model name stays inert in ``threshold``'s text; a certificate file that is
+nested too deeply, holds a huge JSON integer or a costly Gram matrix is refused with one
+line and exit 2 (or refused by an exact test in bounded time), never a traceback, and a
+Gram matrix that is not positive semidefinite is never accepted.
+"""
+
+from __future__ import annotations
+
+import json
+import random
+import re
+import sys
+from fractions import Fraction
+from pathlib import Path
+
+import pytest
+
+from gfrf.cli import main
+from gfrf.stability.sos_check import is_psd
+
+sys.path.insert(0, str(Path(__file__).parent))
+from test_hostile_names import RAW, _model  # noqa: E402
+
+CUBIC_DAMPING = "D(y,2) + 0.2*D(y) + y - 0.3*D(y)**3 = u"
+
+
+def test_threshold_text_keeps_a_hostile_name_inert(tmp_path: Path,
+                                                   capsys: pytest.CaptureFixture) -> None:
+    model = str(_model(tmp_path))
+    assert main(["threshold", model, "--order", "3"]) == 0
+    out, err = capsys.readouterr()
+    assert not RAW.search(out + err)
+    assert not any(line.startswith("verdict: stable") for line in out.splitlines())
+    assert "\\r\\nverdict: stable" in out
+
+
+@pytest.mark.parametrize("text, words", [
+    ('{"format": ' + "[" * 100_000 + "]" * 100_000 + "}", "nested too deeply"),
+    ('{"format": "gfrf-sos-certificate", "c": 1' + "0" * 1_000_000 + "}", "digits"),
+    ('{"format": ', "not JSON"),
+])
+def test_certificate_check_refuses_a_hostile_file_in_one_line(
+        text: str, words: str, tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    path = tmp_path / "cert.json"
+    path.write_text(text)
+    assert main(["certificate", "check", CUBIC_DAMPING, str(path)]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and len(err.strip().splitlines()) == 1 and words in err
+    assert "Traceback" not in err
+
+
+def test_certificate_check_refuses_an_oversized_file(tmp_path: Path,
+                                                     capsys: pytest.CaptureFixture) -> None:
+    path = tmp_path / "cert.json"
+    path.write_text('{"format": "' + "1" * 3_000_000 + '"}')
+    assert main(["certificate", "check", CUBIC_DAMPING, str(path)]) == 2
+    assert "MAX_FILE_BYTES" in capsys.readouterr().err
+
+
+def _integer_matrix(rows: list[list[int]]) -> list[list[Fraction]]:
+    return [[Fraction(x) for x in row] for row in rows]
+
+
+def test_exact_psd_test_agrees_with_constructed_truths() -> None:
+    """B B^T is PSD (singular when B has fewer columns than rows); subtracting a tiny
+    multiple of z z^T, z in its null space, makes z^T Q z < 0: not PSD."""
+    rng = random.Random(7)
+    for n, rank in ((1, 1), (3, 1), (5, 3), (8, 8), (12, 5)):
+        B = [[rng.randint(-9, 9) for _ in range(rank)] for _ in range(n)]
+        Q = _integer_matrix([[sum(B[i][k] * B[j][k] for k in range(rank)) for j in range(n)]
+                             for i in range(n)])
+        assert is_psd(Q)
+        if rank < n:  # a null vector: rank + 1 rows of B are dependent
+            import sympy
+
+            z = sympy.Matrix(B).T.nullspace()[0]
+            z = [Fraction(int(sympy.fraction(v)[0]), int(sympy.fraction(v)[1])) for v in z]
+            bad = [[Q[i][j] - Fraction(1, 10**30) * z[i] * z[j] for j in range(n)]
+                   for i in range(n)]
+            assert not is_psd(bad)
+        neg = [row[:] for row in Q]
+        neg[0][0] -= sum(abs(x) for row in Q for x in row) + 1
+        assert not is_psd(neg)
+    assert not is_psd(_integer_matrix([[1, 2], [3, 4]]))  # not symmetric
+    assert is_psd([])
+
+
+def test_exact_psd_test_is_fast_on_a_hostile_gram_matrix() -> None:
+    """A 60 x 60 Gram matrix of 100-digit entries (a diagonally dominant one, PSD): the
+    elimination with fractions took minutes; the characteristic polynomial is exact and
+    fast, so a certificate of that size is checked, not hung on."""
+    rng = random.Random(3)
+    n = 60
+    Q = [[Fraction(rng.randrange(10**99, 10**100)) for _ in range(n)] for _ in range(n)]
+    for i in range(n):
+        for j in range(i):
+            Q[i][j] = Q[j][i]
+        Q[i][i] = Fraction(10**103)
+    assert is_psd(Q)
+    Q[5][5] = Fraction(0)  # a zero pivot beside non-zero entries: indefinite
+    assert not is_psd(Q)
+
+
+def test_every_new_json_output_is_strict(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    def strict(token: str) -> None:
+        raise AssertionError(f"the non-JSON token {token}")
+
+    code = main(["frc", "models/duffing.toml", "--amplitude", "0.3", "--omega", "0.5:2",
+                 "--max-points", "40", "--json"])
+    assert code in (0, 1)
+    json.loads(capsys.readouterr().out, parse_constant=strict)
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["--amplitude", "1e-320"], "amplitude"),
+    (["--step", "1e-320"], "step"),
+])
+def test_frc_refuses_subnormal_numbers(argv: list[str], words: str,
+                                       capsys: pytest.CaptureFixture) -> None:
+    base = ["frc", "models/duffing.toml", "--amplitude", "0.3", "--omega", "0.5:2"]
+    assert main([*base, *argv]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and re.search(words, err)
