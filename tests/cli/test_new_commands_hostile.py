@@ -123,3 +123,21 @@ def test_frc_refuses_subnormal_numbers(argv: list[str], words: str,
     assert main([*base, *argv]) == 2
     err = capsys.readouterr().err
     assert len(err.strip().splitlines()) == 1 and re.search(words, err)
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["--sample-time", "1e-320"], "SAMPLE_TIME_LIMITS"),
+    (["--sample-time", "1e308"], "SAMPLE_TIME_LIMITS"),
+    (["--rms", "1e308"], "RMS_LIMITS"),
+    (["--rms", "1e-320"], "RMS_LIMITS"),
+    (["--seed", "-1"], "seed"),
+    (["--levels", "1,1e-320"], "MIN_LEVEL"),
+])
+def test_multisine_refuses_values_whose_signal_leaves_the_float_range(
+        argv: list[str], words: str, tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    out = tmp_path / "m.csv"
+    code = main(["multisine", "--period", "256", "--sample-time", "0.01", "--out", str(out),
+                 *argv])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1 and words in err
+    assert not out.exists()
