@@ -21,7 +21,7 @@ from gfrf.cli import main
 from gfrf.stability.sos_check import is_psd
 
 sys.path.insert(0, str(Path(__file__).parent))
-from test_hostile_names import RAW, _model  # noqa: E402
+from test_hostile_names import RAW, _check_text, _model, drawn  # noqa: E402, F401
 
 CUBIC_DAMPING = "D(y,2) + 0.2*D(y) + y - 0.3*D(y)**3 = u"
 
@@ -103,14 +103,15 @@ def test_exact_psd_test_is_fast_on_a_hostile_gram_matrix() -> None:
     assert not is_psd(Q)
 
 
-def test_every_new_json_output_is_strict(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
-    def strict(token: str) -> None:
-        raise AssertionError(f"the non-JSON token {token}")
+def _strict(token: str) -> None:
+    raise AssertionError(f"the non-JSON token {token}")
 
+
+def test_every_new_json_output_is_strict(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
     code = main(["frc", "models/duffing.toml", "--amplitude", "0.3", "--omega", "0.5:2",
                  "--max-points", "40", "--json"])
     assert code in (0, 1)
-    json.loads(capsys.readouterr().out, parse_constant=strict)
+    json.loads(capsys.readouterr().out, parse_constant=_strict)
 
 
 @pytest.mark.parametrize("argv, words", [
@@ -141,3 +142,23 @@ def test_multisine_refuses_values_whose_signal_leaves_the_float_range(
     err = capsys.readouterr().err
     assert code == 2 and len(err.strip().splitlines()) == 1 and words in err
     assert not out.exists()
+
+
+def test_frc_and_estimate_figures_and_json_keep_a_hostile_name_inert(
+        tmp_path: Path, capsys: pytest.CaptureFixture, drawn: list[str]) -> None:  # noqa: F811
+    model = str(_model(tmp_path))
+    commands = [["frc", model, "--amplitude", "0.3", "--omega", "0.5:2", "--max-points", "40",
+                 "--plot", str(tmp_path / "frc.png")],
+                ["estimate", "models/multisine_example.csv", "--period", "512",
+                 "--skip-periods", "1", "--model", model, "--plot", str(tmp_path / "e.png")]]
+    for argv in commands:
+        assert main(argv) in (0, 1)
+        out, err = capsys.readouterr()
+        _check_text(out + err, argv[0])
+        assert main([*argv, "--json"]) in (0, 1)
+        out, err = capsys.readouterr()
+        json.loads(out, parse_constant=_strict)
+        assert not RAW.search(out + err)
+    assert drawn
+    for t in drawn:
+        _check_text(t, "figure")
