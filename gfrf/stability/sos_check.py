@@ -55,6 +55,9 @@ KINDS = ("local-continuous", "local-discrete", "global-continuous")
 MAX_GRAM = 120
 #: Longest text of one rational (or JSON integer) in a certificate.
 MAX_RATIONAL_CHARS = 4000
+#: Most products of terms in one polynomial product of the global check (a certificate
+#: written by gfrf needs a few thousand: V of degree 4, G linear).
+MAX_PRODUCT_WORK = 1_000_000
 
 
 class CheckResult(str):
@@ -292,9 +295,16 @@ def _check_global(system: PolySystem, cert: dict[str, Any], V: Poly, sigma: Poly
         return "V - gamma |x|^2 differs from its SOS sigma_V"
     f0 = [{k: c for k, c in p.items() if k[-1] == 0} for p in system.f]
     b = [{k[:-1] + (0,): c for k, c in p.items() if k[-1] == 1} for p in system.f]
+    work = len(V) * sum(len(p) for p in system.f)
+    if work > MAX_PRODUCT_WORK:
+        return (f"V has {len(V)} terms: grad V . f is {work} products of terms, above "
+                f"MAX_PRODUCT_WORK = {MAX_PRODUCT_WORK}")
     grads = [pdiff(V, i) for i in range(n)]
     W = padd(*(pmul(grads[i], f0[i]) for i in range(n)))
     G = padd(*(pmul(grads[i], b[i]) for i in range(n)))
+    if len(G) ** 2 > MAX_PRODUCT_WORK:
+        return (f"G = grad V . b has {len(G)} terms: G^2 is {len(G) ** 2} products of "
+                f"terms, above MAX_PRODUCT_WORK = {MAX_PRODUCT_WORK}")
     target = padd(pscale(W, Fraction(-1)), pscale(pmul(G, G), -a), pscale(_norm2(n, nv), -a))
     diff = padd(target, pscale(sigma, Fraction(-1)))
     zero = (0,) * nv

@@ -162,3 +162,34 @@ def test_frc_and_estimate_figures_and_json_keep_a_hostile_name_inert(
     assert drawn
     for t in drawn:
         _check_text(t, "figure")
+
+
+def test_certificate_check_refuses_a_costly_global_certificate_quickly(
+        tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    """A global certificate whose V = |x|^2 + (sum of 120 monomials)^2 is a true SOS
+    identity for sigma_V, but makes G^2 tens of millions of products (it ran for minutes):
+    it is refused by a count, before the product."""
+    import itertools
+
+    model = "D(y,4) + 2*D(y,3) + 3*D(y,2) + 2*D(y) + y + 0.1*y**3 = u"
+    rng = random.Random(0)
+    monomials = [[*m, 0] for m in itertools.product(range(7), repeat=4) if sum(m)]
+    basis = rng.sample(monomials, 120)
+    V: dict[tuple[int, ...], int] = {}
+    for a in basis:
+        for b in basis:
+            k = tuple(x + y for x, y in zip(a, b, strict=True))
+            V[k] = V.get(k, 0) + 1
+    for i in range(4):
+        k = (*(2 * int(j == i) for j in range(4)), 0)
+        V[k] = V.get(k, 0) + 1
+    cert = {"format": "gfrf-sos-certificate", "kind": "global-continuous",
+            "states": ["y", "D(y,1)", "D(y,2)", "D(y,3)"],
+            "V": [[list(k), str(c)] for k, c in V.items()], "gamma": "1", "alpha": "1",
+            "multipliers": {"sigma": {"basis": [[0] * 5], "Q": [["1"]]},
+                            "sigma_V": {"basis": basis, "Q": [["1"] * 120] * 120}}}
+    path = tmp_path / "cert.json"
+    path.write_text(json.dumps(cert))
+    assert main(["certificate", "check", model, str(path), "--json"]) == 1
+    payload = json.loads(capsys.readouterr().out)
+    assert payload["valid"] is False and "MAX_PRODUCT_WORK" in payload["reason"]
