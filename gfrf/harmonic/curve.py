@@ -254,6 +254,7 @@ def _check_range(name: str, value: Any, positive: bool) -> tuple[float, float]:
         raise ArgumentError(f"{name} must be {'positive' if positive else 'non-negative'}, "
                             f"got {lo!r}")
     _check_normal(name, lo)
+    _check_normal(name, hi)
     return lo, hi
 
 

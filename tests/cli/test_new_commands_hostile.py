@@ -117,6 +117,7 @@ def test_every_new_json_output_is_strict(tmp_path: Path, capsys: pytest.CaptureF
 @pytest.mark.parametrize("argv, words", [
     (["--amplitude", "1e-320"], "amplitude"),
     (["--step", "1e-320"], "step"),
+    (["--vary", "amplitude", "--amplitude", "0:1e-320", "--omega", "1"], "amplitude"),
 ])
 def test_frc_refuses_subnormal_numbers(argv: list[str], words: str,
                                        capsys: pytest.CaptureFixture) -> None:
