@@ -194,3 +194,25 @@ def test_certificate_check_refuses_a_costly_global_certificate_quickly(
     assert main(["certificate", "check", model, str(path), "--json"]) == 1
     payload = json.loads(capsys.readouterr().out)
     assert payload["valid"] is False and "MAX_PRODUCT_WORK" in payload["reason"]
+
+
+@pytest.mark.parametrize("column, value, words", [
+    ("y", "1e308", "MAX_ABS_VALUE"),  # its spectrum overflowed: NaN (null) estimates
+    ("t", "subnormal", "SAMPLE_TIME_LIMITS"),  # lines at inf rad/s
+])
+def test_estimate_refuses_data_whose_spectra_leave_the_float_range(
+        column: str, value: str, words: str, tmp_path: Path,
+        capsys: pytest.CaptureFixture) -> None:
+    lines = Path("models/multisine_example.csv").read_text().splitlines()
+    rows = [line.split(",") for line in lines[1:]]
+    for i, row in enumerate(rows):
+        if column == "y":
+            row[2] = value
+        else:
+            row[0] = repr(i * 1e-320)
+    path = tmp_path / "data.csv"
+    path.write_text("\n".join([lines[0], *(",".join(r) for r in rows)]) + "\n")
+    assert main(["estimate", str(path), "--period", "512", "--skip-periods", "1",
+                 "--json"]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and len(err.strip().splitlines()) == 1 and words in err
