@@ -27,22 +27,17 @@ A box's bound is the least of three valid bounds:
    definite: its unconstrained maximum, else term by term) plus the remainder
    ``D_3(F) / 6 <= (2 D_0 D_3 + 6 D_1 D_2) / 6``.
 
-The third bound is what closes gaps: near a resonance peak the phase of H_n turns
-quickly while |H_n| is stationary, so bounds on the complex derivatives grossly
-overstate how much |H_n| can grow, but the quadratic model of |H_n|^2 carries the
-cancellation exactly and only a third-order remainder is bounded by magnitudes.  To
-shrink that remainder too, factors common to every term of H_n are replaced by their
-moduli, which leaves |H_n| unchanged: the top factor 1/A(j(w_1 + .. + w_n)) always, and
-each H1(w_i) leaf when no input enters a nonlinear term (then every term holds each
-leaf once).  Those real factors are stationary at their resonance, so their derivative
-bounds are second order where the complex ones are first order (for the pendulum's H5
-the branch-and-bound needs 5x fewer boxes).
+The third bound closes gaps: near a resonance the phase of H_n turns quickly while
+|H_n| is stationary, and the quadratic model of |H_n|^2 carries that cancellation
+exactly.  Factors common to every term of H_n are replaced by their moduli (|H_n| is
+unchanged): the top factor 1/A(j(w_1 + .. + w_n)) always, and each H1(w_i) leaf when no
+input enters a nonlinear term; being stationary at their resonance, their derivative
+bounds are second order (the pendulum's H5 needs 5x fewer boxes).
 
 Soundness.  The extrema of |A| and its derivatives' numerators use critical points
 isolated exactly (Arb) and endpoint values widened by an a-priori Horner error bound.
-The Taylor arithmetic runs in double precision without outward rounding, and a box
-centre's values are used only where |A| there is accurate to 1e-8 relative (elsewhere
-the box keeps its magnitude bounds): bounds are certified in floating point, not proven.
+Taylor arithmetic in double precision without outward rounding; a centre's values are
+used only where |A| is accurate to 1e-8 relative: certified in floating point.
 """
 
 from __future__ import annotations
@@ -56,10 +51,8 @@ import numpy as np
 
 __all__ = ["InverseA", "Jet", "enclose"]
 
-#: Relative error of a centre's 1/A and its Taylor terms (a-priori Horner bounds plus the
-#: rounding of the block sum) above which the centre's values are not used (the box keeps
-#: its magnitude bounds only).  Below it the box bound is inflated by 8x the sum of the
-#: factors' errors, so a centre trusted to 1e-5 costs at most ~1e-4 of the bound.
+#: Relative error of a centre's 1/A and Taylor terms above which its values are not used
+#: (the box keeps its magnitude bounds); below it the bound is inflated by 8x the errors.
 _POINT_RTOL = 1e-5
 #: Relative margin of negative definiteness required before the unconstrained maximum
 #: of the quadratic model of |H|^2 is used (rounding of the Hessian is far below it).
@@ -280,17 +273,14 @@ class _Boxes:
         self.c, self.r, self.inverse, self.fused = centre, radius, inverse, fused
         self.sample_time = sample_time
         self._radii: dict[tuple[int, ...], np.ndarray] = {}
-        # jets of 1/A per block with their centre errors: the second evaluation of
-        # :func:`enclose` reuses them (the same numbers, not recomputed)
+        # jets of 1/A per block with their centre errors, reused by a second evaluation
         self._inverses: dict[tuple[int, ...], tuple[Jet, np.ndarray]] = {}
         self.error = np.zeros(centre.shape[0])  # sum of the factors' relative errors
         self._last_error = self.error
 
     def release(self) -> None:
-        """Drop the cached jets and radii.  The jets refer back to these boxes: a cycle
-        that only the cyclic garbage collector frees, late in a long search (the memory
-        of a 20-million-box search grew by hundreds of MB); released, a batch's arrays
-        go when its last name does."""
+        """Drop the cached jets and radii (they refer back to these boxes: a cycle only
+        the cyclic garbage collector frees, late in a long search)."""
         self._inverses.clear()
         self._radii.clear()
 

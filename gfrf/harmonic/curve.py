@@ -13,6 +13,7 @@ residual above H divided by the linear part there) so the user knows when to rai
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -252,7 +253,16 @@ def _check_range(name: str, value: Any, positive: bool) -> tuple[float, float]:
     if lo < 0 or (positive and lo == 0):
         raise ArgumentError(f"{name} must be {'positive' if positive else 'non-negative'}, "
                             f"got {lo!r}")
+    _check_normal(name, lo)
+    _check_normal(name, hi)
     return lo, hi
+
+
+def _check_normal(name: str, value: float) -> None:
+    """Refuse a subnormal number (below 2.2e-308 it has lost its precision)."""
+    if 0 < abs(value) < sys.float_info.min:
+        raise ArgumentError(f"{name} {value!r} is below the smallest normal float "
+                            f"{sys.float_info.min:.3g}")
 
 
 def _check_number(name: str, value: Any, positive: bool) -> float:
@@ -260,6 +270,7 @@ def _check_number(name: str, value: Any, positive: bool) -> float:
             or not math.isfinite(value) or value < 0 or (positive and value == 0):
         raise ArgumentError(f"{name} must be a finite {'positive' if positive else 'non-negative'}"
                             f" number, got {value!r}")
+    _check_normal(name, float(value))
     return float(value)
 
 

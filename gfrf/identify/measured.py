@@ -18,7 +18,8 @@ import numpy as np
 
 from gfrf.errors import ArgumentError
 
-__all__ = ["Periodic", "read_periodic", "periodic", "spectra", "COLUMNS", "MAX_ROWS"]
+__all__ = ["Periodic", "read_periodic", "periodic", "spectra", "COLUMNS", "MAX_ROWS",
+           "MAX_ABS_VALUE", "SAMPLE_TIME_LIMITS"]
 
 #: The columns a measurement file may have (``realisation`` is optional).
 COLUMNS = ("t", "u", "y", "realisation")
@@ -28,6 +29,11 @@ MAX_ROWS = 2_000_000
 MAX_REALISATIONS = 10_000
 #: Largest data file in bytes (2,000,000 rows of four numbers in full precision fit).
 MAX_BYTES = 400_000_000
+#: Largest magnitude of a value of u or y (the spectra and their variances stay finite).
+MAX_ABS_VALUE = 1e150
+#: Sample times accepted, s (the step of the t column; beyond them the line
+#: frequencies leave the float range).
+SAMPLE_TIME_LIMITS = (1e-12, 1e12)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -105,8 +111,9 @@ def read_periodic(path: str | Path, period: int, skip_periods: int = 0) -> Perio
     ------
     ArgumentError
         A missing file, other columns (MISO/MIMO data), a value that is not a finite
-        number, more than :data:`MAX_ROWS` rows or :data:`MAX_BYTES` bytes, a
-        non-integer realisation, a time column not equally spaced, fewer than one
+        number or above :data:`MAX_ABS_VALUE`, more than :data:`MAX_ROWS` rows or
+        :data:`MAX_BYTES` bytes, a non-integer realisation, a time column not equally
+        spaced or with a step outside :data:`SAMPLE_TIME_LIMITS`, fewer than one
         period per realisation.
     """
     p = Path(path)
@@ -136,6 +143,11 @@ def read_periodic(path: str | Path, period: int, skip_periods: int = 0) -> Perio
         raise ArgumentError(f"{p}, data row {row + 1}, column {header[col]!r}: not a finite "
                             f"number")
     col = {name: values[:, header.index(name)] for name in header}
+    for name in ("u", "y"):
+        if np.any(np.abs(col[name]) > MAX_ABS_VALUE):
+            row = int(np.argmax(np.abs(col[name]) > MAX_ABS_VALUE))
+            raise ArgumentError(f"{p}, data row {row + 1}, column {name!r}: above "
+                                f"MAX_ABS_VALUE = {MAX_ABS_VALUE:g} in magnitude (rescale it)")
     if "realisation" in col:
         r = col["realisation"]
         if np.any(r != np.round(r)):
@@ -160,6 +172,10 @@ def _step(t: np.ndarray, where: str) -> float:
         bad = int(np.argmax(np.abs(steps - step)))
         raise ArgumentError(f"{where}: column 't' is not equally spaced (step "
                             f"{steps[bad]:.6g} after sample {bad + 1}, median {step:.6g})")
+    if not SAMPLE_TIME_LIMITS[0] <= step <= SAMPLE_TIME_LIMITS[1]:
+        raise ArgumentError(f"{where}: the step of column 't', {step:.6g} s, is outside "
+                            f"[{SAMPLE_TIME_LIMITS[0]:g}, {SAMPLE_TIME_LIMITS[1]:g}] s "
+                            f"(SAMPLE_TIME_LIMITS)")
     return step
 
 

@@ -35,7 +35,8 @@ from gfrf._results import markdown_table, short_repr
 from gfrf.errors import ArgumentError
 
 __all__ = ["Multisine", "multisine", "combination_lines", "Combination", "GRIDS",
-           "MAX_PERIOD", "MAX_SIGNAL"]
+           "MAX_PERIOD", "MAX_SIGNAL", "SAMPLE_TIME_LIMITS", "RMS_LIMITS",
+           "MIN_LEVEL"]
 
 #: The grids :func:`multisine` designs.
 GRIDS = ("random-odd", "isolating")
@@ -45,6 +46,13 @@ MAX_PERIOD = 1 << 20
 MAX_SIGNAL = 2_000_000
 #: Most excited lines whose two- and three-line combinations are enumerated.
 MAX_COMBINED_LINES = 40
+#: Sample times accepted, s (beyond them the line frequencies or the time axis leave
+#: the float range).
+SAMPLE_TIME_LIMITS = (1e-12, 1e12)
+#: RMS values accepted (beyond them the spectrum's powers leave the float range).
+RMS_LIMITS = (1e-100, 1e100)
+#: Smallest input level relative to the RMS value.
+MIN_LEVEL = 1e-6
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -285,7 +293,7 @@ def multisine(period: int, sample_time: float, *, grid: str = "random-odd",
     period : int
         Samples per period N (16 to :data:`MAX_PERIOD`).
     sample_time : float
-        Sample time T in s (> 0).
+        Sample time T in s (in :data:`SAMPLE_TIME_LIMITS`).
     grid : {"random-odd", "isolating"}
         The frequency grid (see the module's text).
     max_line : int, optional
@@ -296,13 +304,13 @@ def multisine(period: int, sample_time: float, *, grid: str = "random-odd",
     periods : int
         Periods P of each realisation (the first is often skipped as transient).
     rms : float
-        RMS value of u (> 0).
+        RMS value of u (in :data:`RMS_LIMITS`).
     levels : tuple of float
-        Input levels relative to ``rms`` (each in (0, 1], distinct): with two or more,
-        :func:`gfrf.identify.nonparametric.estimate_gfrf` extrapolates its estimates to
-        zero amplitude.
+        Input levels relative to ``rms`` (each in [:data:`MIN_LEVEL`, 1], distinct): with
+        two or more, :func:`gfrf.identify.nonparametric.estimate_gfrf` extrapolates its
+        estimates to zero amplitude.
     seed : int
-        Seed of the phases: the same arguments give the same samples.
+        Seed of the phases, 0 to 2**63 - 1: the same arguments give the same samples.
 
     Returns
     -------
@@ -318,9 +326,10 @@ def multisine(period: int, sample_time: float, *, grid: str = "random-odd",
     if n < 16:
         raise ArgumentError(f"period must be at least 16 samples, got {n}")
     if isinstance(sample_time, bool) or not isinstance(sample_time, (int, float)) \
-            or not math.isfinite(sample_time) or sample_time <= 0:
-        raise ArgumentError(f"sample_time must be a positive number of seconds, got "
-                            f"{sample_time!r}")
+            or not SAMPLE_TIME_LIMITS[0] <= sample_time <= SAMPLE_TIME_LIMITS[1]:
+        raise ArgumentError(f"sample_time must be a number of seconds in "
+                            f"[{SAMPLE_TIME_LIMITS[0]:g}, {SAMPLE_TIME_LIMITS[1]:g}] "
+                            f"(SAMPLE_TIME_LIMITS), got {sample_time!r}")
     if grid not in GRIDS:
         raise ArgumentError(f"grid must be one of {', '.join(GRIDS)}, got {grid!r}")
     m = _check_positive_int("realisations", realisations, 1000)
@@ -329,17 +338,20 @@ def multisine(period: int, sample_time: float, *, grid: str = "random-odd",
         scale = tuple(float(v) for v in levels)
     except (TypeError, ValueError):
         raise ArgumentError(f"levels must be numbers in (0, 1], got {levels!r}") from None
-    if not scale or len(scale) > 5 or not all(0 < v <= 1 for v in scale) \
+    if not scale or len(scale) > 5 or not all(MIN_LEVEL <= v <= 1 for v in scale) \
             or len(set(scale)) != len(scale):
-        raise ArgumentError(f"levels must be one to five distinct numbers in (0, 1], got "
-                            f"{levels!r}")
+        raise ArgumentError(f"levels must be one to five distinct numbers in [MIN_LEVEL = "
+                            f"{MIN_LEVEL:g}, 1], got {levels!r}")
     total = m * len(scale) * p * n
     if total > MAX_SIGNAL:
         raise ArgumentError(f"{m * len(scale)} realisations x {p} periods x {n} samples = "
                             f"{total} samples, above the limit {MAX_SIGNAL}")
-    if isinstance(rms, bool) or not isinstance(rms, (int, float)) or not math.isfinite(rms) \
-            or rms <= 0:
-        raise ArgumentError(f"rms must be a positive number, got {rms!r}")
+    if isinstance(rms, bool) or not isinstance(rms, (int, float)) \
+            or not RMS_LIMITS[0] <= rms <= RMS_LIMITS[1]:
+        raise ArgumentError(f"rms must be a number in [{RMS_LIMITS[0]:g}, {RMS_LIMITS[1]:g}] "
+                            f"(RMS_LIMITS), got {rms!r}")
+    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**63:
+        raise ArgumentError(f"seed must be an integer from 0 to 2**63 - 1, got {seed!r}")
     default = n // 8 if grid == "random-odd" else n // 6 - 1
     top = _check_positive_int("max_line", default if max_line is None else max_line,
                               n // 2 - 1)

@@ -11,7 +11,7 @@ bounded input (global: every bounded input keeps every solution bounded).
 The semidefinite programs are solved by Clarabel through cvxpy.  Their answer is only a
 proposal: every number is rounded to a rational, the Gram matrix of the remainder is
 corrected so the polynomial identity holds exactly, and :func:`gfrf.stability.sos_check.check_dict`
-re-verifies it in rational arithmetic (exact LDL^T).  A radius is reported only after
+re-verifies it in rational arithmetic (exact charpoly).  A radius is reported only after
 that check passed (proof ``"interval"``); a proposal that fails is dropped.  The work is
 bounded by counts (candidate levels, bisection steps), never by time.
 """

@@ -8,7 +8,8 @@ whose every number is an exact rational, with Gram matrices Q that must be posit
 semidefinite.  :func:`check_certificate` rebuilds the target from the model's own state
 form (:func:`gfrf.stability.polysys.state_form`), recomputes every product in
 :class:`fractions.Fraction` arithmetic, compares the identity coefficient by coefficient
-and decides each Gram matrix PSD by an exact LDL^T factorisation: no floating-point
+and decides each Gram matrix PSD by the signs of its exact characteristic polynomial:
+no floating-point
 number takes part, so a solver's tolerance cannot make it pass.
 
 Kinds (``kind`` in the file):
@@ -50,8 +51,13 @@ __all__ = ["CheckResult", "CertificateCheck", "check_certificate", "check_dict",
 #: The ``format`` value of a certificate file.
 FORMAT = "gfrf-sos-certificate"
 KINDS = ("local-continuous", "local-discrete", "global-continuous")
-#: Largest Gram matrix size a check accepts (the exact LDL^T costs size^3).
+#: Largest Gram matrix size a check accepts.
 MAX_GRAM = 120
+#: Longest text of one rational (or JSON integer) in a certificate.
+MAX_RATIONAL_CHARS = 4000
+#: Most products of terms in one polynomial product of the global check (a certificate
+#: written by gfrf needs a few thousand: V of degree 4, G linear).
+MAX_PRODUCT_WORK = 1_000_000
 
 
 class CheckResult(str):
@@ -62,7 +68,7 @@ def q(text: Any) -> Fraction:
     """A rational from its text ``"p/q"`` (or an int); refuses floats and anything else."""
     if isinstance(text, bool) or not isinstance(text, str | int):
         raise ValueError(f"a rational must be written as a string 'p/q', got {text!r}")
-    if isinstance(text, str) and (len(text) > 4000 or not text.replace("/", "", 1)
+    if isinstance(text, str) and (len(text) > MAX_RATIONAL_CHARS or not text.replace("/", "", 1)
                                   .lstrip("-").isdigit()):
         raise ValueError(f"not a rational 'p/q': {str(text)[:40]!r}")
     return Fraction(text)
@@ -145,7 +151,13 @@ def gram_poly(basis: list[tuple[int, ...]], Q: list[list[Fraction]]) -> Poly:
 
 
 def is_psd(Q: list[list[Fraction]]) -> bool:
-    """Exact test: Q symmetric positive semidefinite (LDL^T with exact pivots).
+    """Exact test: Q symmetric positive semidefinite.
+
+    The characteristic polynomial det(t I - D Q) of the integer matrix D Q (D > 0 the
+    common denominator) has only real roots (Q is symmetric); they are all >= 0 exactly
+    when its coefficients alternate in sign, zeros allowed (Descartes).  python-flint
+    computes it exactly in C, so the cost is polynomial in the size and digits of Q, with
+    no growth of intermediate fractions.
 
     Parameters
     ----------
@@ -157,28 +169,17 @@ def is_psd(Q: list[list[Fraction]]) -> bool:
     bool
         True if ``Q`` is symmetric positive semidefinite (exact test).
     """
-    from flint import fmpq
+    from flint import fmpq, fmpq_mat
 
     n = len(Q)
     if any(Q[i][j] != Q[j][i] for i in range(n) for j in range(i)):
         return False
-    A = [[fmpq(x.numerator, x.denominator) for x in row] for row in Q]
-    for k in range(n):
-        p = A[k][k]
-        if p < 0:
-            return False
-        if p == 0:
-            if any(A[k][j] != 0 for j in range(k + 1, n)):
-                return False
-            continue
-        for i in range(k + 1, n):
-            if A[i][k] == 0:
-                continue
-            r = A[i][k] / p
-            for j in range(k + 1, i + 1):
-                A[i][j] -= r * A[k][j]
-                A[j][i] = A[i][j]
-    return True
+    if n == 0:
+        return True
+    scaled, _ = fmpq_mat(n, n, [fmpq(x.numerator, x.denominator) for row in Q
+                                for x in row]).numer_denom()
+    coeffs = scaled.charpoly().coeffs()
+    return all((-1) ** (n - k) * c >= 0 for k, c in enumerate(coeffs))
 
 
 def vdot(V: Poly, system: PolySystem) -> Poly:
@@ -263,7 +264,7 @@ def _check(system: PolySystem, cert: dict[str, Any]) -> str:
     m = cert["multipliers"]
     sigma_b, sigma_Q = gram_from(m["sigma"], nv)
     if not is_psd(sigma_Q):
-        return "the Gram matrix of sigma is not positive semidefinite (exact LDL^T)"
+        return "the Gram matrix of sigma is not positive semidefinite (exact charpoly)"
     sigma = gram_poly(sigma_b, sigma_Q)
     if kind == "global-continuous":
         return _check_global(system, cert, V, sigma)
@@ -275,7 +276,7 @@ def _check(system: PolySystem, cert: dict[str, Any]) -> str:
     U2 = {(0,) * nv: U * U}
     mu_b, mu_Q = gram_from(m["mu"], nv)
     if not is_psd(mu_Q):
-        return "the Gram matrix of mu is not positive semidefinite (exact LDL^T)"
+        return "the Gram matrix of mu is not positive semidefinite (exact charpoly)"
     mu = gram_poly(mu_b, mu_Q)
     v2 = pmul(_var(n, nv), _var(n, nv))
     box = padd(U2, pscale(v2, Fraction(-1)))
@@ -289,7 +290,7 @@ def _check(system: PolySystem, cert: dict[str, Any]) -> str:
     else:
         lam_b, lam_Q = gram_from(m["lambda"], nv)
         if not is_psd(lam_Q):
-            return "the Gram matrix of lambda is not positive semidefinite (exact LDL^T)"
+            return "the Gram matrix of lambda is not positive semidefinite (exact charpoly)"
         lam = gram_poly(lam_b, lam_Q)
         Vf = pcompose(V, list(system.f), nv)
         target = padd({(0,) * nv: c}, pscale(Vf, Fraction(-1)),
@@ -301,7 +302,7 @@ def _check(system: PolySystem, cert: dict[str, Any]) -> str:
         for j, block in zip(system.bounded_states, nus, strict=True):
             nb, nQ = gram_from(block, nv)
             if not is_psd(nQ):
-                return "a Gram matrix of nu is not positive semidefinite (exact LDL^T)"
+                return "a Gram matrix of nu is not positive semidefinite (exact charpoly)"
             xj2 = pmul(_var(j, nv), _var(j, nv))
             target = padd(target, pscale(pmul(gram_poly(nb, nQ),
                                               padd(U2, pscale(xj2, Fraction(-1)))),
@@ -325,14 +326,21 @@ def _check_global(system: PolySystem, cert: dict[str, Any], V: Poly, sigma: Poly
         return "gamma and alpha must be positive"
     vb, vQ = gram_from(cert["multipliers"]["sigma_V"], nv)
     if not is_psd(vQ):
-        return "the Gram matrix of sigma_V is not positive semidefinite (exact LDL^T)"
+        return "the Gram matrix of sigma_V is not positive semidefinite (exact charpoly)"
     if padd(V, pscale(_norm2(n, nv), -g), pscale(gram_poly(vb, vQ), Fraction(-1))):
         return "V - gamma |x|^2 differs from its SOS sigma_V"
     f0 = [{k: c for k, c in p.items() if k[-1] == 0} for p in system.f]
     b = [{k[:-1] + (0,): c for k, c in p.items() if k[-1] == 1} for p in system.f]
+    work = len(V) * sum(len(p) for p in system.f)
+    if work > MAX_PRODUCT_WORK:
+        return (f"V has {len(V)} terms: grad V . f is {work} products of terms, above "
+                f"MAX_PRODUCT_WORK = {MAX_PRODUCT_WORK}")
     grads = [pdiff(V, i) for i in range(n)]
     W = padd(*(pmul(grads[i], f0[i]) for i in range(n)))
     G = padd(*(pmul(grads[i], b[i]) for i in range(n)))
+    if len(G) ** 2 > MAX_PRODUCT_WORK:
+        return (f"G = grad V . b has {len(G)} terms: G^2 is {len(G) ** 2} products of "
+                f"terms, above MAX_PRODUCT_WORK = {MAX_PRODUCT_WORK}")
     target = padd(pscale(W, Fraction(-1)), pscale(pmul(G, G), -a), pscale(_norm2(n, nv), -a))
     diff = padd(target, pscale(sigma, Fraction(-1)))
     zero = (0,) * nv
@@ -346,7 +354,7 @@ def _check_global(system: PolySystem, cert: dict[str, Any], V: Poly, sigma: Poly
 
 
 #: Largest certificate file read (bytes).
-MAX_FILE_BYTES = 20_000_000
+MAX_FILE_BYTES = 2_000_000
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -399,6 +407,14 @@ class CertificateCheck:
                 f"; state map {self.state_map}")
 
 
+def _json_int(text: str) -> int:
+    """A JSON integer, refused above :data:`MAX_RATIONAL_CHARS` digits before conversion."""
+    if len(text) > MAX_RATIONAL_CHARS:
+        raise ValueError(f"an integer of {len(text)} digits, above MAX_RATIONAL_CHARS = "
+                         f"{MAX_RATIONAL_CHARS}")
+    return int(text)
+
+
 def check_certificate(model: Any, certificate: dict[str, Any] | str | Path) -> CertificateCheck:
     """Re-verify a certificate written by ``gfrf threshold --certificate-out`` from scratch.
 
@@ -423,11 +439,14 @@ def check_certificate(model: Any, certificate: dict[str, Any] | str | Path) -> C
         if not path.is_file():
             raise ArgumentError(f"certificate file {str(path)[:200]!r} is not a regular file")
         if path.stat().st_size > MAX_FILE_BYTES:
-            raise ArgumentError(f"certificate file is above {MAX_FILE_BYTES} bytes")
+            raise ArgumentError(f"certificate file is above MAX_FILE_BYTES = {MAX_FILE_BYTES} "
+                                f"bytes")
         try:
-            certificate = json.loads(path.read_text(encoding="utf-8"))
-        except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+            certificate = json.loads(path.read_text(encoding="utf-8"), parse_int=_json_int)
+        except (UnicodeDecodeError, ValueError) as exc:  # JSONDecodeError is a ValueError
             raise ArgumentError(f"certificate file is not JSON: {exc}") from None
+        except RecursionError:
+            raise ArgumentError("certificate file is not JSON: nested too deeply") from None
         if not isinstance(certificate, dict):
             raise ArgumentError("certificate file must hold a JSON object")
     try:

@@ -85,7 +85,7 @@ def test_kernel_plot_api_and_zero_kernel() -> None:
 
 @pytest.mark.parametrize(("argv", "message"), [
     (["plot", "models/duffing.toml", "--order", "2", "--out", "x.txt"], "unsupported figure"),
-    (["plot", "models/duffing.toml", "--order", "0", "--out", "x.png"], "between 1 and MAX_KERNEL_ORDER"),
+    (["plot", "models/duffing.toml", "--order", "0", "--out", "x.png"], "between 1 and"),
     (["plot", "models/duffing.toml", "--order", "1", "--range", "-1", "--out", "x.png"],
      "range"),
 ])
