@@ -96,6 +96,7 @@ def _same_report_under_load(tmp_path: Path, *models: str, burners: int | None = 
         assert data == loaded[name], name
 
 
+@pytest.mark.slow
 def test_model_report_same_bytes_under_load(tmp_path: Path) -> None:
     # One model page (verdict, norms, margins, simulations): the affordable CI case.
     _same_report_under_load(tmp_path, str(ROOT / "models/duffing.toml"), burners=1)

@@ -27,6 +27,7 @@ def _pages(out: Path) -> list[Path]:
     return sorted(out.glob("*.md")) + sorted((out / "models").glob("*.md"))
 
 
+@pytest.mark.slow  # the quick build of every report: minutes of CPU
 def test_quick_build_writes_every_report(built: Path) -> None:
     stems = {Path(p).stem for p in bundled_models()}
     assert "parametric_pendulum" not in stems
@@ -43,6 +44,7 @@ def test_quick_build_writes_every_report(built: Path) -> None:
             assert (page.parent / ref).is_file(), (page, ref)
 
 
+@pytest.mark.slow  # the quick build of every report: minutes of CPU
 def test_paper_table_cells_come_from_the_rows(built: Path) -> None:
     rows = paper_checks(MODELS_DIR)
     rendered = check_table(rows)
@@ -58,6 +60,7 @@ def test_paper_table_cells_come_from_the_rows(built: Path) -> None:
         assert cells[5] == cell(row.reason)
 
 
+@pytest.mark.slow  # the quick build of every report: minutes of CPU
 def test_model_page_numbers_come_from_the_verdict(built: Path) -> None:
     a = analyse(str(MODELS_DIR / "hanging_pendulum.toml"), True)
     text = (built / "models" / "hanging_pendulum.md").read_text(encoding="utf-8")
@@ -71,6 +74,7 @@ def test_model_page_numbers_come_from_the_verdict(built: Path) -> None:
         assert cell(c.detail) in text
 
 
+@pytest.mark.slow  # the quick build of every report: minutes of CPU
 def test_model_page_margins_come_from_parameter_margin(built: Path) -> None:
     a = analyse(str(MODELS_DIR / "hanging_pendulum.toml"), True)
     text = (built / "models" / "hanging_pendulum.md").read_text(encoding="utf-8")

@@ -45,6 +45,7 @@ def test_every_bundled_model_is_covered() -> None:
     assert "parametric_pendulum.toml" not in MODELS
 
 
+@pytest.mark.slow  # every bundled model at every norm level
 @pytest.mark.parametrize("name", MODELS)
 def test_conclusions_do_not_depend_on_the_norm_level(by_level, name: str) -> None:
     none, fast, tight = (by_level[name][level] for level in ("none", "fast", "tight"))
@@ -53,6 +54,7 @@ def test_conclusions_do_not_depend_on_the_norm_level(by_level, name: str) -> Non
     assert [r["majorant"] for r in none.series] == [r["majorant"] for r in tight.series]
 
 
+@pytest.mark.slow  # every bundled model at every norm level
 @pytest.mark.parametrize("name", MODELS)
 def test_tight_brackets_lie_inside_the_fast_ones(by_level, name: str) -> None:
     none, fast, tight = (by_level[name][level] for level in ("none", "fast", "tight"))
