@@ -15,6 +15,7 @@ from pathlib import Path
 import pytest
 
 import gfrf.sweep.run
+import gfrf.sweep.schedulers
 from gfrf._atomic import atomic_open, atomic_write_text
 from gfrf.cli import main
 from gfrf.cli._output import PLOT_SUFFIXES
@@ -201,7 +202,7 @@ def test_listener_that_is_not_a_scheduler_times_out(
             pass
 
     threading.Thread(target=accept, daemon=True).start()
-    monkeypatch.setattr(gfrf.sweep.run, "SCHEDULER_TIMEOUT", 1.5)
+    monkeypatch.setattr(gfrf.sweep.schedulers, "SCHEDULER_TIMEOUT", 1.5)
     port = server.getsockname()[1]
     try:
         start = time.perf_counter()
@@ -219,7 +220,7 @@ def test_listener_that_is_not_a_scheduler_times_out(
 
 
 def test_documented_scheduler_timeout_is_ten_seconds() -> None:
-    assert gfrf.sweep.run.SCHEDULER_TIMEOUT == 10.0
+    assert gfrf.sweep.schedulers.SCHEDULER_TIMEOUT == 10.0
     assert "SCHEDULER_TIMEOUT" in (gfrf.sweep.run.executor.__doc__ or "")
 
 

@@ -91,6 +91,8 @@ def test_ctrl_c_stops_gfrf_plot_within_a_second_of_cpu(child: list[subprocess.Po
                                                        tmp_path: Path, cpu: float) -> None:
     after, code, err = interrupt_after(child, ["plot", STIFF, "--order", "2", "--out",
                                                "h2.png"], cpu, tmp_path)
-    assert code == 130 and err == "gfrf: interrupted\n"
+    # the grid-thinning warning may come first; the interrupt is the last and only other line
+    assert code == 130 and err.endswith("gfrf: interrupted\n") and "Traceback" not in err
+    assert all(line.startswith("gfrf: ") for line in err.splitlines())
     assert after < 1.0
     assert list(tmp_path.iterdir()) == []
