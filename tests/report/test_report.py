@@ -107,6 +107,7 @@ def test_cartpole_coefficient_rows_match_closed_forms() -> None:
     assert not rows["eq (13) linear coefficient (vs eq (12))"].match
 
 
+@pytest.mark.slow  # two more quick builds
 def test_two_runs_are_identical(built: Path, tmp_path: Path) -> None:
     analyse.cache_clear()
     write_reports(tmp_path, bundled_models(), quick=True)  # the model pages
