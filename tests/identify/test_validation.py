@@ -96,6 +96,7 @@ def test_shift_matches_the_expansion_by_hand():
         assert got[k] == pytest.approx(v, rel=1e-14)
 
 
+@pytest.mark.slow  # a full identification from data: tens of seconds
 def test_offset_in_the_output_is_fitted_as_an_operating_point(tmp_path, capsys):
     """Table row 1: y + 0.5.  Old code: no constant, free-run RRSE > 1, verdict stable."""
     u, y, _ = _data()
@@ -265,6 +266,7 @@ def test_missing_rows_refused_or_interpolated_or_dropped(tmp_path, capsys):
 
 # -------------------------------------------------- structure and reproducibility
 
+@pytest.mark.slow  # a full identification from data: tens of seconds
 def test_lags_and_degree_chosen_by_the_criterion_when_not_given(tmp_path, capsys):
     rng = np.random.default_rng(9)
     u = rng.uniform(-1, 1, 1500)
@@ -352,6 +354,7 @@ def test_the_criterion_takes_its_global_minimum(tmp_path, capsys):
     assert out["identification"]["adequate"] is True
 
 
+@pytest.mark.slow  # a full identification from data: tens of seconds
 def test_noise_free_data_of_a_continuous_system_are_adequate(tmp_path, capsys):
     """The issue's clean case: a NARX fit of y'' + 0.2y' + y + 0.5y^3 = u reproduces held-out
     data to 1e-3; its residual is the fit's own structural error, so the correlation tests
