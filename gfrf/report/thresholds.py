@@ -27,8 +27,11 @@ PAPER_PENDULUMS = ("hanging_pendulum", "hanging_pendulum_damped")
 QUICK_MODELS = ("duffing", "hanging_pendulum_damped")
 
 
-def _kind(radius: float) -> str:
-    return "energy, global" if math.isinf(radius) else "sublevel set"
+def _kind(method: str, radius: float) -> str:
+    """The certificate's family in a word, and ``global`` for an infinite radius."""
+    family = ("sum of squares" if "sum-of-squares" in method else
+              "energy" if "energy" in method or "E + eps" in method else "certificate")
+    return f"{family}, global" if math.isinf(radius) else f"{family}, sublevel set"
 
 
 def rows(results: dict[str, Threshold]) -> list[list[object]]:
@@ -57,7 +60,7 @@ def rows(results: dict[str, Threshold]) -> list[list[object]]:
                               for a, w, p in tones) + f" ({t.upper_proof})")
         ratio = theorem.radius / t.upper if t.upper else None
         out.append([stem, f"Theorem {t.theorem}", theorem.radius,
-                    "; ".join(f"{c.radius:.6g} ({_kind(c.radius)}, {c.proof})"
+                    "; ".join(f"{c.radius:.6g} ({_kind(c.method, c.radius)}, {c.proof})"
                               for c in second) or "-",
                     t.lower, t.upper, witness, t.static_bound, ratio])
     return out
@@ -143,16 +146,22 @@ def write(out_dir: Path, models: list[str], quick: bool = False) -> Path:
     for stem in PAPER_PENDULUMS:
         t = results.get(stem)
         if t is not None and t.upper:
-            text.append(f"- `{stem}`: Theorem 1 proves {t.certificates[0].radius:.4g}, the "
-                        f"second certificate {t.lower:.4g}, a tone of amplitude "
-                        f"{t.upper:.4g} escapes: r*/upper = "
+            what = ("a switching input u = +-U of sup|u|" if t.falsification is not None
+                    and t.falsification.kind == "switching" else "a sum of tones of amplitude")
+            text.append(f"- `{stem}`: Theorem 1 proves {t.certificates[0].radius:.4g} (sums "
+                        f"of tones), the best certificate {t.lower:.4g} (every input with "
+                        f"sup|u| below it), {what} {t.upper:.4g} escapes "
+                        f"({t.upper_proof_words}): r*/upper = "
                         f"{t.certificates[0].radius / t.upper:.1%} (Theorem 1), lower/upper "
                         f"= {t.lower / t.upper:.1%} (the best proven).")
-    text += ["", "Units: r* and the energy certificate's radius bound inputs of Theorem 1's "
-             "class (amplitude = L1 norm of the spectrum) and every bounded input "
-             "respectively; the witness is a tone switched on at t = 0 (its spectrum's L1 "
-             "norm is infinite), so upper is reported beside r* in its own units (sum of "
-             "tone amplitudes), and the static bound bounds the norm series' radius, not "
-             "stability. A witness is a simulation fact (estimate-grade): found on the "
-             "fast path, confirmed by DOP853 at two tolerances.", ""]
+    text += ["", "Units: r* bounds inputs of Theorem 1's class (amplitude = L1 norm of the "
+             "spectrum); lower, and every energy or sum-of-squares certificate, every input "
+             "with sup|u| below it. A witness is switched on at t = 0 from rest: a switching "
+             "input is measured by sup|u| (the same class as lower), a sum of tones by the "
+             "sum of its amplitudes (its spectrum's L1 norm is infinite, so it is reported "
+             "beside r*, in its own units). The witness column says how its escape was "
+             "shown: interval (an Arb enclosure, or the NARX recursion in Arb, enters the "
+             "certified escape region) or estimate (simulation: the fast path, then DOP853 "
+             "at two tolerances). The static bound bounds the norm series' radius, not "
+             "stability.", ""]
     return atomic_write_text(out_dir / "thresholds.md", "\n".join(text))
