@@ -17,7 +17,7 @@ import math
 import sys
 from typing import Any
 
-from gfrf.cli._output import add_json_flag, emit
+from gfrf.cli._output import add_json_flag, emit, terminal_text
 from gfrf.errors import ArgumentError
 
 __all__ = ["register"]
@@ -108,7 +108,7 @@ def _ofrf(args: argparse.Namespace) -> int:
                             f"A*sin(w*t + p) / A*cos(w*t + p)")
     o = ofrf(data, args.param, signal.tones, args.omega, args.order, path=args.model)
     if o.warning:
-        print(f"gfrf: warning: {o.warning}", file=sys.stderr)
+        print(terminal_text(f"gfrf: warning: {o.warning}"), file=sys.stderr)
     name = data.get("name") or args.model
     at = o(o.value)
     lines = [f"{name}: output at omega = {o.omega:.6g} rad/s for {args.input}, order "

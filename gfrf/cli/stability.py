@@ -30,7 +30,7 @@ import sys
 from typing import TYPE_CHECKING
 
 from gfrf.cli._models import add_model_argument, resolve_model
-from gfrf.cli._output import add_json_flag, emit
+from gfrf.cli._output import add_json_flag, emit, terminal_text
 from gfrf.errors import ArgumentError
 
 if TYPE_CHECKING:  # imported where used: building the parser stays cheap
@@ -153,7 +153,8 @@ def _norm(args: argparse.Namespace) -> int:
     note = None if args.max_boxes is None else budget_note(mf.plant, args.order,
                                                            not args.asymmetric, args.max_boxes)
     if note:  # said before the work starts (stderr: stdout stays the result)
-        print(f"gfrf: note: --{note.replace('_', '-', 1)}", file=sys.stderr, flush=True)
+        print(terminal_text(f"gfrf: note: --{note.replace('_', '-', 1)}"), file=sys.stderr,
+              flush=True)
     b = kernel_norm(mf.plant, args.order, not args.asymmetric, args.tol,
                     max_boxes=args.max_boxes,
                     proof=args.proof, cross_check=args.cross_check, progress=None)
