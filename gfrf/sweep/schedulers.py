@@ -104,14 +104,18 @@ def _probe(address: str, timeout: float) -> None:
 
 def _start_cluster(n: int) -> Any:
     """A LocalCluster of ``n`` single-threaded worker processes, started in a helper
-    thread whose signal mask blocks SIGINT.
+    thread while this process's standard error (file descriptor 2) points to the null
+    device.
 
-    The worker processes inherit that mask (it survives fork and exec): a Ctrl-C sent to
-    the terminal's process group while they start (importing, before their preload
-    ignores it) cannot raise KeyboardInterrupt in them and print their traceback.  This
-    thread stays interruptible: on Ctrl-C the workers started so far are killed, dask's
-    exit-time close of the half-started cluster is dropped (it asserted on the workers'
-    state and printed a traceback), and KeyboardInterrupt propagates.
+    The worker processes inherit that descriptor: they share the terminal's process
+    group, so a Ctrl-C while they start (importing, before their preload ignores it)
+    interrupts their interpreter start-up, and the fatal error it prints must not reach
+    the terminal.  Nothing of gfrf's output comes from a worker's standard error (dask's
+    logs are silenced; a point's error reaches the sweep through its future).  This
+    thread stays interruptible and gets its standard error back before anything is
+    raised: on Ctrl-C the workers started so far are killed, dask's exit-time close of
+    the half-started cluster is dropped (it asserted on the workers' state and printed a
+    traceback), and KeyboardInterrupt propagates.
     """
     import threading
 
@@ -133,19 +137,21 @@ def _start_cluster(n: int) -> Any:
             box["error"] = exc
 
     thread = threading.Thread(target=build, name="gfrf-cluster-start", daemon=True)
-    masks = hasattr(signal, "pthread_sigmask")  # POSIX
-    blocked = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT}) if masks else None
+    stderr = os.dup(2)
+    null = os.open(os.devnull, os.O_WRONLY)
     try:
+        os.dup2(null, 2)
         thread.start()
-    finally:
-        if blocked is not None:
-            signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
-    try:
         while thread.is_alive():
             thread.join(0.05)
     except KeyboardInterrupt:
+        os.dup2(stderr, 2)
         _abandon_start()
         raise
+    finally:
+        os.dup2(stderr, 2)
+        os.close(stderr)
+        os.close(null)
     if "error" in box:
         raise box["error"]
     return box["cluster"]
@@ -159,10 +165,17 @@ def _abandon_start() -> None:
     from distributed.deploy import spec
 
     atexit.unregister(spec.close_clusters)
-    for name in ("distributed", *logging.root.manager.loggerDict):  # the start goes on
-        if name.startswith("distributed"):  # in its thread: its INFO lines are not ours
-            logging.getLogger(name).setLevel(logging.CRITICAL)
+    _silence_dask()  # the start goes on in its thread: its log lines are not ours
     _kill_children()
+
+
+def _silence_dask() -> None:
+    """Raise every dask logger to CRITICAL for good: the connections torn down by a
+    Ctrl-C make dask log INFO lines and tracebacks, which are not gfrf's output (the
+    level ``silence_logs`` sets is restored when the cluster closes, before those)."""
+    for name in ("distributed", *logging.root.manager.loggerDict):
+        if name.startswith("distributed"):
+            logging.getLogger(name).setLevel(logging.CRITICAL)
 
 
 def _kill_children() -> None:
@@ -179,13 +192,20 @@ def _kill_children() -> None:
 
 
 def _kill_workers(cluster: Any) -> None:
-    """End the worker processes of a local cluster at once (SIGKILL): closing it then
+    """End the worker processes of a local cluster at once: each nanny is told not to
+    restart its worker, the workers get SIGKILL and are reaped.  Closing the cluster then
     takes a fraction of a second instead of the seconds a graceful retirement takes."""
+    from distributed.core import Status
+
+    _silence_dask()
     for nanny in list(getattr(cluster, "workers", {}).values()):
+        with contextlib.suppress(AttributeError):
+            nanny.status = Status.closing_gracefully  # no restart of a killed worker
         pid = getattr(nanny, "pid", None)
         if pid:
             with contextlib.suppress(OSError):
                 os.kill(pid, signal.SIGKILL)
+    _kill_children()
 
 
 @contextlib.contextmanager
