@@ -11,17 +11,19 @@ exact values of the doubles the model and the witness hold.
 Each step of length h (exact dyadic lengths; the switch times are step boundaries) is
 the interval Taylor method with a rigorous remainder (Moore's method): an a priori
 enclosure B with X + [0, h] F(B) inside B (Picard-Lindelof: every solution from the
-box X stays in B over the step), the Taylor coefficients z_k of the solution from X
-(Picard iteration on Arb power series, python-flint ``arb_series``), and the
+box X stays in B over the step), the Taylor coefficients z_k of the solution from a
+point c (Picard iteration on Arb power series, python-flint ``arb_series``), and the
 Lagrange remainder h^K z_K(B):
 
-    z(h) in sum_{k<K} z_k(X) h^k + h^K z_K(B).
+    z(h) in sum_{k<K} z_k(c) h^k + h^K z_K(B).
 
-The working precision absorbs the wrapping of the boxes (it starts at a point: the
-rest state).  The escape is proven when a box lies in the certified escape region of an
-oscillator (:mod:`gfrf.twosided.escape`: every solution in it escapes under every
-input of the witness's size), or for other models beyond the stated level of y (the
-definition of escape there).  Work is bounded by step counts.
+The set is carried in Lohner's form c + B R (:mod:`gfrf.twosided.lohner`: a point, an
+orthogonal basis from a QR factorisation, a box of coefficients), advanced by the
+mean-value form with an enclosure of the flow's Jacobian, so a rotating oscillator does
+not wrap its box step after step.  The escape is proven when the set's hull lies in the
+certified escape region of an oscillator (:mod:`gfrf.twosided.escape`: every solution
+in it escapes under every input of the witness's size), or for other models beyond the
+stated level of a state (the definition of escape there).  Work is bounded by step counts.
 """
 
 from __future__ import annotations
@@ -32,6 +34,7 @@ from fractions import Fraction
 from typing import Any
 
 from gfrf.model.equation import Model
+from gfrf.twosided.lohner import LohnerSet, lohner_step
 
 __all__ = ["Enclosure", "enclose_witness", "flow", "ORDER", "MAX_STEPS", "PRECISIONS"]
 
@@ -43,11 +46,11 @@ MIN_STEP = 2.0**-50
 #: witness needs more steps of its longest step is not started.
 MAX_STEPS = 3_000
 #: (working precision in bits, longest step in s) of the attempts, in turn: a shorter
-#: step makes the Lagrange remainder smaller, which the wrapping of the boxes amplifies.
-PRECISIONS = ((192, 2.0**-5), (320, 2.0**-6))
+#: step makes the Lagrange remainder smaller.
+PRECISIONS = ((128, 2.0**-3), (192, 2.0**-4))
 #: The method in words.
-METHOD = ("interval Taylor enclosure in Arb ball arithmetic (order 24, steps <= 1/32 s, a priori "
-          "enclosure and Lagrange remainder) from rest")
+METHOD = ("interval Taylor enclosure in Arb ball arithmetic from rest (order 24, steps <= 1/8 s, "
+          "a priori enclosure and Lagrange remainder; Lohner's QR step against wrapping)")
 
 
 @dataclass(frozen=True)
@@ -209,11 +212,10 @@ def _inflate(b: Any) -> Any:
     return b + arb(0, 0.2 * float(b.rad()) + 1e-9 * float(abs(b.mid())) + 1e-60)
 
 
-def _step(field: _Field, X: list[Any], h: Any) -> list[Any] | None:
-    """The box at t + h from the box X at t, or None (no a priori enclosure found)."""
+def _apriori(field: Any, X: list[Any], h: Any) -> list[Any] | None:
+    """A box holding every solution from the box X over [0, h], or None."""
     from flint import arb
 
-    K = ORDER
     span = h * arb(0.5, 0.5)  # [0, h]
     B = [x + span * f for x, f in zip(X, field(X), strict=True)]
     B = [_inflate(b) for b in B]
@@ -222,21 +224,9 @@ def _step(field: _Field, X: list[Any], h: Any) -> list[Any] | None:
             return None
         trial = [x + span * f for x, f in zip(X, field(B), strict=True)]
         if all(_finite(t) and b.contains(t) for b, t in zip(B, trial, strict=True)):
-            break
+            return B
         B = [_inflate(t) for t in trial]
-    else:
-        return None
-    coeffs = _series(field, X, K - 1)
-    rem = _series(field, B, K)
-    if coeffs is None or rem is None:
-        return None
-    out = []
-    for c, r in zip(coeffs, rem, strict=True):
-        total: Any = 0
-        for k in range(K - 1, -1, -1):
-            total = total * h + c[k]
-        out.append(total + r[K] * h**K)
-    return out
+    return None
 
 
 def enclose_witness(model: Model, falsification: Any, *,
@@ -294,6 +284,7 @@ def _attempt(n: int, monos: Monomials, f: Any, bits: int, longest: float,
         X = [arb(0)] * n
         for _, _, p in tones:
             X += [arb(p).cos(), arb(p).sin()]
+        S = LohnerSet.of_box(X)
         region = f.region
         horizon = (f.t_escape or f.t_end) * 1.5
         edges = [0.0, *(f.switch_times if f.kind == "switching" else []), horizon]
@@ -309,11 +300,11 @@ def _attempt(n: int, monos: Monomials, f: Any, bits: int, longest: float,
                 if not left > 0:
                     break
                 h = arb(step) if left > step else left
-                nxt = _step(field, X, h)
+                nxt = _advance(field, S, h)
                 steps += 1
                 while nxt is None and h.mid() >= MIN_STEP and steps <= MAX_STEPS:
                     h = h / 2
-                    nxt = _step(field, X, h)
+                    nxt = _advance(field, S, h)
                     steps += 1
                 step = min(longest, 2 * float(h.mid())) if nxt is not None else step
                 if nxt is None or steps > MAX_STEPS:
@@ -321,7 +312,8 @@ def _attempt(n: int, monos: Monomials, f: Any, bits: int, longest: float,
                     return Enclosure(proven=False, t_proven=None, steps=steps,
                                      precision=bits, width=_width(X),
                                      reason=f"stopped at t = {float(t.mid()):.6g} s: {why}")
-                X, t = nxt, t + h
+                S, t = nxt, t + h
+                X = S.hull()
                 if trace is not None:
                     trace.append((t, list(X)))
                 hit = _escaped(X, region, list(f.levels), n)
@@ -339,6 +331,10 @@ def _attempt(n: int, monos: Monomials, f: Any, bits: int, longest: float,
                          width=_width(X), reason="the horizon was reached")
     finally:
         ctx.prec, ctx.cap = old
+
+
+def _advance(field: _Field, S: LohnerSet, h: Any) -> LohnerSet | None:
+    return lohner_step(field, S, h, ORDER, _apriori, _series)
 
 
 def _width(X: list[Any]) -> float:
