@@ -1,8 +1,9 @@
 """Sign sequences u[k] = +-U for a NARX model: the discrete bang-bang inputs.
 
 The rules (from rest; y[k] = 0 and u[k] = 0 before k = 0): a constant +-U, alternating
-signs of period 2 and 4, and the feedback u[k] = +-U sign(y[k-1]) and
-+-U sign(y[k-1] - y[k-2]) (the discrete velocity).  A run returns the sample times at
+signs of period 2 and 4, the feedback u[k] = +-U sign(y[k-1]) and
++-U sign(y[k-1] - y[k-2]) (the discrete velocity), and a beam search over the sign
+sequences (:mod:`gfrf.twosided.narx_beam`).  A run returns the sample times at
 which the sign changed, so the witness is the same switching input as a continuous one
 (u = first_sign * U on [0, t1), alternating at each switch time), sampled at t = kT.
 """
@@ -18,9 +19,9 @@ from gfrf.twosided.switching import SwitchRun
 
 __all__ = ["RULES", "run_signs", "replay_signs"]
 
-#: The sign rules tried, by name.
+#: The sign rules tried, by name ("beam": the search of :mod:`gfrf.twosided.narx_beam`).
 RULES = ("constant", "-constant", "period 2", "period 4", "sign y", "-sign y",
-         "sign dy", "-sign dy")
+         "sign dy", "-sign dy", "beam")
 
 
 def _recursion(system: Any, sign_of: Any, amplitude: float, samples: int, level: float,
@@ -90,6 +91,10 @@ def run_signs(system: Any, rule: str, amplitude: float, samples: int, level: flo
     SwitchRun
         Whether and when (s) y escaped, and the sample times (s) of the sign changes.
     """
+    if rule == "beam":
+        from gfrf.twosided.narx_beam import beam_search
+
+        return beam_search(system, amplitude, samples, level)
     return _recursion(system, _rule(rule), amplitude, samples, level,
                       float(system.sample_time))
 

@@ -105,3 +105,35 @@ def test_narx_sign_witness_escapes_in_an_independent_recursion(
         y.append(0.5 * prev - 0.2 * prev**2 * (u[k - 2] if k >= 2 else 0.0)
                  + (u[k - 1] if k >= 1 else 0.0))
     assert abs(y[-1]) >= 1e6 and all(abs(v) < 1e6 for v in y[:-1])
+
+
+def test_narx_beam_search_beats_the_fixed_sign_rules_and_its_witness_replays() -> None:
+    """identified_example: the beam over sign sequences escapes at a smaller U than every
+    fixed rule, and its sign sequence escapes in the recursion written out here."""
+    from pathlib import Path
+
+    from gfrf.model.modelfile import load_model
+    from gfrf.twosided.falsify import _edge, _Runner
+    from gfrf.twosided.narx_signs import RULES
+
+    mf = load_model(Path(__file__).resolve().parents[2] / "models" / "identified_example.toml")
+    runner = _Runner(build_system(mf, equation="polynomial"), mf.plant, 10.0)
+    edges = {r: _edge(lambda a, r=r: runner.switch(r, a).escaped, 40.0) for r in RULES}
+    beam = edges.pop("beam")
+    assert beam is not None
+    assert all(e is None or beam < 0.97 * e for e in edges.values()), (beam, edges)
+    run = runner.switch("beam", beam)
+    assert run.escaped and run.t_escape is not None
+    assert run.switch_times == runner.switch("beam", beam).switch_times  # deterministic
+    flips = {round(t / 0.1) for t in run.switch_times}
+    sign, u, y = run.first_sign, [], []
+    for k in range(round(run.t_escape / 0.1) + 1):
+        if k in flips:
+            sign = -sign
+        u.append(sign * beam)
+        y1, y2 = (y[k - 1] if k >= 1 else 0.0), (y[k - 2] if k >= 2 else 0.0)
+        u1, u2 = (u[k - 1] if k >= 1 else 0.0), (u[k - 2] if k >= 2 else 0.0)
+        y.append(0.5951575491 * y1 - 0.1979410468 * y2 + 0.4991094922 * u1
+                 + 0.3025633491 * u2 + 0.1508917809 * y1 * u1 - 0.100037633 * u1**2
+                 - 0.04852880773 * y1**3)
+    assert abs(y[-1]) >= 1e6 and all(abs(v) < 1e6 for v in y[:-1])
