@@ -138,3 +138,51 @@ def test_slow_escapes_are_proven_and_the_weaker_witness_is_not(source: str, cap:
                            switch_times=f.switch_times, levels=f.levels, region=region)
     scaled = enclose_witness(model, weaker)
     assert scaled is not None and not scaled.proven
+
+
+@pytest.mark.slow
+def test_ctrl_c_during_the_proof_exits_130_quietly() -> None:
+    """SIGINT to the process group once the enclosure has started: exit 130, the one
+    line ``gfrf: interrupted`` on stderr, nothing on stdout."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    root = MODELS.parent
+    script = """
+import signal, sys
+signal.signal(signal.SIGINT, signal.default_int_handler)  # as under a terminal
+from gfrf.twosided import enclose
+advance = enclose._advance
+said = []
+def spying(*args):
+    if not said:
+        said.append(1)
+        print("proof", file=sys.stderr, flush=True)
+    return advance(*args)
+enclose._advance = spying
+from gfrf.cli import main
+sys.exit(main(["threshold", "D(y,2) + 0.2*D(y) + y - 0.3*y**3 = u"]))
+"""
+    proc = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, cwd=root, start_new_session=True)
+    try:
+        assert proc.stderr is not None
+        while True:  # warnings of the lower side may come first
+            line = proc.stderr.readline()
+            assert line, "the proof never started"
+            if line == b"proof\n":
+                break
+        time.sleep(0.2)
+        os.killpg(proc.pid, signal.SIGINT)
+        start = time.perf_counter()
+        out, err = proc.communicate(timeout=60)
+        assert proc.returncode == 130
+        assert err.decode() == "gfrf: interrupted\n" and out == b""
+        assert time.perf_counter() - start < 5.0
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
