@@ -48,6 +48,8 @@ MAX_STEPS = 3_000
 #: (working precision in bits, longest step in s) of the attempts, in turn: a shorter
 #: step makes the Lagrange remainder smaller.
 PRECISIONS = ((128, 2.0**-3), (192, 2.0**-4))
+#: Why an attempt ended without escape when its boxes stayed narrow to the horizon.
+_HORIZON = "the horizon was reached"
 #: The method in words.
 METHOD = ("interval Taylor enclosure in Arb ball arithmetic from rest (order 24, steps <= 1/8 s, "
           "a priori enclosure and Lagrange remainder; Lohner's QR step against wrapping)")
@@ -265,7 +267,9 @@ def enclose_witness(model: Model, falsification: Any, *,
         if trace is not None:
             trace.clear()
         last = _attempt(n, monos, f, bits, step, trace)
-        if last.proven:
+        if last.proven or last.reason == _HORIZON:
+            # a narrow enclosure that stayed out of the escape to the horizon: a finer
+            # step would enclose the same non-escaping trajectory
             return last
     return last or Enclosure(proven=False, t_proven=None, steps=0, precision=0, width=0.0,
                              reason=f"not attempted: the escape at t = {f.t_escape:.6g} s "
@@ -328,7 +332,7 @@ def _attempt(n: int, monos: Monomials, f: Any, bits: int, longest: float,
                                             f"{float(t.mid()):.6g} s")
             sign = -sign
         return Enclosure(proven=False, t_proven=None, steps=steps, precision=bits,
-                         width=_width(X), reason="the horizon was reached")
+                         width=_width(X), reason=_HORIZON)
     finally:
         ctx.prec, ctx.cap = old
 
