@@ -226,6 +226,21 @@ def _quadratic_pd(V: Poly, n: int, nv: int) -> bool:
     return det != 0 and is_psd(P)
 
 
+def _radially_unbounded(cert: dict[str, Any], V: Poly, n: int, nv: int) -> str:
+    """Empty when V has no input term and V - gamma |x|^2 == sigma_V (PSD), gamma > 0."""
+    if any(k[-1] for k in V):
+        return "V depends on the input"
+    g = q(cert["gamma"])
+    if not g > 0:
+        return "gamma must be positive"
+    vb, vQ = gram_from(cert["multipliers"]["sigma_V"], nv)
+    if not is_psd(vQ):
+        return "the Gram matrix of sigma_V is not positive semidefinite (exact charpoly)"
+    if padd(V, pscale(_norm2(n, nv), -g), pscale(gram_poly(vb, vQ), Fraction(-1))):
+        return "V - gamma |x|^2 differs from its SOS sigma_V"
+    return ""
+
+
 def check_dict(system: PolySystem, cert: dict[str, Any]) -> CheckResult:
     """Re-verify a certificate's identity and Gram matrices exactly.
 
@@ -271,8 +286,15 @@ def _check(system: PolySystem, cert: dict[str, Any]) -> str:
     c, U = q(cert["c"]), q(cert["U"])
     if not (c > 0 and U > 0):
         return "c and U must be positive"
-    if not _quadratic_pd(V, n, nv):
-        return "V is not a positive definite quadratic form in the state"
+    if kind == "local-discrete" or "gamma" not in cert:
+        if not _quadratic_pd(V, n, nv):
+            return "V is not a positive definite quadratic form in the state"
+    else:
+        why = _radially_unbounded(cert, V, n, nv)
+        if why:
+            return why
+        if V.get((0,) * nv, Fraction(0)) >= c:
+            return "V(0) >= c: the origin is not inside {V < c}"
     U2 = {(0,) * nv: U * U}
     mu_b, mu_Q = gram_from(m["mu"], nv)
     if not is_psd(mu_Q):
