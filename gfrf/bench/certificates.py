@@ -23,8 +23,8 @@ def _cases(quick: bool) -> list[tuple[str, object]]:
     import control
 
     from gfrf.model.equation import parse_model
-    from gfrf.model.modelfile import Controller, ModelFile
     from gfrf.model.from_control import from_tf
+    from gfrf.model.modelfile import Controller, ModelFile
 
     cases: list[tuple[str, object]] = [
         ("third-order plant", from_tf(control.tf([2], [1, 1.2, 3, 1]), {2: 0.3, 3: 0.5})),

@@ -1,20 +1,24 @@
 """Higher-degree storage functions for the local continuous-time SOS certificate.
 
-A quadratic V (:mod:`gfrf.stability.sos`) is the starting point.  Normalised to the
-level c = 1, it is improved by alternating two convex programs (V-lambda iteration):
+A verified quadratic V (:mod:`gfrf.stability.sos`) is the starting point.  Normalised
+to the level c = 1, it is improved by alternating two convex programs (the V-lambda
+iteration):
 
-* **V step** -- the multipliers lambda, mu fixed, V of degree 4 and t = U^2 are the
-  variables:  maximise t  subject to  -dV/dt - eps|x|^2 + lambda (V - 1) - mu (t - v^2)
-  SOS  and  V - g|x|^2 SOS  (V radially unbounded, so {V <= 1} is compact);
-* **multiplier step** -- V fixed, bisection on U: lambda free, mu SOS, the same
-  identity at a fixed U (a feasibility problem, whose interior solution survives the
-  rounding to rationals).
+* **V step** -- the multipliers lambda, mu fixed; V of degree 4, the level c and
+  t = U^2 are the variables:  maximise t  subject to
+  -dV/dt - eps|x|^2 + lambda (V - c) - mu (t - v^2) SOS  and  V - g|x|^2 SOS with its
+  Gram matrix >= 2g I (V radially unbounded, so {V <= c} is compact; the margin keeps the
+  next step strictly feasible), 1/2 <= c <= 2; V is then divided by c;
+* **multiplier step** -- V fixed, U just below the V step's optimum (bisection below
+  it when infeasible): lambda free, mu SOS, the same identity at level 1 (a feasibility
+  problem: its interior solution survives the rounding to rationals).
 
 The previous V stays feasible in the next V step, so the proposed U never decreases.
-Every multiplier step that is feasible is rounded to rationals, made exact
-(:func:`gfrf.stability.sos_core._project`) and re-verified by
-:func:`gfrf.stability.sos_check.check_dict`; only a certificate that passed is kept.
-The work is bounded by the counts :data:`ROUNDS` and :data:`STEPS`, never by time.
+The rounds stop after :data:`ROUNDS` or when U grew by less than :data:`GAP` (relative).
+Each multiplier step's solution is rounded to rationals and made exact
+(:func:`gfrf.stability.sos_core._project`); the proposals are re-verified by
+:func:`gfrf.stability.sos_check.check_dict`, the largest U first, and only one that
+passed is returned.  The work is bounded by counts and gaps, never by time.
 """
 
 from __future__ import annotations
@@ -134,21 +138,19 @@ def _v_step(system: PolySystem, sh: _Shape, lam: Poly, mu: Poly
     # a margin: the next multiplier step's sigma_V stays strictly inside the cone
     pv.constraints += [t <= 1e6, QV >> 2 * float(_GAMMA) * np.eye(len(sh.vq_basis)),
                        cv >= 0.5, cv <= 2]
-    if not _solve([prog, pv], t[0]) or a.value is None or t.value is None:
+    if (not _solve([prog, pv], t[0]) or a.value is None or t.value is None
+            or cv.value is None):
         return None
-    cval = float(cv.value[0])
+    cval = float(np.asarray(cv.value)[0])
     V = {k: _r(x / cval) for k, x in zip(sh.v_basis, np.asarray(a.value), strict=True)
          if _r(x / cval)}
-    return V, float(t.value[0])
+    return V, float(np.asarray(t.value)[0])
 
 
 def _m_step(system: PolySystem, sh: _Shape, V: Poly, U: Fraction
-            ) -> tuple[dict[str, Any] | None, Poly, Poly]:
+            ) -> tuple[dict[str, Any], Poly, Poly] | None:
     """Multipliers for a fixed V at level 1 and input bound U: the rounded, exactly
-    projected certificate (unchecked; None when infeasible) and (lambda, mu) floats."""
-    import cvxpy as cp
-
-    nv = sh.nv
+    projected certificate (not yet checked) with lambda and mu; None when infeasible."""
     zero = sh.zero
     box = padd({zero: U * U}, pscale(sh.v2, Fraction(-1)))
     prog = _Program()
@@ -159,8 +161,8 @@ def _m_step(system: PolySystem, sh: _Shape, V: Poly, U: Fraction
     pv = _Program()
     pv.constant(padd(V, pscale(sh.norm2, -_GAMMA)), 1.0)
     sv_var = pv.gram(sh.vq_basis, {zero: Fraction(1)}, -1.0)
-    if not _solve([prog, pv]) or sig_var.value is None:
-        return None, {}, {}
+    if not _solve([prog, pv]) or sig_var.value is None or lam_var.value is None:
+        return None
     lam = {k: _r(x) for k, x in zip(sh.lam_basis, np.asarray(lam_var.value), strict=True)
            if _r(x)}
     mu_Q = _rgram(mu_var)
@@ -170,7 +172,7 @@ def _m_step(system: PolySystem, sh: _Shape, V: Poly, U: Fraction
     sig_Q = _project(sh.sig_basis, _rgram(sig_var), target)
     sv_Q = _project(sh.vq_basis, _rgram(sv_var), padd(V, pscale(sh.norm2, -_GAMMA)))
     if sig_Q is None or sv_Q is None:
-        return None, lam, mu
+        return None
     cert = {"format": FORMAT, "version": 1, "kind": "local-continuous",
             "state_map": system.map_text(), "states": list(system.states),
             "V": poly_to(V), "c": "1", "U": str(U), "epsilon": str(_EPS),
@@ -178,7 +180,6 @@ def _m_step(system: PolySystem, sh: _Shape, V: Poly, U: Fraction
             "multipliers": {"mu": gram_to(sh.mu_basis, mu_Q), "lambda": poly_to(lam),
                             "sigma": gram_to(sh.sig_basis, sig_Q),
                             "sigma_V": gram_to(sh.vq_basis, sv_Q)}}
-    del nv
     return cert, lam, mu
 
 
@@ -208,10 +209,11 @@ def improve(system: PolySystem, certificate: dict[str, Any]
     c0 = Fraction(certificate["c"])
     V = {k: x / c0 for k, x in poly_from(certificate["V"], nv).items()}
     U_best = Fraction(certificate["U"])
-    cert, lam, mu = _m_step(system, sh, V, U_best)
+    start = _m_step(system, sh, V, U_best)
     solves = 1
-    if not lam:
+    if start is None:
         return None, solves
+    _, lam, mu = start
     found: list[dict[str, Any]] = []  # proposals, largest U last
     for _ in range(ROUNDS):
         step = _v_step(system, sh, lam, mu)
@@ -225,12 +227,12 @@ def improve(system: PolySystem, certificate: dict[str, Any]
         for k in range(STEPS):
             # just inside the V step's optimum first: its boundary would not survive rounding
             U = _r(top * _BACKOFF if k == 0 else (lo + hi) / 2)
-            cert, lam_k, mu_k = _m_step(system, sh, V, U)
+            found_k = _m_step(system, sh, V, U)
             solves += 1
-            if cert is not None:
-                found.append(cert)
+            if found_k is not None:
+                found.append(found_k[0])
                 gained = U / U_best - 1
-                U_best, lam, mu = U, lam_k, mu_k
+                U_best, lam, mu = U, found_k[1], found_k[2]
                 break
             hi = float(U)
         if gained < GAP:

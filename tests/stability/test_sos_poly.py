@@ -103,7 +103,7 @@ def test_inputs_below_the_quartic_radius_stay_in_the_set(quartic) -> None:
 
     _run_stays_in(V, rhs, (bang, lambda t, z: U * math.copysign(1.0, math.sin(0.95 * t)),
                            lambda t, z: 0.5 * U * (math.cos(t) + math.cos(1.7 * t + 1))),
-                  2, 80)
+                  2, 30)
 
 
 @pytest.mark.slow
