@@ -6,7 +6,9 @@ and inputs).  A storage function V is searched, and the largest U such that the
 sublevel set {V <= c} is invariant for every input with sup|v| <= U (the S-procedure,
 :mod:`gfrf.stability.sos_check` states the identities), or, for a continuous system,
 a radially unbounded V whose derivative is negative outside a compact set for every
-bounded input (global: every bounded input keeps every solution bounded).
+bounded input (global: every bounded input keeps every solution bounded).  For a
+continuous system the verified quadratic V is then improved to degree 4 by the V-lambda
+iteration of :mod:`gfrf.stability.sos_poly`.
 
 The semidefinite programs are solved by Clarabel through cvxpy.  Their answer is only a
 proposal: every number is rounded to a rational, the Gram matrix of the remainder is

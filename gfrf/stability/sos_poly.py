@@ -29,7 +29,15 @@ from typing import Any
 import numpy as np
 
 from gfrf.stability.polysys import Poly, PolySystem, padd, pdegree, pdiff, pmul, pscale
-from gfrf.stability.sos_check import FORMAT, check_dict, gram_poly, gram_to, poly_to, vdot
+from gfrf.stability.sos_check import (
+    FORMAT,
+    check_dict,
+    gram_poly,
+    gram_to,
+    poly_from,
+    poly_to,
+    vdot,
+)
 from gfrf.stability.sos_core import _monomials, _Program, _project, _r, _rgram
 
 __all__ = ["improve", "ROUNDS", "STEPS", "GAP", "DEGREE"]
@@ -203,8 +211,6 @@ def improve(system: PolySystem, certificate: dict[str, Any]
     sh = _Shape(system, DEGREE)
     if system.discrete or sh.size() > MAX_GRAM:
         return None, 0
-    from gfrf.stability.sos_check import poly_from
-
     nv = sh.nv
     c0 = Fraction(certificate["c"])
     V = {k: x / c0 for k, x in poly_from(certificate["V"], nv).items()}
@@ -214,7 +220,7 @@ def improve(system: PolySystem, certificate: dict[str, Any]
     if start is None:
         return None, solves
     _, lam, mu = start
-    found: list[dict[str, Any]] = []  # proposals, largest U last
+    found: list[dict[str, Any]] = []  # proposals
     for _ in range(ROUNDS):
         step = _v_step(system, sh, lam, mu)
         solves += 1
@@ -237,7 +243,7 @@ def improve(system: PolySystem, certificate: dict[str, Any]
             hi = float(U)
         if gained < GAP:
             break
-    for cert in reversed(found):
+    for cert in sorted(found, key=lambda c: -Fraction(c["U"])):  # the largest U first
         if check_dict(system, cert) == "":
             return cert, solves
     return None, solves
