@@ -66,6 +66,7 @@ SECTION_MODULES: tuple[str, ...] = (
     "gfrf.bench.identify",
     "gfrf.bench.frc",
     "gfrf.bench.upper",
+    "gfrf.bench.certificates",
 )
 
 

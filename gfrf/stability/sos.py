@@ -6,7 +6,9 @@ and inputs).  A storage function V is searched, and the largest U such that the
 sublevel set {V <= c} is invariant for every input with sup|v| <= U (the S-procedure,
 :mod:`gfrf.stability.sos_check` states the identities), or, for a continuous system,
 a radially unbounded V whose derivative is negative outside a compact set for every
-bounded input (global: every bounded input keeps every solution bounded).
+bounded input (global: every bounded input keeps every solution bounded).  For a
+continuous system the verified quadratic V is then improved to degree 4 by the V-lambda
+iteration of :mod:`gfrf.stability.sos_poly`.
 
 The semidefinite programs are solved by Clarabel through cvxpy.  Their answer is only a
 proposal: every number is rounded to a rational, the Gram matrix of the remainder is
@@ -329,7 +331,7 @@ def search_size(system: PolySystem) -> int:
     return len(_monomials(nv, range(D // 2 + 1), 1))
 
 
-def sos_certificate(system: PolySystem, *, global_search: bool = True
+def sos_certificate(system: PolySystem, *, global_search: bool = True, degree: int = 4
                     ) -> tuple[SosResult | None, int]:
     """The best verified SOS certificate of a polynomial system, or None.
 
@@ -339,6 +341,10 @@ def sos_certificate(system: PolySystem, *, global_search: bool = True
         The state form (:func:`gfrf.stability.polysys.state_form`).
     global_search : bool
         Try a global certificate (every bounded input) first.
+    degree : int
+        Degree of the local storage function of a continuous system: 2 (the quadratic V
+        only) or 4 (the quadratic V improved by the V-lambda iteration of
+        :func:`gfrf.stability.sos_poly.improve`).
 
     Returns
     -------
@@ -352,4 +358,16 @@ def sos_certificate(system: PolySystem, *, global_search: bool = True
         if res is not None:
             return res, solves
     res, k = _local(system)
-    return res, solves + k
+    solves += k
+    if res is not None and not system.discrete and degree > 2:
+        from gfrf.stability.sos_poly import improve
+
+        cert, k = improve(system, res.certificate)
+        solves += k
+        if cert is not None and Fraction(cert["U"]) > Fraction(res.certificate["U"]):
+            res = SosResult(radius=_below(Fraction(cert["U"])), kind=cert["kind"],
+                            certificate=cert, solves=solves, property=_BOUNDED)
+    if res is not None:
+        res = SosResult(radius=res.radius, kind=res.kind, certificate=res.certificate,
+                        solves=solves, property=res.property)
+    return res, solves

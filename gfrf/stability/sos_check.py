@@ -15,9 +15,12 @@ number takes part, so a solver's tolerance cannot make it pass.
 Kinds (``kind`` in the file):
 
 ``local-continuous``
-    V quadratic, positive definite; on {V = c}, for |v| <= U: -dV/dt >= eps |x|^2 > 0,
-    from  -dV/dt - eps|x|^2 + lambda (V - c) - mu (U^2 - v^2) = sigma  (mu, sigma SOS,
-    lambda any polynomial).  So {V <= c} is invariant: every solution from rest stays in it.
+    V quadratic, positive definite, or (with ``gamma`` and the multiplier ``sigma_V``)
+    V of any degree with V - gamma|x|^2 = sigma_V SOS, gamma > 0 and V(0) < c, so
+    {V <= c} is compact and holds the origin; on {V = c}, for |v| <= U:
+    -dV/dt >= eps |x|^2 > 0, from  -dV/dt - eps|x|^2 + lambda (V - c) - mu (U^2 - v^2)
+    = sigma  (mu, sigma SOS, lambda any polynomial).  So {V <= c} is invariant: every
+    solution from rest stays in it.
 ``local-discrete``
     V quadratic, positive definite; c - V(f(x, v)) - lambda (c - V) - mu (U^2 - v^2)
     - sum_j nu_j (U^2 - x_j^2) = sigma (lambda, mu, nu_j, sigma SOS; x_j the past inputs).
@@ -226,6 +229,21 @@ def _quadratic_pd(V: Poly, n: int, nv: int) -> bool:
     return det != 0 and is_psd(P)
 
 
+def _radially_unbounded(cert: dict[str, Any], V: Poly, n: int, nv: int) -> str:
+    """Empty when V has no input term and V - gamma |x|^2 == sigma_V (PSD), gamma > 0."""
+    if any(k[-1] for k in V):
+        return "V depends on the input"
+    g = q(cert["gamma"])
+    if not g > 0:
+        return "gamma must be positive"
+    vb, vQ = gram_from(cert["multipliers"]["sigma_V"], nv)
+    if not is_psd(vQ):
+        return "the Gram matrix of sigma_V is not positive semidefinite (exact charpoly)"
+    if padd(V, pscale(_norm2(n, nv), -g), pscale(gram_poly(vb, vQ), Fraction(-1))):
+        return "V - gamma |x|^2 differs from its SOS sigma_V"
+    return ""
+
+
 def check_dict(system: PolySystem, cert: dict[str, Any]) -> CheckResult:
     """Re-verify a certificate's identity and Gram matrices exactly.
 
@@ -271,8 +289,15 @@ def _check(system: PolySystem, cert: dict[str, Any]) -> str:
     c, U = q(cert["c"]), q(cert["U"])
     if not (c > 0 and U > 0):
         return "c and U must be positive"
-    if not _quadratic_pd(V, n, nv):
-        return "V is not a positive definite quadratic form in the state"
+    if kind == "local-discrete" or "gamma" not in cert:
+        if not _quadratic_pd(V, n, nv):
+            return "V is not a positive definite quadratic form in the state"
+    else:
+        why = _radially_unbounded(cert, V, n, nv)
+        if why:
+            return why
+        if V.get((0,) * nv, Fraction(0)) >= c:
+            return "V(0) >= c: the origin is not inside {V < c}"
     U2 = {(0,) * nv: U * U}
     mu_b, mu_Q = gram_from(m["mu"], nv)
     if not is_psd(mu_Q):
@@ -319,16 +344,12 @@ def _check_global(system: PolySystem, cert: dict[str, Any], V: Poly, sigma: Poly
     nv = n + 1
     if not system.affine_in_input():
         return "the system is not affine in the input"
-    if any(k[-1] for k in V):
-        return "V depends on the input"
-    g, a = q(cert["gamma"]), q(cert["alpha"])
-    if not (g > 0 and a > 0):
-        return "gamma and alpha must be positive"
-    vb, vQ = gram_from(cert["multipliers"]["sigma_V"], nv)
-    if not is_psd(vQ):
-        return "the Gram matrix of sigma_V is not positive semidefinite (exact charpoly)"
-    if padd(V, pscale(_norm2(n, nv), -g), pscale(gram_poly(vb, vQ), Fraction(-1))):
-        return "V - gamma |x|^2 differs from its SOS sigma_V"
+    a = q(cert["alpha"])
+    if not a > 0:
+        return "alpha must be positive"
+    why = _radially_unbounded(cert, V, n, nv)
+    if why:
+        return why
     f0 = [{k: c for k, c in p.items() if k[-1] == 0} for p in system.f]
     b = [{k[:-1] + (0,): c for k, c in p.items() if k[-1] == 1} for p in system.f]
     work = len(V) * sum(len(p) for p in system.f)
