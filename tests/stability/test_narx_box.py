@@ -1,0 +1,112 @@
+"""The invariant-box certificate of a NARX recursion: a closed form, the exact check
+refusing tampered certificates, and simulated bounded inputs below the radius."""
+
+from __future__ import annotations
+
+import copy
+import itertools
+from fractions import Fraction
+
+import numpy as np
+import pytest
+from conftest import MODELS
+
+from gfrf.model.modelfile import resolve_model
+from gfrf.stability.narx_box import box_certificate, check_box
+from gfrf.stability.polysys import state_form
+
+
+def _system(model: str):
+    return state_form(resolve_model(model, sample_time=0.1)
+                      if "=" in model else resolve_model(MODELS / model))
+
+
+@pytest.fixture(scope="module")
+def narx():
+    system = _system("narx_example.toml")
+    return system, box_certificate(system)
+
+
+@pytest.fixture(scope="module")
+def identified():
+    system = _system("identified_example_true.toml")
+    return system, box_certificate(system)
+
+
+def test_quadratic_map_radius_is_below_and_near_the_fold():
+    # y[k] = y[k-1]^2 + u[k-1]: a constant input U escapes iff U > 1/4 (no fixed point of
+    # y^2 + U = y), and for U <= 1/4 the box [-U, fixed point] is invariant: exact 1/4
+    res = box_certificate(_system("y[k] = y[k-1]**2 + u[k-1]"))
+    assert res is not None
+    assert 0.24 < res.radius <= 0.25
+    y, U = 0.0, 0.2501
+    for _ in range(20000):
+        y = y * y + U
+    assert y > 10
+
+
+def test_the_exact_check_passes_the_found_certificate_and_refuses_tampering(narx):
+    system, res = narx
+    assert res is not None and check_box(system, res.certificate) == ""
+    bigger = copy.deepcopy(res.certificate)
+    bigger["U"] = str(2 * Fraction(bigger["U"]))
+    assert "leaves" in check_box(system, bigger)
+    shrunk = copy.deepcopy(res.certificate)
+    shrunk["hi"][0] = str(Fraction(shrunk["hi"][0]) / 2)
+    assert "leaves" in check_box(system, shrunk)
+    bad_inverse = copy.deepcopy(res.certificate)
+    key = next(iter(bad_inverse["X"][0]))
+    bad_inverse["X"][0][key] = str(Fraction(bad_inverse["X"][0][key]) + Fraction(1, 1000))
+    assert "inverse" in check_box(system, bad_inverse)
+    assert check_box(system, {"format": "gfrf-narx-box"}) != ""
+
+
+def test_narx_example_radius_exceeds_the_series_radius(narx):
+    _, res = narx
+    # Theorem 1's r* of this model is sqrt(5)/4 = 0.559 (the plain lagged box gives it too)
+    assert res.radius > 1.5
+
+
+def _narx_example(u: np.ndarray) -> np.ndarray:
+    """y[k] = 0.5 y[k-1] - 0.2 y[k-1]^2 u[k-2] + u[k-1], rows of u are inputs, from rest."""
+    m, N = u.shape
+    y = np.zeros((m, N))
+    for k in range(2, N):
+        y[:, k] = 0.5 * y[:, k - 1] - 0.2 * y[:, k - 1] ** 2 * u[:, k - 2] + u[:, k - 1]
+    return y
+
+
+def _identified_true(u: np.ndarray) -> np.ndarray:
+    m, N = u.shape
+    y = np.zeros((m, N))
+    for k in range(2, N):
+        y1, y2, u1, u2 = y[:, k - 1], y[:, k - 2], u[:, k - 1], u[:, k - 2]
+        y[:, k] = (0.6 * y1 - 0.2 * y2 + 0.5 * u1 + 0.3 * u2 + 0.15 * y1 * u1
+                   - 0.1 * u1**2 - 0.05 * y1**3)
+    return y
+
+
+def _inputs(U: float, N: int) -> np.ndarray:
+    rng = np.random.default_rng(3)
+    t = np.arange(N)
+    rows = [U * rng.choice([-1.0, 1.0], size=(200, N)),            # random signs
+            U * rng.uniform(-1, 1, size=(200, N))]                   # random levels
+    for w in np.linspace(0.05, np.pi, 40):                          # tones and squares
+        rows.append(U * np.cos(w * t)[None, :])
+        rows.append(U * np.sign(np.cos(w * t) + 1e-12)[None, :])
+    for period in range(1, 9):                                       # bang-bang blocks
+        rows.append(U * (-1.0) ** (t // period)[None, :])
+    # every sign sequence of length 12, then held: the short-horizon worst cases
+    signs = np.array(list(itertools.product([-1.0, 1.0], repeat=12)))
+    rows.append(U * np.hstack([signs, np.repeat(signs[:, -1:], N - 12, axis=1)]))
+    return np.vstack(rows)
+
+
+@pytest.mark.parametrize("which", ["narx", "identified"])
+def test_bounded_inputs_below_the_radius_stay_inside_the_bound(which, request):
+    system, res = request.getfixturevalue(which)
+    assert res is not None
+    simulate = _narx_example if which == "narx" else _identified_true
+    y = simulate(_inputs(res.radius, 300))
+    assert np.all(np.isfinite(y))
+    assert np.max(np.abs(y)) <= res.bound
