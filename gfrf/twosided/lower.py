@@ -131,9 +131,9 @@ def lower_side(mf: ModelFile, theorem_certificate: Certificate) -> LowerSide:
         if energy is not None:
             certs.append(energy)
     if system is not None and system.discrete:
-        from gfrf.twosided.lower_narx import narx_box_lower
+        from gfrf.twosided.lower_narx import narx_lower
 
-        certs.append(narx_box_lower(system, linf))
+        certs.extend(narx_lower(system, linf))
     sos = None
     if not any(c.radius == float("inf") or (c.radius > 0 and system is not None
                                             and system.discrete) for c in certs[1:]):

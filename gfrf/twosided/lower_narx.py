@@ -1,8 +1,11 @@
-"""The lower side of a NARX model: an invariant box of its recursion.
+"""The lower side of a NARX model: an invariant box, then an invariant paving, of its recursion.
 
 :func:`gfrf.stability.narx_box.box_certificate` finds a box of the lagged state that the
-recursion maps into itself for every input with sup|u| <= U, checked in exact rational
-arithmetic; here it becomes a :class:`gfrf.stability.energy.Certificate` of the lower side.
+recursion maps into itself for every input with sup|u| <= U;
+:func:`gfrf.stability.narx_paving.paving_certificate` then looks above that U for a union of
+grid cells that is invariant (thinner than a box where consecutive outputs are
+correlated).  Both are checked in exact rational arithmetic; here they become
+:class:`gfrf.stability.energy.Certificate` entries of the lower side.
 """
 
 from __future__ import annotations
@@ -10,15 +13,16 @@ from __future__ import annotations
 from gfrf.stability.energy import Certificate
 from gfrf.stability.polysys import PolySystem
 
-__all__ = ["BOX_METHOD", "narx_box_lower"]
+__all__ = ["BOX_METHOD", "PAVING_METHOD", "narx_lower"]
 
 BOX_METHOD = "invariant box of the NARX recursion (exact rational check)"
-_PROPERTY = ("bounded: from rest the lagged state stays in the invariant box "
+PAVING_METHOD = "invariant paving of the NARX recursion (exact rational check)"
+_PROPERTY = ("bounded: from rest the lagged state stays in the invariant set "
              "(not: returns to the equilibrium)")
 
 
-def narx_box_lower(system: PolySystem, input_class: str) -> Certificate:
-    """The invariant-box certificate of a NARX state form (radius 0 when none is found).
+def narx_lower(system: PolySystem, input_class: str) -> tuple[Certificate, ...]:
+    """The invariant-box certificate of a NARX state form and, above it, the paving one.
 
     Parameters
     ----------
@@ -29,21 +33,34 @@ def narx_box_lower(system: PolySystem, input_class: str) -> Certificate:
 
     Returns
     -------
-    Certificate
-        Proof ``"exact"`` with the box in ``detail``, or radius 0 and proof ``"none"``.
+    tuple of Certificate
+        The box (radius 0 and proof ``"none"`` when none is found) and, when one is
+        verified above the box's radius, the paving; proof ``"exact"``.
     """
     from gfrf.stability.narx_box import box_certificate
+    from gfrf.stability.narx_paving import paving_certificate
 
     res = box_certificate(system)
     if res is None:
-        return Certificate(BOX_METHOD, 0.0, "none", input_class,
-                           "not found: the box iteration escapes for every U tried")
+        return (Certificate(BOX_METHOD, 0.0, "none", input_class,
+                            "not found: the box iteration escapes for every U tried"),)
     c = res.certificate
     coords = "; ".join(f"s{i} in [{lo}, {hi}]"
                        for i, (lo, hi) in enumerate(zip(c["lo"], c["hi"], strict=True)))
-    detail = (f"{system.map_text()}; coordinates s = T(x) with exact inverse "
-              f"(s0 = y[k-1] minus its input-only terms where that helps); box {coords} "
-              f"maps into itself for every |u| <= {c['U']} (image enclosed on "
-              f"{'x'.join(map(str, c['splits']))} cells in exact rational arithmetic); "
-              f"every output stays within |y| <= {res.bound:.6g}; {res.work} box iterations")
-    return Certificate(BOX_METHOD, res.radius, "exact", input_class, detail, _PROPERTY)
+    box = Certificate(
+        BOX_METHOD, res.radius, "exact", input_class,
+        f"{system.map_text()}; coordinates s = T(x) with an exact inverse; box {coords} "
+        f"maps into itself for every |u| <= {c['U']} (image enclosed on "
+        f"{'x'.join(map(str, c['splits']))} cells in exact rational arithmetic); every "
+        f"output stays within |y| <= {res.bound:.6g}; {res.work} box iterations", _PROPERTY)
+    pav = paving_certificate(system, res.radius)
+    if pav is None:
+        return (box,)
+    p = pav.certificate
+    return box, Certificate(
+        PAVING_METHOD, pav.radius, "exact", input_class,
+        f"{system.map_text()}; {pav.cells} cells of a {p['N']}-per-lag grid of the output "
+        f"coordinates times [-U, U] for the lagged inputs; the image of every cell for "
+        f"every |u| <= {p['U']} is enclosed in exact rational arithmetic and covered by "
+        f"cells of the paving; every output stays within |y| <= {pav.bound:.6g}",
+        _PROPERTY)
