@@ -397,6 +397,49 @@ def _try(system: PolySystem, T: list[Poly], X: list[Poly], g: list[Poly],
     return (cert if check_box(system, cert) == "" else None), work
 
 
+def _modal(system: PolySystem, T: list[Poly], X: list[Poly]
+           ) -> tuple[list[Poly], list[Poly]] | None:
+    """(T, X) followed by the real modal (Jordan) basis of the output block's linear part."""
+    n = system.n
+    nv = n + 1
+    ny = min(system.bounded_states, default=n)
+    g = box_map(system, T, X)
+    A = np.array([[float(g[i].get(tuple(int(m == j) for m in range(nv)), 0))
+                   for j in range(ny)] for i in range(ny)])
+    lam, vec = np.linalg.eig(A)
+    cols: list[np.ndarray] = []
+    for k in np.argsort(-np.abs(lam)):
+        if lam[k].imag > 1e-12:
+            cols += [vec[:, k].real, vec[:, k].imag]
+        elif abs(lam[k].imag) <= 1e-12:
+            cols.append(vec[:, k].real)
+    if len(cols) != ny:
+        return None
+    V = np.array(cols).T
+    if not np.all(np.isfinite(V)) or np.linalg.cond(V) > 1e6:
+        return None
+    V = V / np.max(np.abs(V))
+    Vq = [[_outward(float(V[i, j]), False) for j in range(ny)] for i in range(ny)]
+    # exact inverse of Vq (Gauss-Jordan in rationals)
+    aug = [row[:] + [Fraction(int(i == j)) for j in range(ny)] for i, row in enumerate(Vq)]
+    for c in range(ny):
+        piv = next((r for r in range(c, ny) if aug[r][c] != 0), None)
+        if piv is None:
+            return None
+        aug[c], aug[piv] = aug[piv], aug[c]
+        aug[c] = [x / aug[c][c] for x in aug[c]]
+        for r in range(ny):
+            if r != c and aug[r][c] != 0:
+                aug[r] = [x - aug[r][c] * y for x, y in zip(aug[r], aug[c], strict=True)]
+    Vinv = [row[ny:] for row in aug]
+    # z = Vinv s_y: T_new = Vinv T_y; s_y = Vq z: X_new = X(Vq z, rest)
+    Tn = [padd(*(pscale(T[j], Vinv[i][j]) for j in range(ny))) for i in range(ny)] + T[ny:]
+    sub = [padd(*(pscale(_var(j, nv), Vq[i][j]) for j in range(ny))) for i in range(ny)]
+    sub += [_var(i, nv) for i in range(ny, nv)]
+    Xn = [pcompose(x, sub, nv) for x in X]
+    return Tn, Xn
+
+
 def _candidates(system: PolySystem) -> list[tuple[list[Poly], list[Poly]]]:
     phi = _phi(system)
     out = []
@@ -405,6 +448,12 @@ def _candidates(system: PolySystem) -> list[tuple[list[Poly], list[Poly]]]:
             c = coordinates(system, p, observer)
             if c is not None and c not in out:
                 out.append(c)
+    ny = min(system.bounded_states, default=system.n)
+    base = coordinates(system, {}, True)
+    if ny >= 2 and base is not None:
+        modal = _modal(system, *base)
+        if modal is not None:
+            out.append(modal)
     return out
 
 

@@ -26,15 +26,12 @@ from typing import Any
 import numpy as np
 
 from gfrf.stability.narx_box import (
-    SCREEN_CELLS,
     _above,
     _below,
     _candidates,
-    _iterate,
     _outward,
     _poly_from,
     _poly_to,
-    _splits,
     box_map,
 )
 from gfrf.stability.polysys import Poly, PolySystem, pcompose
@@ -51,8 +48,15 @@ BISECTIONS = 8
 _BACKOFF = 4
 #: Output lags a paving covers (cells grow as GRID ** lags).
 MAX_OUTPUT_LAGS = 2
-#: Grid half-widths tried, as multiples of the invariant box's extent.
-_SPANS = (2.0, 4.0)
+#: Grid half-widths tried, as multiples of the simulated extent.
+_SPANS = (1.5, 3.0)
+#: The coarse screening of each coordinate choice: grid and bisection steps.
+SCREEN_GRID = 48
+SCREEN_STEPS = 4
+#: Doublings of U from the start, and the simulated runs and steps sizing the grid.
+_DOUBLINGS = 12
+_RUNS = 200
+_STEPS = 200
 
 
 @dataclass(frozen=True)
@@ -261,62 +265,104 @@ def _fr(x: Any) -> Fraction:
     return Fraction(int(x.p), int(x.q))
 
 
-def paving_certificate(system: PolySystem, floor: float) -> PavingResult | None:
-    """The largest U (bisected above ``floor``) with an exactly verified invariant paving.
+def _extent(g: list[Poly], n: int, U: float) -> np.ndarray:
+    """Largest |s_i| along simulated inputs of size U (a float estimate that only sizes
+    the grid): random signs and random levels, fixed seed."""
+    from gfrf.stability.polysys import peval
+
+    rng = np.random.default_rng(0)
+    state = np.zeros((_RUNS, n))
+    top = np.zeros(n)
+    with np.errstate(all="ignore"):
+        for k in range(_STEPS):
+            v = U * (rng.choice([-1.0, 1.0], size=_RUNS) if k % 2
+                     else rng.uniform(-1.0, 1.0, size=_RUNS))
+            pts = np.c_[state, v]
+            state = np.stack([peval(p, pts) for p in g], axis=1)
+            state[~np.isfinite(state)] = 0.0
+            top = np.maximum(top, np.abs(state).max(axis=0))
+    return top
+
+
+def _closes(g: list[Poly], terms: list[Any], pieces: list[int], ny: int, U: float,
+            N: int) -> tuple[np.ndarray, set[tuple[int, ...]]] | None:
+    """A float paving at U on an N-per-lag grid (each span of the simulated extent)."""
+    n = len(g)
+    ext = np.maximum(_extent(g, n, U)[:ny], 1e-9 + U)
+    for span in _SPANS:
+        R = span * ext
+        S = _search(terms, ny, n + 1, U, R, N, pieces)
+        if S is not None:
+            return R, S
+    return None
+
+
+def _bracket(g: list[Poly], terms: list[Any], pieces: list[int], ny: int, start: float,
+             N: int, steps: int) -> tuple[float, float]:
+    """(lo, hi): lo closes on the grid (0 if nothing does), hi does not."""
+    lo, U = 0.0, start
+    for _ in range(_DOUBLINGS):
+        if _closes(g, terms, pieces, ny, U, N) is None:
+            break
+        lo, U = U, 2 * U
+    hi = U
+    for _ in range(steps):
+        mid = (lo + hi) / 2 if lo else hi / 4
+        if _closes(g, terms, pieces, ny, mid, N) is not None:
+            lo = mid
+        else:
+            hi = mid
+    return lo, hi
+
+
+def paving_certificate(system: PolySystem, start: float = 0.0) -> PavingResult | None:
+    """The largest U (doubling, then bisection) with an exactly verified invariant paving.
+
+    Every coordinate choice of :func:`gfrf.stability.narx_box.coordinates` (and the
+    modal one) is screened on a coarse grid; the best is bisected on the
+    :data:`GRID` grid and checked exactly, backing off U a little when the check fails.
 
     Parameters
     ----------
     system : PolySystem
         A discrete (NARX) state form with at most :data:`MAX_OUTPUT_LAGS` output lags.
-    floor : float
-        A radius already proven (the invariant box's): the search starts above it, and
-        the float box at 3/4 ``floor`` of each coordinate choice scales its grids
-        (:data:`_SPANS`).
+    start : float
+        The first U tried (e.g. a radius already proven); 0: 1/64.
 
     Returns
     -------
     PavingResult or None
-        None when no U above ``floor`` is verified.
+        None when no U is verified.
     """
     n = system.n
     nv = n + 1
     ny = min(system.bounded_states, default=n)
-    if not system.discrete or ny > MAX_OUTPUT_LAGS or ny == n or floor <= 0:
+    if not system.discrete or ny > MAX_OUTPUT_LAGS or ny == n \
+            or not system.equilibrium_ok():
         return None
-    best: tuple[float, Any] | None = None
+    start = start if start > 0 else 2.0**-6
+    screened = []
     for T, X in _candidates(system):
         g = box_map(system, T, X)
-        terms = _terms(g, ny)
-        pieces = _pieces(g, ny, nv)
-        box = _iterate(g, ny, n, 0.75 * floor, _splits(g, nv, SCREEN_CELLS))
-        if box is None:
-            continue
-        extent = np.maximum(np.abs(box[0][:ny]), np.abs(box[1][:ny]))
-        for span in _SPANS:
-            R = np.array([span * max(e, 1e-6) for e in extent])
-            # a coordinate choice and grid that cannot beat the best so far is dropped
-            # after one closure; the first one is bisected from the floor
-            lo, hi = (best[0], 2.0 * floor) if best is not None else (floor, 2.0 * floor)
-            if best is not None and _search(terms, ny, nv, lo * (1 + 2**-8), R, GRID,
-                                            pieces) is None:
-                continue
-            for _ in range(BISECTIONS):
-                mid = (lo + hi) / 2
-                if _search(terms, ny, nv, mid, R, GRID, pieces) is not None:
-                    lo = mid
-                    best = (mid, (T, X, R, pieces))
-                else:
-                    hi = mid
-    if best is None:
+        terms, pieces = _terms(g, ny), _pieces(g, ny, nv)
+        lo, hi = _bracket(g, terms, pieces, ny, start, SCREEN_GRID, SCREEN_STEPS)
+        screened.append((lo, hi, T, X, g, terms, pieces))
+    lo, hi, T, X, g, terms, pieces = max(screened, key=lambda t: t[0])
+    if lo <= 0:
         return None
-    U_f, (T, X, R, pieces) = best
-    Rq = [_outward(float(r), True) for r in R]
+    for _ in range(BISECTIONS):
+        mid = (lo + hi) / 2
+        if _closes(g, terms, pieces, ny, mid, GRID) is not None:
+            lo = mid
+        else:
+            hi = mid
     for k in range(_BACKOFF):
-        U = _outward(U_f * (1 - 0.01 * k) if k else U_f, False)
-        if float(U) <= floor:
-            break
-        S = _search(_terms(box_map(system, T, X), ny), ny, nv, float(U),
-                    np.array([float(r) for r in Rq]), GRID, pieces)
+        U = _outward(lo * (1 - 0.02 * k), False)
+        found = _closes(g, terms, pieces, ny, float(U), GRID)
+        if U <= 0 or found is None:
+            continue
+        Rq = [_outward(float(r), True) for r in found[0]]
+        S = _search(terms, ny, nv, float(U), np.array([float(r) for r in Rq]), GRID, pieces)
         if S is None:
             continue
         cert = {"format": FORMAT, "version": 1, "state_map": system.map_text(),

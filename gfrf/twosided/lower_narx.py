@@ -35,25 +35,27 @@ def narx_lower(system: PolySystem, input_class: str) -> tuple[Certificate, ...]:
     -------
     tuple of Certificate
         The box (radius 0 and proof ``"none"`` when none is found) and, when one is
-        verified above the box's radius, the paving; proof ``"exact"``.
+        verified, the paving (searched from the box's radius up); proof ``"exact"``.
     """
     from gfrf.stability.narx_box import box_certificate
     from gfrf.stability.narx_paving import paving_certificate
 
     res = box_certificate(system)
     if res is None:
-        return (Certificate(BOX_METHOD, 0.0, "none", input_class,
-                            "not found: the box iteration escapes for every U tried"),)
-    c = res.certificate
-    coords = "; ".join(f"s{i} in [{lo}, {hi}]"
-                       for i, (lo, hi) in enumerate(zip(c["lo"], c["hi"], strict=True)))
-    box = Certificate(
-        BOX_METHOD, res.radius, "exact", input_class,
-        f"{system.map_text()}; coordinates s = T(x) with an exact inverse; box {coords} "
-        f"maps into itself for every |u| <= {c['U']} (image enclosed on "
-        f"{'x'.join(map(str, c['splits']))} cells in exact rational arithmetic); every "
-        f"output stays within |y| <= {res.bound:.6g}; {res.work} box iterations", _PROPERTY)
-    pav = paving_certificate(system, res.radius)
+        box = Certificate(BOX_METHOD, 0.0, "none", input_class,
+                          "not found: the box iteration escapes for every U tried")
+    else:
+        c = res.certificate
+        coords = "; ".join(f"s{i} in [{lo}, {hi}]"
+                           for i, (lo, hi) in enumerate(zip(c["lo"], c["hi"], strict=True)))
+        box = Certificate(
+            BOX_METHOD, res.radius, "exact", input_class,
+            f"{system.map_text()}; coordinates s = T(x) with an exact inverse; box {coords} "
+            f"maps into itself for every |u| <= {c['U']} (image enclosed on "
+            f"{'x'.join(map(str, c['splits']))} cells in exact rational arithmetic); every "
+            f"output stays within |y| <= {res.bound:.6g}; {res.work} box iterations",
+            _PROPERTY)
+    pav = paving_certificate(system, res.radius if res is not None else 0.0)
     if pav is None:
         return (box,)
     p = pav.certificate

@@ -27,12 +27,6 @@ def narx():
     return system, box_certificate(system)
 
 
-@pytest.fixture(scope="module")
-def identified():
-    system = _system("identified_example_true.toml")
-    return system, box_certificate(system)
-
-
 def test_quadratic_map_radius_is_below_and_near_the_fold():
     # y[k] = y[k-1]^2 + u[k-1]: a constant input U escapes iff U > 1/4 (no fixed point of
     # y^2 + U = y), and for U <= 1/4 the box [-U, fixed point] is invariant: exact 1/4
@@ -76,16 +70,6 @@ def _narx_example(u: np.ndarray) -> np.ndarray:
     return y
 
 
-def _identified_true(u: np.ndarray) -> np.ndarray:
-    m, N = u.shape
-    y = np.zeros((m, N))
-    for k in range(2, N):
-        y1, y2, u1, u2 = y[:, k - 1], y[:, k - 2], u[:, k - 1], u[:, k - 2]
-        y[:, k] = (0.6 * y1 - 0.2 * y2 + 0.5 * u1 + 0.3 * u2 + 0.15 * y1 * u1
-                   - 0.1 * u1**2 - 0.05 * y1**3)
-    return y
-
-
 def _inputs(U: float, N: int) -> np.ndarray:
     rng = np.random.default_rng(3)
     t = np.arange(N)
@@ -102,11 +86,9 @@ def _inputs(U: float, N: int) -> np.ndarray:
     return np.vstack(rows)
 
 
-@pytest.mark.parametrize("which", ["narx", "identified"])
-def test_bounded_inputs_below_the_radius_stay_inside_the_bound(which, request):
-    system, res = request.getfixturevalue(which)
+def test_bounded_inputs_below_the_radius_stay_inside_the_bound(narx):
+    _, res = narx
     assert res is not None
-    simulate = _narx_example if which == "narx" else _identified_true
-    y = simulate(_inputs(res.radius, 300))
+    y = _narx_example(_inputs(res.radius, 300))
     assert np.all(np.isfinite(y))
     assert np.max(np.abs(y)) <= res.bound
