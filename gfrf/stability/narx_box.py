@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from gfrf.stability.polysys import Poly, PolySystem, padd, pcompose, pscale
+from gfrf.stability.polysys import Poly, PolySystem, padd, pcompose, pdegree, pscale
 
 __all__ = ["BoxResult", "box_certificate", "check_box", "box_map", "FORMAT",
            "MAX_CELLS", "ITERATIONS", "BISECTIONS",
@@ -60,9 +60,11 @@ class BoxResult:
     Attributes
     ----------
     radius : float
-        A float at or below the certificate's exact U.
+        A float at or below the certificate's exact U; ``inf`` for a linear recursion
+        (the box scaled by t is invariant for t * U).
     bound : float
-        A float at or above the largest |y| the box allows (every output stays below it).
+        A float at or above the largest |y| the box allows (every output stays below it;
+        ``inf`` for a linear recursion: the bound grows with U).
     certificate : dict
         U, the coordinates and the box as exact rationals (``"p/q"`` texts), re-checkable by
         :func:`check_box`.
@@ -493,10 +495,10 @@ def box_certificate(system: PolySystem) -> BoxResult | None:
     -------
     BoxResult or None
     """
-    if not system.discrete or not system.equilibrium_ok() or not system.bounded_states:
+    if not system.discrete or not system.equilibrium_ok():
         return None
     n = system.n
-    ny = min(system.bounded_states)
+    ny = min(system.bounded_states, default=n)
     work = 0
     screened = []
     for T, X in _candidates(system):
@@ -529,6 +531,9 @@ def box_certificate(system: PolySystem) -> BoxResult | None:
     hi_b = [Fraction(x) for x in cert["hi"]] + [U]
     ys = _enclosure_exact(X[:ny], lo_b, hi_b, cert["splits"])
     bound = max(max(abs(_frac(a)), abs(_frac(b))) for a, b in ys)
+    if all(pdegree(p) <= 1 for p in system.f):
+        # a linear recursion: t * box is invariant for t * U, every t > 0
+        return BoxResult(radius=math.inf, bound=math.inf, certificate=cert, work=work)
     return BoxResult(radius=_below(U), bound=_above(bound), certificate=cert, work=work)
 
 

@@ -337,8 +337,7 @@ def paving_certificate(system: PolySystem, start: float = 0.0) -> PavingResult |
     n = system.n
     nv = n + 1
     ny = min(system.bounded_states, default=n)
-    if not system.discrete or ny > MAX_OUTPUT_LAGS or ny == n \
-            or not system.equilibrium_ok():
+    if not system.discrete or ny > MAX_OUTPUT_LAGS or not system.equilibrium_ok():
         return None
     start = start if start > 0 else 2.0**-6
     screened = []

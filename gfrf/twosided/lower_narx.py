@@ -52,9 +52,16 @@ def narx_lower(system: PolySystem, input_class: str) -> tuple[Certificate, ...]:
             BOX_METHOD, res.radius, "exact", input_class,
             f"{system.map_text()}; coordinates s = T(x) with an exact inverse; box {coords} "
             f"maps into itself for every |u| <= {c['U']} (image enclosed on "
-            f"{'x'.join(map(str, c['splits']))} cells in exact rational arithmetic); every "
-            f"output stays within |y| <= {res.bound:.6g}; {res.work} box iterations",
+            f"{'x'.join(map(str, c['splits']))} cells in exact rational arithmetic); "
+            + (f"every output stays within |y| <= {res.bound:.6g}; "
+               if res.bound < float("inf") else "")
+            + f"{res.work} box iterations",
             _PROPERTY)
+    if res is not None and res.radius == float("inf"):
+        return (Certificate(BOX_METHOD, res.radius, "exact",
+                            "every bounded input (L-infinity, any size)",
+                            box.detail + "; the recursion is linear, so the box scaled by t "
+                            "is invariant for every t * U", _PROPERTY),)
     pav = paving_certificate(system, res.radius if res is not None else 0.0)
     if pav is None:
         return (box,)

@@ -92,3 +92,14 @@ def test_bounded_inputs_below_the_radius_stay_inside_the_bound(narx):
     y = _narx_example(_inputs(res.radius, 300))
     assert np.all(np.isfinite(y))
     assert np.max(np.abs(y)) <= res.bound
+
+
+def test_a_linear_recursion_is_bounded_for_every_bounded_input():
+    # y[k] = 0.5 y[k-1] + u[k-1]: |y| <= 2 sup|u| (the l1 norm of 0.5^k), any amplitude
+    res = box_certificate(_system("y[k] = 0.5*y[k-1] + u[k-1]"))
+    assert res is not None and res.radius == float("inf")
+
+
+def test_an_unbounded_recursion_gets_no_box():
+    # y[k] = y[k-1] + u[k-1] sums the input: unbounded for a constant input of any size
+    assert box_certificate(_system("y[k] = y[k-1] + u[k-1]")) is None
