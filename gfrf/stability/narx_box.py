@@ -370,7 +370,10 @@ def _iterate(g: list[Poly], ny: int, n: int, U: float, splits: list[int]
     lo[ny:], hi[ny:] = -U, U
     cap = _ESCAPE * (U + 1)
     for it in range(1, ITERATIONS + 1):
-        ilo, ihi = _enclose_float(g, lo, hi, splits)
+        with np.errstate(all="ignore"):
+            ilo, ihi = _enclose_float(g, lo, hi, splits)
+        if not (np.all(np.isfinite(ilo)) and np.all(np.isfinite(ihi))):
+            return None
         if np.all(ilo[:ny] >= lo[:ny]) and np.all(ihi[:ny] <= hi[:ny]):
             return lo, hi, it
         nlo, nhi = np.minimum(lo[:ny], ilo[:ny]), np.maximum(hi[:ny], ihi[:ny])

@@ -40,9 +40,11 @@ __all__ = ["PavingResult", "paving_certificate", "check_paving", "FORMAT",
            "GRID", "PIECES", "BISECTIONS", "MAX_OUTPUT_LAGS"]
 
 FORMAT = "gfrf-narx-paving"
-#: Grid cells per output coordinate, pieces per input coordinate of a cell's image.
+#: Grid cells per output coordinate, pieces per input coordinate of a cell's image
+#: (and of all input coordinates together).
 GRID = 96
 PIECES = 6
+_PIECE_BUDGET = 36
 #: Bisection steps on U (float search), then exact checks while backing off.
 BISECTIONS = 8
 _BACKOFF = 4
@@ -90,7 +92,9 @@ def _pieces(g: list[Poly], ny: int, nv: int) -> list[int]:
             for i, e in enumerate(k):
                 if e:
                     count[i] += 1 if e == 1 else 2
-    return [PIECES if i >= ny and count[i] > 1 else 1 for i in range(nv)]
+    split = [i for i in range(ny, nv) if count[i] > 1]
+    per = max(1, min(PIECES, int(_PIECE_BUDGET ** (1 / max(len(split), 1)) + 1e-9)))
+    return [per if i in split else 1 for i in range(nv)]
 
 
 def _terms(g: list[Poly], ny: int) -> list[list[tuple[Any, tuple[tuple[int, int], ...]]]]:
@@ -150,7 +154,11 @@ def _search(terms: list[Any], ny: int, nv: int, U: float, R: np.ndarray, N: int,
         cl = np.tile(cells, (len(ua), 1))
         a[:, :ny] = -R + cl * h
         b[:, :ny] = -R + (cl + 1) * h
-        lo, hi = _images_float(terms, a, b)
+        with np.errstate(all="ignore"):
+            lo, hi = _images_float(terms, a, b)
+        if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi))) \
+                or np.any(lo + R < 0) or np.any(hi - R > 0):
+            return None
         pad = 1e-9 * (1 + np.abs(lo) + np.abs(hi))
         i0 = np.floor((lo - pad + R) / h).astype(np.int64)
         i1 = np.ceil((hi + pad + R) / h).astype(np.int64) - 1
@@ -199,7 +207,8 @@ def check_paving(system: PolySystem, cert: dict[str, Any]) -> str:
         return "the certificate is malformed"
     if not (len(T) == len(X) == n and len(R) == ny and len(pieces) == nv) or U <= 0:
         return "the certificate has the wrong size"
-    if not 1 <= N <= GRID or any(not 1 <= p <= PIECES for p in pieces) or min(R) <= 0 \
+    if ny > MAX_OUTPUT_LAGS or not 1 <= N <= GRID or min(R) <= 0 \
+            or any(not 1 <= p <= PIECES for p in pieces) or np.prod(pieces) > _PIECE_BUDGET \
             or any(len(c) != ny or min(c) < 0 or max(c) >= N for c in S) or not S:
         return "the grid, the pieces or the cells are out of range"
     v = {tuple(int(j == n) for j in range(nv)): Fraction(1)}
