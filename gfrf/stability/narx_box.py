@@ -42,6 +42,7 @@ MAX_CELLS = 4096
 #: Box iterations per trial U, and bisection steps on U (each with an exact check).
 ITERATIONS = 200
 BISECTIONS = 12
+_BACKOFF = 4
 #: The coarse float screening of each coordinate choice: cells and bisection steps.
 SCREEN_CELLS = 256
 SCREEN_STEPS = 6
@@ -514,18 +515,25 @@ def box_certificate(system: PolySystem) -> BoxResult | None:
     if lo_f <= 0:
         return None
     splits = _splits(g, n + 1, MAX_CELLS)
-    best: tuple[dict[str, Any], Fraction] | None = None
-    lo, hi = Fraction(0), _outward(hi_f * 1.5, True)
-    trial = _outward(lo_f, False)
+    # float bisection on the fine cells, then the exact check, backing off U a little
+    lo, hi = 0.0, 1.5 * hi_f
+    trial = lo_f
     for _ in range(BISECTIONS):
-        cert, w = _try(system, T, X, g, splits, trial)
+        found = _iterate(g, ny, n, trial, splits)
+        work += found[2] if found else ITERATIONS
+        lo, hi = (trial, hi) if found else (lo, trial)
+        trial = (lo + hi) / 2
+        if hi - lo <= hi * 2**-12:
+            break
+    best: tuple[dict[str, Any], Fraction] | None = None
+    for k in range(_BACKOFF):
+        U = _outward(lo * (1 - 0.01 * k), False)
+        if U <= 0:
+            break
+        cert, w = _try(system, T, X, g, splits, U)
         work += w
         if cert is not None:
-            lo, best = trial, (cert, trial)
-        else:
-            hi = trial
-        trial = _outward(float(lo + hi) / 2, False)
-        if not lo < trial < hi or (hi - lo) <= hi * Fraction(1, 2**12):
+            best = (cert, U)
             break
     if best is None:
         return None
