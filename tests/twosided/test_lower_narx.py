@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import pytest
 from conftest import MODELS
 
 from gfrf.model.modelfile import resolve_model
@@ -11,7 +10,6 @@ from gfrf.twosided.lower import lower_side
 from gfrf.twosided.lower_narx import BOX_METHOD
 
 
-@pytest.mark.slow
 def test_narx_example_lower_is_the_exactly_checked_box_above_the_series_radius():
     # Theorem 1's r* of y[k] = 0.5y[k-1] - 0.2y[k-1]^2 u[k-2] + u[k-1] is sqrt(5)/4
     mf = resolve_model(MODELS / "narx_example.toml")
