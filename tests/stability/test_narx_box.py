@@ -103,3 +103,33 @@ def test_a_linear_recursion_is_bounded_for_every_bounded_input():
 def test_an_unbounded_recursion_gets_no_box():
     # y[k] = y[k-1] + u[k-1] sums the input: unbounded for a constant input of any size
     assert box_certificate(_system("y[k] = y[k-1] + u[k-1]")) is None
+
+
+def test_sampling_agrees_with_the_exact_check(narx):
+    # points of the box x [-U, U] mapped by the recursion in float: inside for the
+    # accepted certificate; a violation found for the one with the output box halved
+    # (refused exactly)
+    from gfrf.stability.narx_box import _poly_from, box_map
+    from gfrf.stability.polysys import peval
+
+    system, res = narx
+    rng = np.random.default_rng(11)
+
+    def worst(cert: dict) -> float:
+        nv = system.n + 1
+        g = box_map(system, [_poly_from(p, nv) for p in cert["T"]],
+                    [_poly_from(p, nv) for p in cert["X"]])
+        U = float(Fraction(cert["U"]))
+        lo = np.array([float(Fraction(x)) for x in cert["lo"]] + [-U])
+        hi = np.array([float(Fraction(x)) for x in cert["hi"]] + [U])
+        pts = lo + (hi - lo) * rng.uniform(size=(20000, nv))
+        pts[:1000] = np.where(rng.uniform(size=(1000, nv)) < 0.5, lo, hi)  # corners
+        excess = [np.max(np.maximum(peval(p, pts) - hi[i], lo[i] - peval(p, pts)))
+                  for i, p in enumerate(g)]
+        return float(max(excess))
+
+    assert worst(res.certificate) <= 1e-12
+    shrunk = copy.deepcopy(res.certificate)
+    shrunk["lo"][0] = str(Fraction(shrunk["lo"][0]) / 2)
+    shrunk["hi"][0] = str(Fraction(shrunk["hi"][0]) / 2)
+    assert check_box(system, shrunk) != "" and worst(shrunk) > 0
