@@ -7,10 +7,12 @@ box B = [lo_1, hi_1] x .. x [lo_n, hi_n] holding the origin with
     f(B, [-U, U]) subset of B
 
 is invariant: from rest, every input with sup|u| <= U keeps the state in B, so the output
-stays in the box of y[k-1] (an induction on k, no approximation).  The box is taken in
-coordinates that keep the correlation between the newest output and the inputs it already
-contains: w = y[k-1] - phi(u[k-2], ..), with phi the terms of the recursion that depend on
-the inputs only (shifted one step); the other states are the lagged values themselves.
+stays bounded (an induction on k, no approximation).  The box is taken in coordinates
+s = T(x) with an exact polynomial inverse x = X(s) (checked: X(T(x)) = x): y[k-1] minus
+phi(u[k-2], ..), the terms of the recursion that depend on the inputs only (shifted one
+step), which keeps the correlation between the newest output and the inputs it already
+holds; the observer form of the older output lags; and the real modal basis of the
+output block's linear part.
 
 The box is found by iterating the recursion on boxes (outward hull, float interval
 arithmetic: a proposal), its end points rounded to dyadic rationals, and the inclusion is
@@ -485,10 +487,11 @@ def _float_radius(g: list[Poly], ny: int, n: int, splits: list[int], lo: float,
 def box_certificate(system: PolySystem) -> BoxResult | None:
     """The largest U (by bisection) with an exactly verified invariant box, or None.
 
-    Every coordinate choice of :func:`coordinates` is screened with a coarse float search
-    (:data:`SCREEN_CELLS` cells, :data:`SCREEN_STEPS` bisection steps); the best one is
-    bisected further (:data:`BISECTIONS` steps on :data:`MAX_CELLS` cells), each accepted
-    U only after the exact check.
+    Every coordinate choice (:func:`coordinates` and the modal one) is screened with a
+    coarse float search (:data:`SCREEN_CELLS` cells, :data:`SCREEN_STEPS` bisection
+    steps); the best one is bisected further in floats (:data:`BISECTIONS` steps on
+    :data:`MAX_CELLS` cells), and its U is accepted only after the exact check (backing
+    off by 1 % steps, at most 4, when that fails).  A linear recursion answers ``inf``.
 
     Parameters
     ----------
