@@ -130,8 +130,13 @@ def lower_side(mf: ModelFile, theorem_certificate: Certificate) -> LowerSide:
         energy = energy_certificate(mf.plant) or local_energy_certificate(mf.plant)
         if energy is not None:
             certs.append(energy)
+    if system is not None and system.discrete:
+        from gfrf.twosided.lower_narx import narx_lower
+
+        certs.extend(narx_lower(system, linf))
     sos = None
-    if not any(c.radius == float("inf") for c in certs[1:]):
+    if not any(c.radius == float("inf") or (c.radius > 0 and system is not None
+                                            and system.discrete) for c in certs[1:]):
         if system is not None and search_size(system) > MAX_GRAM_SEARCH:
             why_not = (f"Gram size {search_size(system)} above the search bound "
                        f"MAX_GRAM_SEARCH = {MAX_GRAM_SEARCH}")
