@@ -355,6 +355,11 @@ def numba_ufunc(gen: Recursion, n: int, symmetric: bool) -> Any:
     if not HAVE_NUMBA:
         raise ImportError("the compiled kernel needs numba: pip install 'gfrf[fast]'")
     parts = _step_functions(gen, n, symmetric)  # generated once
+    from gfrf.kernels.native import native_kernel
+
+    native = native_kernel(parts, n)  # a shared library: later processes skip numba
+    if native is not None:
+        return native
     source = _module_source(parts, n, cache=True)
     name = "gfrf_kernel_" + hashlib.sha256(source.encode()).hexdigest()[:24]
     if name in sys.modules:
