@@ -8,8 +8,8 @@ interleaved, the median of the repetitions:
   ``kernel(model, n)(*w)`` against sympy's explicit rational functions (the recursion's
   inlined form) with ``sympy.lambdify(..., cse=True)``, the baseline a user would write;
 * **cached compiled kernel**: ``Kernel.compiled()`` of the cart-pole's H5 in a second
-  process (the machine code on disk), with and without ``NUMBA_CACHE_DIR``, against the
-  first (compiling) process;
+  process (the machine code on disk: a shared library on Linux with ``cc``, else numba's
+  cache), with and without ``NUMBA_CACHE_DIR``, against the first (compiling) process;
 * **NARX norm**: ``gfrf.kernel_norm`` of the identified example's H3 (default settings)
   against a dense grid (72^3 points) polished by Nelder-Mead, whose value must lie
   in the bracket;

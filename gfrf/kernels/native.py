@@ -174,5 +174,6 @@ def native_kernel(parts: tuple[str, str], n: int) -> NativeKernel | None:
         if not path.exists():
             _build(source, path)
         return NativeKernel(path, n)
-    except (OSError, subprocess.SubprocessError, AttributeError, ValueError):
+    except (OSError, subprocess.SubprocessError, AttributeError, TypeError, ValueError,
+            RuntimeError):  # llvmlite or the linker could not: numba's cache instead
         return None
