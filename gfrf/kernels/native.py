@@ -28,6 +28,7 @@ import subprocess
 import sys
 import tempfile
 import types
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -160,7 +161,9 @@ def native_kernel(parts: tuple[str, str], n: int) -> NativeKernel | None:
         return None
     from gfrf._cache import private_folder
 
-    folder = private_folder("kernels", numba=False)
+    with warnings.catch_warnings():  # numba's cache says why right after, once
+        warnings.simplefilter("ignore")
+        folder = private_folder("kernels", numba=False)
     if folder is None:
         return None
     source = _loop_source(parts, n)
