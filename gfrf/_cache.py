@@ -152,7 +152,7 @@ def _user_cache_folder(folder: Path) -> str | None:
         return f"{exc.strerror or exc}: {exc.filename or folder}"
 
 
-def private_folder(kind: str) -> Path | None:
+def private_folder(kind: str, *, numba: bool = True) -> Path | None:
     """The checked cache folder ``ROOT/kind`` (created 0700 with its ``__pycache__``).
 
     Returns None, after one ``UserWarning`` saying why, when the folder cannot be made
@@ -163,6 +163,9 @@ def private_folder(kind: str) -> Path | None:
     ----------
     kind : str
         ``"kernels"`` or ``"fastsim"``.
+    numba : bool, optional
+        Also refuse when numba's settings would keep its cache elsewhere (imports numba);
+        False for files numba never reads (:mod:`gfrf.kernels.native`).
     """
     root = cache_root()
     try:
@@ -175,7 +178,7 @@ def private_folder(kind: str) -> Path | None:
                     path.mkdir(mode=0o700)
                 if problem := _check_private(path):
                     break
-        problem = problem or _numba_redirect()
+        problem = problem or (_numba_redirect() if numba else None)
     except OSError as exc:
         problem = f"{exc.strerror or exc}: {exc.filename or root}"
     if problem is None:

@@ -48,8 +48,13 @@ def _simulate(cache: Path, **env: str) -> subprocess.CompletedProcess[str]:
     return _run(SIMULATE, {"GFRF_CACHE_DIR": str(cache), **env})
 
 
+#: The kernels' runs have no C compiler on the PATH: they go through numba's cache, whose
+#: trust these tests check (shared-library kernels: tests/kernels/test_compiled_cache.py).
+NO_CC = {"PATH": str(Path(sys.executable).parent)}
+
+
 def _kernel(cache: Path) -> subprocess.CompletedProcess[str]:
-    return _run(["-c", KERNEL], {"GFRF_CACHE_DIR": str(cache)})
+    return _run(["-c", KERNEL], {"GFRF_CACHE_DIR": str(cache), **NO_CC})
 
 
 class _Canary:
@@ -222,7 +227,7 @@ def test_the_layout_honours_xdg_cache_home(tmp_path: Path, warm: Path,
 
 def _kernel_numba_dir(cache: Path, numba_dir: Path) -> subprocess.CompletedProcess[str]:
     return _run(["-c", KERNEL], {"GFRF_CACHE_DIR": str(cache),
-                                  "NUMBA_CACHE_DIR": str(numba_dir)})
+                                  "NUMBA_CACHE_DIR": str(numba_dir), **NO_CC})
 
 
 def test_numba_cache_dir_is_honoured_when_private(tmp_path: Path, canary: Path) -> None:

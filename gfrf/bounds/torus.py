@@ -18,6 +18,14 @@ follow from the quotient rule with the numerators bounded by products of those s
 (for |a|^2 the first two derivatives use their values at the centre too, so near a
 resonance peak, where (|a|^2)' vanishes, the bound is second order in rho).
 
+Tables of sups.  Those Taylor bounds grow fast with rho, and a block's sum spans up to n
+times a box's width (half a period and more at the start of a search).  All these sups
+are of functions of one periodic variable, so they are also tabulated once per model:
+the same bounds on each of ``_CELLS`` cells of one period (each cell widened by 1/64
+of its width, which covers the rounding of the cell index), and the sup over an
+interval is the largest cell bound it meets (a sparse table of maxima: O(1) per
+interval).  Every interval gets the smaller of the two bounds.
+
 Soundness.  Values at the centre are double-precision sums; the a-priori error bound
 ``gamma * S_k`` (gamma a few units of rounding per term) is added to every bound, and
 subtracted from the lower bound of |a|.  As in the continuous case the result is
@@ -26,6 +34,9 @@ certified in floating point, not proven.
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
+
 import numpy as np
 
 __all__ = ["InverseTrig"]
@@ -33,6 +44,65 @@ __all__ = ["InverseTrig"]
 #: Relative error of a centre's 1/a above which the centre's values are not used
 #: (the same threshold as :mod:`gfrf.bounds.enclosure`).
 _POINT_RTOL = 1e-5
+#: Cells per period of the tables of sups (see the module docstring).
+_CELLS = 4096
+
+
+class _SupTable:
+    """Sups of periodic functions over intervals, from bounds over the cells of a period.
+
+    Parameters
+    ----------
+    cell_bounds : callable
+        ``cell_bounds(lo, hi) -> (N, k)`` array: valid upper bounds over the intervals.
+    period : float
+        The common period of the functions bounded.
+    """
+
+    def __init__(self, cell_bounds: Callable[[np.ndarray, np.ndarray], np.ndarray],
+                 period: float) -> None:
+        self.period = period
+        self.width = period / _CELLS
+        edges = -0.5 * period + self.width * np.arange(_CELLS + 1)
+        pad = self.width / 64
+        cells = cell_bounds(edges[:-1] - pad, edges[1:] + pad)
+        self.top = cells.max(axis=0)
+        self.levels = [np.vstack([cells, cells])]  # two periods: no wrap-around in a query
+        span = 1
+        while 2 * span <= _CELLS:  # levels[k][i]: max over cells i .. i + 2^k - 1
+            last = self.levels[-1]
+            self.levels.append(np.maximum(last[:-span], last[span:]))
+            span *= 2
+
+    def __call__(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        """Upper bounds over the intervals [lo, hi], shape (N, k).
+
+        Parameters
+        ----------
+        lo, hi : numpy.ndarray
+            Ends of the N intervals, ``lo <= hi``.
+
+        Returns
+        -------
+        numpy.ndarray
+            The largest bound of the cells each interval meets (the top of all cells
+            for an interval of a period or more).
+        """
+        with np.errstate(invalid="ignore"):
+            first = np.floor((lo + 0.5 * self.period) / self.width)
+            count = np.floor((hi + 0.5 * self.period) / self.width) - first + 1
+            whole = ~(count < _CELLS)  # a period or more (or not a number)
+        count = np.where(whole, 1.0, count).astype(np.int64)
+        start = np.where(whole, 0.0, first % _CELLS).astype(np.int64)
+        level = np.floor(np.log2(count)).astype(np.int64)
+        out = np.empty((np.size(lo), self.top.size))
+        for k in np.unique(level):
+            rows = level == k
+            table = self.levels[int(k)]
+            out[rows] = np.maximum(table[start[rows]],
+                                   table[start[rows] + count[rows] - (1 << int(k))])
+        out[whole] = self.top
+        return out
 
 
 class InverseTrig:
@@ -58,6 +128,16 @@ class InverseTrig:
         #: S_k = sum |a_l| (l T)^k, k = 0..5: global sups of |a^(k)|
         self.sups = np.array([float(np.sum(magnitude * self.lags ** k)) for k in range(6)])
         self.gamma = (4 * self.coef.size + 16) * 2.0 ** -53
+        self._tables: tuple[_SupTable, _SupTable] | None = None
+
+    def _table(self, kind: int) -> _SupTable:
+        """The table of the sups of :meth:`bounds` (kind 0) or of :meth:`modulus_bounds`
+        (kind 1), both built on first use."""
+        if self._tables is None:
+            period = 2 * math.pi / self.step
+            self._tables = (_SupTable(self._taylor_bounds, period),
+                            _SupTable(self._taylor_modulus_bounds, period))
+        return self._tables[kind]
 
     def derivatives(self, sigma: np.ndarray, count: int) -> np.ndarray:
         """a, a', .., a^(count-1) at the points ``sigma``, shape (count, N).
@@ -153,7 +233,8 @@ class InverseTrig:
                 np.where(bad, np.nan, curve))
 
     def bounds(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-        """Sups over [lo, hi] of |r|, |r'|, |r''|, |r'''|, shape (N, 4).
+        """Sups over [lo, hi] of |r|, |r'|, |r''|, |r'''|, shape (N, 4): the smaller of the
+        Taylor bounds and the table's (module docstring).
 
         Parameters
         ----------
@@ -165,6 +246,10 @@ class InverseTrig:
         numpy.ndarray
             Upper bounds, shape (N, 4), ``inf`` where |a| may vanish on the interval.
         """
+        return np.minimum(self._taylor_bounds(lo, hi), self._table(0)(lo, hi))
+
+    def _taylor_bounds(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        """:meth:`bounds` from the Taylor bounds only."""
         small, (u0, u1, u2, u3) = self._local(lo, hi)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             inv = np.where(small > 0, 1.0 / small, np.inf)
@@ -207,7 +292,8 @@ class InverseTrig:
                 np.where(bad, np.nan, curve))
 
     def modulus_bounds(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-        """Sups over [lo, hi] of |m| and of its first three derivatives, shape (N, 4).
+        """Sups over [lo, hi] of |m| and of its first three derivatives, shape (N, 4): the
+        smaller of the Taylor bounds and the table's (module docstring).
 
         With q = |a|^2: m' = -q'/(2 q^(3/2)), m'' = (3 q'^2 - 2 q q'')/(4 q^(5/2)),
         m''' = (-15 q'^3 + 18 q q' q'' - 4 q^2 q''')/(8 q^(7/2)); q' = 2 Re(conj(a) a'),
@@ -223,6 +309,10 @@ class InverseTrig:
         numpy.ndarray
             Upper bounds, shape (N, 4), ``inf`` where |a| may vanish on the interval.
         """
+        return np.minimum(self._taylor_modulus_bounds(lo, hi), self._table(1)(lo, hi))
+
+    def _taylor_modulus_bounds(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        """:meth:`modulus_bounds` from the Taylor bounds only."""
         small, (u0, u1, u2, u3) = self._local(lo, hi)
         c = 0.5 * (lo + hi)
         rho = np.nextafter(np.maximum(hi - c, c - lo), np.inf)

@@ -16,6 +16,8 @@ The code that runs is always the source generated in this process: a cached file
 only the anchor of numba's cache, rewritten when it differs from that source.  When
 the directory is unusable or fails the checks of :mod:`gfrf._cache` (a folder of this
 user's, writable by nobody else), the kernel is compiled in memory, uncached.
+On Linux with a C compiler driver the kernel is instead a shared library in the same
+folder (:mod:`gfrf.kernels.native`), which a second process loads without numba.
 """
 
 from __future__ import annotations
@@ -328,8 +330,9 @@ def numba_ufunc(gen: Recursion, n: int, symmetric: bool) -> Any:
     """A numba-compiled numpy ufunc ``f(w1..wn) -> complex128`` of H_n, cached on disk.
 
     Measured on a 2-core machine (numba 0.68, one step function per order), the
-    cart-pole model: order 5 compiles in 2.5 s and loads from the on-disk cache
-    (:func:`cache_dir`) in 0.7 s in a later process (numba's import and target set-up
+    cart-pole model: order 5 compiles in 2.5-3.5 s and a later process loads it in 0.12 s
+    as a shared library (:mod:`gfrf.kernels.native`, Linux with ``cc``), else from
+    numba's on-disk cache (:func:`cache_dir`) in 0.9 s (numba's import and target set-up
     are most of that); order 7 compiles in about 40 s.
 
     Parameters
@@ -343,7 +346,7 @@ def numba_ufunc(gen: Recursion, n: int, symmetric: bool) -> Any:
 
     Returns
     -------
-    numba ufunc
+    gfrf.kernels.native.NativeKernel or numba ufunc
         Vectorised ``f(w1, ..., wn) -> complex128`` over float64 angular frequencies in
         rad/s.
 
@@ -355,6 +358,11 @@ def numba_ufunc(gen: Recursion, n: int, symmetric: bool) -> Any:
     if not HAVE_NUMBA:
         raise ImportError("the compiled kernel needs numba: pip install 'gfrf[fast]'")
     parts = _step_functions(gen, n, symmetric)  # generated once
+    from gfrf.kernels.native import native_kernel
+
+    native = native_kernel(parts, n)  # a shared library: later processes skip numba
+    if native is not None:
+        return native
     source = _module_source(parts, n, cache=True)
     name = "gfrf_kernel_" + hashlib.sha256(source.encode()).hexdigest()[:24]
     if name in sys.modules:
