@@ -212,6 +212,14 @@ class Result:
         docstring (a large array, a callable, a derived object with its own view).
     ``_headline``
         Fields shown by ``repr`` (default: the first three).
+    ``_keys``
+        The JSON key of a field whose documented contract names it differently.
+    ``_order``
+        The JSON keys in the order of the documented contract (keys not listed follow in
+        field order).
+
+    and may override :meth:`_computed` for the keys computed from the fields (a relative
+    gap, a kind word) or a field's contract form (a complex number as ``[re, im]``).
 
     >>> @dataclass(frozen=True, kw_only=True, repr=False)
     ... class Radius(Result):
@@ -230,12 +238,23 @@ class Result:
 
     _exclude: ClassVar[tuple[str, ...]] = ()
     _headline: ClassVar[tuple[str, ...]] = ()
+    _keys: ClassVar[dict[str, str]] = {}
+    _order: ClassVar[tuple[str, ...]] = ()
 
     def to_dict(self) -> dict[str, Any]:
         """The fields (but :attr:`_exclude`) as plain values: nested results as their
-        ``to_dict()``, complex numbers ``{"re", "im"}``, numpy values as Python ones."""
-        return {f.name: _plain_value(getattr(self, f.name)) for f in fields(self)
-                if f.name not in self._exclude}
+        ``to_dict()``, complex numbers ``{"re", "im"}``, numpy values as Python ones;
+        then the :meth:`_computed` keys, in :attr:`_order`."""
+        out = {self._keys.get(f.name, f.name): _plain_value(getattr(self, f.name))
+               for f in fields(self) if f.name not in self._exclude}
+        out.update({key: _plain_value(value) for key, value in self._computed().items()})
+        if self._order:
+            out = {**{key: out[key] for key in self._order if key in out}, **out}
+        return out
+
+    def _computed(self) -> dict[str, Any]:
+        """Keys of :meth:`to_dict` computed from the fields (none here)."""
+        return {}
 
     def __repr__(self) -> str:
         names = self._headline or tuple(f.name for f in fields(self))[:3]
@@ -248,7 +267,7 @@ class Result:
 
 
 def _plain_value(value: Any) -> Any:
-    if isinstance(value, Result):
+    if isinstance(value, Result) or (hasattr(value, "to_dict") and not isinstance(value, type)):
         return value.to_dict()
     if isinstance(value, (list, tuple)):
         return [_plain_value(v) for v in value]

@@ -9,9 +9,16 @@ processes), ``numba`` (skipped without numba) and ``dask`` (skipped without dask
 from __future__ import annotations
 
 import importlib.util
+import os
 from pathlib import Path
 
 import pytest
+
+# One BLAS thread per test process, set before numpy loads (the workers of ``-n auto``
+# inherit it): the suite runs a process per core, and OpenBLAS's own threads on top of
+# them wait for each other, spinning (an eigenvalue loop cost 8x the CPU time).
+for _variable in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_variable, "1")
 
 ROOT = Path(__file__).resolve().parent.parent
 #: The bundled models of the source tree (the installed copy: ``gfrf.model.bundled``).

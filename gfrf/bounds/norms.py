@@ -62,7 +62,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from gfrf._results import markdown_table, short_repr
+from gfrf._results import Result, markdown_table, short_repr
 from gfrf.bounds.branch_bound import (
     MAX_OPEN,
     MAX_ORDER,
@@ -89,8 +89,8 @@ __all__ = ["Bound", "h1_norm", "kernel_norm", "linear_poles", "linear_stability"
 DEFAULT_TOL = 1e-3
 
 
-@dataclass(frozen=True)
-class Bound:
+@dataclass(frozen=True, kw_only=True)
+class Bound(Result):
     """A bracket ``lower <= ||H_n||_inf <= upper`` (angular frequencies in rad/s).
 
     Attributes
@@ -129,6 +129,8 @@ class Bound:
         Boxes the branch-and-bound evaluated (0 when it did not run): the work spent.
     """
 
+    _order = ("order", "lower", "upper", "gap", "argmax")
+
     lower: float
     upper: float
     argmax: tuple[float, ...]
@@ -163,13 +165,8 @@ class Bound:
                                 self.lower_proof or self.proof,
                                 self.upper_proof or self.proof)])
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary (infinities become "inf" through the CLI encoder)."""
-        return {"order": self.order, "lower": self.lower, "upper": self.upper,
-                "gap": self.gap, "argmax": list(self.argmax), "certified": self.certified,
-                "method": self.method, "symmetric": self.symmetric, "stable": self.stable,
-                "notes": list(self.notes), "reference": self.reference, "proof": self.proof,
-                "upper_proof": self.upper_proof or self.proof,
+    def _computed(self) -> dict[str, Any]:
+        return {"gap": self.gap, "upper_proof": self.upper_proof or self.proof,
                 "lower_proof": self.lower_proof or self.proof}
 
 

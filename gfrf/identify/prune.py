@@ -28,12 +28,11 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import asdict, dataclass
-from typing import Any
+from dataclasses import dataclass
 
 import numpy as np
 
-from gfrf._results import plain, short_repr
+from gfrf._results import Result, short_repr
 from gfrf.identify.noise import regressors
 from gfrf.identify.output_error import recurse
 
@@ -126,7 +125,7 @@ def t_statistics(keys: list[Key], theta: np.ndarray, y: np.ndarray, u: np.ndarra
 
 
 @dataclass(frozen=True, kw_only=True)
-class Pruning:
+class Pruning(Result):
     """What :func:`prune` removed, and the free runs it compared.
 
     Attributes
@@ -151,9 +150,7 @@ class Pruning:
     complete: bool
     window: int
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready description (every field)."""
-        return plain(asdict(self))
+
 
     def __repr__(self) -> str:
         return short_repr(self, "removed", "pruned_error")

@@ -14,12 +14,11 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import asdict, dataclass
-from typing import Any
+from dataclasses import dataclass
 
 import numpy as np
 
-from gfrf._results import plain, short_repr
+from gfrf._results import Result, short_repr
 from gfrf.errors import GfrfError
 from gfrf.model.equation import Model
 
@@ -37,7 +36,7 @@ MAX_TERMS = 40
 
 
 @dataclass(frozen=True, kw_only=True)
-class RadiusSpread:
+class RadiusSpread(Result):
     """r* of the identified (pruned) model and of the full one, with the spread.
 
     Attributes
@@ -62,9 +61,7 @@ class RadiusSpread:
     draws: int
     kind: str = "estimate"
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready description (every field)."""
-        return plain(asdict(self))
+
 
     def __repr__(self) -> str:
         return short_repr(self, "radius", "low", "high")

@@ -35,6 +35,8 @@ from typing import Any
 
 import numpy as np
 
+from gfrf._results import Result
+
 __all__ = ["Validation", "CorrelationTest", "correlation_tests", "judge", "allowed_outside",
            "model_error", "FREE_RUN_LIMIT", "PRECISE_FIT", "MAX_NOISE_FLOOR", "LAGS"]
 
@@ -90,13 +92,14 @@ def allowed_outside(count: int, level: float = 0.05) -> int:
 
 
 @dataclass(frozen=True)
-class CorrelationTest:
+class CorrelationTest(Result):
     """One Billings-Voon correlation test.
 
     Attributes
     ----------
     name : str
-        ``phi_ee``, ``phi_ue``, ``phi_u2e``, ``phi_u2e2`` or ``phi_e_eu``.
+        ``phi_ee``, ``phi_ue``, ``phi_u2e``, ``phi_u2e2`` or ``phi_e_eu``; not in
+        :meth:`to_dict` (it is the key of the test in :meth:`Validation.to_dict`).
     first_lag : int
         The lag of ``values[0]``.
     values : tuple of float
@@ -106,6 +109,9 @@ class CorrelationTest:
     outside, allowed : int
         Values outside the band, and how many a pass allows.
     """
+
+    _exclude = ("name",)
+    _order = ("passed", "outside", "allowed", "band", "max_abs", "first_lag", "values")
 
     name: str
     first_lag: int
@@ -121,11 +127,8 @@ class CorrelationTest:
         return self.outside <= self.allowed and \
             all(abs(v) <= 2 * self.band for v in self.values)
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready description."""
-        return {"passed": self.passed, "outside": self.outside, "allowed": self.allowed,
-                "band": self.band, "max_abs": max(abs(v) for v in self.values),
-                "first_lag": self.first_lag, "values": list(self.values)}
+    def _computed(self) -> dict[str, Any]:
+        return {"passed": self.passed, "max_abs": max(abs(v) for v in self.values)}
 
 
 def _corr(a: np.ndarray, b: np.ndarray, lags: range) -> list[float]:
@@ -187,7 +190,7 @@ def correlation_tests(e: np.ndarray, u: np.ndarray, lags: int = LAGS, floor: flo
 
 
 @dataclass(frozen=True)
-class Validation:
+class Validation(Result):
     """The verdict on a model's adequacy, from held-out data.
 
     Attributes
@@ -210,6 +213,11 @@ class Validation:
         :func:`gfrf.identify.floor.noise_floor`).
     """
 
+    _keys = {"held_out": "held_out_samples"}
+    _order = ("free_run_error", "free_run_limit", "free_run_passed", "noise_floor",
+              "noise_floor_method", "noise_floor_kind", "model_error", "one_step_error",
+              "held_out_samples", "tests", "adequate", "reason")
+
     free_run_error: float
     free_run_limit: float
     one_step_error: float
@@ -230,17 +238,10 @@ class Validation:
         """True when the model error is below the limit and the floor below its own."""
         return self.model_error < self.free_run_limit and self.noise_floor < MAX_NOISE_FLOOR
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready description."""
-        return {"free_run_error": self.free_run_error, "free_run_limit": self.free_run_limit,
-                "free_run_passed": self.free_run_passed,
-                "noise_floor": self.noise_floor,
-                "noise_floor_method": self.noise_floor_method,
-                "noise_floor_kind": "estimate",
+    def _computed(self) -> dict[str, Any]:
+        return {"free_run_passed": self.free_run_passed, "noise_floor_kind": "estimate",
                 "model_error": self.model_error,
-                "one_step_error": self.one_step_error, "held_out_samples": self.held_out,
-                "tests": {t.name: t.to_dict() for t in self.tests},
-                "adequate": self.adequate, "reason": self.reason}
+                "tests": {t.name: t for t in self.tests}}
 
     def text(self) -> list[str]:
         """Lines for the text output."""

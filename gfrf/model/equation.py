@@ -35,6 +35,7 @@ from typing import Any
 
 import sympy as sp
 
+from gfrf._results import Result
 from gfrf.errors import ModelError
 from gfrf.model.expr import MODEL_FUNCTIONS, UnknownNames, check_name, parse_expression
 from gfrf.model.limits import MAX_DEGREE, MAX_TEXT_LENGTH, Parsed, quote
@@ -110,7 +111,7 @@ class Term:
 
 
 @dataclass(frozen=True)
-class Model:
+class Model(Result):
     """An immutable polynomial input-output model ``sum(terms) = 0``.
 
     Build it with :func:`parse_model` or :func:`gfrf.model.modelfile.load_model`.
@@ -129,8 +130,13 @@ class Model:
         Taylor truncation order used to make the equation polynomial, if any.
     physical : sympy.Expr
         The untruncated left-hand side minus right-hand side, in the atom symbols of
-        :meth:`atom` (equal to the polynomial when no truncation was needed).
+        :meth:`atom` (equal to the polynomial when no truncation was needed); not in
+        :meth:`to_dict` (a sympy expression: ``equation`` and ``text`` say it).
     """
+
+    _exclude = ("physical",)
+    _order = ("equation", "text", "discrete", "sample_time", "output", "input", "truncation",
+              "degree", "max_order", "terms")
 
     terms: tuple[Term, ...]
     sample_time: float | None = None
@@ -239,11 +245,8 @@ class Model:
                          "kind": kind})
         return rows
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready description of the model."""
-        return {"equation": self.equation(), "text": self.text,
-                "discrete": self.is_discrete, "sample_time": self.sample_time,
-                "output": self.output, "input": self.input, "truncation": self.truncation,
+    def _computed(self) -> dict[str, Any]:
+        return {"equation": self.equation(), "discrete": self.is_discrete,
                 "degree": self.degree, "max_order": self.max_order,
                 "terms": self.coefficient_table()}
 

@@ -42,6 +42,7 @@ from typing import Any
 
 import sympy as sp
 
+from gfrf._results import Result
 from gfrf.errors import ModelError
 from gfrf.model.equation import Model, parse_model
 from gfrf.model.expr import UnknownNames, check_name, parse_expression
@@ -65,7 +66,7 @@ _CONTROLLER_KEYS = {"num", "den", "equation", "feedback", "name", "source", "des
 
 
 @dataclass(frozen=True)
-class Controller:
+class Controller(Result):
     """A controller from a model file: linear transfer function or polynomial model.
 
     Attributes
@@ -78,7 +79,13 @@ class Controller:
         -1 for negative feedback ``u = r - C[y]`` (default), +1 for positive.
     name, source, description : str
         Free text.
+
+    :meth:`to_dict` gives ``model`` as its ``equation`` and leaves out ``description``
+    (free prose).
     """
+
+    _exclude = ("model", "description")
+    _order = ("name", "source", "feedback", "num", "den", "equation")
 
     num: tuple[float, ...] | None = None
     den: tuple[float, ...] | None = None
@@ -93,17 +100,22 @@ class Controller:
         """True for a transfer-function controller."""
         return self.model is None
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready description."""
-        return {"name": self.name, "source": self.source, "feedback": self.feedback,
-                "num": list(self.num) if self.num else None,
+    def _computed(self) -> dict[str, Any]:
+        return {"num": list(self.num) if self.num else None,
                 "den": list(self.den) if self.den else None,
                 "equation": self.model.equation() if self.model else None}
 
 
 @dataclass(frozen=True)
-class ModelFile:
-    """The contents of a model file: the plant, its controller and metadata."""
+class ModelFile(Result):
+    """The contents of a model file: the plant, its controller and metadata.
+
+    :meth:`to_dict` leaves out ``description`` (free prose) and ``paper`` (the paper's
+    reference values, read by the report).
+    """
+
+    _exclude = ("description", "paper")
+    _order = ("name", "source", "path", "parameters", "plant", "controller")
 
     plant: Model
     name: str = ""
@@ -120,12 +132,6 @@ class ModelFile:
 
     def _repr_latex_(self) -> str:
         return self.plant._repr_latex_()
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready description."""
-        return {"name": self.name, "source": self.source, "path": self.path,
-                "parameters": dict(self.parameters), "plant": self.plant.to_dict(),
-                "controller": self.controller.to_dict() if self.controller else None}
 
 
 def load_model(path: str | Path) -> ModelFile:

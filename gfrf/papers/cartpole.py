@@ -42,7 +42,7 @@ from typing import Any
 
 import numpy as np
 
-from gfrf._results import plain, short_repr
+from gfrf._results import Result, short_repr
 from gfrf.bounds.majorant import linear_polynomials
 from gfrf.errors import ArgumentError
 from gfrf.model.modelfile import ModelFile
@@ -89,7 +89,7 @@ def _poles(num_p: np.ndarray, den_p: np.ndarray, num_c: np.ndarray, den_c: np.nd
 
 
 @dataclass(frozen=True)
-class InertiaReversal:
+class InertiaReversal(Result):
     """The ideal loop's theta'' coefficient with the model's own signs.
 
     Attributes
@@ -106,8 +106,12 @@ class InertiaReversal:
     poles : tuple of complex
         Roots of chi (python-control).
     plant_leading : float
-        theta'' coefficient of the plant alone (1).
+        theta'' coefficient of the plant alone (1); not in :meth:`to_dict` (``reversed``
+        compares the two signs).
     """
+
+    _exclude = ("plant_leading",)
+    _order = ("input_gain", "a", "feedback", "coefficient", "reversed")
 
     input_gain: float
     a: float
@@ -129,12 +133,8 @@ class InertiaReversal:
     def __repr__(self) -> str:
         return short_repr(self, "coefficient", "reversed")
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary."""
-        return plain({"input_gain": self.input_gain, "a": self.a, "feedback": self.feedback,
-                      "coefficient": self.coefficient, "reversed": self.reversed,
-                      "characteristic": self.characteristic, "poles": self.poles,
-                      "linear_stable": self.linear_stable})
+    def _computed(self) -> dict[str, Any]:
+        return {"reversed": self.reversed, "linear_stable": self.linear_stable}
 
 
 def inertia_reversal(mf: ModelFile) -> InertiaReversal:
@@ -167,7 +167,7 @@ def inertia_reversal(mf: ModelFile) -> InertiaReversal:
 
 
 @dataclass(frozen=True)
-class LagRow:
+class LagRow(Result):
     """The loop with the controller divided by (tau s + 1)^lags.
 
     Attributes
@@ -182,6 +182,8 @@ class LagRow:
         For one lag, the large-pole estimate (input_gain * a - 1)/tau (rad/s).
     """
 
+    _order = ("tau", "lags", "poles", "unstable")
+
     tau: float
     lags: int
     poles: tuple[complex, ...]
@@ -192,10 +194,8 @@ class LagRow:
         """Poles with Re s > 0."""
         return tuple(p for p in self.poles if p.real > 0)
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary."""
-        return plain({"tau": self.tau, "lags": self.lags, "poles": self.poles,
-                      "unstable": self.unstable, "predicted": self.predicted})
+    def _computed(self) -> dict[str, Any]:
+        return {"unstable": self.unstable}
 
 
 def lagged_loops(mf: ModelFile, taus: tuple[float, ...] = LAG_TIME_CONSTANTS,
@@ -236,7 +236,7 @@ def lagged_loops(mf: ModelFile, taus: tuple[float, ...] = LAG_TIME_CONSTANTS,
 
 
 @dataclass(frozen=True)
-class SignMargin:
+class SignMargin(Result):
     """The loop with ``u = +(a s^2 + b s + c) theta`` (feedback +1) and its threshold on c.
 
     Attributes
@@ -256,6 +256,8 @@ class SignMargin:
         tau -> poles of the one-lag loop at c_min (1 + step).
     """
 
+    _order = ("c_file", "poles_file", "c_min", "c_min_exact")
+
     c_file: float
     poles_file: tuple[complex, ...]
     c_min: Fraction
@@ -268,14 +270,9 @@ class SignMargin:
     def __repr__(self) -> str:
         return short_repr(self, "c_file", c_min=float(self.c_min))
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary."""
-        return plain({"c_file": self.c_file, "poles_file": self.poles_file,
-                      "c_min": float(self.c_min),
-                      "c_min_exact": f"{self.c_min.numerator}/{self.c_min.denominator}",
-                      "poles_below": self.poles_below, "poles_above": self.poles_above,
-                      "step": self.step, "c_max": {str(k): v for k, v in self.c_max.items()},
-                      "lag_poles_above": {str(k): v for k, v in self.lag_poles_above.items()}})
+    def _computed(self) -> dict[str, Any]:
+        return {"c_min": float(self.c_min),
+                "c_min_exact": f"{self.c_min.numerator}/{self.c_min.denominator}"}
 
 
 def sign_margin(mf: ModelFile, taus: tuple[float, ...] = LAG_TIME_CONSTANTS,
@@ -365,7 +362,7 @@ def _static_series(mf: ModelFile) -> tuple[Fraction, Fraction, Fraction]:
 
 
 @dataclass(frozen=True)
-class ControllerTrial:
+class ControllerTrial(Result):
     """One PD-with-filter controller u = +(K_d s + K_p)/(tau_f s + 1) theta in Theorem 2.
 
     ``bound`` is the proof's ceiling on the certifiable amplitude for this controller,
@@ -382,15 +379,9 @@ class ControllerTrial:
     verdict: str
     bound: float
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary."""
-        return {"kp": self.kp, "kd": self.kd, "tau_f": self.tau_f, "stable": self.stable,
-                "lambda1": self.lambda1, "rho1": self.rho1, "radius": self.radius,
-                "verdict": self.verdict, "bound": self.bound}
-
 
 @dataclass(frozen=True)
-class Theorem2Obstruction:
+class Theorem2Obstruction(Result):
     """Why Theorem 2 cannot certify the cart-pole with a proper, stable linear controller.
 
     Attributes
@@ -431,16 +422,11 @@ class Theorem2Obstruction:
     def __repr__(self) -> str:
         return short_repr(self, "ceiling", "holds", trials=len(self.trials))
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary."""
-        best = self.best
+    def _computed(self) -> dict[str, Any]:
         return {"beta1_floor": float(self.beta1_floor), "c3": float(self.c3),
-                "kernel_h1_0": self.kernel_h1_0, "kernel_h3_0": self.kernel_h3_0,
-                "ceiling": self.ceiling, "holds": self.holds,
-                "trials": [t.to_dict() for t in self.trials],
                 "stabilising": len(self.stabilising),
                 "certified_at_r1": sum(t.verdict == "stable" for t in self.trials),
-                "best": best.to_dict() if best else None}
+                "best": self.best}
 
 
 def theorem2_obstruction(mf: ModelFile, grid: tuple[tuple[float, float, float], ...] = PD_GRID

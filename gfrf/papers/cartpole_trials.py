@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from gfrf._results import plain, short_repr
+from gfrf._results import Result, short_repr
 from gfrf.errors import ArgumentError
 from gfrf.model.modelfile import ModelFile
 from gfrf.papers.cartpole import _loop_parts
@@ -32,7 +32,7 @@ __all__ = ["LagSimulation", "DriveTrial", "LoopDrive", "lagged_simulation", "loo
 
 
 @dataclass(frozen=True)
-class LagSimulation:
+class LagSimulation(Result):
     """A run of the lagged nonlinear loop (eq (12), one lag tau) from rest at an angle.
 
     Attributes
@@ -69,12 +69,8 @@ class LagSimulation:
     def __repr__(self) -> str:
         return short_repr(self, "tau", "theta0", "escape_time", "growth_rate")
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary."""
-        return {"tau": self.tau, "theta0": self.theta0, "escape": self.escape,
-                "escape_time": self.escape_time, "t_end": self.t_end,
-                "growth_rate": self.growth_rate, "feedback": self.feedback,
-                "peak": self.peak, "diverged": self.diverged}
+    def _computed(self) -> dict[str, Any]:
+        return {"diverged": self.diverged}
 
 
 def _equation_rhs(mf: ModelFile) -> Any:
@@ -183,7 +179,7 @@ def lagged_simulation(mf: ModelFile, tau: float, theta0: float = math.radians(5.
 
 
 @dataclass(frozen=True)
-class DriveTrial:
+class DriveTrial(Result):
     """One closed-loop run driven by a cosine reference."""
 
     equation: str
@@ -193,15 +189,9 @@ class DriveTrial:
     peak: float
     blowup_time: float | None
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary."""
-        return {"equation": self.equation, "target_deg": self.target_deg,
-                "amplitude": self.amplitude, "bounded": self.bounded, "peak": self.peak,
-                "blowup_time": self.blowup_time}
-
 
 @dataclass(frozen=True)
-class LoopDrive:
+class LoopDrive(Result):
     """The ideal linear closed loop's frequency scales and cosine-driven runs.
 
     Attributes
@@ -231,12 +221,6 @@ class LoopDrive:
 
     def __repr__(self) -> str:
         return short_repr(self, "omega", "resonant", "t_end")
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary."""
-        return plain({"poles": self.poles, "resonant": self.resonant, "omega": self.omega,
-                      "gain": self.gain, "t_end": self.t_end, "periods": self.periods,
-                      "trials": [t.to_dict() for t in self.trials]})
 
 
 def has_physical_equation(mf: ModelFile) -> bool:

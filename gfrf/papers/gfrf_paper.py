@@ -32,7 +32,7 @@ from typing import Any
 
 import numpy as np
 
-from gfrf._results import outward_bracket
+from gfrf._results import Result, outward_bracket
 from gfrf.bounds.majorant import majorant
 from gfrf.bounds.norms import h1_norm, kernel_norm
 from gfrf.kernels.recursion import kernel
@@ -61,7 +61,7 @@ PAPER_CLOSED_LOOP = (614.0, 12554.0, 73.0)
 
 
 @dataclass(frozen=True)
-class CheckRow:
+class CheckRow(Result):
     """One printed quantity: paper value, our value, agreement and the reason."""
 
     section: str
@@ -70,11 +70,6 @@ class CheckRow:
     ours: Any
     match: bool
     reason: str
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary."""
-        return {"section": self.section, "quantity": self.quantity, "paper": self.paper,
-                "ours": self.ours, "match": self.match, "reason": self.reason}
 
 
 def printed_match(paper: float, ours: float) -> bool:
@@ -359,7 +354,7 @@ def paper_checks(models_dir: str | Path = "models") -> list[CheckRow]:
 
 
 @dataclass(frozen=True)
-class AlphaRow:
+class AlphaRow(Result):
     """One hanging-pendulum file at the paper's r = 1: eq (6) (alpha = 1) or eq (2).
 
     Attributes
@@ -403,15 +398,6 @@ class AlphaRow:
     bounded: bool
     peak: float
     t_end: float
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary."""
-        return {"model": self.model, "alpha": self.alpha, "rho": self.rho,
-                "h1_norm": self.h1_norm, "radius": self.radius,
-                "radius_proof": self.radius_proof, "verdict": self.verdict,
-                "margin": self.margin, "margin_tolerance": self.margin_tolerance,
-                "resonance": self.resonance, "bounded": self.bounded, "peak": self.peak,
-                "t_end": self.t_end}
 
 
 def alpha_variants(models_dir: str | Path = "models", tolerance: float = 1e-6,
@@ -468,7 +454,7 @@ def alpha_variants(models_dir: str | Path = "models", tolerance: float = 1e-6,
 
 
 @dataclass(frozen=True)
-class ThetaReading:
+class ThetaReading(Result):
     """The paper's printed theta_3 against Theorem 2's recursion with and without rho_1.
 
     ``kept`` is theta_3 = rho_1 phi_3 lambda_1^3 (Theorem 2 as printed), ``dropped`` is
@@ -492,12 +478,8 @@ class ThetaReading:
     def matches_dropped(self) -> bool:
         return printed_match(self.printed, self.dropped)
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary."""
-        return {"section": self.section, "printed": self.printed, "rho1": self.rho1,
-                "phi3": self.phi3, "lambda1": self.lambda1, "kept": self.kept,
-                "dropped": self.dropped, "matches_kept": self.matches_kept,
-                "matches_dropped": self.matches_dropped}
+    def _computed(self) -> dict[str, Any]:
+        return {"matches_kept": self.matches_kept, "matches_dropped": self.matches_dropped}
 
 
 def theta_readings(models_dir: str | Path = "models") -> list[ThetaReading]:

@@ -9,10 +9,11 @@ or an inconsistency; ``corrected`` then holds the corrected form.  Checks of tex
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 
 import sympy as sp
 
+from gfrf._results import Result
 from gfrf.periodic.averaging import averaged_equations, averaging_equilibria
 from gfrf.periodic.energy import energy_formulas
 from gfrf.periodic.homotopy import paper_ham_first_order
@@ -23,8 +24,8 @@ __all__ = ["FormulaCheck", "formula_checks"]
 a, c, d, e, h, tau, th, ph, B = sp.symbols("a c delta epsilon h tau theta phi B")
 
 
-@dataclass
-class FormulaCheck:
+@dataclass(frozen=True)
+class FormulaCheck(Result):
     """One printed formula (or reference) against its regenerated form.
 
     Attributes
@@ -57,10 +58,6 @@ class FormulaCheck:
     note: str = ""
     kind: str = "formula"
     inherits: str = ""
-
-    def to_dict(self) -> dict[str, object]:
-        """Plain-dict view for JSON and reports."""
-        return asdict(self)
 
 
 def _zero(expr: sp.Expr) -> bool:

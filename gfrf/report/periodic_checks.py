@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from gfrf._results import Result
 from gfrf.periodic.compare import PeriodicComparison, compare_periodic
 from gfrf.periodic.homotopy import ham
 from gfrf.periodic.shooting import transition_delta
@@ -99,17 +100,13 @@ def error_grid(branch: str, eps_values: tuple[float, ...], amplitudes: tuple[flo
     return ErrorGrid(branch, eps_values, amplitudes, rows, side)
 
 
-@dataclass
-class ConclusionCheck:
+@dataclass(frozen=True)
+class ConclusionCheck(Result):
     """One conclusion of the paper tested on our numbers."""
 
     claim: str
     evidence: str
     holds: bool
-
-    def to_dict(self) -> dict[str, object]:
-        """Plain-dict view."""
-        return {"claim": self.claim, "evidence": self.evidence, "holds": self.holds}
 
 
 def _err(grid: ErrorGrid, label: str, e: float, a: float) -> float:

@@ -51,7 +51,7 @@ from typing import Any
 
 import numpy as np
 
-from gfrf._results import PROOF_WORDS, proof_word, short_repr
+from gfrf._results import PROOF_WORDS, Result, proof_word, short_repr
 from gfrf.errors import ArgumentError
 from gfrf.kernels.recursion import check_order, generator, kernel
 from gfrf.model.equation import Model
@@ -72,12 +72,16 @@ _CHUNK = 20_000
 
 
 @dataclass(frozen=True)
-class Component:
+class Component(Result):
     """One output frequency of a prediction: ``amplitude * cos(omega t + phase)``.
 
     ``omega`` in rad/s; ``by_order`` maps n to the complex phasor contributed by H_n
-    (the full phasor is ``value``, y = 2 Re(value e^{j omega t}) for omega > 0).
+    (the full phasor is ``value``, y = 2 Re(value e^{j omega t}) for omega > 0;
+    :meth:`to_dict` gives it as ``amplitude`` and ``phase``).
     """
+
+    _exclude = ("value",)
+    _order = ("omega", "frequency_hz", "amplitude", "phase", "by_order")
 
     omega: float
     value: complex
@@ -93,16 +97,15 @@ class Component:
         """Phase in rad of the cosine."""
         return float(np.angle(self.value))
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready row."""
-        return {"omega": self.omega, "frequency_hz": self.omega / (2 * math.pi),
-                "amplitude": self.amplitude, "phase": self.phase,
+    def _computed(self) -> dict[str, Any]:
+        return {"frequency_hz": self.omega / (2 * math.pi), "amplitude": self.amplitude,
+                "phase": self.phase,
                 "by_order": {str(n): abs(v) * (1 if self.omega == 0 else 2)
                              for n, v in self.by_order.items()}}
 
 
 @dataclass(frozen=True)
-class VolterraPrediction:
+class VolterraPrediction(Result):
     """The order-N Volterra steady state of a multi-tone input (see module docstring).
 
     ``amplitude`` is the input amplitude the series is judged by: the sum of the tone
@@ -111,6 +114,9 @@ class VolterraPrediction:
     when the prediction was forced without a steady state (unstable linear part) or at an
     amplitude at or beyond r*, where the series is not known to converge.
     """
+
+    _order = ("tones", "order", "amplitude", "radius", "radius_certified", "radius_proof",
+              "warning", "components")
 
     tones: tuple[Tone, ...]
     order: int
@@ -195,13 +201,8 @@ class VolterraPrediction:
 
         return prediction_figure(self, simulated)
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready description."""
-        return {"tones": [list(x) for x in self.tones], "order": self.order,
-                "amplitude": self.amplitude, "radius": self.radius,
-                "radius_certified": self.radius_certified, "radius_proof": self.radius_proof,
-                "warning": self.warning,
-                "components": [c.to_dict() for c in self.components]}
+    def _computed(self) -> dict[str, Any]:
+        return {"radius_certified": self.radius_certified}
 
 
 class BeyondRadiusError(ArgumentError):

@@ -10,9 +10,8 @@ otherwise, and returns a :class:`gfrf.stability.verdicts.Verdict`.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
-from gfrf._results import markdown_table, short_repr
+from gfrf._results import Result, markdown_table, short_repr
 from gfrf.errors import ArgumentError
 from gfrf.model.equation import Model
 from gfrf.model.modelfile import ModelFile, model_from_dict, resolve_model
@@ -57,7 +56,7 @@ def verdict(model: ModelFile | Model, order: int = 5, amplitude: float = 1.0,
 
 
 @dataclass(frozen=True)
-class Margin:
+class Margin(Result):
     """Smallest (or largest) parameter value for which the certified verdict is ``stable``.
 
     Attributes
@@ -87,12 +86,6 @@ class Margin:
         return markdown_table(("parameter", "boundary", "stable", "file value", "amplitude r"),
                               [(self.parameter, self.value, f"{self.direction} the boundary",
                                 self.current, self.amplitude)])
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary."""
-        return {"parameter": self.parameter, "value": self.value, "direction": self.direction,
-                "amplitude": self.amplitude, "current": self.current,
-                "tolerance": self.tolerance}
 
 
 def parameter_margin(model_file: ModelFile, parameter: str, amplitude: float = 1.0,

@@ -38,6 +38,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
+from gfrf._results import Result
 from gfrf.model.equation import Model
 
 __all__ = ["Certificate", "energy_certificate", "ENERGY_METHOD", "LINF_CLASS"]
@@ -50,7 +51,7 @@ LINF_CLASS = ("every bounded input u(t) (L-infinity, any size), from any initial
 
 
 @dataclass(frozen=True)
-class Certificate:
+class Certificate(Result):
     """One proven lower side: stability for every input of ``input_class`` below ``radius``.
 
     Attributes
@@ -70,6 +71,8 @@ class Certificate:
         What is proven for those inputs (bounded; returns to the equilibrium; ...).
     """
 
+    _order = ("method", "radius", "proof", "input_class", "property")
+
     method: str
     radius: float
     proof: str
@@ -77,11 +80,8 @@ class Certificate:
     detail: str = ""
     property: str = ""
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary (``radius`` may be ``inf``: JSON ``Infinity``)."""
-        return {"method": self.method, "radius": float(self.radius), "proof": self.proof,
-                "input_class": self.input_class, "property": self.property,
-                "detail": self.detail}
+    def _computed(self) -> dict[str, Any]:
+        return {"radius": float(self.radius)}
 
 
 def _structure(model: Model) -> tuple[Fraction, Fraction, dict[int, Fraction], Fraction] | str:

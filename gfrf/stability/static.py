@@ -43,6 +43,7 @@ from typing import Any
 
 import numpy as np
 
+from gfrf._results import Result
 from gfrf.bounds.exact import arb_upper
 from gfrf.model.equation import Model
 
@@ -56,7 +57,7 @@ PRECISION = 128
 
 
 @dataclass(frozen=True)
-class StaticBound:
+class StaticBound(Result):
     """A proven upper bound on the true radius of the norm series.
 
     Attributes
@@ -80,12 +81,9 @@ class StaticBound:
     exact: bool
     detail: str
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary."""
-        return {"value": self.value, "branch_point": [self.branch_point.real,
-                                                       self.branch_point.imag],
-                "double_root": [self.double_root.real, self.double_root.imag],
-                "exact": self.exact, "detail": self.detail}
+    def _computed(self) -> dict[str, Any]:
+        return {"branch_point": [self.branch_point.real, self.branch_point.imag],
+                "double_root": [self.double_root.real, self.double_root.imag]}
 
 
 def _static_terms(model: Model) -> dict[tuple[int, int], Fraction]:

@@ -25,14 +25,14 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from gfrf._results import plain, proof_word, short_repr, verdict_figure, verdict_markdown
+from gfrf._results import Result, proof_word, short_repr, verdict_figure, verdict_markdown
 from gfrf.bounds.norms import Bound
 
 __all__ = ["Condition", "Verdict"]
 
 
 @dataclass(frozen=True)
-class Condition:
+class Condition(Result):
     """One hypothesis of a theorem: ``passed`` True, False, or None (not established)."""
 
     name: str
@@ -40,14 +40,9 @@ class Condition:
     value: Any
     detail: str
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary."""
-        return {"name": self.name, "passed": self.passed, "value": plain(self.value),
-                "detail": self.detail}
-
 
 @dataclass(frozen=True)
-class Verdict:
+class Verdict(Result):
     """Outcome of Theorem 1 or 2 for one model and input amplitude.
 
     Attributes
@@ -96,6 +91,9 @@ class Verdict:
     loop_radius_upper_detail : str
         Where ``loop_radius_upper`` comes from, or why absent.
     """
+
+    _order = ("verdict", "theorem", "radius", "radius_certified", "amplitude", "conditions",
+              "norms", "series", "radius_estimate", "summary", "radius_proof", "proof")
 
     verdict: str
     theorem: int
@@ -151,27 +149,17 @@ class Verdict:
         """
         return verdict_figure(self)
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary (the ``--json`` output of ``gfrf verdict``)."""
-        return {"verdict": self.verdict, "theorem": self.theorem, "radius": self.radius,
-                "radius_certified": self.radius_certified, "amplitude": self.amplitude,
-                "conditions": [c.to_dict() for c in self.conditions],
-                "norms": [b.to_dict() for b in self.norms], "series": list(self.series),
-                "radius_estimate": self.radius_estimate, "summary": self.summary,
-                "radius_proof": self.radius_proof, "proof": self.radius_proof,
-                "radius_upper": self.radius_upper,
-                "radius_upper_detail": self.radius_upper_detail,
-                "estimate_of": self.estimate_of, "estimate_lower": self.estimate_lower,
-                "loop": self.loop, "loop_radius_upper": self.loop_radius_upper,
-                "loop_radius_upper_detail": self.loop_radius_upper_detail,
-                "radius_kinds": {
-                    "radius": f"lower bound r* of the {_SERIES[self.theorem]}, "
-                              + (self.radius_kind if self.radius_certified
-                                 else "estimate (not certified)"),
-                    "radius_upper": f"proven upper bound on the true radius of the "
-                                    f"{self.estimate_of} (static branch point)",
-                    "radius_estimate": f"estimate of the true radius of the {self.estimate_of}"
-                                       " (not a proof; never decides a verdict)"}}
+    def _computed(self) -> dict[str, Any]:
+        return {
+            "proof": self.radius_proof,
+            "radius_kinds": {
+                "radius": f"lower bound r* of the {_SERIES[self.theorem]}, "
+                          + (self.radius_kind if self.radius_certified
+                             else "estimate (not certified)"),
+                "radius_upper": f"proven upper bound on the true radius of the "
+                                f"{self.estimate_of} (static branch point)",
+                "radius_estimate": f"estimate of the true radius of the {self.estimate_of}"
+                                   " (not a proof; never decides a verdict)"}}
 
 
 _SERIES = {1: "norm series sum ||H_n|| r^n", 2: "loop series sum theta_n rho_1^n r^n"}

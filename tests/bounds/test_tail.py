@@ -128,15 +128,16 @@ def outside(x: np.ndarray, width: float) -> np.ndarray:
     return x if big >= width else x * (width / big * (1 + 1e-12))
 
 
-def far_sup(model: Model, n: int, width: float, symmetric: bool, seed: int) -> float:
+def far_sup(model: Model, n: int, width: float, symmetric: bool, seed: int,
+            polish: int = 3) -> float:
     """Largest |H_n| found outside the box (dense sampling, then Nelder-Mead polishing of
-    the best points), each candidate re-evaluated independently."""
+    the ``polish`` best points), each candidate re-evaluated independently."""
     k = kernel(model, n, symmetric)
     rng = np.random.default_rng(seed)
     w = adversarial_points(n, width, rng)
     values = np.abs(k(*w))
     best = 0.0
-    for t in np.argsort(values)[::-1][:3]:
+    for t in np.argsort(values)[::-1][:polish]:
 
         def objective(x: np.ndarray) -> float:
             return -abs(complex(k(*outside(x, width))))
@@ -160,9 +161,10 @@ def far_sup(model: Model, n: int, width: float, symmetric: bool, seed: int) -> f
 @pytest.mark.parametrize("width", [3.0, 40.0])
 def test_tail_bound_encloses_far_points(name: str, n: int, symmetric: bool,
                                         width: float) -> None:
+    """The best sampled far point is polished (the slow order-5 test polishes three)."""
     m = load(name)
     bound = tail_bound(m, n, width)
-    found = far_sup(m, n, width, symmetric, seed=n + int(width))
+    found = far_sup(m, n, width, symmetric, seed=n + int(width), polish=1)
     assert 0 < found <= bound * (1 + 1e-12)
     assert bound <= majorant(m).coefficients(n)[n, 0] * (1 + 1e-12)
 
