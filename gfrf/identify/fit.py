@@ -17,6 +17,7 @@ sysidentpy is the optional extra ``gfrf[identify]``; it is imported only inside
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import math
 import warnings
@@ -39,6 +40,7 @@ from gfrf.identify.data import (
 from gfrf.identify.floor import noise_floor
 from gfrf.identify.narx import _decode, _lead, narx_model
 from gfrf.identify.noise import extended_least_squares, regressors, residuals
+from gfrf.identify.ols import error_reduction_ratio
 from gfrf.identify.operating import equilibrium, round_significant, shift
 from gfrf.identify.output_error import output_error_covariance, recurse, refine
 from gfrf.identify.prune import Pruning, covariance, free_run_residual, prune_and_refit
@@ -152,11 +154,22 @@ def _frols(ylag: int, ulag: int, degree: int, criterion: str, max_terms: int,
     class _Frols(FROLS):  # type: ignore[misc, valid-type]
         """FROLS over the candidate regressors, minus the constant (column 0) unless asked."""
 
+        ranking: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+
         def run_mss_algorithm(self, psi: np.ndarray, y: np.ndarray,
                               process_term_number: int) -> tuple[Any, ...]:
-            err, piv, selected = self.error_reduction_ratio(psi[:, first:], y,
-                                                             process_term_number)
-            return err, np.asarray(piv) + first, selected
+            """sysidentpy's ERR ranking (:func:`gfrf.identify.ols.error_reduction_ratio`),
+            computed once for the largest size: the greedy choice of n terms is the
+            first n of a longer run, so the fit reuses the criterion's run."""
+            count = process_term_number
+            if self.ranking is None or self.ranking[0] is not psi or \
+                    self.ranking[2].size < count:
+                self.ranking = (psi, *error_reduction_ratio(psi[:, first:],
+                                                            y[self.max_lag:], count))
+            err = np.zeros_like(self.ranking[1])
+            err[:count + 1] = self.ranking[1][:count + 1]
+            piv = self.ranking[2][:count]
+            return err, piv + first, psi[:, piv + first]
 
         def information_criterion(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
             """sysidentpy's criterion for 1..n_info_values terms from one greedy ERR run.
@@ -240,6 +253,7 @@ def _fit_structure(y: np.ndarray, u: np.ndarray, ylag: int, ulag: int, degree: i
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         frols.fit(X=u[:, None], y=y[:, None])
+    frols.ranking = None  # the candidate matrix is no longer needed
     selected = [_decode(row) for row in frols.final_model]
     theta = np.ravel(frols.theta)
     return _Fit(selected, theta, frols, float(np.min(frols.raw_info_values)))
@@ -377,6 +391,33 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
     GfrfError
         sysidentpy is not installed (the message says how to install it).
     """
+    with _one_blas_thread():
+        return _identify(y, u, sample_time, ylag=ylag, ulag=ulag, degree=degree,
+                         criterion=criterion, max_terms=max_terms, holdout=holdout,
+                         output=output, input=input, noise=noise, prune=prune,
+                         radius_draws=radius_draws)
+
+
+def _one_blas_thread() -> Any:
+    """A context with BLAS on one thread (threadpoolctl), when threadpoolctl is installed.
+
+    Identification multiplies tall, thin matrices (rows x a few columns), where BLAS
+    threads only wait for each other: on two loaded cores they tripled the CPU time.
+    One thread also makes the sums' order, hence the last bits, the same on every
+    machine.
+    """
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:
+        return contextlib.nullcontext()
+    return threadpool_limits(limits=1, user_api="blas")
+
+
+def _identify(y: Any, u: Any, sample_time: float, *, ylag: int | None,
+              ulag: int | None, degree: int | None, criterion: str, max_terms: int,
+              holdout: float, output: str, input: str, noise: bool | None,
+              prune: bool, radius_draws: int | None) -> Identification:
+    """:func:`identify`, with BLAS as the caller set it."""
     y = _check_signal("y", y)
     u = _check_signal("u", u)
     if y.size != u.size:
