@@ -42,7 +42,7 @@ from gfrf.identify.narx import _decode, _lead, narx_model
 from gfrf.identify.noise import extended_least_squares, regressors, residuals
 from gfrf.identify.ols import error_reduction_ratio
 from gfrf.identify.operating import equilibrium, round_significant, shift
-from gfrf.identify.output_error import output_error_covariance, recurse, refine
+from gfrf.identify.output_error import output_error_covariance, recurse, refine, warm_up
 from gfrf.identify.prune import Pruning, covariance, free_run_residual, prune_and_refit
 from gfrf.identify.result import Identification
 from gfrf.identify.spread import DRAWS, RadiusSpread, radius, radius_spread
@@ -458,11 +458,17 @@ def _identify(y: Any, u: Any, sample_time: float, *, ylag: int | None,
     floor, floor_method = noise_floor(yc, uc, n_train, lag, _candidate_keys(ylag, ulag, degree),
                                       fit.keys, ylag)
     if prune and len(fit.keys) < max_terms and not model_error(
-            _held_out_rrse(theta, yc[n_train:], uc[n_train:], lag), floor) < FREE_RUN_LIMIT:
+            _held_out_rrse(theta, yc, uc, n_train, lag), floor) < FREE_RUN_LIMIT:
         grown = _estimate(y[:n_fit] - cy, u[:n_fit] - cu, ylag, ulag, degree, criterion,
                           max_terms, noise, forced=True)
-        if _held_out_rrse(grown[1], yc[n_train:], uc[n_train:], lag) < _held_out_rrse(
-                theta, yc[n_train:], uc[n_train:], lag):
+        if kind == grown[4] == "output error":  # also from the smaller model's optimum:
+            start = {k: theta.get(k, 0.0) for k in grown[1]}  # least squares on noisy
+            nested = refine(start, y[:n_fit] - cy, u[:n_fit] - cu, lag)  # data is biased
+            if _held_out_rrse(nested, yc, uc, n_train, lag) < _held_out_rrse(
+                    grown[1], yc, uc, n_train, lag):
+                grown = (grown[0], nested, *grown[2:])
+        if _held_out_rrse(grown[1], yc, uc, n_train, lag) < _held_out_rrse(
+                theta, yc, uc, n_train, lag):
             chosen = len(fit.keys)
             fit, theta, noise_terms, notes, kind = grown
             notes.append(f"the criterion's {chosen} terms did not "
@@ -470,10 +476,11 @@ def _identify(y: Any, u: Any, sample_time: float, *, ylag: int | None,
                          f"then pruned")
     full_theta = theta
     pruning = None
-    if prune:
+    if prune:  # free runs from measured outputs before the held-out part (warm-up)
+        w = warm_up(theta, lag, n_train - lag)
         theta, noise_terms, pruning = prune_and_refit(
-            theta, noise_terms, kind, y[:n_fit] - cy, u[:n_fit] - cu, y[n_train:] - cy,
-            u[n_train:] - cu, lag, ylag, floor >= PRECISE_FIT)
+            theta, noise_terms, kind, y[:n_fit] - cy, u[:n_fit] - cu, yc[n_train - w:],
+            uc[n_train - w:], lag, ylag, floor >= PRECISE_FIT, w)
     constant = theta.get(((), ()))
     y0c = 0.0 if constant is None else equilibrium(theta, 0.0, mean_y - cy)
     import sysidentpy
@@ -491,7 +498,9 @@ def _identify(y: Any, u: Any, sample_time: float, *, ylag: int | None,
     y0, u0 = round_significant(y0), round_significant(u0)
     noise_terms = tuple(round_significant(c) for c in noise_terms)
     y_test, u_test = y[n_train:] - y0, u[n_train:] - u0
-    simulated, blowup = free_run(model, u_test, y_test[:lag])
+    w = warm_up(about, lag, n_train - lag)
+    simulated, blowup = free_run(model, u[n_train - w:] - u0, y[n_train - w:][:lag] - y0)
+    simulated, blowup = simulated[w:], None if blowup is None else max(0, blowup - w)
     free = math.inf if blowup is not None else _rrse(y_test[lag:], simulated[lag:])
     if kind == "output error":  # its one-step predictor is the free run
         e = y_test[lag:] - simulated[lag:] if blowup is None else y_test[lag:]
@@ -538,10 +547,13 @@ def _identify(y: Any, u: Any, sample_time: float, *, ylag: int | None,
         _about(full_theta, mean_y - cy, sample_time, output, input)[0])
 
 
-def _held_out_rrse(theta: dict[Key, float], y: np.ndarray, u: np.ndarray, lag: int) -> float:
-    """Free-run RRSE of ``theta`` on held-out samples about its centre (inf on a blow-up)."""
-    r = free_run_residual(theta, y, u, lag)
-    spread = float(np.var(y[lag:])) * (y.size - lag)
+def _held_out_rrse(theta: dict[Key, float], y: np.ndarray, u: np.ndarray, n_train: int,
+                   lag: int) -> float:
+    """Free-run RRSE of ``theta`` on the samples from ``n_train + lag`` on, about its centre
+    (inf on a blow-up), the run started its warm-up before them."""
+    w = warm_up(theta, lag, n_train - lag)
+    r = free_run_residual(theta, y[n_train - w:], u[n_train - w:], lag, w)
+    spread = float(np.var(y[n_train + lag:])) * (y.size - n_train - lag)
     return math.inf if r is None or not spread else math.sqrt(float(r @ r) / spread)
 
 
