@@ -38,12 +38,13 @@ from gfrf.identify.data import (
     check_rank,
 )
 from gfrf.identify.floor import noise_floor
+from gfrf.identify.grow import grow_output_error, held_out_rrse
 from gfrf.identify.narx import _decode, _lead, narx_model
 from gfrf.identify.noise import extended_least_squares, regressors, residuals
 from gfrf.identify.ols import error_reduction_ratio
 from gfrf.identify.operating import equilibrium, round_significant, shift
 from gfrf.identify.output_error import output_error_covariance, recurse, refine, warm_up
-from gfrf.identify.prune import Pruning, covariance, free_run_residual, prune_and_refit
+from gfrf.identify.prune import Pruning, covariance, prune_and_refit
 from gfrf.identify.result import Identification
 from gfrf.identify.spread import DRAWS, RadiusSpread, radius, radius_spread
 from gfrf.identify.validate import (
@@ -458,16 +459,15 @@ def _identify(y: Any, u: Any, sample_time: float, *, ylag: int | None,
     floor, floor_method = noise_floor(yc, uc, n_train, lag, _candidate_keys(ylag, ulag, degree),
                                       fit.keys, ylag)
     if prune and len(fit.keys) < max_terms and not model_error(
-            _held_out_rrse(theta, yc, uc, n_train, lag), floor) < FREE_RUN_LIMIT:
+            held_out_rrse(theta, yc, uc, n_train, lag), floor) < FREE_RUN_LIMIT:
         grown = _estimate(y[:n_fit] - cy, u[:n_fit] - cu, ylag, ulag, degree, criterion,
                           max_terms, noise, forced=True)
-        if kind == grown[4] == "output error":  # also from the smaller model's optimum:
-            start = {k: theta.get(k, 0.0) for k in grown[1]}  # least squares on noisy
-            nested = refine(start, y[:n_fit] - cy, u[:n_fit] - cu, lag)  # data is biased
-            if _held_out_rrse(nested, yc, uc, n_train, lag) < _held_out_rrse(
-                    grown[1], yc, uc, n_train, lag):
-                grown = (grown[0], nested, *grown[2:])
-        if _held_out_rrse(grown[1], yc, uc, n_train, lag) < _held_out_rrse(
+        if kind == grown[4] == "output error":  # least squares on noisy data is biased
+            grown = (grown[0], grow_output_error(theta, grown[1], y[:n_fit] - cy,
+                                                 u[:n_fit] - cu, lag,
+                                                 _candidate_keys(ylag, ulag, degree)),
+                     *grown[2:])
+        if held_out_rrse(grown[1], yc, uc, n_train, lag) < held_out_rrse(
                 theta, yc, uc, n_train, lag):
             chosen = len(fit.keys)
             fit, theta, noise_terms, notes, kind = grown
@@ -545,16 +545,6 @@ def _identify(y: Any, u: Any, sample_time: float, *, ylag: int | None,
         noise_model=kind, pruning=pruning, radius=spread,
         full_model=None if pruning is None or not pruning.removed else
         _about(full_theta, mean_y - cy, sample_time, output, input)[0])
-
-
-def _held_out_rrse(theta: dict[Key, float], y: np.ndarray, u: np.ndarray, n_train: int,
-                   lag: int) -> float:
-    """Free-run RRSE of ``theta`` on the samples from ``n_train + lag`` on, about its centre
-    (inf on a blow-up), the run started its warm-up before them."""
-    w = warm_up(theta, lag, n_train - lag)
-    r = free_run_residual(theta, y[n_train - w:], u[n_train - w:], lag, w)
-    spread = float(np.var(y[n_train + lag:])) * (y.size - n_train - lag)
-    return math.inf if r is None or not spread else math.sqrt(float(r @ r) / spread)
 
 
 def _about(theta: dict[Key, float], near: float, sample_time: float, output: str,

@@ -172,6 +172,21 @@ def test_sampled_hardening_oscillator_clean_data(offset, capsys, tmp_path):
 
 
 @pytest.mark.slow
+@pytest.mark.parametrize("noise", [0.02, 0.05, 0.08])
+def test_sampled_hardening_oscillator_with_output_noise(noise, capsys, tmp_path):
+    """White output noise on the sampled oscillator: adequate, pruned r* within 15 % and
+    the free run at the noise level (the start's transient left out)."""
+    rng = np.random.default_rng(2)
+    u = 3.0 * rng.uniform(-1, 1, 4000)
+    y = _oscillator(u, 0.1)
+    sd = noise * np.std(y)
+    noisy = y + sd * np.random.default_rng(11).standard_normal(y.size)
+    out = _check_target(u, noisy, 0.1, _true_radius(OSCILLATOR), capsys, tmp_path)
+    truth = sd / np.std(noisy[3002:])
+    assert out["identification"]["free_run_error"] < max(1.15 * truth, truth + 0.01)
+
+
+@pytest.mark.slow
 def test_pruning_removes_terms_and_reports_both_models(capsys, tmp_path):
     u, y = _narx_data(0.0, 0.0)
     csv = _write(tmp_path / "d.csv", {"u": u, "y": y})
