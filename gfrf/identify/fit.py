@@ -17,7 +17,6 @@ sysidentpy is the optional extra ``gfrf[identify]``; it is imported only inside
 
 from __future__ import annotations
 
-import contextlib
 import itertools
 import math
 import warnings
@@ -47,6 +46,7 @@ from gfrf.identify.output_error import output_error_covariance, recurse, refine,
 from gfrf.identify.prune import Pruning, covariance, prune_and_refit
 from gfrf.identify.result import Identification
 from gfrf.identify.spread import DRAWS, RadiusSpread, radius, radius_spread
+from gfrf.identify.threads import one_blas_thread
 from gfrf.identify.validate import (
     FREE_RUN_LIMIT,
     PRECISE_FIT,
@@ -392,26 +392,11 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
     GfrfError
         sysidentpy is not installed (the message says how to install it).
     """
-    with _one_blas_thread():
+    with one_blas_thread():
         return _identify(y, u, sample_time, ylag=ylag, ulag=ulag, degree=degree,
                          criterion=criterion, max_terms=max_terms, holdout=holdout,
                          output=output, input=input, noise=noise, prune=prune,
                          radius_draws=radius_draws)
-
-
-def _one_blas_thread() -> Any:
-    """A context with BLAS on one thread (threadpoolctl), when threadpoolctl is installed.
-
-    Identification multiplies tall, thin matrices (rows x a few columns), where BLAS
-    threads only wait for each other: on two loaded cores they tripled the CPU time.
-    One thread also makes the sums' order, hence the last bits, the same on every
-    machine.
-    """
-    try:
-        from threadpoolctl import threadpool_limits
-    except ImportError:
-        return contextlib.nullcontext()
-    return threadpool_limits(limits=1, user_api="blas")
 
 
 def _identify(y: Any, u: Any, sample_time: float, *, ylag: int | None,
