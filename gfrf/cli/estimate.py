@@ -173,6 +173,8 @@ def _text(result: Any, payload: dict[str, Any], plot: str | None) -> list[str]:
                  f"median std of the estimate {_db(median(bla.bla_std))} dB (noise "
                  f"{_db(median(bla.noise_std))} dB); median std of the nonlinear "
                  f"distortion of one realisation {_db(median(bla.distortion_std))} dB")
+    if result.bla_bias.get("measured"):
+        lines.append(result.bla_bias["note"])
     d = bla.detection
     for name in ("even", "odd"):
         ratio = d[f"{name}_ratio"]

@@ -37,13 +37,16 @@ from gfrf.identify.data import (
     check_rank,
 )
 from gfrf.identify.floor import noise_floor
+from gfrf.identify.grow import grow_output_error, held_out_rrse
 from gfrf.identify.narx import _decode, _lead, narx_model
 from gfrf.identify.noise import extended_least_squares, regressors, residuals
+from gfrf.identify.ols import error_reduction_ratio
 from gfrf.identify.operating import equilibrium, round_significant, shift
-from gfrf.identify.output_error import output_error_covariance, recurse, refine
-from gfrf.identify.prune import Pruning, covariance, free_run_residual, prune_and_refit
+from gfrf.identify.output_error import output_error_covariance, recurse, refine, warm_up
+from gfrf.identify.prune import Pruning, covariance, prune_and_refit
 from gfrf.identify.result import Identification
 from gfrf.identify.spread import DRAWS, RadiusSpread, radius, radius_spread
+from gfrf.identify.threads import one_blas_thread
 from gfrf.identify.validate import (
     FREE_RUN_LIMIT,
     PRECISE_FIT,
@@ -152,11 +155,22 @@ def _frols(ylag: int, ulag: int, degree: int, criterion: str, max_terms: int,
     class _Frols(FROLS):  # type: ignore[misc, valid-type]
         """FROLS over the candidate regressors, minus the constant (column 0) unless asked."""
 
+        ranking: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+
         def run_mss_algorithm(self, psi: np.ndarray, y: np.ndarray,
                               process_term_number: int) -> tuple[Any, ...]:
-            err, piv, selected = self.error_reduction_ratio(psi[:, first:], y,
-                                                             process_term_number)
-            return err, np.asarray(piv) + first, selected
+            """sysidentpy's ERR ranking (:func:`gfrf.identify.ols.error_reduction_ratio`),
+            computed once for the largest size: the greedy choice of n terms is the
+            first n of a longer run, so the fit reuses the criterion's run."""
+            count = process_term_number
+            if self.ranking is None or self.ranking[0] is not psi or \
+                    self.ranking[2].size < count:
+                self.ranking = (psi, *error_reduction_ratio(psi[:, first:],
+                                                            y[self.max_lag:], count))
+            err = np.zeros_like(self.ranking[1])
+            err[:count + 1] = self.ranking[1][:count + 1]
+            piv = self.ranking[2][:count]
+            return err, piv + first, psi[:, piv + first]
 
         def information_criterion(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
             """sysidentpy's criterion for 1..n_info_values terms from one greedy ERR run.
@@ -240,6 +254,7 @@ def _fit_structure(y: np.ndarray, u: np.ndarray, ylag: int, ulag: int, degree: i
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         frols.fit(X=u[:, None], y=y[:, None])
+    frols.ranking = None  # the candidate matrix is no longer needed
     selected = [_decode(row) for row in frols.final_model]
     theta = np.ravel(frols.theta)
     return _Fit(selected, theta, frols, float(np.min(frols.raw_info_values)))
@@ -377,6 +392,18 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
     GfrfError
         sysidentpy is not installed (the message says how to install it).
     """
+    with one_blas_thread():
+        return _identify(y, u, sample_time, ylag=ylag, ulag=ulag, degree=degree,
+                         criterion=criterion, max_terms=max_terms, holdout=holdout,
+                         output=output, input=input, noise=noise, prune=prune,
+                         radius_draws=radius_draws)
+
+
+def _identify(y: Any, u: Any, sample_time: float, *, ylag: int | None,
+              ulag: int | None, degree: int | None, criterion: str, max_terms: int,
+              holdout: float, output: str, input: str, noise: bool | None,
+              prune: bool, radius_draws: int | None) -> Identification:
+    """:func:`identify`, with BLAS as the caller set it."""
     y = _check_signal("y", y)
     u = _check_signal("u", u)
     if y.size != u.size:
@@ -417,11 +444,16 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
     floor, floor_method = noise_floor(yc, uc, n_train, lag, _candidate_keys(ylag, ulag, degree),
                                       fit.keys, ylag)
     if prune and len(fit.keys) < max_terms and not model_error(
-            _held_out_rrse(theta, yc[n_train:], uc[n_train:], lag), floor) < FREE_RUN_LIMIT:
+            held_out_rrse(theta, yc, uc, n_train, lag), floor) < FREE_RUN_LIMIT:
         grown = _estimate(y[:n_fit] - cy, u[:n_fit] - cu, ylag, ulag, degree, criterion,
                           max_terms, noise, forced=True)
-        if _held_out_rrse(grown[1], yc[n_train:], uc[n_train:], lag) < _held_out_rrse(
-                theta, yc[n_train:], uc[n_train:], lag):
+        if kind == grown[4] == "output error":  # least squares on noisy data is biased
+            grown = (grown[0], grow_output_error(theta, grown[1], y[:n_fit] - cy,
+                                                 u[:n_fit] - cu, lag,
+                                                 _candidate_keys(ylag, ulag, degree)),
+                     *grown[2:])
+        if held_out_rrse(grown[1], yc, uc, n_train, lag) < held_out_rrse(
+                theta, yc, uc, n_train, lag):
             chosen = len(fit.keys)
             fit, theta, noise_terms, notes, kind = grown
             notes.append(f"the criterion's {chosen} terms did not "
@@ -429,10 +461,11 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
                          f"then pruned")
     full_theta = theta
     pruning = None
-    if prune:
+    if prune:  # free runs from measured outputs before the held-out part (warm-up)
+        w = warm_up(theta, lag, n_train - lag)
         theta, noise_terms, pruning = prune_and_refit(
-            theta, noise_terms, kind, y[:n_fit] - cy, u[:n_fit] - cu, y[n_train:] - cy,
-            u[n_train:] - cu, lag, ylag, floor >= PRECISE_FIT)
+            theta, noise_terms, kind, y[:n_fit] - cy, u[:n_fit] - cu, yc[n_train - w:],
+            uc[n_train - w:], lag, ylag, floor >= PRECISE_FIT, w)
     constant = theta.get(((), ()))
     y0c = 0.0 if constant is None else equilibrium(theta, 0.0, mean_y - cy)
     import sysidentpy
@@ -450,7 +483,9 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
     y0, u0 = round_significant(y0), round_significant(u0)
     noise_terms = tuple(round_significant(c) for c in noise_terms)
     y_test, u_test = y[n_train:] - y0, u[n_train:] - u0
-    simulated, blowup = free_run(model, u_test, y_test[:lag])
+    w = warm_up(about, lag, n_train - lag)
+    simulated, blowup = free_run(model, u[n_train - w:] - u0, y[n_train - w:][:lag] - y0)
+    simulated, blowup = simulated[w:], None if blowup is None else max(0, blowup - w)
     free = math.inf if blowup is not None else _rrse(y_test[lag:], simulated[lag:])
     if kind == "output error":  # its one-step predictor is the free run
         e = y_test[lag:] - simulated[lag:] if blowup is None else y_test[lag:]
@@ -495,13 +530,6 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
         noise_model=kind, pruning=pruning, radius=spread,
         full_model=None if pruning is None or not pruning.removed else
         _about(full_theta, mean_y - cy, sample_time, output, input)[0])
-
-
-def _held_out_rrse(theta: dict[Key, float], y: np.ndarray, u: np.ndarray, lag: int) -> float:
-    """Free-run RRSE of ``theta`` on held-out samples about its centre (inf on a blow-up)."""
-    r = free_run_residual(theta, y, u, lag)
-    spread = float(np.var(y[lag:])) * (y.size - lag)
-    return math.inf if r is None or not spread else math.sqrt(float(r @ r) / spread)
 
 
 def _about(theta: dict[Key, float], near: float, sample_time: float, output: str,

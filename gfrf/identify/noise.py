@@ -116,13 +116,16 @@ def extended_least_squares(keys: list[Key], y: np.ndarray, u: np.ndarray, lag: i
     """
     psi = regressors(keys, y, u, lag)
     target = y[lag:]
-    theta = np.linalg.lstsq(psi, target, rcond=None)[0]
+    q, r = np.linalg.qr(psi)
+    qt = q.T @ target
+    theta = _triangular(r, qt) if _well_conditioned(r) else \
+        np.linalg.lstsq(psi, target, rcond=None)[0]
     e = target - psi @ theta
     noise = np.zeros(order)
     for _iteration in range(iterations):
         lagged = np.column_stack([np.r_[np.zeros(j), e[:e.size - j]]
                                   for j in range(1, order + 1)])
-        full = np.linalg.lstsq(np.hstack([psi, lagged]), target, rcond=None)[0]
+        full = _augmented_least_squares(psi, q, r, qt, lagged, target)
         if np.any(np.abs(np.roots(np.r_[1.0, full[len(keys):]])) >= 1.0):
             break  # a noise model that is not invertible: keep the last invertible one
         done = np.max(np.abs(full[:len(keys)] - theta)) <= 1e-14 * np.max(np.abs(theta))
@@ -133,3 +136,47 @@ def extended_least_squares(keys: list[Key], y: np.ndarray, u: np.ndarray, lag: i
         e = _ma_filter(target - psi @ theta, tuple(noise))
     return ({k: float(v) for k, v in zip(keys, theta, strict=True)},
             tuple(float(c) for c in noise))
+
+
+#: A triangular factor whose smallest diagonal entry is below this fraction of its
+#: largest is treated as rank deficient (least squares by the SVD instead).
+_RANK_TOLERANCE = 1e-10
+
+
+def _well_conditioned(r: np.ndarray) -> bool:
+    """True when the triangular factor ``r`` of a QR factorisation is safely invertible."""
+    diag = np.abs(np.diag(r))
+    return bool(diag.size) and float(np.min(diag)) > _RANK_TOLERANCE * float(np.max(diag))
+
+
+def _triangular(r: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """The solution of the upper triangular system ``r x = rhs``."""
+    from scipy.linalg import solve_triangular
+
+    return np.asarray(solve_triangular(r, rhs))
+
+
+def _augmented_least_squares(psi: np.ndarray, q: np.ndarray, r: np.ndarray, qt: np.ndarray,
+                             extra: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """Least squares on the columns ``[psi, extra]`` from the QR factors of ``psi``.
+
+    ``psi = q r`` and ``qt = q.T target`` are computed once; each call orthogonalises
+    the few ``extra`` columns against ``q`` (classical Gram-Schmidt, repeated when a
+    column lost more than half its squared norm) and factors what is left: the QR
+    factorisation of the whole matrix by blocks, ``O(rows * columns * extra)`` work
+    instead of a new factorisation.
+    A rank-deficient matrix goes to ``numpy.linalg.lstsq`` (minimum-norm solution).
+    """
+    c = q.T @ extra
+    rest = extra - q @ c
+    if np.any(np.sum(rest**2, axis=0) < 0.5 * np.sum(extra**2, axis=0)):
+        c2 = q.T @ rest  # much cancelled: once more (Kahan's criterion)
+        rest -= q @ c2
+        c += c2
+    q2, r22 = np.linalg.qr(rest)
+    top = np.hstack([r, c])
+    bottom = np.hstack([np.zeros((r22.shape[0], r.shape[1])), r22])
+    whole = np.vstack([top, bottom])
+    if not _well_conditioned(whole):
+        return np.asarray(np.linalg.lstsq(np.hstack([psi, extra]), target, rcond=None)[0])
+    return _triangular(whole, np.r_[qt, q2.T @ target])

@@ -30,7 +30,8 @@ from gfrf.identify.bla import BLA, best_linear_approximation, excited_lines, sig
 from gfrf.identify.measured import Periodic, read_periodic, spectra
 from gfrf.identify.multisine import MAX_COMBINED_LINES, Combination, combination_lines
 
-__all__ = ["KernelLines", "Estimate", "estimate_gfrf", "kernel_lines", "SIGMAS"]
+__all__ = ["KernelLines", "Estimate", "estimate_gfrf", "kernel_lines", "bla_bias", "SIGMAS",
+           "ONE_LEVEL_CAVEAT"]
 
 #: An estimate agrees with a model within this many of its standard deviations.
 SIGMAS = 3.0
@@ -178,6 +179,9 @@ class Estimate:
         :data:`SIGMAS` standard deviations of them.
     model_values : dict
         The model's H1, H2, H3 on the lines (complex arrays; empty without a model).
+    bla_bias : dict
+        The BLA's systematic difference from H1 (:func:`bla_bias`): measured with two
+        levels or more, a caveat with one.
     """
 
     bla: BLA
@@ -188,6 +192,7 @@ class Estimate:
     notes: tuple[str, ...]
     comparison: dict[str, Any] | None = None
     model_values: dict[str, np.ndarray] = field(default_factory=dict)
+    bla_bias: dict[str, Any] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
         """The BLA's fields at the top, ``h2``/``h3`` where isolated, notes, comparison."""
@@ -198,6 +203,7 @@ class Estimate:
             if kernel is not None:
                 out[name] = kernel.to_dict()
         out["notes"] = list(self.notes)
+        out["bla_bias"] = self.bla_bias
         if self.comparison is not None:
             out["model"] = self.comparison
         return out
@@ -441,9 +447,66 @@ def estimate_gfrf(data: str | Path | Periodic, period: int | None = None, *,
         notes.append(f"{len(groups)} input levels (RMS {', '.join(f'{v:.4g}' for v in levels)}): "
                      f"H1, H2, H3 extrapolated to zero amplitude; the BLA is the highest "
                      f"level's")
+    bias = bla_bias(bla, h1, len(groups))
+    if h1 is None:
+        notes.append(bias["note"])
     result = Estimate(bla=bla, h1=h1, h2=kernels[2], h3=kernels[3], levels=tuple(levels),
-                      notes=tuple(notes))
+                      notes=tuple(notes), bla_bias=bias)
     if model is None:
         return result
     comparison, values = _compare(result, getattr(model, "plant", model), t)
     return replace(result, comparison=comparison, model_values=values)
+
+
+#: Wording of the caveat for a BLA from one input level.
+ONE_LEVEL_CAVEAT = ("one input level: the BLA is not H1 but H1 plus the systematic part of "
+                    "the nonlinear distortion (3 H3(w, w', -w') |U'|^2 + ..., growing with "
+                    "the square of the amplitude), which no standard deviation shows; "
+                    "measure at two levels (gfrf multisine --levels 1,0.5) to see it")
+
+
+def bla_bias(bla: BLA, h1: KernelLines | None, levels: int) -> dict[str, Any]:
+    """The BLA's bias: its difference from H1 extrapolated to zero amplitude, per line.
+
+    With one input level the bias cannot be seen in the data (it does not change with the
+    phases): the result says so.  With two or more, ``bias`` is ``BLA - H1`` on each
+    excited line with its standard deviation ``sqrt(bla_std^2 + h1_std^2)`` (an upper
+    value: the two estimates share the highest level's data), ``relative_median`` the
+    median of ``|bias| / |H1|`` and ``significant_lines`` the lines where ``|bias|``
+    exceeds :data:`SIGMAS` standard deviations.
+
+    Parameters
+    ----------
+    bla : BLA
+        The highest level's best linear approximation.
+    h1 : KernelLines or None
+        H1 extrapolated to zero amplitude on the same lines (None with one level).
+    levels : int
+        The number of input levels.
+
+    Returns
+    -------
+    dict
+        ``levels``, ``measured``, ``bias`` (``[re, im]`` pairs or None), ``bias_std``,
+        ``relative_median``, ``significant_lines``, ``lines`` and ``note``.
+    """
+    empty: dict[str, Any] = {"levels": levels, "measured": False, "bias": None,
+                             "bias_std": None, "relative_median": None,
+                             "significant_lines": None, "lines": int(bla.bla.size)}
+    if h1 is None or h1.value.size != bla.bla.size:
+        return {**empty, "note": ONE_LEVEL_CAVEAT if levels < 2 else
+                "the levels' lines differ: no bias measured"}
+    bias = bla.bla - h1.value
+    std = None
+    significant = None
+    if bla.bla_std is not None and h1.value_std is not None:
+        std = np.sqrt(np.asarray(bla.bla_std) ** 2 + np.asarray(h1.value_std) ** 2)
+        significant = int(np.sum(np.abs(bias) > SIGMAS * std))
+    relative = float(np.median(np.abs(bias) / np.maximum(np.abs(h1.value), 1e-300)))
+    note = (f"BLA bias from {levels} levels: median |BLA - H1| is {100 * relative:.3g} % of "
+            f"|H1|" + ("" if significant is None else
+                       f", beyond {SIGMAS:g} standard deviations on {significant} of "
+                       f"{bias.size} lines"))
+    return {**empty, "measured": True, "bias": [[float(z.real), float(z.imag)] for z in bias],
+            "bias_std": None if std is None else [float(v) for v in std],
+            "relative_median": relative, "significant_lines": significant, "note": note}

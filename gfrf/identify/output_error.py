@@ -19,8 +19,8 @@ import math
 
 import numpy as np
 
-__all__ = ["refine", "simulate", "recurse", "output_error_covariance", "WINDOW",
-           "MAX_EVALUATIONS"]
+__all__ = ["refine", "simulate", "recurse", "output_error_covariance", "warm_up", "WINDOW",
+           "MAX_EVALUATIONS", "SETTLE"]
 
 Key = tuple[tuple[int, ...], tuple[int, ...]]
 #: Training samples the refinement simulates (the first ones): bounds its work.
@@ -29,6 +29,44 @@ WINDOW = 20000
 MAX_EVALUATIONS = 400
 #: A simulation stops when |y| exceeds this multiple of the data's largest |y|.
 _BLOWUP = 1e3
+#: A free run is scored once its linear part's slowest mode has decayed to this fraction.
+SETTLE = 1e-3
+
+
+def warm_up(theta: dict[Key, float], lag: int, most: int) -> int:
+    """Samples a free run needs before it is scored: its start is forgotten by then.
+
+    A free run starts from ``lag`` measured outputs, noise included; for a lightly
+    damped system sampled fast the difference of two noisy outputs is a large velocity
+    error, and the transient it starts (about ``noise / (omega T)``) can dominate the
+    free-run error of a perfect model for hundreds of samples.  The warm-up is the
+    number of samples in which the slowest mode of the linear part (spectral radius
+    ``rho`` of ``y[k] = sum a_j y[k-j]``) decays to :data:`SETTLE`:
+    ``ceil(log(SETTLE) / log(rho))``, at most ``most``; 0 when the linear part has no
+    output terms, ``most`` when it does not decay (``rho >= 1``).
+
+    Parameters
+    ----------
+    theta : dict of Key to float
+        The model's coefficients.
+    lag : int
+        Its largest lag.
+    most : int
+        The largest warm-up allowed (the samples available before the scored part).
+
+    Returns
+    -------
+    int
+        The number of samples.
+    """
+    a = [theta.get(((j,), ()), 0.0) for j in range(1, lag + 1)]
+    roots = np.roots(np.r_[1.0, -np.asarray(a, dtype=float)]) if any(a) else np.zeros(0)
+    rho = float(np.max(np.abs(roots), initial=0.0))
+    if rho == 0.0:
+        return 0
+    if rho >= 1.0:
+        return max(0, most)
+    return max(0, min(most, math.ceil(math.log(SETTLE) / math.log(rho))))
 
 
 def simulate(keys: list[Key], theta: np.ndarray, u: np.ndarray, y_initial: np.ndarray,
@@ -110,7 +148,9 @@ def recurse(terms: list[tuple[tuple[int, ...], tuple[int, ...], float]], u: np.n
 def refine(theta: dict[Key, float], y: np.ndarray, u: np.ndarray, lag: int,
            evaluations: int = MAX_EVALUATIONS, window: int = WINDOW) -> dict[Key, float]:
     """The output-error coefficients of the same terms, from ``theta`` (Levenberg-Marquardt
-    with at most ``evaluations`` residual evaluations on the first ``window`` samples).
+    with at most ``evaluations`` residual evaluations on the first ``window`` samples;
+    the free run's first samples, its :func:`warm_up` for ``theta``, at most a quarter
+    of them, are simulated but not fitted).
 
     Parameters
     ----------
@@ -136,11 +176,12 @@ def refine(theta: dict[Key, float], y: np.ndarray, u: np.ndarray, lag: int,
     n = min(y.size, window)
     y, u = y[:n], u[:n]
     limit = _BLOWUP * max(1.0, float(np.max(np.abs(y))))
-    penalty = np.full(n - lag, limit)
+    first = lag + warm_up(theta, lag, (n - lag) // 4)  # the start's transient not fitted
+    penalty = np.full(n - first, limit)
 
     def residual(values: np.ndarray) -> np.ndarray:
         sim = simulate(keys, values, u, y[:lag], limit)
-        return penalty if sim is None else sim[lag:] - y[lag:]
+        return penalty if sim is None else sim[first:] - y[first:]
 
     start = np.array([theta[k] for k in keys])
     if simulate(keys, start, u, y[:lag], limit) is None:
@@ -153,8 +194,9 @@ def refine(theta: dict[Key, float], y: np.ndarray, u: np.ndarray, lag: int,
 def output_error_covariance(theta: dict[Key, float], y: np.ndarray, u: np.ndarray, lag: int,
                             window: int = WINDOW) -> np.ndarray:
     """Covariance ``s^2 (J^T J)^-1`` of output-error coefficients: ``J`` the forward-difference
-    Jacobian of the free run (first ``window`` samples) by the coefficients, ``s^2`` the
-    free-run residual's variance (inf entries when a free run blows up).
+    Jacobian of the free run (first ``window`` samples, after the warm-up :func:`refine`
+    leaves out) by the coefficients, ``s^2`` the free-run residual's variance (inf
+    entries when a free run blows up).
 
     Parameters
     ----------
@@ -171,6 +213,7 @@ def output_error_covariance(theta: dict[Key, float], y: np.ndarray, u: np.ndarra
     n = min(y.size, window)
     y, u = y[:n], u[:n]
     limit = _BLOWUP * max(1.0, float(np.max(np.abs(y))))
+    first = lag + warm_up(theta, lag, (n - lag) // 4)  # as refine fitted them
     values = np.array([theta[k] for k in keys])
     base = simulate(keys, values, u, y[:lag], limit)
     if base is None:
@@ -183,8 +226,8 @@ def output_error_covariance(theta: dict[Key, float], y: np.ndarray, u: np.ndarra
         sim = simulate(keys, moved, u, y[:lag], limit)
         if sim is None:
             return np.full((len(keys), len(keys)), math.inf)
-        columns.append((sim[lag:] - base[lag:]) / step)
+        columns.append((sim[first:] - base[first:]) / step)
     jac = np.column_stack(columns)
-    r = y[lag:] - base[lag:]
+    r = y[first:] - base[first:]
     variance = float(r @ r) / max(1, r.size - len(keys))
     return variance * np.linalg.pinv(jac.T @ jac)

@@ -63,10 +63,10 @@ CAP = 0.02
 _BLOWUP = 1e3
 
 
-def free_run_residual(theta: dict[Key, float], y: np.ndarray, u: np.ndarray, lag: int
-                      ) -> np.ndarray | None:
-    """``y - y_sim`` at samples ``lag..`` of the model's free run from the measured first
-    outputs, or None on a blow-up.
+def free_run_residual(theta: dict[Key, float], y: np.ndarray, u: np.ndarray, lag: int,
+                      warm: int = 0) -> np.ndarray | None:
+    """``y - y_sim`` at samples ``lag + warm ..`` of the model's free run from the measured
+    first outputs, or None on a blow-up.
 
     Parameters
     ----------
@@ -76,11 +76,15 @@ def free_run_residual(theta: dict[Key, float], y: np.ndarray, u: np.ndarray, lag
         Output and input samples.
     lag : int
         Measured outputs the free run starts from.
+    warm : int, optional
+        Samples simulated after those but not scored (the start's transient:
+        :func:`gfrf.identify.output_error.warm_up`).
     """
     terms = [(ys, us, c) for (ys, us), c in theta.items()]
     limit = _BLOWUP * max(1.0, float(np.max(np.abs(y))))
     values, blowup = recurse(terms, u, y[:lag], limit)
-    return None if blowup is not None else y[lag:] - values[lag:]
+    first = lag + warm
+    return None if blowup is not None else y[first:] - values[first:]
 
 
 def covariance(keys: list[Key], theta: np.ndarray, y: np.ndarray, u: np.ndarray, lag: int,
@@ -182,7 +186,7 @@ def _within(trial: np.ndarray, full: np.ndarray, scale: float) -> bool:
 
 def prune(theta: dict[Key, float], refit: Callable[[list[Key]], dict[Key, float]],
           y_train: np.ndarray, u_train: np.ndarray, y_test: np.ndarray, u_test: np.ndarray,
-          lag: int, refit_work: int = 0, significant: float = math.inf
+          lag: int, refit_work: int = 0, significant: float = math.inf, warm: int = 0
           ) -> tuple[dict[Key, float], Pruning]:
     """Backward elimination of the terms of ``theta`` on the held-out free run.
 
@@ -196,7 +200,8 @@ def prune(theta: dict[Key, float], refit: Callable[[list[Key]], dict[Key, float]
     y_train, u_train : numpy.ndarray
         The training samples (for the t-statistics that order the trials).
     y_test, u_test : numpy.ndarray
-        The held-out samples (about the same operating point as ``theta``).
+        The held-out samples (about the same operating point as ``theta``), after
+        ``warm`` samples that precede them.
     lag : int
         The largest lag of the candidates (the free runs start from ``lag`` measured
         outputs).
@@ -206,6 +211,9 @@ def prune(theta: dict[Key, float], refit: Callable[[list[Key]], dict[Key, float]
         Terms whose least-squares t-statistic is at least this are kept (inf: every term
         may go; noise-free data, whose residuals are the fit's structural error, give
         t-statistics that mean nothing).
+    warm : int, optional
+        Samples at the start of ``y_test`` the free runs go through before they are
+        scored.
 
     Returns
     -------
@@ -213,11 +221,12 @@ def prune(theta: dict[Key, float], refit: Callable[[list[Key]], dict[Key, float]
         The pruned model (``theta`` itself when nothing was removed).
     Pruning
     """
-    n = min(y_test.size, WINDOW + lag)
+    first = lag + warm
+    n = min(y_test.size, WINDOW + first)
     y_w, u_w = y_test[:n], u_test[:n]
-    scale = float(np.var(y_w[lag:]))
-    full = free_run_residual(theta, y_w, u_w, lag)
-    spread = math.sqrt(scale * (y_w.size - lag)) if scale else math.inf
+    scale = float(np.var(y_w[first:]))
+    full = free_run_residual(theta, y_w, u_w, lag, warm)
+    spread = math.sqrt(scale * (y_w.size - first)) if scale else math.inf
 
     def rrse(r: np.ndarray | None) -> float:
         return math.inf if r is None else float(np.linalg.norm(r)) / spread
@@ -225,7 +234,7 @@ def prune(theta: dict[Key, float], refit: Callable[[list[Key]], dict[Key, float]
     current, removed, refits, complete = dict(theta), [], 0, True
     if full is None or scale == 0.0 or len(theta) > MAX_TERMS:
         return current, Pruning(removed=(), full_error=rrse(full), pruned_error=rrse(full),
-                                refits=0, complete=len(theta) <= MAX_TERMS, window=n - lag)
+                                refits=0, complete=len(theta) <= MAX_TERMS, window=n - first)
     best = full
     work = 0
     while True:
@@ -249,7 +258,7 @@ def prune(theta: dict[Key, float], refit: Callable[[list[Key]], dict[Key, float]
                 continue  # a model without input terms has no GFRFs
             refits += 1
             trial = refit(trial_keys)
-            r = free_run_residual(trial, y_w, u_w, lag)
+            r = free_run_residual(trial, y_w, u_w, lag, warm)
             if r is not None and _within(r, full, scale):
                 accepted = (key, trial, r)
                 break
@@ -259,7 +268,7 @@ def prune(theta: dict[Key, float], refit: Callable[[list[Key]], dict[Key, float]
         current, best = accepted[1], accepted[2]
     return current, Pruning(removed=tuple(removed), full_error=rrse(full),
                             pruned_error=rrse(best), refits=refits, complete=complete,
-                            window=n - lag)
+                            window=n - first)
 
 
 #: Iterations of extended least squares in a trial refit.
@@ -309,7 +318,7 @@ def refitter(kind: str, y: np.ndarray, u: np.ndarray, lag: int, order: int,
 
 def prune_and_refit(theta: dict[Key, float], noise: tuple[float, ...], kind: str,
                     y_train: np.ndarray, u_train: np.ndarray, y_test: np.ndarray,
-                    u_test: np.ndarray, lag: int, order: int, noisy: bool
+                    u_test: np.ndarray, lag: int, order: int, noisy: bool, warm: int = 0
                     ) -> tuple[dict[Key, float], tuple[float, ...], Pruning]:
     """:func:`prune` with the estimator of ``kind`` (:func:`refitter`), then the pruned
     terms refitted with that estimator's full work (extended least squares to
@@ -334,6 +343,8 @@ def prune_and_refit(theta: dict[Key, float], noise: tuple[float, ...], kind: str
     noisy : bool
         True when the noise floor is at least
         :data:`~gfrf.identify.validate.PRECISE_FIT`.
+    warm : int, optional
+        Samples at the start of ``y_test`` the free runs go through unscored.
     """
     from gfrf.identify.noise import extended_least_squares
     from gfrf.identify.output_error import refine
@@ -343,7 +354,7 @@ def prune_and_refit(theta: dict[Key, float], noise: tuple[float, ...], kind: str
                   if kind == "output error" else 0)
     pruned, pruning = prune(theta, refitter(kind, y_train, u_train, lag, order, theta),
                             y_train, u_train, y_test, u_test, lag, refit_work,
-                            SIGNIFICANT if noisy else math.inf)
+                            SIGNIFICANT if noisy else math.inf, warm)
     if not pruning.removed:
         return theta, noise, pruning
     keys = list(pruned)

@@ -14,6 +14,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from gfrf.identify.result import Identification
+from gfrf.identify.threads import one_blas_thread
 from gfrf.model.equation import Model
 from gfrf.model.modelfile import ModelFile
 from gfrf.stability.criteria import verdict
@@ -63,5 +64,6 @@ def identified_verdict(result: Identification, model: ModelFile | Model | None =
     Verdict
         ``stable`` only when r is below the lower end of r* (:func:`with_spread`).
     """
-    return with_spread(verdict(result.model if model is None else model, order, amplitude),
-                       result)
+    with one_blas_thread():  # small complex products: threads only wait for each other
+        return with_spread(verdict(result.model if model is None else model, order,
+                                   amplitude), result)

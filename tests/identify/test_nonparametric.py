@@ -104,3 +104,24 @@ def test_realisations_scaled_to_a_peak_value_are_one_level() -> None:
     result = estimate_gfrf(measured)
     assert result.h1 is None and result.bla.realisations == 6
     assert any("without distinct levels" in n for n in result.notes)
+
+
+def test_the_bla_bias_is_measured_from_two_levels_and_flagged_with_one() -> None:
+    design = multisine(4096, 0.1, grid="isolating", realisations=4, periods=4, rms=0.3,
+                       levels=(1.0, 0.5), seed=3)
+    measured, _ = measure(design, "narx", noise=0.02, seed=5)
+    result = estimate_gfrf(measured)
+    bias = result.bla_bias
+    assert bias["measured"] and bias["levels"] == 2
+    # against the true bias: the highest level's BLA minus the model's H1
+    h1 = kernel(narx_model(0.1), 1)(result.bla.omega)
+    measured_bias = np.array([complex(*z) for z in bias["bias"]])
+    true_bias = result.bla.bla - h1
+    assert np.all(np.abs(measured_bias - true_bias) <= 3 * np.array(bias["bias_std"]))
+    assert bias["significant_lines"] == bias["lines"]  # every line visibly biased
+    single = multisine(4096, 0.1, grid="isolating", realisations=4, periods=4, rms=0.3,
+                       seed=3)
+    one = estimate_gfrf(measure(single, "narx", noise=0.02, seed=5)[0])
+    assert not one.bla_bias["measured"] and one.bla_bias["bias"] is None
+    assert any("one input level" in n for n in one.notes)
+    assert one.to_dict()["bla_bias"]["note"].startswith("one input level")
