@@ -49,17 +49,20 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--order", type=int, default=5,
                    help="order of the verdict behind r* (default 5)")
     p.add_argument("--certificate-out", metavar="FILE",
-                   help="write the verified sum-of-squares certificate (V, multipliers, U, c "
-                        "as exact rationals, the state map) as JSON; re-check it with "
-                        "'gfrf certificate check MODEL FILE'")
+                   help="write the certificate behind 'lower' as JSON, every number an "
+                        "exact rational: a sum-of-squares one (V, multipliers, U, c, the "
+                        "state map) or a NARX invariant box or paving (U, coordinates, box "
+                        "or cells); re-check it with 'gfrf certificate check MODEL FILE'")
     add_json_flag(p)
     p.set_defaults(func=_threshold)
     c = subparsers.add_parser(
         "certificate", help="re-verify a certificate file from scratch",
         description="'gfrf certificate check MODEL FILE' rebuilds the model's state form and "
-                    "re-verifies the certificate's polynomial identity and Gram matrices in "
-                    "exact rational arithmetic (no solver). Exit 0: it holds; 1: refused; "
-                    "2: bad input.")
+                    "re-verifies the certificate in exact rational arithmetic, without a "
+                    "search: a sum-of-squares file's polynomial identity and Gram "
+                    "matrices, a NARX box's or paving's inclusion of the image of every "
+                    "cell. Exit 0: it holds; 1: refused; 2: bad input (a malformed file, a "
+                    "number or size above a stated limit, a NARX file for another model).")
     sub = c.add_subparsers(dest="action", required=True)
     chk = sub.add_parser("check", help="re-verify a certificate for a model")
     add_model_argument(chk)
@@ -111,12 +114,12 @@ def _threshold(args: argparse.Namespace) -> int:
     if args.certificate_out is not None:
         from gfrf._atomic import atomic_write_text
 
-        if result.sos is None:
-            print(terminal_text(f"no sum-of-squares certificate to write to "
-                                f"{args.certificate_out!r} (the lower side's proof is another "
-                                "method, or none)"), file=sys.stderr)
+        if result.certificate_file is None:
+            print(terminal_text(f"no certificate file to write to {args.certificate_out!r} "
+                                f"(lower's method, {result.lower_method}, has none)"),
+                  file=sys.stderr)
         else:
             atomic_write_text(args.certificate_out,
-                              json.dumps(result.sos.certificate, indent=1) + "\n")
+                              json.dumps(result.certificate_file, indent=1) + "\n")
     closed = math.isinf(result.lower) or result.upper is not None
     return 0 if closed else 1

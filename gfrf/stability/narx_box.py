@@ -34,7 +34,7 @@ import numpy as np
 
 from gfrf.stability.polysys import Poly, PolySystem, padd, pcompose, pdegree, pscale
 
-__all__ = ["BoxResult", "box_certificate", "check_box", "box_map", "FORMAT",
+__all__ = ["BoxResult", "box_certificate", "check_box", "box_map", "recursion", "FORMAT",
            "MAX_CELLS", "ITERATIONS", "BISECTIONS",
            "coordinates"]
 
@@ -313,6 +313,22 @@ def _poly_from(d: dict[str, str], nv: int) -> Poly:
     return {k: c for k, c in out.items() if c}
 
 
+def recursion(system: PolySystem) -> list[dict[str, str]]:
+    """The recursion x[k+1] = f(x[k], v[k]) as exact rationals (the form a file records).
+
+    Parameters
+    ----------
+    system : PolySystem
+        A discrete state form.
+
+    Returns
+    -------
+    list of dict
+        One ``{"e_1,..,e_n,e_v": "p/q"}`` table per state.
+    """
+    return [_poly_to(p) for p in system.f]
+
+
 def check_box(system: PolySystem, cert: dict[str, Any]) -> str:
     """Re-verify an invariant-box certificate from scratch (exact rational arithmetic).
 
@@ -398,8 +414,9 @@ def _try(system: PolySystem, T: list[Poly], X: list[Poly], g: list[Poly],
     pad = 1e-9 * (1 + np.max(np.abs(np.r_[lo, hi])))
     qlo = [_outward(float(x) - pad, False) for x in lo[:ny]] + [-U] * (n - ny)
     qhi = [_outward(float(x) + pad, True) for x in hi[:ny]] + [U] * (n - ny)
-    cert = {"format": FORMAT, "version": 1, "state_map": system.map_text(),
-            "states": list(system.states), "U": str(U),
+    cert = {"format": FORMAT, "kind": "narx-box", "version": 1,
+            "state_map": system.map_text(), "states": list(system.states),
+            "recursion": recursion(system), "U": str(U),
             "T": [_poly_to(p) for p in T], "X": [_poly_to(p) for p in X],
             "lo": [str(x) for x in qlo], "hi": [str(x) for x in qhi], "splits": splits}
     return (cert if check_box(system, cert) == "" else None), work

@@ -33,6 +33,7 @@ from gfrf.stability.narx_box import (
     _poly_from,
     _poly_to,
     box_map,
+    recursion,
 )
 from gfrf.stability.polysys import Poly, PolySystem, pcompose
 
@@ -237,6 +238,7 @@ def check_paving(system: PolySystem, cert: dict[str, Any]) -> str:
     upieces = [[(-Uq + 2 * Uq * j / pieces[i], -Uq + 2 * Uq * (j + 1) / pieces[i])
                 for j in range(pieces[i])] for i in range(ny, nv)]
     terms = [[(fmpq(c.numerator, c.denominator), f) for c, f in tl] for tl in _terms(g, ny)]
+    table = _occupancy(S, N, ny)
     for cell in S:
         box = [(-Rq[d] + cell[d] * hq[d], -Rq[d] + (cell[d] + 1) * hq[d]) for d in range(ny)]
         for upart in itertools.product(*upieces):
@@ -255,11 +257,33 @@ def check_paving(system: PolySystem, cert: dict[str, Any]) -> str:
                     hi += thi
                 i0 = ((lo + Rq[d]) / hq[d]).floor()
                 i1 = max(int(((hi + Rq[d]) / hq[d]).ceil()) - 1, int(i0))
-                need.append(range(int(i0), i1 + 1))
-            for hit in itertools.product(*need):
-                if hit not in S:
-                    return f"the image of cell {list(cell)} leaves the paving"
+                need.append((int(i0), i1))
+            if not _covered(table, need):
+                return f"the image of cell {list(cell)} leaves the paving"
     return ""
+
+
+def _occupancy(S: set[tuple[int, ...]], N: int, ny: int) -> np.ndarray:
+    """Summed-area table of the cells: entry [i+1, j+1] counts the cells <= (i, j)."""
+    occ = np.zeros((N + 1,) * ny, dtype=np.int64)
+    for c in S:
+        occ[tuple(i + 1 for i in c)] = 1
+    for axis in range(ny):
+        occ = np.cumsum(occ, axis=axis)
+    return occ
+
+
+def _covered(table: np.ndarray, need: list[tuple[int, int]]) -> bool:
+    """Every grid cell of the block ``need`` (index ranges, inclusive) is in the paving:
+    its count from the summed-area table (inclusion-exclusion) equals its size."""
+    N = table.shape[0] - 1
+    if any(i0 < 0 or i1 >= N for i0, i1 in need):
+        return False
+    count = 0
+    for corner in itertools.product((0, 1), repeat=len(need)):
+        idx = tuple(need[d][1] + 1 if b else need[d][0] for d, b in enumerate(corner))
+        count += int(table[idx]) * (-1) ** (len(need) - sum(corner))
+    return count == int(np.prod([i1 - i0 + 1 for i0, i1 in need]))
 
 
 def _pow(a: Any, b: Any, e: int) -> tuple[Any, Any]:
@@ -375,8 +399,9 @@ def paving_certificate(system: PolySystem, start: float = 0.0) -> PavingResult |
         S = _search(terms, ny, nv, float(U), np.array([float(r) for r in Rq]), GRID, pieces)
         if S is None:
             continue
-        cert = {"format": FORMAT, "version": 1, "state_map": system.map_text(),
-                "states": list(system.states), "U": str(U),
+        cert = {"format": FORMAT, "kind": "narx-paving", "version": 1,
+                "state_map": system.map_text(), "states": list(system.states),
+                "recursion": recursion(system), "U": str(U),
                 "T": [_poly_to(p) for p in T], "X": [_poly_to(p) for p in X],
                 "R": [str(r) for r in Rq], "N": GRID, "pieces": pieces,
                 "cells": sorted([list(c) for c in S])}

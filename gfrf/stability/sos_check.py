@@ -439,6 +439,10 @@ def _json_int(text: str) -> int:
 def check_certificate(model: Any, certificate: dict[str, Any] | str | Path) -> CertificateCheck:
     """Re-verify a certificate written by ``gfrf threshold --certificate-out`` from scratch.
 
+    Dispatches on the file's ``format``: a sum-of-squares certificate
+    (:data:`FORMAT`) is checked here, an invariant box or paving of a NARX recursion by
+    :func:`gfrf.stability.narx_check.check_narx`.
+
     Parameters
     ----------
     model : ModelFile or Model
@@ -449,6 +453,12 @@ def check_certificate(model: Any, certificate: dict[str, Any] | str | Path) -> C
     Returns
     -------
     CertificateCheck
+
+    Raises
+    ------
+    ArgumentError
+        The file is missing, too large, not JSON, malformed above a stated limit, or (a
+        NARX file) recorded for another model.
     """
     import json
 
@@ -474,6 +484,13 @@ def check_certificate(model: Any, certificate: dict[str, Any] | str | Path) -> C
         system = state_form(model)
     except StateFormError as exc:
         raise ArgumentError(f"the model has no polynomial state form: {exc}") from None
+    from gfrf.stability.narx_check import FORMATS, PROPERTY, check_narx
+
+    if certificate.get("format") in FORMATS:
+        kind, why, bound = check_narx(system, certificate)
+        return CertificateCheck(valid=not why, reason=why, kind=kind, radius=bound,
+                                property="" if why else PROPERTY,
+                                state_map=system.map_text())
     reason = check_dict(system, certificate)
     kind = str(certificate.get("kind", ""))[:40]
     radius = math.inf if kind == "global-continuous" else 0.0

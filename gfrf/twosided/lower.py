@@ -12,7 +12,7 @@ decided exactly, answers ``lower = upper = 0``.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from gfrf.model.modelfile import ModelFile
@@ -45,12 +45,21 @@ class LowerSide:
         Why the equilibrium is unstable (an exact pole location), or None.
     sos : Any
         The :class:`gfrf.stability.sos.SosResult` behind the SOS certificate, or None.
+    files : dict
+        The re-checkable file (exact rationals, ``gfrf certificate check``) of each
+        verified certificate that has one, by method.
     """
 
     certificates: tuple[Certificate, ...]
     best: Certificate | None
     unstable: str | None = None
     sos: Any = None
+    files: dict[str, dict[str, Any]] = field(default_factory=dict, repr=False)
+
+    @property
+    def best_file(self) -> dict[str, Any] | None:
+        """The file of the headline certificate (``best``), or None when it has none."""
+        return None if self.best is None else self.files.get(self.best.method)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready summary."""
@@ -126,6 +135,7 @@ def lower_side(mf: ModelFile, theorem_certificate: Certificate) -> LowerSide:
     if unstable is not None:
         return LowerSide(certificates=tuple(certs), best=None, unstable=unstable)
     linf = LOOP_LOWER_CLASS if closed else LINF_LOWER_CLASS
+    files: dict[str, dict[str, Any]] = {}
     if not closed:
         energy = energy_certificate(mf.plant) or local_energy_certificate(mf.plant)
         if energy is not None:
@@ -133,7 +143,9 @@ def lower_side(mf: ModelFile, theorem_certificate: Certificate) -> LowerSide:
     if system is not None and system.discrete:
         from gfrf.twosided.lower_narx import narx_lower
 
-        certs.extend(narx_lower(system, linf))
+        narx, narx_files = narx_lower(system, linf)
+        certs.extend(narx)
+        files.update(narx_files)
     sos = None
     if not any(c.radius == float("inf") or (c.radius > 0 and system is not None
                                             and system.discrete) for c in certs[1:]):
@@ -154,6 +166,7 @@ def lower_side(mf: ModelFile, theorem_certificate: Certificate) -> LowerSide:
                          f"{sos.certificate['U']}")
                       + f"; {sos.solves} SDPs (Clarabel), identity and Gram matrices "
                       "re-checked in exact rational arithmetic")
+            files[SOS_METHOD] = sos.certificate
             certs.append(Certificate(SOS_METHOD, sos.radius, "exact",
                                      linf if sos.radius != float("inf") else
                                      "every bounded input (L-infinity, any size)",
@@ -163,4 +176,4 @@ def lower_side(mf: ModelFile, theorem_certificate: Certificate) -> LowerSide:
                                      "not applicable: " + why_not))
     proven = [c for c in certs[1:] if c.proof in _LINF_PROOFS and c.radius > 0]
     best = max(proven, key=lambda c: c.radius, default=None)
-    return LowerSide(certificates=tuple(certs), best=best, sos=sos)
+    return LowerSide(certificates=tuple(certs), best=best, sos=sos, files=files)

@@ -10,18 +10,20 @@ correlated).  Both are checked in exact rational arithmetic; here they become
 
 from __future__ import annotations
 
+from typing import Any
+
 from gfrf.stability.energy import Certificate
+from gfrf.stability.narx_check import PROPERTY as _PROPERTY
 from gfrf.stability.polysys import PolySystem
 
 __all__ = ["BOX_METHOD", "PAVING_METHOD", "narx_lower"]
 
 BOX_METHOD = "invariant box of the NARX recursion (exact rational check)"
 PAVING_METHOD = "invariant paving of the NARX recursion (exact rational check)"
-_PROPERTY = ("bounded: from rest the lagged state stays in the invariant set "
-             "(not: returns to the equilibrium)")
 
 
-def narx_lower(system: PolySystem, input_class: str) -> tuple[Certificate, ...]:
+def narx_lower(system: PolySystem, input_class: str
+               ) -> tuple[tuple[Certificate, ...], dict[str, dict[str, Any]]]:
     """The invariant-box certificate of a NARX state form and, above it, the paving one.
 
     Parameters
@@ -36,6 +38,8 @@ def narx_lower(system: PolySystem, input_class: str) -> tuple[Certificate, ...]:
     tuple of Certificate
         The box (radius 0 and proof ``"none"`` when none is found) and, when one is
         verified, the paving (searched from the box's radius up); proof ``"exact"``.
+    dict
+        The re-checkable file (exact rationals) of each verified one, by method.
     """
     from gfrf.stability.narx_box import box_certificate
     from gfrf.stability.narx_paving import paving_certificate
@@ -57,19 +61,21 @@ def narx_lower(system: PolySystem, input_class: str) -> tuple[Certificate, ...]:
                if res.bound < float("inf") else "")
             + f"{res.work} box iterations",
             _PROPERTY)
+    files = {} if res is None else {BOX_METHOD: res.certificate}
     if res is not None and res.radius == float("inf"):
         return (Certificate(BOX_METHOD, res.radius, "exact",
                             "every bounded input (L-infinity, any size)",
                             box.detail + "; the recursion is linear, so the box scaled by t "
-                            "is invariant for every t * U", _PROPERTY),)
+                            "is invariant for every t * U", _PROPERTY),), files
     pav = paving_certificate(system, res.radius if res is not None else 0.0)
     if pav is None:
-        return (box,)
+        return (box,), files
     p = pav.certificate
-    return box, Certificate(
+    files[PAVING_METHOD] = p
+    return (box, Certificate(
         PAVING_METHOD, pav.radius, "exact", input_class,
         f"{system.map_text()}; {pav.cells} cells of a {p['N']}-per-lag grid of the output "
         f"coordinates times [-U, U] for the lagged inputs; the image of every cell for "
         f"every |u| <= {p['U']} is enclosed in exact rational arithmetic and covered by "
         f"cells of the paving; every output stays within |y| <= {pav.bound:.6g}",
-        _PROPERTY)
+        _PROPERTY)), files

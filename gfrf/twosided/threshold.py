@@ -77,8 +77,11 @@ class Threshold:
     unstable : str or None
         The exact reason the equilibrium is unstable (then lower = upper = 0).
     sos : SosResult or None
-        The verified sum-of-squares certificate behind ``lower``, if any (written by
-        ``--certificate-out``).
+        The verified sum-of-squares certificate, if any.
+    certificate_file : dict or None
+        The re-checkable file of the certificate behind ``lower`` (sum-of-squares, NARX
+        invariant box or paving; exact rationals), written by ``--certificate-out``;
+        None when ``lower``'s method has none (energy, Theorem 1/2).
     """
 
     name: str
@@ -95,6 +98,7 @@ class Threshold:
     lower_class: str = LINF_LOWER_CLASS
     unstable: str | None = None
     sos: Any = field(default=None, repr=False)
+    certificate_file: dict[str, Any] | None = field(default=None, repr=False)
 
     @property
     def tone_radius(self) -> float:
@@ -327,4 +331,4 @@ def threshold(model: ModelFile | Model, *, order: int = 5, prove: bool = True,
         certificates=tuple(certs), falsification=falsification, enclosure=enclosure,
         static_bound=static_bound, theorem=v.theorem,
         lower_class=LOOP_LOWER_CLASS if closed else LINF_LOWER_CLASS,
-        unstable=side.unstable, sos=side.sos)
+        unstable=side.unstable, sos=side.sos, certificate_file=side.best_file)
