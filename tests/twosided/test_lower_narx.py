@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from fractions import Fraction
+
 from conftest import MODELS
 
 from gfrf.model.modelfile import resolve_model
@@ -18,3 +20,6 @@ def test_narx_example_lower_is_the_exactly_checked_box_above_the_series_radius()
     assert side.best.proof == "exact" and side.best.radius > 2.5 * 5**0.5 / 4
     # the falsifier's escape of this model is at 1.7109: the proof must stay below it
     assert side.best.radius < 1.7109
+    # the headline's re-checkable file is the box's, with its exact U
+    assert side.best_file is not None and side.best_file["format"] == "gfrf-narx-box"
+    assert float(Fraction(side.best_file["U"])) >= side.best.radius
