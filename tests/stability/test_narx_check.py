@@ -220,3 +220,24 @@ def test_threshold_writes_the_identified_paving_and_it_holds(tmp_path, capsys) -
     assert json.loads(path.read_text(encoding="utf-8"))["format"] == "gfrf-narx-paving"
     assert main(["certificate", "check", IDENTIFIED, str(path), "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["radius"] == lower
+
+
+def test_a_linear_recursion_box_holds_for_every_amplitude(tmp_path, capsys) -> None:
+    """y[k] = 0.5y[k-1] - 0.3y[k-2] + u[k-1] has poles of modulus sqrt(0.3) < 1: bounded
+    for every bounded input (the box scales with U), and the file's check says inf."""
+    model = "y[k] = 0.5*y[k-1] - 0.3*y[k-2] + u[k-1]"
+    path = tmp_path / "c.json"
+    assert main(["threshold", model, "--sample-time", "0.1", "--certificate-out", str(path),
+                 "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["lower"] == "inf"
+    assert main(["certificate", "check", model, "--sample-time", "0.1", str(path),
+                 "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["radius"] == "inf"
+
+
+def test_no_file_is_written_when_lower_has_no_certificate_file(tmp_path, capsys) -> None:
+    """A damped hardening oscillator's lower is the energy function's: nothing to write."""
+    path = tmp_path / "c.json"
+    assert main(["threshold", "D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u", "--certificate-out",
+                 str(path)]) == 0
+    assert not path.exists() and "no certificate file" in capsys.readouterr().err
