@@ -436,6 +436,24 @@ def _json_int(text: str) -> int:
     return int(text)
 
 
+def _same_model(system: PolySystem, cert: dict[str, Any]) -> None:
+    """Refuse (ArgumentError) a file of an unknown format or kind, or for another model."""
+    from gfrf.errors import ArgumentError
+    from gfrf.stability.narx_check import FORMATS
+
+    if cert.get("format") != FORMAT:
+        raise ArgumentError(f"unknown certificate format {str(cert.get('format'))[:40]!r} "
+                            f"(known: {', '.join((FORMAT, *FORMATS))})")
+    if cert.get("kind") not in KINDS:
+        raise ArgumentError(f"unknown certificate kind {str(cert.get('kind'))[:40]!r} "
+                            f"(known: {', '.join(KINDS)})")
+    if cert.get("states") != list(system.states) or (
+            (cert["kind"] == "local-discrete") != system.discrete):
+        raise ArgumentError(f"the certificate is for another model: its states "
+                            f"{str(cert.get('states'))[:120]} ({cert['kind']}) differ from "
+                            f"the model's {list(system.states)}")
+
+
 def check_certificate(model: Any, certificate: dict[str, Any] | str | Path) -> CertificateCheck:
     """Re-verify a certificate written by ``gfrf threshold --certificate-out`` from scratch.
 
@@ -491,7 +509,10 @@ def check_certificate(model: Any, certificate: dict[str, Any] | str | Path) -> C
         return CertificateCheck(valid=not why, reason=why, kind=kind, radius=bound,
                                 property="" if why else PROPERTY,
                                 state_map=system.map_text())
+    _same_model(system, certificate)
     reason = check_dict(system, certificate)
+    if reason.startswith("malformed certificate"):
+        raise ArgumentError(reason)
     kind = str(certificate.get("kind", ""))[:40]
     radius = math.inf if kind == "global-continuous" else 0.0
     if not reason and kind != "global-continuous":

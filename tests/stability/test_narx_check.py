@@ -24,7 +24,6 @@ from gfrf.model.modelfile import resolve_model
 from gfrf.stability.narx_check import MAX_DIGITS
 from gfrf.stability.narx_paving import paving_certificate
 from gfrf.stability.polysys import state_form
-from gfrf.stability.sos_check import check_certificate
 
 NARX = str(MODELS / "narx_example.toml")
 IDENTIFIED = str(MODELS / "identified_example.toml")
@@ -118,8 +117,16 @@ def test_the_written_box_holds_and_contains_simulated_responses(box_file, tmp_pa
         s = _coords(box_file, _narx_states(u))
         assert np.all(s >= lo - 1e-12) and np.all(s <= hi + 1e-12)
     # the JSON has the keys of a sum-of-squares check
-    sos = check_certificate(resolve_model(NARX), {"format": "gfrf-sos-certificate"})
-    assert set(payload) == set(sos.to_dict())
+    model = "D(y,2) + 0.4*D(y) + 2*y + 0.5*y**2*D(y) + 0.8*y**3 = u"
+    sos = tmp_path / "sos.json"
+    assert main(["threshold", model, "--certificate-out", str(sos)]) == 0
+    assert main(["certificate", "check", model, str(sos)]) == 0
+    capsys.readouterr()
+    assert main(["certificate", "check", model, str(sos), "--json"]) == 0
+    assert set(payload) == set(json.loads(capsys.readouterr().out))
+    # and each file is bad input for the other model
+    assert main(["certificate", "check", model, str(tmp_path / "cert.json")]) == 2
+    assert main(["certificate", "check", NARX, str(sos)]) == 2
 
 
 def test_a_bigger_u_or_a_shrunk_box_is_refused(box_file, tmp_path, capsys) -> None:
