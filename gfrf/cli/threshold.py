@@ -9,7 +9,10 @@ words; a progress bar on stderr when it is a terminal.  ``--json`` prints the JS
 contract (``lower`` is the string ``"inf"`` for a global certificate, as everywhere in
 the CLI's JSON).  Exit code 0: both sides closed (a global certificate, or a witness);
 1: no escape found up to the search cap and no global certificate (unknown above
-``lower``); 2: bad input.
+``lower``); 2: bad input.  ``--certificate-out FILE`` writes the certificate behind
+``lower`` (sum-of-squares, NARX invariant box or paving) as exact rationals;
+``gfrf certificate check MODEL FILE`` re-verifies it (exit 0 holds, 1 refused, 2 a
+malformed file or one for another model).
 """
 
 from __future__ import annotations
