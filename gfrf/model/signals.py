@@ -93,6 +93,9 @@ class InputSignal:
     #: as a function of t_end; None: unknown.
     _breaks: Callable[[float], np.ndarray] | None = field(default=None, repr=False,
                                                           compare=False)
+    #: The last :meth:`breakpoints` answer, by t_end (a prepared signal runs many times).
+    _memo: dict[float, np.ndarray | None] = field(default_factory=dict, repr=False,
+                                                  compare=False)
 
     def __call__(self, t: Any) -> np.ndarray:
         """Value of u at time(s) ``t`` in seconds."""
@@ -157,6 +160,13 @@ class InputSignal:
         >>> parse_input("step(t - sin(t) - 1)").breakpoints(10.0) is None
         True
         """
+        if t_end not in self._memo:
+            self._memo.clear()
+            self._memo[t_end] = self._breakpoints(t_end)
+        times = self._memo[t_end]
+        return None if times is None else times.copy()
+
+    def _breakpoints(self, t_end: float) -> np.ndarray | None:
         if self._breaks is not None:
             times: np.ndarray | None = np.asarray(self._breaks(t_end), dtype=float)
         elif self.expr is not None:

@@ -88,3 +88,12 @@ def test_csv_input_size_limit(tmp_path, monkeypatch):
     monkeypatch.setattr(signals, "MAX_CSV_ROWS", 5)
     with pytest.raises(ArgumentError, match="more than 5 rows"):
         parse_input(f"csv:{path}")
+
+
+def test_breakpoints_repeated_calls_are_independent():
+    u = parse_input("step(t - 1) - step(2*t - 10)")
+    first = u.breakpoints(10.0)
+    first[0] = -1.0  # the caller's copy
+    assert u.breakpoints(10.0).tolist() == [1.0, 5.0]
+    assert u.breakpoints(3.0).tolist() == [1.0]
+    assert u.breakpoints(10.0).tolist() == [1.0, 5.0]
