@@ -94,8 +94,8 @@ class InputSignal:
     _breaks: Callable[[float], np.ndarray] | None = field(default=None, repr=False,
                                                           compare=False)
     #: The last :meth:`breakpoints` answer, by t_end (a prepared signal runs many times).
-    _memo: dict[float, np.ndarray | None] = field(default_factory=dict, repr=False,
-                                                  compare=False)
+    _memo: dict[float, np.ndarray | None] = field(default_factory=dict, init=False,
+                                                  repr=False, compare=False)
 
     def __call__(self, t: Any) -> np.ndarray:
         """Value of u at time(s) ``t`` in seconds."""
