@@ -359,8 +359,8 @@ def read_data(path: str | Path, output: str, input: str,
                 count += 1
     except (UnicodeDecodeError, csv.Error) as exc:
         raise ArgumentError(f"{p}: not a readable CSV file: {exc}") from None
-    values = values[:count]
-    values, notes = _fill(values, missing, p, " or ".join(map(repr, names)), first_missing)
+    values, notes = (values, []) if fast is not None else _fill(  # fast: all finite
+        values[:count], missing, p, " or ".join(map(repr, names)), first_missing)
     if values.shape[0] < 2:
         raise ArgumentError(f"{p}: fewer than two data rows")
     step = _time_step(values[:, 2], p, time) if len(names) == 3 else None

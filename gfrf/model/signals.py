@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import math
 import stat
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -60,6 +61,10 @@ _NUMPY_MODULES = [{"Heaviside": lambda x, _h0=1.0: np.heaviside(x, 1.0),
 FAST_TONES = 32
 #: Most breakpoints :meth:`InputSignal.breakpoints` reports (more: None, unknown).
 MAX_BREAKPOINTS = 100_000
+#: Largest input CSV file (``csv:FILE``), in bytes, refused before it is read.
+MAX_CSV_BYTES = 200_000_000
+#: Most rows of an input CSV file.
+MAX_CSV_ROWS = 2_000_000
 #: Functions of the input grammar that are smooth wherever they are finite.
 _SMOOTH = (sp.sin, sp.cos, sp.tan, sp.sinh, sp.cosh, sp.tanh, sp.atan, sp.exp, sp.log)
 #: Functions that jump, or whose derivative jumps, where their argument crosses zero
@@ -88,6 +93,9 @@ class InputSignal:
     #: as a function of t_end; None: unknown.
     _breaks: Callable[[float], np.ndarray] | None = field(default=None, repr=False,
                                                           compare=False)
+    #: The last :meth:`breakpoints` answer, by t_end (a prepared signal runs many times).
+    _memo: dict[float, np.ndarray | None] = field(default_factory=dict, init=False,
+                                                  repr=False, compare=False)
 
     def __call__(self, t: Any) -> np.ndarray:
         """Value of u at time(s) ``t`` in seconds."""
@@ -152,6 +160,13 @@ class InputSignal:
         >>> parse_input("step(t - sin(t) - 1)").breakpoints(10.0) is None
         True
         """
+        if t_end not in self._memo:
+            self._memo.clear()
+            self._memo[t_end] = self._breakpoints(t_end)
+        times = self._memo[t_end]
+        return None if times is None else times.copy()
+
+    def _breakpoints(self, t_end: float) -> np.ndarray | None:
         if self._breaks is not None:
             times: np.ndarray | None = np.asarray(self._breaks(t_end), dtype=float)
         elif self.expr is not None:
@@ -343,6 +358,36 @@ def _tones(expr: sp.Expr) -> tuple[Tone, ...] | None:
     return _float_tones(tones)
 
 
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def _csv_numbers(path: Path, path_text: str) -> np.ndarray:
+    """The numbers of a CSV file: :func:`numpy.loadtxt` (one fast parse) of the whole file,
+    or of the rows after a header (a first line without any number); a file it cannot
+    read (empty cells, text in a row) by :func:`numpy.genfromtxt`, which reads what is
+    not a number as NaN (refused by the caller unless the whole row is)."""
+    with path.open(encoding="utf-8", errors="replace") as fh:
+        first = fh.readline(10_000).split("#", 1)[0]
+    header = not any(_is_number(field) for field in first.split(","))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)  # an empty file: checked by the caller
+        try:
+            return np.loadtxt(path, delimiter=",", ndmin=2, skiprows=int(header),
+                              dtype=float, max_rows=MAX_CSV_ROWS + 1)
+        except ValueError:
+            pass
+        try:
+            return np.genfromtxt(path, delimiter=",", names=None, dtype=float)
+        except ValueError as exc:
+            raise ArgumentError(f"input CSV {path_text!r}: {' '.join(str(exc).split())}"
+                                ) from None
+
+
 def _csv_input(path_text: str, max_derivative: int) -> InputSignal:
     path = Path(path_text)
     try:
@@ -356,11 +401,13 @@ def _csv_input(path_text: str, max_derivative: int) -> InputSignal:
     if not stat.S_ISREG(mode):
         raise ArgumentError(f"input CSV file {path_text!r} is not a regular file (a device, "
                             f"FIFO or socket); save the samples t,u to a file first")
-    try:
-        data = np.genfromtxt(path, delimiter=",", names=None, dtype=float)
-    except ValueError as exc:
-        raise ArgumentError(f"input CSV {path_text!r}: {exc}") from None
-    data = np.atleast_2d(data)
+    size = path.stat().st_size
+    if size > MAX_CSV_BYTES:
+        raise ArgumentError(f"input CSV file {path_text!r}: {size} bytes, above the limit "
+                            f"{MAX_CSV_BYTES}")
+    data = np.atleast_2d(_csv_numbers(path, path_text))
+    if data.shape[0] > MAX_CSV_ROWS:
+        raise ArgumentError(f"input CSV {path_text!r}: more than {MAX_CSV_ROWS} rows")
     data = data[~np.isnan(data).all(axis=1)] if data.size else data
     if data.ndim != 2 or data.shape[1] != 2 or len(data) < 2 or not np.isfinite(data).all():
         raise ArgumentError(f"input CSV {path_text!r} must have two numeric columns t,u "

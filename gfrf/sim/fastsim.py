@@ -378,12 +378,28 @@ def _run(module: ModuleType, system: OdeSystem, signal: InputSignal, z0: np.ndar
     return _Run(Y.T, int(done), grid.max_step, bool(blown), float(t_stop))
 
 
+#: The last :func:`_fastest_rate` answer: (system, signal, z0 bytes, rate), the same
+#: objects (``is``) running again give the same rate.
+_LAST_RATE: list[tuple[OdeSystem, InputSignal, bytes, float]] = []
+
+
 def _fastest_rate(system: OdeSystem, signal: InputSignal, z0: np.ndarray) -> float:
     """Largest eigenvalue modulus (1/s) of the Jacobian at the origin and at ``z0``.
 
     The Jacobian at z0 (with the input at t = 0) is taken by forward differences of
-    the generated right-hand side; a non-finite one is ignored.
+    the generated right-hand side; a non-finite one is ignored.  A prepared system run
+    again with the same signal and z0 reuses the last answer.
     """
+    key = np.asarray(z0, dtype=float).tobytes()
+    if _LAST_RATE and _LAST_RATE[0][0] is system and _LAST_RATE[0][1] is signal \
+            and _LAST_RATE[0][2] == key:
+        return _LAST_RATE[0][3]
+    rate = _jacobian_rate(system, signal, z0)
+    _LAST_RATE[:] = [(system, signal, key, rate)]
+    return rate
+
+
+def _jacobian_rate(system: OdeSystem, signal: InputSignal, z0: np.ndarray) -> float:
     rates = [float(np.max(np.abs(system.linear_eigenvalues)))
              if system.linear_eigenvalues.size else 0.0]
     rhs = system.function("rhs")

@@ -56,3 +56,44 @@ def test_csv_input(tmp_path):
 def test_bad_input(text, word):
     with pytest.raises(ArgumentError, match=word):
         parse_input(text)
+
+
+@pytest.mark.parametrize("text", ["0,1\n1,2\n2,3\n", "t,u\n0,1\n1,2\n2,3\n",
+                                  "# recorded\nt,u\n0,1\n\n1,2\n2,3\n"])
+def test_csv_input_with_or_without_header(tmp_path, text):
+    path = tmp_path / "u.csv"
+    path.write_text(text)
+    u = parse_input(f"csv:{path}")
+    assert [float(u(t)) for t in (0.0, 1.0, 2.0)] == [1.0, 2.0, 3.0]
+
+
+@pytest.mark.parametrize("text", ["0,x\n1,2\n2,3\n", "t,u\n0,1\n1,\n2,3\n",
+                                  "t,u\n0,1\n1,2,5\n2,3\n", "t,u\n0,1\n1,inf\n2,3\n"])
+def test_csv_input_refuses_bad_rows(tmp_path, text):
+    path = tmp_path / "u.csv"
+    path.write_text(text)
+    with pytest.raises(ArgumentError, match="input CSV"):
+        parse_input(f"csv:{path}")
+
+
+def test_csv_input_size_limit(tmp_path, monkeypatch):
+    import gfrf.model.signals as signals
+
+    path = tmp_path / "u.csv"
+    path.write_text("t,u\n" + "".join(f"{k},{k}\n" for k in range(10)))
+    monkeypatch.setattr(signals, "MAX_CSV_BYTES", 20)
+    with pytest.raises(ArgumentError, match="above the limit 20"):
+        parse_input(f"csv:{path}")
+    monkeypatch.setattr(signals, "MAX_CSV_BYTES", 10**6)
+    monkeypatch.setattr(signals, "MAX_CSV_ROWS", 5)
+    with pytest.raises(ArgumentError, match="more than 5 rows"):
+        parse_input(f"csv:{path}")
+
+
+def test_breakpoints_repeated_calls_are_independent():
+    u = parse_input("step(t - 1) - step(2*t - 10)")
+    first = u.breakpoints(10.0)
+    first[0] = -1.0  # the caller's copy
+    assert u.breakpoints(10.0).tolist() == [1.0, 5.0]
+    assert u.breakpoints(3.0).tolist() == [1.0]
+    assert u.breakpoints(10.0).tolist() == [1.0, 5.0]

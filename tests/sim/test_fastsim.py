@@ -188,3 +188,22 @@ def test_non_finite_input_is_a_failure_not_a_blow_up() -> None:
     grows = simulate(parse_model("D(y,2) + 0.4*D(y) + 2*y - y**3 = u"), "3*sin(t)",
                      t_end=30.0, method="fast")
     assert grows.status == "blowup" and grows.blowup_time is not None
+
+
+def test_prepared_system_runs_again_as_a_fresh_one():
+    from gfrf.sim.system import build_system
+
+    mf = load_model(MODELS / "duffing.toml")
+    system, signal = build_system(mf), parse_input("0.1*sin(t)")
+
+    def run(system, signal, x0, dt):
+        res = simulate(system, signal, t_end=2.0, method="fast", initial=x0, dt=dt, n_out=21)
+        return res.y, [n for n in res.notes if "stability limit" in n]
+
+    for dt in (None, 0.1):  # 0.1 s is beyond RK4's limit at x = 30 (rate 37/s), not at 0
+        runs = [run(system, signal, x0, dt) for x0 in ([0.0, 0.0], [30.0, 0.0], [0.0, 0.0])]
+        fresh = run(build_system(mf), parse_input("0.1*sin(t)"), [30.0, 0.0], dt)
+        np.testing.assert_array_equal(runs[0][0], runs[2][0])
+        np.testing.assert_array_equal(runs[1][0], fresh[0])
+        assert runs[1][1] == fresh[1] and runs[0][1] == runs[2][1] == []
+    assert fresh[1]
