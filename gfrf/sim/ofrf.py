@@ -94,7 +94,7 @@ Key = tuple[int, ...]
 Spectrum = dict[Key, np.ndarray]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class OFRF:
     """The OFRF of one parameter at one output frequency, and the NOFRFs there.
 
@@ -450,10 +450,11 @@ def _evaluate(model: Model, polys: dict[tuple, np.ndarray],
     r_star, _, proof = series_radius(model)
     amplitude = float(sum(abs(a) for a, _, _ in tones))
     bound, bound_proof = series_tail(majorant(model), amplitude, order)
-    return OFRF(parameter, value, omega, order, tones,
-                tuple(complex(c) for c in _trim(total)),
-                {n: tuple(complex(c) for c in p) for n, p in per_order.items()},
-                u_spectrum, amplitude, r_star, proof, bound, bound_proof)
+    return OFRF(parameter=parameter, value=value, omega=omega, order=order, tones=tones,
+                coefficients=tuple(complex(c) for c in _trim(total)),
+                by_order={n: tuple(complex(c) for c in p) for n, p in per_order.items()},
+                input_spectrum=u_spectrum, amplitude=amplitude, radius=r_star,
+                radius_proof=proof, truncation_bound=bound, truncation_proof=bound_proof)
 
 
 def _trim(poly: np.ndarray) -> np.ndarray:

@@ -221,7 +221,7 @@ def _run_chunk(task: _Task, points: list[dict[str, float]]) -> list[dict[str, An
     return [evaluate_point(task, p) for p in points]
 
 
-@dataclass
+@dataclass(kw_only=True)
 class SweepResult:
     """The table of a sweep: one row per grid point, in grid order.
 
