@@ -70,7 +70,7 @@ def test_no_module_shadows_a_public_name() -> None:
     assert not modules & set(gfrf.__all__)
 
 
-# --- the tree is the architecture (issue 22) ---------------------------------------------
+# --- the tree is the architecture ----------------------------------------------------------
 
 #: Most modules directly under gfrf/ (the public face and the small shared helpers).
 MAX_TOP_LEVEL_MODULES = 8
