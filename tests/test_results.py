@@ -104,10 +104,11 @@ def test_derived_to_dict_keeps_contract_names_and_order() -> None:
         upper: float
         where: complex = 0j
         scratch: tuple[float, ...] = ()
+        _memo: dict[str, float] = dataclasses.field(default_factory=dict)
 
         def _computed(self) -> dict[str, object]:
             return {"gap": self.upper - self.low, "where": [self.where.real, self.where.imag]}
 
-    d = Bracket(low=1.0, upper=3.0, where=2 + 1j, scratch=(4.0,)).to_dict()
+    d = Bracket(low=1.0, upper=3.0, where=2 + 1j, scratch=(4.0,), _memo={"x": 1.0}).to_dict()
     assert list(d) == ["gap", "lower", "upper", "where"]
     assert d == {"gap": 2.0, "lower": 1.0, "upper": 3.0, "where": [2.0, 1.0]}

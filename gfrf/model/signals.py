@@ -79,11 +79,11 @@ class InputSignal(Result):
     of the k-th time derivative.  :attr:`tones` is the list ``[(A, w, phi), ...]``
     of ``A*cos(w*t + phi)`` (w in rad/s) for a pure sum of sinusoids, else None.
     ``to_dict`` gives the text, the expression as text and the tones; it leaves out
-    ``max_derivative`` (how many derivatives were prepared: an evaluation setting),
-    ``_funcs`` (compiled callables) and ``_breaks`` (a callable).
+    ``max_derivative`` (how many derivatives were prepared: an evaluation setting) and
+    the private fields (compiled callables).
     """
 
-    _exclude = ("max_derivative", "_funcs", "_breaks")
+    _exclude = ("max_derivative",)
     _keys = {"expr": "expression"}
 
     text: str
