@@ -209,7 +209,9 @@ class Result:
 
     ``_exclude``
         Fields left out of :meth:`to_dict`, each for a stated reason in the subclass's
-        docstring (a large array, a callable, a derived object with its own view).
+        docstring (a large array, a derived object with its own view).  A field whose
+        name starts with an underscore is private working data (compiled callables, a
+        memo) and never in :meth:`to_dict`.
     ``_headline``
         Fields shown by ``repr`` (default: the first three).
     ``_keys``
@@ -246,7 +248,7 @@ class Result:
         ``to_dict()``, complex numbers ``{"re", "im"}``, numpy values as Python ones;
         then the :meth:`_computed` keys, in :attr:`_order`."""
         out = {self._keys.get(f.name, f.name): _plain_value(getattr(self, f.name))
-               for f in fields(self) if f.name not in self._exclude}
+               for f in fields(self) if f.name not in self._exclude and f.name[0] != "_"}
         out.update({key: _plain_value(value) for key, value in self._computed().items()})
         if self._order:
             out = {**{key: out[key] for key in self._order if key in out}, **out}

@@ -70,7 +70,7 @@ def test_no_module_shadows_a_public_name() -> None:
     assert not modules & set(gfrf.__all__)
 
 
-# --- the tree is the architecture (issue 22) ---------------------------------------------
+# --- the tree is the architecture ----------------------------------------------------------
 
 #: Most modules directly under gfrf/ (the public face and the small shared helpers).
 MAX_TOP_LEVEL_MODULES = 8
@@ -135,3 +135,31 @@ def test_the_layer_checker_catches_an_import_up_the_layers(tmp_path: Path) -> No
     ok = subprocess.run([str(linter)], cwd=tmp_path, env=env, capture_output=True, text=True)
     assert "BROKEN" in ok.stdout and "gfrf.kernels.upward -> gfrf.stability" in ok.stdout
     assert ok.returncode != 0
+
+
+#: Most positional arguments a call of a gfrf class may pass (beyond: by keyword).
+MAX_POSITIONAL_ARGUMENTS = 6
+
+
+def _long_positional_calls(source: str, classes: set[str]) -> list[tuple[int, str]]:
+    """``(line, class)`` of the calls of ``classes`` with too many positional arguments."""
+    found = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Call) and len(node.args) > MAX_POSITIONAL_ARGUMENTS:
+            name = getattr(node.func, "id", getattr(node.func, "attr", None))
+            if name in classes:
+                found.append((node.lineno, name))
+    return found
+
+
+def test_classes_with_many_fields_are_built_by_keyword() -> None:
+    sources = {p: p.read_text(encoding="utf-8") for p in PACKAGE.rglob("*.py")}
+    classes = {n.name for s in sources.values() for n in ast.walk(ast.parse(s))
+               if isinstance(n, ast.ClassDef)}
+    long = {f"{p.relative_to(PACKAGE)}:{line}": name for p, s in sources.items()
+            for line, name in _long_positional_calls(s, classes)}
+    assert not long, long
+
+
+def test_the_positional_call_finder_finds_one() -> None:
+    assert _long_positional_calls("R(1, 2, 3, 4, 5, 6, 7)\nR(1, b=2)", {"R"}) == [(1, "R")]

@@ -99,7 +99,7 @@ LEAST_BUDGET = 20_000
 MAX_POLISHES = 20
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class BranchBoundResult:
     """Bracket of ||H_n||_inf from the branch-and-bound (angular frequencies in rad/s).
 
@@ -491,8 +491,9 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
     width, tail = next((w, t) for w, t in tails if t <= max(floor * 1.01, 0.5 * best))
     ceiling = float(maj.coefficients(n)[n, 0])
     if not tail < ceiling:
-        return BranchBoundResult(best, max(ceiling, best), tuple(float(x) for x in best_x),
-                                 False, 0, width, tail, "tail")
+        return BranchBoundResult(lower=best, upper=max(ceiling, best),
+                                 argmax=tuple(float(x) for x in best_x), converged=False,
+                                 boxes=0, width=width, tail=tail, stop="tail")
     return _search(taylor, point, inverse, None, n, symmetric, best, best_x, tol, max_boxes,
                    progress, fused_start, leaves, width, tail, ceiling)
 
@@ -556,5 +557,6 @@ def _search(taylor: Callable[..., Any], point: Callable[..., Any], inverse: Any,
             split = np.concatenate([split[rest], c_split])
     upper = max(min(upper, ceiling), best)
     converged = upper - best <= tol * upper
-    return BranchBoundResult(best, upper, tuple(float(x) for x in best_x), converged, boxes,
-                             width, tail, "tol" if converged else stop)
+    return BranchBoundResult(lower=best, upper=upper, argmax=tuple(float(x) for x in best_x),
+                             converged=converged, boxes=boxes, width=width, tail=tail,
+                             stop="tol" if converged else stop)

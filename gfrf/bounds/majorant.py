@@ -53,6 +53,7 @@ from typing import Any
 
 import numpy as np
 
+from gfrf._results import Result
 from gfrf.bounds.exact import arb_upper
 from gfrf.bounds.fixed_point import Radius, certify, radius
 from gfrf.bounds.radius_scaling import scaled_plant_radius
@@ -64,9 +65,13 @@ __all__ = ["Majorant", "MajorantTerm", "Radius", "majorant", "radius", "plant_ra
            "linear_polynomials", "certify"]
 
 
-@dataclass(frozen=True)
-class MajorantTerm:
-    """One nonlinear model term as the majorant sees it: |c| U r^q prod X_{l_i}."""
+@dataclass(frozen=True, kw_only=True, repr=False)
+class MajorantTerm(Result):
+    """One nonlinear model term as the majorant sees it: |c| U r^q prod X_{l_i}
+    (``to_dict`` names ``text`` ``term`` and puts it first)."""
+
+    _keys = {"text": "term"}
+    _order = ("term",)
 
     weight: float
     q: int
@@ -74,8 +79,8 @@ class MajorantTerm:
     text: str
 
 
-@dataclass(frozen=True)
-class Majorant:
+@dataclass(frozen=True, kw_only=True, repr=False)
+class Majorant(Result):
     """The certified majorant data of a model.
 
     Attributes
@@ -296,14 +301,6 @@ class Majorant:
         g = self.nonlinear_ball(xs, amplitude)
         return [r * arb(self.linear[ell]) + arb(self.gains[ell]) * g for ell in self.powers]
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready description."""
-        return {"powers": list(self.powers), "linear": {str(k): v for k, v in self.linear.items()},
-                "gains": {str(k): v for k, v in self.gains.items()},
-                "terms": [{"term": t.text, "weight": t.weight, "q": t.q,
-                           "y_orders": list(t.y_orders)} for t in self.terms],
-                "exact": self.exact, "reasons": list(self.reasons), "proof": self.proof}
-
 
 def _mul(a: float, b: float) -> float:
     """Product with 0 * inf = 0 (a structurally absent contribution stays absent)."""
@@ -414,8 +411,8 @@ def majorant(model: Model, proof: str = "interval") -> Majorant:
         unbounded = not discrete and any(k > 0 for k in t.u_orders)
         if unbounded:
             reasons.append(f"term {t}: an input derivative factor has sup |j w|^k = inf")
-        terms.append(MajorantTerm(math.inf if unbounded else abs(t.coefficient),
-                                  len(t.u_orders), t.y_orders, str(t)))
+        terms.append(MajorantTerm(weight=math.inf if unbounded else abs(t.coefficient),
+                                  q=len(t.u_orders), y_orders=t.y_orders, text=str(t)))
     return Majorant(powers=powers,
                     linear=linear,
                     gains=gains,

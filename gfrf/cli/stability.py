@@ -29,6 +29,7 @@ import math
 import sys
 from typing import TYPE_CHECKING
 
+from gfrf._results import proof_word
 from gfrf.cli._models import add_model_argument, resolve_model
 from gfrf.cli._output import add_json_flag, emit, terminal_text
 from gfrf.errors import ArgumentError
@@ -117,13 +118,11 @@ def _num(x: float | None) -> str:
 def _bound_label(b: Bound) -> str:
     """'proven' only when both ends are interval; a proven upper end whose witness ball
     was too wide to prove the lower end says so."""
-    if not b.certified or b.proof == "none":
+    if not b.certified:
         return "estimate"
-    if b.proof == "interval":
-        return "proven"
-    if (b.upper_proof or b.proof) == "interval":
+    if b.proof == "float" and b.upper_proof == "interval":
         return "upper proven, lower float witness"
-    return "certified (float)"
+    return proof_word(b.proof)
 
 
 def _bound_line(b: Bound) -> str:

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from gfrf._results import markdown_table, new_figure, short_repr
+from gfrf._results import Result, markdown_table, new_figure, short_repr
 from gfrf.errors import ArgumentError, ConvergenceError
 from gfrf.harmonic.backbone import backbone_curve
 from gfrf.harmonic.balance import Balance
@@ -51,9 +51,14 @@ MAX_POINTS = 20_000
 MAX_WORK = 1_000_000_000
 
 
-@dataclass(frozen=True, kw_only=True)
-class CurvePoint:
+@dataclass(frozen=True, kw_only=True, repr=False)
+class CurvePoint(Result):
     """One periodic solution on the curve.
+
+    ``to_dict`` is the contract's point: omega, amplitude, stable and the coefficients as
+    :meth:`pairs`; it leaves out ``forcing`` (listed under the curve's ``forcing``),
+    ``multipliers`` (their verdict is ``stable``) and ``tail`` (the point's truncation
+    estimate: the curve's ``truncation`` is their largest).
 
     Attributes
     ----------
@@ -78,6 +83,9 @@ class CurvePoint:
     multipliers: tuple[complex, ...]
     tail: float
 
+    _exclude = ("forcing", "multipliers", "tail")
+    _order = ("omega", "amplitude", "stable", "coefficients")
+
     @property
     def amplitude(self) -> float:
         """Magnitude of the first harmonic, sqrt(a1^2 + b1^2)."""
@@ -89,15 +97,18 @@ class CurvePoint:
         return [[float(c[0]), 0.0]] + [[float(c[i]), float(c[i + 1])]
                                        for i in range(1, c.size, 2)]
 
-    def to_dict(self) -> dict[str, Any]:
-        """The contract's point: omega, amplitude, stable, coefficients."""
-        return {"omega": self.omega, "amplitude": self.amplitude, "stable": self.stable,
-                "coefficients": self.pairs()}
+    def _computed(self) -> dict[str, Any]:
+        """The amplitude and the coefficients as pairs."""
+        return {"amplitude": self.amplitude, "coefficients": self.pairs()}
 
 
-@dataclass(frozen=True, kw_only=True)
-class FrequencyResponseCurve:
+@dataclass(frozen=True, kw_only=True, repr=False)
+class FrequencyResponseCurve(Result):
     """A branch of periodic steady states under ``u = A cos(omega t)`` (harmonic balance).
+
+    ``to_dict`` is the contract (harmonics, points, folds as omega and amplitude) and the
+    extras: ``kind`` (always an estimate), each point's and fold's forcing, the backbone
+    as ``{omega, amplitude, peak}``.
 
     Attributes
     ----------
@@ -148,30 +159,21 @@ class FrequencyResponseCurve:
     truncation: float = 0.0
     notes: tuple[str, ...] = field(default_factory=tuple)
 
+    _order = ("harmonics", "points", "folds", "kind", "equation", "vary", "forcing",
+              "fold_forcing", "fold_sweeps", "period_doublings", "backbone", "complete",
+              "samples")
+
     def __repr__(self) -> str:
         return short_repr(self, "harmonics", points=len(self.points), folds=len(self.folds),
                           complete=self.complete)
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready: the contract's keys (harmonics, points, folds) and the extras."""
-        return {
-            "harmonics": self.harmonics,
-            "points": [p.to_dict() for p in self.points],
-            "folds": [{"omega": f.omega, "amplitude": f.amplitude} for f in self.folds],
-            "kind": "estimate",
-            "equation": self.equation,
-            "vary": self.vary,
-            "forcing": [p.forcing for p in self.points],
-            "fold_forcing": [f.forcing for f in self.folds],
-            "fold_sweeps": list(self.fold_sweeps),
-            "period_doublings": list(self.period_doublings),
-            "backbone": [{"omega": w, "amplitude": a, "peak": y} for w, a, y in self.backbone],
-            "complete": self.complete,
-            "samples": self.samples,
-            "residual": self.residual,
-            "truncation": self.truncation,
-            "notes": list(self.notes),
-        }
+    def _computed(self) -> dict[str, Any]:
+        """The folds' omega and amplitude, the kind, the forcings and the backbone."""
+        return {"folds": [{"omega": f.omega, "amplitude": f.amplitude} for f in self.folds],
+                "kind": "estimate", "forcing": [p.forcing for p in self.points],
+                "fold_forcing": [f.forcing for f in self.folds],
+                "backbone": [{"omega": w, "amplitude": a, "peak": y}
+                             for w, a, y in self.backbone]}
 
     def summary_rows(self) -> list[tuple[str, Any]]:
         """(quantity, value) rows of the summary."""

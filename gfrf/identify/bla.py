@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from gfrf._results import markdown_table, new_figure, short_repr
+from gfrf._results import Result, markdown_table, new_figure, short_repr
 from gfrf.errors import ArgumentError
 
 __all__ = ["BLA", "best_linear_approximation", "excited_lines", "significant_lines",
@@ -99,9 +99,14 @@ def significant_lines(u_spectra: np.ndarray, period: int) -> np.ndarray:
     return significant
 
 
-@dataclass(frozen=True, kw_only=True)
-class BLA:
+@dataclass(frozen=True, kw_only=True, repr=False)
+class BLA(Result):
     """The best linear approximation on the excited lines, and the detection levels.
+
+    ``to_dict`` is the contract (omega, bla as ``[re, im]`` pairs, the three standard
+    deviations) and the rest, ``partial`` as ``partial_lines``; it leaves out
+    ``output_level`` and ``output_noise`` (the output spectrum and its noise on every
+    line: the plot's data).
 
     Attributes
     ----------
@@ -149,20 +154,16 @@ class BLA:
     output_noise: np.ndarray | None
     detection: dict[str, Any]
 
-    def to_dict(self) -> dict[str, Any]:
-        """The contract fields (omega, bla as [re, im], the three std) and the detection."""
-        def listed(a: np.ndarray | None) -> list[float] | None:
-            return None if a is None else [float(v) for v in a]
+    _exclude = ("output_level", "output_noise")
+    _keys = {"partial": "partial_lines"}
+    _order = ("omega", "bla", "bla_std", "noise_std", "distortion_std", "lines",
+              "partial_lines")
 
-        return {"omega": listed(self.omega),
-                "bla": [[float(v.real), float(v.imag)] for v in self.bla],
-                "bla_std": listed(self.bla_std), "noise_std": listed(self.noise_std),
-                "distortion_std": listed(self.distortion_std),
+    def _computed(self) -> dict[str, Any]:
+        """The BLA as ``[re, im]`` pairs, the line indices as ints."""
+        return {"bla": [[float(v.real), float(v.imag)] for v in self.bla],
                 "lines": [int(k) for k in self.lines],
-                "partial_lines": [int(k) for k in self.partial],
-                "realisations": self.realisations,
-                "periods": self.periods, "period": self.period,
-                "sample_time": self.sample_time, "detection": dict(self.detection)}
+                "partial_lines": [int(k) for k in self.partial]}
 
     def __repr__(self) -> str:
         return short_repr(self, "realisations", "periods", "period", lines=len(self.lines))

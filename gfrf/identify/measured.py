@@ -9,7 +9,6 @@ scaled so that ``u(t) = sum_k X_k exp(j k w0 t)`` over positive and negative k.
 
 from __future__ import annotations
 
-import math
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -268,8 +267,3 @@ def spectra(x: np.ndarray) -> np.ndarray:
         Complex, of shape (realisations, periods, N // 2 + 1).
     """
     return np.fft.rfft(x, axis=-1) / x.shape[-1]
-
-
-def line_frequency(period: int, sample_time: float) -> float:
-    """w0 = 2 pi / (N T), rad/s."""
-    return 2 * math.pi / (period * sample_time)

@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from gfrf._results import markdown_table, short_repr
+from gfrf._results import Result, markdown_table, short_repr
 from gfrf.errors import ArgumentError
 
 __all__ = ["Multisine", "multisine", "combination_lines", "Combination", "GRIDS",
@@ -165,9 +165,14 @@ def _isolating_lines(max_line: int, n: int) -> list[int]:
     return chosen
 
 
-@dataclass(frozen=True, kw_only=True)
-class Multisine:
+@dataclass(frozen=True, kw_only=True, repr=False)
+class Multisine(Result):
     """A multisine excitation: its grid and its samples.
+
+    ``to_dict`` is the grid (what ``gfrf estimate`` needs: period, sample time, lines),
+    the lines' angular frequencies and those that isolate H2 and H3 as
+    ``[output, [inputs]]`` in rad/s; it leaves out ``u`` (the sampled input: the data
+    file's).
 
     Attributes
     ----------
@@ -203,6 +208,10 @@ class Multisine:
     seed: int
     u: np.ndarray
 
+    _exclude = ("u",)
+    _order = ("period", "sample_time", "grid", "realisations", "periods", "rms", "levels",
+              "seed", "lines")
+
     @property
     def omega(self) -> np.ndarray:
         """Angular frequencies of the excited lines (rad/s)."""
@@ -220,15 +229,11 @@ class Multisine:
             rows += [f"{a:.10g},{b:.10g},{r}" for a, b in zip(t, row, strict=True)]
         return "\n".join(rows) + "\n"
 
-    def to_dict(self) -> dict[str, Any]:
-        """The grid (what ``gfrf estimate`` needs: period, sample time, lines)."""
+    def _computed(self) -> dict[str, Any]:
+        """The lines' angular frequencies and those isolating H2 and H3 (rad/s)."""
         iso = self.isolated()
         w0 = 2 * math.pi / (self.period * self.sample_time)
-        return {"period": self.period, "sample_time": self.sample_time, "grid": self.grid,
-                "realisations": self.realisations, "periods": self.periods,
-                "rms": self.rms, "levels": list(self.levels), "seed": self.seed,
-                "lines": list(self.lines),
-                "omega": self.omega.tolist(),
+        return {"omega": self.omega.tolist(),
                 "h2_lines": [[c.line * w0, [f * w0 for f in c.factors]] for c in iso[2]],
                 "h3_lines": [[c.line * w0, [f * w0 for f in c.factors]] for c in iso[3]]}
 

@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from gfrf._results import markdown_table, new_figure, short_repr
+from gfrf._results import Result, markdown_table, new_figure, short_repr
 from gfrf.identify.bla import BLA, best_linear_approximation, excited_lines, significant_lines
 from gfrf.identify.measured import Periodic, read_periodic, spectra
 from gfrf.identify.multisine import MAX_COMBINED_LINES, Combination, combination_lines
@@ -37,9 +37,13 @@ __all__ = ["KernelLines", "Estimate", "estimate_gfrf", "kernel_lines", "bla_bias
 SIGMAS = 3.0
 
 
-@dataclass(frozen=True, kw_only=True)
-class KernelLines:
+@dataclass(frozen=True, kw_only=True, repr=False)
+class KernelLines(Result):
     """Estimates of H_n on the lines that isolate it.
+
+    ``to_dict`` has the BLA's keys (``bla`` holds H_n's estimate as ``[re, im]`` pairs,
+    ``bla_std`` its standard deviation) and the frequencies; it leaves out ``order``, the
+    key of its entry (``h1``, ``h2``, ``h3``) in the estimate.
 
     Attributes
     ----------
@@ -63,19 +67,16 @@ class KernelLines:
     noise_std: np.ndarray | None
     distortion_std: np.ndarray | None
 
+    _exclude = ("order",)
+    _keys = {"value": "bla", "value_std": "bla_std"}
+
     def __repr__(self) -> str:
         return short_repr(self, "order", lines=int(self.omega.size))
 
-    def to_dict(self) -> dict[str, Any]:
-        """The BLA's fields (``bla`` holds H_n's estimate) and the frequencies."""
-        def listed(a: np.ndarray | None) -> list[float] | None:
-            return None if a is None else [float(v) for v in a]
-
-        return {"omega": listed(self.omega),
-                "frequencies": [[float(w) for w in row] for row in self.frequencies],
-                "bla": [[float(v.real), float(v.imag)] for v in self.value],
-                "bla_std": listed(self.value_std), "noise_std": listed(self.noise_std),
-                "distortion_std": listed(self.distortion_std)}
+    def _computed(self) -> dict[str, Any]:
+        """The estimates as ``[re, im]`` pairs, the frequencies as floats."""
+        return {"frequencies": [[float(w) for w in row] for row in self.frequencies],
+                "bla": [[float(v.real), float(v.imag)] for v in self.value]}
 
     def draw(self, ax: Any, model: np.ndarray | None = None) -> None:
         """|H_n| estimates (dB) with 3-sigma bars against the output line (rad/s); a bar
@@ -159,6 +160,10 @@ def kernel_lines(u_spectra: np.ndarray, y_spectra: np.ndarray, combos: list[Comb
 @dataclass(frozen=True, kw_only=True)
 class Estimate:
     """Nonparametric estimates from multisine data.
+
+    ``to_dict`` stays written out: the contract puts the BLA's keys at the top level, has
+    ``h1``, ``h2``, ``h3`` and ``model`` only where they exist (never null) and names
+    ``comparison`` ``model``.
 
     Attributes
     ----------

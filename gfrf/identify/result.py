@@ -9,6 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+from gfrf._results import Result
 from gfrf.identify.operating import SIGNIFICANT_DIGITS
 from gfrf.identify.prune import Pruning
 from gfrf.identify.spread import RadiusSpread
@@ -18,10 +19,15 @@ from gfrf.model.equation import Model
 __all__ = ["Identification"]
 
 
-@dataclass(frozen=True)
-class Identification:
+@dataclass(frozen=True, kw_only=True, repr=False)
+class Identification(Result):
     """A NARMAX model identified from data, with its fit settings, operating point and
     validation.
+
+    ``to_dict`` adds the process terms, ``adequate``, the validation's ``reason`` and the
+    significant digits, names ``structure`` ``structure_search``, gives ``full_model`` as
+    its text and ``noise`` as ``noise_terms`` (``{term, coefficient}``; the field itself
+    is left out).
 
     Attributes
     ----------
@@ -90,6 +96,14 @@ class Identification:
     full_model: Model | None = None
     radius: RadiusSpread | None = None
 
+    _exclude = ("noise",)
+    _keys = {"structure": "structure_search"}
+    _order = ("model", "settings", "n_samples", "n_train", "n_fit", "candidates",
+              "regressors", "process_terms", "noise_model", "noise_terms", "operating_point",
+              "free_run_error", "one_step_error", "blowup", "notes", "structure_search",
+              "validation", "adequate", "reason", "significant_digits", "pruning",
+              "full_model", "radius", "sysidentpy_version")
+
     @property
     def adequate(self) -> bool:
         """True when the hold-out validation passed."""
@@ -128,25 +142,12 @@ class Identification:
                         for j, c in enumerate(self.noise, start=1))
         return (f"noise terms (extended least squares; not part of the GFRFs): e[k] {body}")
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready description."""
-        validation = self.validation.to_dict() if self.validation else None
-        return {"model": self.model.to_dict(), "settings": dict(self.settings),
-                "n_samples": self.n_samples, "n_train": self.n_train, "n_fit": self.n_fit,
-                "candidates": self.candidates,
-                "regressors": [dict(r) for r in self.regressors],
-                "process_terms": self.model.text,
-                "noise_model": self.noise_model,
+    def _computed(self) -> dict[str, Any]:
+        """The terms as text, the noise terms, adequacy and the validation's reason."""
+        return {"process_terms": self.model.text,
                 "noise_terms": [{"term": f"e[k-{j}]", "coefficient": c}
                                 for j, c in enumerate(self.noise, start=1)],
-                "operating_point": dict(self.operating_point),
-                "free_run_error": self.free_run_error, "one_step_error": self.one_step_error,
-                "blowup": self.blowup, "notes": list(self.notes),
-                "structure_search": [dict(s) for s in self.structure],
-                "validation": validation, "adequate": self.adequate,
+                "adequate": self.adequate,
                 "reason": self.validation.reason if self.validation else "not validated",
                 "significant_digits": SIGNIFICANT_DIGITS,
-                "pruning": self.pruning.to_dict() if self.pruning else None,
-                "full_model": self.full_model.text if self.full_model else None,
-                "radius": self.radius.to_dict() if self.radius else None,
-                "sysidentpy_version": self.sysidentpy_version}
+                "full_model": self.full_model.text if self.full_model else None}

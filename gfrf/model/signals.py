@@ -39,6 +39,7 @@ import numpy as np
 import sympy as sp
 from scipy.interpolate import CubicSpline
 
+from gfrf._results import Result
 from gfrf.errors import ArgumentError, ModelError
 from gfrf.model.expr import SIGNAL_FUNCTIONS, UnknownNames, parse_expression
 from gfrf.model.limits import quote
@@ -75,14 +76,20 @@ _NON_SMOOTH = (sp.Heaviside, sp.sign, sp.Abs, sp.DiracDelta)
 Tone = tuple[float, float, float]
 
 
-@dataclass(frozen=True)
-class InputSignal:
+@dataclass(frozen=True, repr=False)
+class InputSignal(Result):
     """A scalar input u(t), t in seconds, with derivatives up to :attr:`max_derivative`.
 
     Call it on a float or an array of times.  ``derivative(k)`` returns the callable
     of the k-th time derivative.  :attr:`tones` is the list ``[(A, w, phi), ...]``
     of ``A*cos(w*t + phi)`` (w in rad/s) for a pure sum of sinusoids, else None.
+    ``to_dict`` gives the text, the expression as text and the tones; it leaves out
+    ``max_derivative`` (how many derivatives were prepared: an evaluation setting) and
+    the private fields (compiled callables).
     """
+
+    _exclude = ("max_derivative",)
+    _keys = {"expr": "expression"}
 
     text: str
     expr: sp.Expr | None
@@ -222,10 +229,9 @@ class InputSignal:
         found = np.concatenate(times)
         return np.unique(found[np.isfinite(found) & (found > 0) & (found <= t_end)])
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready description."""
-        return {"text": self.text, "expression": None if self.expr is None else str(self.expr),
-                "tones": None if self.tones is None else [list(x) for x in self.tones]}
+    def _computed(self) -> dict[str, Any]:
+        """The expression as text."""
+        return {"expression": None if self.expr is None else str(self.expr)}
 
 
 def zero_input(max_derivative: int = 0) -> InputSignal:

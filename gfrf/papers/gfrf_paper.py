@@ -32,6 +32,7 @@ from typing import Any
 
 import numpy as np
 
+from gfrf._data import MODELS_DIR
 from gfrf._results import Result, outward_bracket
 from gfrf.bounds.majorant import majorant
 from gfrf.bounds.norms import h1_norm, kernel_norm
@@ -333,13 +334,14 @@ def coefficient_rows(path: str | Path) -> list[CheckRow]:
     return rows
 
 
-def paper_checks(models_dir: str | Path = "models") -> list[CheckRow]:
+def paper_checks(models_dir: str | Path = MODELS_DIR) -> list[CheckRow]:
     """All rows for the paper's examples (sections 3 and 5).
 
     Parameters
     ----------
-    models_dir : str or Path
-        Directory holding hanging_pendulum*.toml and cartpole_reduced.toml.
+    models_dir : str or Path, optional
+        Directory holding hanging_pendulum*.toml and cartpole_reduced.toml (default: the
+        bundled models).
 
     Returns
     -------
@@ -400,7 +402,7 @@ class AlphaRow(Result):
     t_end: float
 
 
-def alpha_variants(models_dir: str | Path = "models", tolerance: float = 1e-6,
+def alpha_variants(models_dir: str | Path = MODELS_DIR, tolerance: float = 1e-6,
                    t_end: float = 100.0) -> list[AlphaRow]:
     """The hanging pendulum with and without eq (2)'s input gain, at r = 1.
 
@@ -482,7 +484,7 @@ class ThetaReading(Result):
         return {"matches_kept": self.matches_kept, "matches_dropped": self.matches_dropped}
 
 
-def theta_readings(models_dir: str | Path = "models") -> list[ThetaReading]:
+def theta_readings(models_dir: str | Path = MODELS_DIR) -> list[ThetaReading]:
     """theta_3 of sections 3 and 5 under one convention, from the files' ``[paper]`` tables.
 
     Uses :func:`gfrf.stability.theorem2.theta_series` (the printed recursion) with the paper's

@@ -24,7 +24,7 @@ __all__ = ["FormulaCheck", "formula_checks"]
 a, c, d, e, h, tau, th, ph, B = sp.symbols("a c delta epsilon h tau theta phi B")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class FormulaCheck(Result):
     """One printed formula (or reference) against its regenerated form.
 
@@ -92,8 +92,11 @@ def _lagrangian_checks() -> list[FormulaCheck]:
                      note="the printed T (square on cos only) is not even dimensionally "
                           "consistent; its Euler-Lagrange equation is not (3), the corrected T "
                           "gives (3)"),
-        FormulaCheck("(3)", "equation of motion, eps = A/L, delta = -g/(L omega^2)",
-                     "θ'' + (δ + ε cos t) sin θ = 0", "same (t = ω t_phys)", ok_fixed),
+        FormulaCheck(equation="(3)",
+                     quantity="equation of motion, eps = A/L, delta = -g/(L omega^2)",
+                     printed="θ'' + (δ + ε cos t) sin θ = 0",
+                     regenerated="same (t = ω t_phys)",
+                     agrees=ok_fixed),
     ]
 
 
@@ -110,8 +113,8 @@ def _perturbation_checks() -> list[FormulaCheck]:
     u1 = s4.harmonic_expr(1, 3)
     u2_5, u2_3 = s4.harmonic_expr(2, 5), s4.harmonic_expr(2, 3)
     return [
-        FormulaCheck("(10)", "x1", "x1 = -(1/6) cos(t) a (a^2 - 6)",
-                     f"x1 = ({x1}) cos t", _zero(x1 - printed_x1)),
+        FormulaCheck(equation="(10)", quantity="x1", printed="x1 = -(1/6) cos(t) a (a^2 - 6)",
+                     regenerated=f"x1 = ({x1}) cos t", agrees=_zero(x1 - printed_x1)),
         FormulaCheck(equation="(11)",
                      quantity="x2",
                      printed="x2 = (1/96) a (12 - 8a^2 + a^4)(cos 2t - 1)",
@@ -121,8 +124,11 @@ def _perturbation_checks() -> list[FormulaCheck]:
                      note="the cos 2t coefficient agrees; the constant -1 (x2(0) = 0) contradicts "
                      "the rule C1 = C2 = 0 the paper applies to x1 in (10) (zero mean). Either "
                      "choice is legitimate but changes what 'a' means at O(eps^3)"),
-        FormulaCheck("(12)", "delta2", "δ2 = (1/4)(a^2 - 2)", str(d0.coeff(e, 2)),
-                     _zero(d0.coeff(e, 2) - (a**2 - 2) / 4)),
+        FormulaCheck(equation="(12)",
+                     quantity="delta2",
+                     printed="δ2 = (1/4)(a^2 - 2)",
+                     regenerated=str(d0.coeff(e, 2)),
+                     agrees=_zero(d0.coeff(e, 2) - (a**2 - 2) / 4)),
         FormulaCheck(equation="(13)",
                      quantity="transition curve through 0",
                      printed="δ = (1/4)(a^2 - 2) ε^2",
@@ -199,8 +205,11 @@ def _ham_checks() -> list[FormulaCheck]:
                      corrected=f"x1 = {out['x1']}",
                      note="the printed x1 contains secular terms τ sin τ although γ0 of (30) "
                      "removes the only resonant harmonic; regenerated with x1(0) = x1'(0) = 0"),
-        FormulaCheck("(30)", "γ0", "γ0 = -(1/8) δ (c^2 - 8)", str(out["gamma0"]),
-                     _zero(out["gamma0"] - printed_g0)),
+        FormulaCheck(equation="(30)",
+                     quantity="γ0",
+                     printed="γ0 = -(1/8) δ (c^2 - 8)",
+                     regenerated=str(out["gamma0"]),
+                     agrees=_zero(out["gamma0"] - printed_g0)),
         FormulaCheck(equation="(30)",
                      quantity="γ1",
                      printed="γ1 = (1/64) δ^2 (c^2 - 8)(9c^2 - 8) h",
@@ -353,12 +362,20 @@ def _averaging_checks() -> list[FormulaCheck]:
                      corrected="B' cos θ + B φ' sin θ = 0",
                      note="θ' = 1/2 - φ' appears where φ' is needed; (55)-(59) are right and use "
                      "the corrected form (with the factor 1/2 when combining (54), (55))"),
-        FormulaCheck("(58)", "averaged phase equation", str(p58), str(e58), _zero(e58 - p58)),
-        FormulaCheck("(59)", "averaged amplitude equation", str(p59), str(e59),
-                     _zero(e59 - p59)),
-        FormulaCheck("section 6, case 2", "equilibrium 2φ = 0 (lower curve)",
-                     "δ - 1/4 - δB^2/8 + ε/2 - εB^2/12 = 0", f"{cases['case2']} = 0",
-                     _zero(cases["case2"] - printed_case2)),
+        FormulaCheck(equation="(58)",
+                     quantity="averaged phase equation",
+                     printed=str(p58),
+                     regenerated=str(e58),
+                     agrees=_zero(e58 - p58)),
+        FormulaCheck(equation="(59)",
+                     quantity="averaged amplitude equation",
+                     printed=str(p59),
+                     regenerated=str(e59),
+                     agrees=_zero(e59 - p59)),
+        FormulaCheck(equation="section 6, case 2", quantity="equilibrium 2φ = 0 (lower curve)",
+                     printed="δ - 1/4 - δB^2/8 + ε/2 - εB^2/12 = 0",
+                     regenerated=f"{cases['case2']} = 0",
+                     agrees=_zero(cases["case2"] - printed_case2)),
         FormulaCheck(equation="section 6, case 3",
                      quantity="equilibrium 2φ = π (upper curve)",
                      printed="δ - 1/4 - δB^2/8 - ε/2 + εB^2/12 = 0",

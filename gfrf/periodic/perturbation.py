@@ -33,6 +33,7 @@ from fractions import Fraction
 import numpy as np
 import sympy as sp
 
+from gfrf._results import Result
 from gfrf.errors import ArgumentError
 from gfrf.periodic.equation import parse_branch, sin_taylor_coefficients
 from gfrf.periodic.fourier import CosSeries, poly_divide, poly_eval
@@ -40,9 +41,13 @@ from gfrf.periodic.fourier import CosSeries, poly_divide, poly_eval
 __all__ = ["PerturbationSeries", "perturbation_series"]
 
 
-@dataclass
-class PerturbationSeries:
+@dataclass(frozen=True, kw_only=True, repr=False)
+class PerturbationSeries(Result):
     """Transition curve and periodic orbit of one branch as exact series in ``eps``.
+
+    ``to_dict`` gives ``delta_coeffs`` as ``delta_n``, exact polynomials in ``a`` as text,
+    and leaves out ``x_coeffs`` (the orbit's cosine series: exact rationals for
+    evaluation).
 
     Attributes
     ----------
@@ -66,6 +71,8 @@ class PerturbationSeries:
     truncation: int
     delta_coeffs: list[np.ndarray]
     x_coeffs: list[CosSeries]
+
+    _exclude = ("delta_coeffs", "x_coeffs")
 
     def paper_a(self, eps: float, amplitude: float) -> float:
         """Series parameter ``a`` for the orbit with ``x(0) = amplitude`` ("initial" only).
@@ -221,12 +228,10 @@ class PerturbationSeries:
         return sp.expand(sum(sp.Rational(c.numerator, c.denominator) * a**j
                              for j, c in enumerate(self.x_coeffs[n].harmonic(k))))
 
-    def to_dict(self) -> dict[str, object]:
-        """Plain-dict view: delta_n as strings of exact polynomials in a."""
+    def _computed(self) -> dict[str, object]:
+        """delta_n as strings of exact polynomials in a."""
         a = sp.Symbol("a")
-        return {"branch": self.branch, "order": self.order,
-                "normalization": self.normalization, "truncation": self.truncation,
-                "delta_n": [str(sp.expand(sum(sp.Rational(c.numerator, c.denominator) * a**j
+        return {"delta_n": [str(sp.expand(sum(sp.Rational(c.numerator, c.denominator) * a**j
                                                   for j, c in enumerate(d))))
                             for d in self.delta_coeffs]}
 
@@ -311,4 +316,5 @@ def perturbation_series(branch: str = "0", order: int = 2, normalization: str = 
             for i in range(n + 1):
                 term = term + pw[k - 1][i] * xs[n - i]
             pw[k].append(term.trimmed())
-    return PerturbationSeries(b, order, normalization, truncation, deltas, xs)
+    return PerturbationSeries(branch=b, order=order, normalization=normalization,
+                              truncation=truncation, delta_coeffs=deltas, x_coeffs=xs)

@@ -35,6 +35,7 @@ import numpy as np
 from scipy.integrate import ode, solve_ivp
 from scipy.optimize import brentq
 
+from gfrf._results import Result
 from gfrf.errors import ArgumentError, ConvergenceError
 from gfrf.periodic.equation import branch_period, nonlinearity, parse_branch
 from gfrf.periodic.floquet import mathieu_transition
@@ -52,9 +53,13 @@ __all__ = [
 _RTOL = 1e-12
 
 
-@dataclass
-class PeriodicOrbit:
+@dataclass(frozen=True, kw_only=True, repr=False)
+class PeriodicOrbit(Result):
     """A converged periodic orbit with ``x(0) = amplitude``, ``x'(0) = 0``.
+
+    ``to_dict`` adds the period, the full-period residual, the Floquet multipliers and
+    the method; ``series`` is left out as such and given as the method and its number of
+    Fourier ``modes``.
 
     Attributes
     ----------
@@ -81,6 +86,11 @@ class PeriodicOrbit:
     shooting_residual: float
     iterations: int
     series: FourierOrbit | None = None
+
+    _exclude = ("series",)
+    _order = ("eps", "delta", "amplitude", "branch", "truncation", "period",
+              "shooting_residual", "period_residual", "multipliers", "iterations", "method",
+              "modes")
 
     @property
     def period(self) -> float:
@@ -128,14 +138,10 @@ class PeriodicOrbit:
                         rtol=_RTOL, atol=_RTOL * 1e-2 * self.amplitude, t_eval=t)
         return sol.y[0]
 
-    def to_dict(self) -> dict[str, object]:
-        """Plain-dict view for JSON and reports."""
-        return {"eps": self.eps, "delta": self.delta, "amplitude": self.amplitude,
-                "branch": self.branch, "truncation": self.truncation, "period": self.period,
-                "shooting_residual": self.shooting_residual,
-                "period_residual": self.period_residual,
+    def _computed(self) -> dict[str, object]:
+        """The period, the full-period check, the method and its modes."""
+        return {"period": self.period, "period_residual": self.period_residual,
                 "multipliers": [complex(m) for m in self.multipliers],
-                "iterations": self.iterations,
                 "method": "shooting" if self.series is None else "fourier collocation",
                 "modes": None if self.series is None else self.series.modes}
 

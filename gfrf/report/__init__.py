@@ -33,6 +33,7 @@ from pathlib import Path
 from tqdm import tqdm
 
 from gfrf._atomic import atomic_write_text
+from gfrf._results import proof_word
 from gfrf.model.safetext import markdown_text
 from gfrf.report import model_page, paper_gfrf, thresholds
 from gfrf.report._format import header, table
@@ -87,8 +88,7 @@ def write_index(out_dir: Path, models: list[str], quick: bool) -> Path:
                      f"Theorem {v.theorem}",
                      v.verdict, v.radius,
                      "estimate (not a proof)" if not v.radius_certified
-                     or v.radius_proof == "none" else "proven lower bound"
-                     if v.radius_proof == "interval" else "certified (float) lower bound"])
+                     or v.radius_proof == "none" else f"{proof_word(v.radius_proof)} lower bound"])
     summary = ["Reports of gfrf: the GFRF paper reproduced, the periodic paper checked, and one "
                "verdict page per model.",
                f"{len(models)} model pages; the verdict is at input amplitude r = 1 and r* is "

@@ -15,10 +15,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
+from gfrf._results import Result
 from gfrf.identify import example as ex
 from gfrf.identify.data import read_csv
 from gfrf.identify.fit import Identification, identify, same_terms
@@ -36,8 +36,8 @@ __all__ = ["Comparison", "compare", "write", "PAGE"]
 PAGE = "identified-example.md"
 
 
-@dataclass(frozen=True)
-class Comparison:
+@dataclass(frozen=True, kw_only=True, repr=False)
+class Comparison(Result):
     """The identification example: both model files, a fresh fit, kernel errors, verdicts."""
 
     true: ModelFile
@@ -47,13 +47,6 @@ class Comparison:
     errors: dict[str, float]
     verdict_true: Verdict
     verdict_identified: Verdict
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready summary."""
-        return {"true": self.true.to_dict(), "identified": self.identified.to_dict(),
-                "fit": self.fit.to_dict(), "file_matches_fit": self.file_matches_fit,
-                "errors": dict(self.errors), "verdict_true": self.verdict_true.to_dict(),
-                "verdict_identified": self.verdict_identified.to_dict()}
 
 
 def compare(models_dir: str | Path = ex.MODELS_DIR, quick: bool = False) -> Comparison:

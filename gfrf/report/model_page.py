@@ -17,6 +17,7 @@ from pathlib import Path
 import sympy as sp
 
 from gfrf._atomic import atomic_write_text
+from gfrf._results import proof_word
 from gfrf.bounds.norms import linear_poles
 from gfrf.kernels.recursion import kernel
 from gfrf.model.safetext import markdown_text, plot_text
@@ -77,7 +78,7 @@ def summary_lines(a: ModelAnalysis) -> list[str]:
     """
     v = a.verdict
     if v.radius > 0 and v.radius_certified and v.radius_proof != "none":
-        level = "proven" if v.radius_proof == "interval" else "certified (float)"
+        level = proof_word(v.radius_proof)
         first = (f"Theorem {v.theorem}: stable (L2) for every input amplitude r < r* = "
                  f"**{num(v.radius)}** ({level} lower bound); verdict at r = 1: "
                  f"**{v.verdict}**.")

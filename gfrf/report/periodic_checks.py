@@ -39,9 +39,12 @@ UPPER_METHODS: tuple[tuple[str, str, int | None], ...] = (
 )
 
 
-@dataclass
-class ErrorGrid:
+@dataclass(frozen=True, kw_only=True, repr=False)
+class ErrorGrid(Result):
     """Errors of every method on a grid of ``eps`` and ``x(0)`` for one branch.
+
+    ``to_dict`` lists the rows, each comparison with its method ``label``; it leaves out
+    ``eps_values`` and ``amplitudes`` (each row holds its eps and amplitude).
 
     Attributes
     ----------
@@ -59,15 +62,17 @@ class ErrorGrid:
     rows: dict[tuple[str, float, float], PeriodicComparison]
     side: str = "lower"
 
+    _exclude = ("eps_values", "amplitudes")
+    _order = ("branch", "side", "rows")
+
     def labels(self) -> list[str]:
         """Method labels present in the grid, in table order."""
         return [lab for lab, _, _ in TABLE_METHODS + UPPER_METHODS
                 if any(k[0] == lab for k in self.rows)]
 
-    def to_dict(self) -> dict[str, object]:
-        """Plain-dict view."""
-        return {"branch": self.branch, "side": self.side,
-                "rows": [{"label": k[0], **v.to_dict()} for k, v in self.rows.items()]}
+    def _computed(self) -> dict[str, object]:
+        """The rows, each comparison with its method label."""
+        return {"rows": [{"label": k[0], **v.to_dict()} for k, v in self.rows.items()]}
 
 
 def error_grid(branch: str, eps_values: tuple[float, ...], amplitudes: tuple[float, ...],
@@ -97,7 +102,8 @@ def error_grid(branch: str, eps_values: tuple[float, ...], amplitudes: tuple[flo
         for e in eps_values:
             for a in amplitudes:
                 rows[(lab, e, a)] = compare_periodic(method, e, a, branch, order, side=side)
-    return ErrorGrid(branch, eps_values, amplitudes, rows, side)
+    return ErrorGrid(branch=branch, eps_values=eps_values, amplitudes=amplitudes, rows=rows,
+                     side=side)
 
 
 @dataclass(frozen=True)

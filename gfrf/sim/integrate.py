@@ -149,6 +149,9 @@ class OdeSystem:
 class SimulationResult:
     """Output of :func:`simulate`.
 
+    ``to_dict`` stays written out: it summarises the samples (final time and value, peak)
+    and adds them only on request (``arrays=True``).
+
     Attributes
     ----------
     t : numpy.ndarray

@@ -66,7 +66,7 @@ from typing import Any
 
 import numpy as np
 
-from gfrf._results import short_repr
+from gfrf._results import Result, short_repr
 from gfrf.errors import ArgumentError
 from gfrf.kernels.combinatorics import compositions
 from gfrf.kernels.recursion import check_order
@@ -94,9 +94,13 @@ Key = tuple[int, ...]
 Spectrum = dict[Key, np.ndarray]
 
 
-@dataclass(frozen=True)
-class OFRF:
+@dataclass(frozen=True, kw_only=True, repr=False)
+class OFRF(Result):
     """The OFRF of one parameter at one output frequency, and the NOFRFs there.
+
+    ``to_dict`` gives complex numbers as ``[re, im]``, adds the convention, the value at
+    the file's value, the NOFRFs (with ``input_spectrum``, which is left out as a field),
+    ``reached``, ``warning`` and the kind of number.
 
     Attributes
     ----------
@@ -148,6 +152,11 @@ class OFRF:
     radius_proof: str
     truncation_bound: float
     truncation_proof: str
+
+    _exclude = ("input_spectrum",)
+    _order = ("parameter", "value", "omega", "order", "tones", "convention", "coefficients",
+              "by_order", "at_value", "nofrf", "amplitude", "radius", "radius_proof",
+              "reached", "warning", "truncation_bound", "truncation_proof", "kind")
 
     def __call__(self, value: float) -> complex:
         """Complex amplitude of the output at W for the parameter ``value``."""
@@ -224,15 +233,13 @@ class OFRF:
 
         return ofrf_figure(self, values)
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready description (complex numbers as ``[re, im]``)."""
+    def _computed(self) -> dict[str, Any]:
+        """Complex numbers as ``[re, im]``, the value at the file's value, the NOFRFs."""
         def pair(z: complex) -> list[float]:
             return [float(z.real), float(z.imag)]
 
         at_value = self(self.value)
-        return {"parameter": self.parameter, "value": self.value, "omega": self.omega,
-                "order": self.order, "tones": [list(t) for t in self.tones],
-                "convention": "complex amplitude amplitude*exp(j*phase) of the output "
+        return {"convention": "complex amplitude amplitude*exp(j*phase) of the output "
                               "component amplitude*cos(omega*t + phase), as gfrf predict; "
                               "= sum coefficients[k]*value**k",
                 "coefficients": [pair(c) for c in self.coefficients],
@@ -242,11 +249,7 @@ class OFRF:
                 "nofrf": [{"order": n, "value": None if g is None else pair(g),
                            "input_spectrum": pair(self.input_spectrum.get(n, 0j))}
                           for n, g in self.nofrf().items()],
-                "amplitude": self.amplitude, "radius": self.radius,
-                "radius_proof": self.radius_proof, "reached": self.reached,
-                "warning": self.warning,
-                "truncation_bound": self.truncation_bound,
-                "truncation_proof": self.truncation_proof,
+                "reached": self.reached, "warning": self.warning,
                 "kind": "estimate (exact order-N truncation of the Volterra series in float "
                         "arithmetic; its truncation error at value is at most "
                         "truncation_bound)"}
@@ -450,10 +453,11 @@ def _evaluate(model: Model, polys: dict[tuple, np.ndarray],
     r_star, _, proof = series_radius(model)
     amplitude = float(sum(abs(a) for a, _, _ in tones))
     bound, bound_proof = series_tail(majorant(model), amplitude, order)
-    return OFRF(parameter, value, omega, order, tones,
-                tuple(complex(c) for c in _trim(total)),
-                {n: tuple(complex(c) for c in p) for n, p in per_order.items()},
-                u_spectrum, amplitude, r_star, proof, bound, bound_proof)
+    return OFRF(parameter=parameter, value=value, omega=omega, order=order, tones=tones,
+                coefficients=tuple(complex(c) for c in _trim(total)),
+                by_order={n: tuple(complex(c) for c in p) for n, p in per_order.items()},
+                input_spectrum=u_spectrum, amplitude=amplitude, radius=r_star,
+                radius_proof=proof, truncation_bound=bound, truncation_proof=bound_proof)
 
 
 def _trim(poly: np.ndarray) -> np.ndarray:

@@ -47,12 +47,13 @@ is of the order of the neglected cubic terms, i.e. relative error ~ angle^2.
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from typing import Any
 
 import control
 import numpy as np
 
+from gfrf._results import Result
 from gfrf.errors import ArgumentError
 from gfrf.kernels.recursion import kernel
 from gfrf.model.modelfile import ModelFile
@@ -70,8 +71,8 @@ __all__ = ["ESTIMATE_FACTORS", "Trial", "ValidationResult", "validate", "resonan
            "resonance_label", "random_input", "spectrum_size", "linear_vs_nonlinear"]
 
 
-@dataclass(frozen=True)
-class Trial:
+@dataclass(frozen=True, kw_only=True, repr=False)
+class Trial(Result):
     """One simulation of :func:`validate` (amplitudes in input units, times in s).
 
     Attributes
@@ -109,9 +110,10 @@ class Trial:
     equation: str = "polynomial"
 
 
-@dataclass
-class ValidationResult:
-    """The verdict of one model and its trials; ``to_dict`` feeds reports and the CLI.
+@dataclass(frozen=True, kw_only=True, repr=False)
+class ValidationResult(Result):
+    """The verdict of one model and its trials; ``to_dict`` feeds reports and the CLI
+    (it adds the ``contradictions`` after the trials).
 
     Attributes
     ----------
@@ -143,19 +145,17 @@ class ValidationResult:
     trials: list[Trial] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
 
+    _order = ("model", "verdict", "theorem", "radius", "radius_certified", "radius_estimate",
+              "resonance", "t_end", "trials", "contradictions")
+
     @property
     def contradictions(self) -> list[Trial]:
         """Trials with r < r* that did not stay bounded (a bug in the verdict or the code)."""
         return [t for t in self.trials if t.below_radius and not t.bounded]
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready description."""
-        return {"model": self.model, "verdict": self.verdict, "theorem": self.theorem,
-                "radius": self.radius, "radius_certified": self.radius_certified,
-                "radius_estimate": self.radius_estimate, "resonance": self.resonance,
-                "t_end": self.t_end, "trials": [asdict(t) for t in self.trials],
-                "contradictions": [asdict(t) for t in self.contradictions],
-                "notes": list(self.notes)}
+    def _computed(self) -> dict[str, Any]:
+        """The trials below r* that did not stay bounded."""
+        return {"contradictions": self.contradictions}
 
 
 def resonance(model: Any) -> float:

@@ -42,7 +42,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from gfrf._results import markdown_table, plain, short_repr
+from gfrf._results import Result, markdown_table, short_repr
 from gfrf.bounds.exact import format_roots, fractions, poles
 from gfrf.bounds.majorant import linear_polynomials
 from gfrf.bounds.rational import rational_sup
@@ -241,9 +241,15 @@ def characteristic(plant: tuple[np.ndarray, np.ndarray], ctrl: tuple[np.ndarray,
     return np.array([float(c) for c in characteristic_exact(plant, ctrl, feedback)])
 
 
-@dataclass(frozen=True)
-class ClosedLoop:
+@dataclass(frozen=True, kw_only=True, repr=False)
+class ClosedLoop(Result):
     """The linear closed loop of a plant and controller (angular frequency in rad/s).
+
+    ``to_dict`` adds the monic characteristic polynomial and gives every pole as a
+    complex number; it leaves out ``plant_poly`` and ``controller_poly`` (the
+    characteristic polynomial combines them), ``sensitivity_num`` (working data of the
+    sensitivity peak, which is in the dict) and ``characteristic_exact`` (exact rationals
+    of ``characteristic``, which is in the dict).
 
     Attributes
     ----------
@@ -303,6 +309,9 @@ class ClosedLoop:
     characteristic_exact: tuple[Fraction, ...] = field(default=())
     proof: str = "interval"
 
+    _exclude = ("plant_poly", "controller_poly", "sensitivity_num", "characteristic_exact")
+    _order = ("characteristic", "characteristic_monic")
+
     @property
     def plant(self) -> control.TransferFunction:
         """H1 of the plant."""
@@ -334,21 +343,11 @@ class ClosedLoop:
                 ("poles", ", ".join(f"{complex(p):.6g}" for p in self.poles))]
         return "**Closed loop (linear part)**\n\n" + markdown_table(("quantity", "value"), rows)
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary."""
+    def _computed(self) -> dict[str, Any]:
+        """The monic characteristic polynomial; the poles as complex numbers."""
         monic = self.characteristic / self.characteristic[0]
-        return {"characteristic": self.characteristic.tolist(),
-                "characteristic_monic": monic.tolist(),
-                "poles": plain([complex(p) for p in self.poles]), "stable": self.stable,
-                "sensitivity_peak": self.sensitivity_peak,
-                "sensitivity_peak_omega": self.sensitivity_peak_omega,
-                "controller_norm": self.controller_norm,
-                "controller_proper": self.controller_proper,
-                "plant_stable": self.plant_stable, "feedback": self.feedback,
-                "notes": list(self.notes), "outside": self.outside,
-                "sensitivity_peak_upper": self.sensitivity_peak_upper,
-                "controller_norm_upper": self.controller_norm_upper,
-                "proof": self.proof}
+        return {"characteristic_monic": monic.tolist(),
+                "poles": [complex(p) for p in self.poles]}
 
 
 def closed_loop(model_file: ModelFile, feedback: int | None = None,

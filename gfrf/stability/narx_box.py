@@ -568,11 +568,6 @@ def box_certificate(system: PolySystem) -> BoxResult | None:
     return BoxResult(radius=_below(U), bound=_above(bound), certificate=cert, work=work)
 
 
-def _better(best: tuple[dict[str, Any], Fraction] | None, cert: dict[str, Any],
-            U: Fraction) -> tuple[dict[str, Any], Fraction]:
-    return (cert, U) if best is None or U > best[1] else best
-
-
 def _below(x: Fraction) -> float:
     f = float(x)
     return f if Fraction(f) <= x else math.nextafter(f, -math.inf)

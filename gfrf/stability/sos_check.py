@@ -38,6 +38,7 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
+from gfrf._results import Result
 from gfrf.stability.polysys import (
     Poly,
     PolySystem,
@@ -378,9 +379,10 @@ def _check_global(system: PolySystem, cert: dict[str, Any], V: Poly, sigma: Poly
 MAX_FILE_BYTES = 2_000_000
 
 
-@dataclass(frozen=True, kw_only=True)
-class CertificateCheck:
-    """Result of :func:`check_certificate`.
+@dataclass(frozen=True, kw_only=True, repr=False)
+class CertificateCheck(Result):
+    """Result of :func:`check_certificate` (``to_dict`` adds ``proof``: ``"interval"``
+    when valid, else ``"none"``).
 
     Attributes
     ----------
@@ -411,11 +413,9 @@ class CertificateCheck:
     def _repr_markdown_(self) -> str:
         return f"**certificate {'holds' if self.valid else 'refused'}**: {self.text()}"
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary (radius ``"inf"`` for a global certificate)."""
-        return {"valid": self.valid, "reason": self.reason, "kind": self.kind,
-                "radius": "inf" if math.isinf(self.radius) else self.radius,
-                "property": self.property, "state_map": self.state_map,
+    def _computed(self) -> dict[str, Any]:
+        """The radius (``"inf"`` for a global certificate) and the proof level."""
+        return {"radius": "inf" if math.isinf(self.radius) else self.radius,
                 "proof": "interval" if self.valid else "none"}
 
     def text(self) -> str:

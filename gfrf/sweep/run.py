@@ -59,7 +59,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from gfrf._atomic import atomic_open, atomic_write_bytes
-from gfrf._results import short_repr
+from gfrf._results import Result, short_repr
 from gfrf.errors import ArgumentError, GfrfError
 from gfrf.sweep.schedulers import SCHEDULER_TIMEOUT, InlineExecutor, check_scheduler, executor
 
@@ -87,6 +87,16 @@ class Axis:
 
 def parse_axis(spec: str) -> Axis:
     """Parse ``NAME=START:STOP:N`` (N >= 1 equally spaced values, both ends included).
+
+    Parameters
+    ----------
+    spec : str
+        The ``--param`` text.
+
+    Returns
+    -------
+    Axis
+        The parameter's name and values.
 
     Raises
     ------
@@ -121,7 +131,18 @@ def parse_axis(spec: str) -> Axis:
 
 
 def grid(axes: Sequence[Axis]) -> list[dict[str, float]]:
-    """All points of the grid, the last axis varying fastest."""
+    """All points of the grid, the last axis varying fastest.
+
+    Parameters
+    ----------
+    axes : sequence of Axis
+        The swept parameters (at most :data:`MAX_GRID_POINTS` points, each name once).
+
+    Returns
+    -------
+    list of dict
+        ``{name: value}`` per point.
+    """
     names = [a.name for a in axes]
     size = math.prod(len(a.values) for a in axes)
     if size > MAX_GRID_POINTS:
@@ -160,7 +181,20 @@ def _linear_stable(v: Any) -> bool:
 
 
 def evaluate_point(task: _Task, point: Mapping[str, float]) -> dict[str, Any]:
-    """The row of one grid point (parameters first, then the results, then ``error``)."""
+    """The row of one grid point (parameters first, then the results, then ``error``).
+
+    Parameters
+    ----------
+    task : _Task
+        The sweep's model (template or text), what to compute and its settings.
+    point : mapping of str to float
+        The parameter values of the point.
+
+    Returns
+    -------
+    dict
+        The row.
+    """
     from gfrf.bounds.majorant import majorant
     from gfrf.bounds.norms import h1_norm
     from gfrf.model.template import rebuild
@@ -221,23 +255,37 @@ def _run_chunk(task: _Task, points: list[dict[str, float]]) -> list[dict[str, An
     return [evaluate_point(task, p) for p in points]
 
 
-@dataclass
-class SweepResult:
+@dataclass(frozen=True, kw_only=True, repr=False)
+class SweepResult(Result):
     """The table of a sweep: one row per grid point, in grid order.
+
+    ``to_dict`` gives the axes as ``{name: values}`` and adds the number of points and the
+    throughput.
 
     Attributes
     ----------
     axes : tuple of Axis
+        The swept parameters and their values.
     what : str
+        What each point computed (``verdict``, ``radius``, ``norm`` or ``bounded``).
     amplitude : float
+        The input amplitude of the verdicts.
     rows : list of dict
+        One row per grid point.
     columns : list of str
+        The table's columns.
     seconds : float
         Wall time of the evaluation (template excluded).
     template_seconds : float
         Time of the symbolic work (once per sweep).
     scheduler : str
+        Where the points ran.
+    notes : list of str
+        Points that failed and why, and how the model was rebuilt.
     """
+
+    _order = ("what", "amplitude", "scheduler", "axes", "points", "seconds",
+              "template_seconds", "points_per_second", "columns", "rows", "notes")
 
     axes: tuple[Axis, ...]
     what: str
@@ -264,6 +312,16 @@ class SweepResult:
 
         The file is replaced atomically: a write that fails midway leaves the previous
         file as it was.
+
+        Parameters
+        ----------
+        path : str or Path
+            The output file; its suffix chooses the format.
+
+        Returns
+        -------
+        Path
+            The file written.
         """
         p = Path(path)
         kind = check_output(p)
@@ -281,18 +339,24 @@ class SweepResult:
         atomic_write_bytes(p, buffer.getvalue().to_pybytes())
         return p
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready summary and table."""
-        return {"what": self.what, "amplitude": self.amplitude, "scheduler": self.scheduler,
-                "axes": {a.name: list(a.values) for a in self.axes},
-                "points": len(self.rows), "seconds": self.seconds,
-                "template_seconds": self.template_seconds,
-                "points_per_second": self.points_per_second, "columns": self.columns,
-                "rows": self.rows, "notes": self.notes}
+    def _computed(self) -> dict[str, Any]:
+        """The axes as ``{name: values}``, the number of points, the throughput."""
+        return {"axes": {a.name: list(a.values) for a in self.axes}, "points": len(self.rows),
+                "points_per_second": self.points_per_second}
 
 
 def check_output(path: str | Path) -> str:
     """The table format of ``path`` from its suffix, ``csv`` or ``parquet``.
+
+    Parameters
+    ----------
+    path : str or Path
+        The output file.
+
+    Returns
+    -------
+    str
+        ``"csv"`` or ``"parquet"``.
 
     Raises
     ------

@@ -43,6 +43,16 @@ def check_scheduler(scheduler: str) -> str:
 
     Accepted: ``local``, ``processes`` and ``tcp://HOST:PORT`` (or ``HOST:PORT``).
 
+    Parameters
+    ----------
+    scheduler : str
+        The ``--scheduler`` text.
+
+    Returns
+    -------
+    str
+        The scheduler, an address with its scheme.
+
     Raises
     ------
     ArgumentError

@@ -33,6 +33,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
+from gfrf._results import Result
 from gfrf.model.equation import Model
 from gfrf.twosided.lohner import LohnerSet, lohner_step
 
@@ -55,9 +56,10 @@ METHOD = ("interval Taylor enclosure in Arb ball arithmetic from rest (order 24,
           "a priori enclosure and Lagrange remainder; Lohner's QR step against wrapping)")
 
 
-@dataclass(frozen=True)
-class Enclosure:
-    """Result of :func:`enclose_witness`.
+@dataclass(frozen=True, kw_only=True, repr=False)
+class Enclosure(Result):
+    """Result of :func:`enclose_witness` (``to_dict`` names ``precision``
+    ``precision_bits``).
 
     Attributes
     ----------
@@ -74,7 +76,10 @@ class Enclosure:
     reason : str
         Why not proven, or what was proven.
     method : str
+        How the enclosure was computed.
     """
+
+    _keys = {"precision": "precision_bits"}
 
     proven: bool
     t_proven: float | None
@@ -83,12 +88,6 @@ class Enclosure:
     width: float
     reason: str
     method: str = METHOD
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON form."""
-        return {"proven": self.proven, "t_proven": self.t_proven, "steps": self.steps,
-                "precision_bits": self.precision, "width": self.width,
-                "reason": self.reason, "method": self.method}
 
 
 Monomials = list[tuple[Fraction, tuple[int, ...]]]

@@ -15,6 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+from gfrf._results import Result
 from gfrf.model.modelfile import ModelFile
 from gfrf.stability.energy import Certificate, energy_certificate
 from gfrf.stability.energy_local import local_energy_certificate
@@ -31,9 +32,11 @@ SOS_METHOD = "sum-of-squares storage function V (exact rational check)"
 _LINF_PROOFS = ("exact", "interval")
 
 
-@dataclass(frozen=True, kw_only=True)
-class LowerSide:
-    """The certificates of the lower side.
+@dataclass(frozen=True, kw_only=True, repr=False)
+class LowerSide(Result):
+    """The certificates of the lower side (``to_dict``: ``certificates`` and ``unstable``;
+    ``best`` is left out as one of the certificates, ``sos`` as the search object behind
+    the sos certificate, which is in ``certificates``).
 
     Attributes
     ----------
@@ -50,6 +53,8 @@ class LowerSide:
         verified certificate that has one, by method.
     """
 
+    _exclude = ("best", "sos")
+
     certificates: tuple[Certificate, ...]
     best: Certificate | None
     unstable: str | None = None
@@ -61,10 +66,6 @@ class LowerSide:
         """The file of the headline certificate (``best``), or None when it has none."""
         return None if self.best is None else self.files.get(self.best.method)
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready summary."""
-        return {"certificates": [c.to_dict() for c in self.certificates],
-                "unstable": self.unstable}
 
 
 def _unstable(mf: ModelFile, system: Any) -> str | None:

@@ -51,6 +51,10 @@ UPPER_METHOD = {
 class Threshold:
     """Result of :func:`threshold` (the ``--json`` of ``gfrf threshold``: :meth:`to_dict`).
 
+    ``to_dict`` stays written out: the contract is mostly derived values (the regions'
+    ends, the answer, the proof words), a summary of the falsification search and the
+    certificates with their proof levels mapped to the contract's, not the fields.
+
     Attributes
     ----------
     name : str

@@ -140,7 +140,7 @@ def test_refusals() -> None:
         branch_and_bound(load_model("models/narx_example.toml").plant, 6)
 
 
-# -- the tail bound on clustered poles (issue 16 item 2) -------------------------------
+# -- the tail bound on clustered poles ---------------------------------------------------
 CLUSTER_DEN = [1.0, 6e-06, 3.000000000012, 1.2000000000008e-05, 3.000000000012, 6e-06, 1.0]
 
 

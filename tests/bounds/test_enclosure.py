@@ -66,7 +66,7 @@ def test_fused_loops_match_the_numpy_arithmetic(text: str, n: int) -> None:
 
 @pytest.mark.slow
 def test_cartpole_h5_bracket_closes_to_1e3() -> None:
-    # issue 15 section 2: relative gap <= 1e-3 for ||H5|| of the cart-pole plant
+    # relative gap <= 1e-3 for ||H5|| of the cart-pole plant
     m = load_model("models/cartpole.toml").plant
     b = kernel_norm(m, 5, tol=1e-3, max_boxes=2_000_000)
     assert b.gap <= 1e-3

@@ -1,4 +1,4 @@
-"""Edge cases of the kernel-norm brackets found by a hostile audit (session 4).
+"""Edge cases of the kernel-norm brackets: hostile inputs.
 
 Overflowing coefficients, underflowing kernels, float proofs on clustered poles and the
 branch-and-bound started without a witness: each gets a sound bracket, no traceback.

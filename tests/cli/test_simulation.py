@@ -98,7 +98,7 @@ def test_predict_too_many_products_exit_2(capsys):
     assert "MAX_PRODUCTS" in capsys.readouterr().err
 
 
-def test_simulate_issue_repro_refused_at_once(capsys):
+def test_simulate_refuses_an_input_frequency_of_1e300_at_once(capsys):
     # sin(1e300*t) ran scipy's RK45 for many minutes
     import time
 

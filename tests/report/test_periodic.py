@@ -73,5 +73,6 @@ def test_delta_signs_counts_and_locates_negative_delta():
 def test_formula_table_marks_inherited_errors():
     from gfrf.periodic.formulas import FormulaCheck
 
-    row = FormulaCheck("(48)", "q", "p", "r", False, "c", "n", inherits="(47) second")
+    row = FormulaCheck(equation="(48)", quantity="q", printed="p", regenerated="r", agrees=False,
+                       corrected="c", note="n", inherits="(47) second")
     assert "| no (inherits (47) second) |" in _formula_table([row])

@@ -256,7 +256,7 @@ def test_narx_closed_loop_with_feedthrough_both_ways():
 
 
 def test_fast_auto_step_dissipative_duffing_stays_bounded():
-    # Issue 16 item 7: from t_end/256 = 7.8 s steps both step-doubling runs blew up in
+    # From t_end/256 = 7.8 s steps both step-doubling runs blew up in
     # their first step and were taken as agreeing: a false blow-up at t = 7.8 s.
     # Energy E = y'^2/2 + y^2/2 + y^4/8 decreases (damping 0.2), so |y| <= 1 for ever.
     from scipy.integrate import solve_ivp

@@ -264,8 +264,9 @@ def test_map_title_drops_the_file_value_of_a_swept_parameter() -> None:
     from gfrf.sweep.plot import map_title
     from gfrf.sweep.run import Axis, SweepResult
 
-    result = SweepResult((Axis("rho", (0.2, 1.0, 4.0)),), "verdict", 1.0, [], [], 0.0, 0.0,
-                         "local")
+    result = SweepResult(axes=(Axis("rho", (0.2, 1.0, 4.0)),), what="verdict", amplitude=1.0,
+                         rows=[], columns=[], seconds=0.0, template_seconds=0.0,
+                         scheduler="local")
     title = map_title(result, "Hanging pendulum, rho = 8 (damped variant), rho_1 = 1.29")
     assert "rho = 8" not in title and "0.8" not in title
     assert title == ("Hanging pendulum (damped variant), rho_1 = 1.29\n"
