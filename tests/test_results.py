@@ -28,7 +28,8 @@ DROPPED: dict[str, dict[str, str]] = {
     "gfrf.sim.integrate.SimulationResult": {
         "states": "the state trajectory: array data (y and u are summarised)"},
     "gfrf.twosided.threshold.Threshold": {
-        "sos": "the SOS search object behind the sos certificate, which is in the lower side"},
+        "sos": "the SOS search object behind the sos certificate, which is in the lower side",
+        "certificate_file": "the headline certificate's file, written by --certificate-out"},
 }
 
 

@@ -36,7 +36,8 @@ _LINF_PROOFS = ("exact", "interval")
 class LowerSide(Result):
     """The certificates of the lower side (``to_dict``: ``certificates`` and ``unstable``;
     ``best`` is left out as one of the certificates, ``sos`` as the search object behind
-    the sos certificate, which is in ``certificates``).
+    the sos certificate, which is in ``certificates``, and ``files`` as the re-checkable
+    files that ``--certificate-out`` writes).
 
     Attributes
     ----------
@@ -53,7 +54,7 @@ class LowerSide(Result):
         verified certificate that has one, by method.
     """
 
-    _exclude = ("best", "sos")
+    _exclude = ("best", "sos", "files")
 
     certificates: tuple[Certificate, ...]
     best: Certificate | None
