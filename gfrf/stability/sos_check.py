@@ -193,6 +193,12 @@ def is_psd(Q: list[list[Fraction]]) -> bool:
     return all((-1) ** (n - k) * c >= 0 for k, c in enumerate(coeffs))
 
 
+def _short(x: Fraction) -> str:
+    """The text of a rational, cut to its first digits when long (one readable line)."""
+    text = str(x)
+    return text if len(text) <= 60 else f"{text[:30]}... ({len(text)} characters)"
+
+
 def _check_psd_work(Q: list[list[Fraction]]) -> None:
     """Raise ValueError when the exact PSD test of Q would exceed :data:`MAX_PSD_WORK`
     (the common denominator is built incrementally and abandoned once too long)."""
@@ -365,7 +371,7 @@ def _check(system: PolySystem, cert: dict[str, Any]) -> str:
     diff = padd(target, pscale(sigma, Fraction(-1)))
     if diff:
         k = sorted(diff)[0]
-        return f"the identity fails at the monomial {list(k)} (difference {diff[k]})"
+        return f"the identity fails at the monomial {list(k)} (difference {_short(diff[k])})"
     return ""
 
 
@@ -398,7 +404,7 @@ def _check_global(system: PolySystem, cert: dict[str, Any], V: Poly, sigma: Poly
     C = -diff.pop(zero, Fraction(0))  # target + C = sigma: C is free, sigma(0) >= 0
     if diff:
         k = sorted(diff)[0]
-        return f"the identity fails at the monomial {list(k)} (difference {diff[k]})"
+        return f"the identity fails at the monomial {list(k)} (difference {_short(diff[k])})"
     if C < 0:
         return "the constant C is negative"
     return ""

@@ -75,3 +75,20 @@ def test_local_certificate_with_a_huge_lambda_is_refused_by_a_count(
                             "sigma_V": {"basis": basis, "Q": [["1"] * 120] * 120}}}
     payload = _check(FOURTH_ORDER, cert, tmp_path, capsys)
     assert payload["valid"] is False and "MAX_PRODUCT_WORK" in payload["reason"]
+
+
+def test_refusal_of_a_long_rational_stays_one_short_line(
+        tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    """A lambda coefficient of 3,990 digits makes the failing identity's difference a
+    number of thousands of digits: the refusal names the monomial and cuts the number."""
+    cert = {"format": "gfrf-sos-certificate", "kind": "local-continuous",
+            "states": ["y", "D(y,1)"], "V": [[[2, 0, 0], "1"], [[0, 2, 0], "1"]],
+            "c": "1", "U": "1/100", "epsilon": "1/100",
+            "multipliers": {"sigma": {"basis": [[0, 0, 0]], "Q": [["1"]]},
+                            "mu": {"basis": [[0, 0, 0]], "Q": [["1"]]},
+                            "lambda": [[[0, 0, 0], "1/" + "9" * 3990]]}}
+    path = tmp_path / "cert.json"
+    path.write_text(json.dumps(cert))
+    assert main(["certificate", "check", CUBIC_DAMPING, str(path)]) == 1
+    out = capsys.readouterr().out
+    assert len(out.splitlines()) == 1 and "identity fails" in out and len(out) < 300
