@@ -62,6 +62,13 @@ MAX_RATIONAL_CHARS = 4000
 #: Most products of terms in one polynomial product of the global check (a certificate
 #: written by gfrf needs a few thousand: V of degree 4, G linear).
 MAX_PRODUCT_WORK = 1_000_000
+#: Largest n^3 * b of one exact PSD test (n the Gram size, b the bits of the entries of the
+#: matrix scaled to integers by their common denominator): the characteristic polynomial's
+#: cost grows with it (measured: at most about 4 s CPU; gfrf's own certificates need
+#: below 1e7).
+MAX_PSD_WORK = 400_000_000
+#: Largest b of one exact PSD test (gfrf's own certificates need below 200 bits).
+MAX_PSD_BITS = 10_000
 
 
 class CheckResult(str):
@@ -180,10 +187,35 @@ def is_psd(Q: list[list[Fraction]]) -> bool:
         return False
     if n == 0:
         return True
+    _check_psd_work(Q)
     scaled, _ = fmpq_mat(n, n, [fmpq(x.numerator, x.denominator) for row in Q
                                 for x in row]).numer_denom()
     coeffs = scaled.charpoly().coeffs()
     return all((-1) ** (n - k) * c >= 0 for k, c in enumerate(coeffs))
+
+
+def _short(x: Fraction) -> str:
+    """The text of a rational, cut to its first digits when long (one readable line)."""
+    text = str(x)
+    return text if len(text) <= 60 else f"{text[:30]}... ({len(text)} characters)"
+
+
+def _check_psd_work(Q: list[list[Fraction]]) -> None:
+    """Raise ValueError when the exact PSD test of Q would exceed :data:`MAX_PSD_WORK`
+    (the common denominator is built incrementally and abandoned once too long)."""
+    n = len(Q)
+    limit = min(MAX_PSD_BITS, MAX_PSD_WORK // n**3)
+    top = max(max(abs(x.numerator).bit_length() - x.denominator.bit_length() + 1, 0)
+              for row in Q for x in row)
+    den = 1
+    for row in Q:
+        for x in row:
+            den = math.lcm(den, x.denominator)
+            if den.bit_length() + top > limit:
+                raise ValueError(f"a {n} x {n} Gram matrix whose entries need more than "
+                                 f"{limit} bits over a common denominator: its exact PSD "
+                                 f"test is above MAX_PSD_BITS = {MAX_PSD_BITS} or "
+                                 f"MAX_PSD_WORK = {MAX_PSD_WORK} (n^3 * bits)")
 
 
 def vdot(V: Poly, system: PolySystem) -> Poly:
@@ -311,6 +343,10 @@ def _check(system: PolySystem, cert: dict[str, Any]) -> str:
         if not eps > 0:
             return "epsilon must be positive"
         lam = poly_from(m["lambda"], nv)
+        work = len(V) * sum(len(p) for p in system.f) + len(lam) * (len(V) + 1)
+        if work > MAX_PRODUCT_WORK:
+            return (f"V has {len(V)} terms and lambda {len(lam)}: grad V . f and lambda (V - c) "
+                    f"are {work} products of terms, above MAX_PRODUCT_WORK = {MAX_PRODUCT_WORK}")
         target = padd(pscale(vdot(V, system), Fraction(-1)), pscale(_norm2(n, nv), -eps),
                       pmul(lam, padd(V, {(0,) * nv: -c})), pscale(pmul(mu, box), Fraction(-1)))
     else:
@@ -336,7 +372,7 @@ def _check(system: PolySystem, cert: dict[str, Any]) -> str:
     diff = padd(target, pscale(sigma, Fraction(-1)))
     if diff:
         k = sorted(diff)[0]
-        return f"the identity fails at the monomial {list(k)} (difference {diff[k]})"
+        return f"the identity fails at the monomial {list(k)} (difference {_short(diff[k])})"
     return ""
 
 
@@ -369,7 +405,7 @@ def _check_global(system: PolySystem, cert: dict[str, Any], V: Poly, sigma: Poly
     C = -diff.pop(zero, Fraction(0))  # target + C = sigma: C is free, sigma(0) >= 0
     if diff:
         k = sorted(diff)[0]
-        return f"the identity fails at the monomial {list(k)} (difference {diff[k]})"
+        return f"the identity fails at the monomial {list(k)} (difference {_short(diff[k])})"
     if C < 0:
         return "the constant C is negative"
     return ""
