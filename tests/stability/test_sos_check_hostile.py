@@ -18,13 +18,20 @@ CUBIC_DAMPING = "D(y,2) + 0.2*D(y) + y - 0.3*D(y)**3 = u"
 FOURTH_ORDER = "D(y,4) + 2*D(y,3) + 3*D(y,2) + 2*D(y) + y + 0.1*y**3 = u"
 
 
-def _check(model: str, cert: dict, tmp_path: Path, capsys: pytest.CaptureFixture) -> dict:
+def _check(model: str, cert: dict, tmp_path: Path, capsys: pytest.CaptureFixture,
+           code: int = 1) -> dict:
+    """Check ``cert`` for ``model``: exit ``code`` within 5 s of CPU; the JSON (exit 1) or
+    the one error line (exit 2: a malformed file, named on standard error)."""
     path = tmp_path / "cert.json"
     path.write_text(json.dumps(cert))
     t0 = time.process_time()
-    assert main(["certificate", "check", model, str(path), "--json"]) == 1
+    assert main(["certificate", "check", model, str(path), "--json"]) == code
     assert time.process_time() - t0 < 5.0
-    return json.loads(capsys.readouterr().out)
+    captured = capsys.readouterr()
+    if code == 2:
+        assert captured.out == "" and captured.err.count("\n") == 1
+        return {"valid": False, "reason": captured.err}
+    return json.loads(captured.out)
 
 
 def test_gram_matrix_with_long_common_denominator_is_refused_by_its_size(
@@ -45,7 +52,7 @@ def test_gram_matrix_with_long_common_denominator_is_refused_by_its_size(
             "c": "1", "U": "1/100", "epsilon": "1/100",
             "multipliers": {"sigma": {"basis": basis, "Q": Q},
                             "mu": {"basis": [[0, 0, 0]], "Q": [["1"]]}, "lambda": []}}
-    payload = _check(CUBIC_DAMPING, cert, tmp_path, capsys)
+    payload = _check(CUBIC_DAMPING, cert, tmp_path, capsys, code=2)
     assert payload["valid"] is False and "MAX_PSD" in payload["reason"]
 
 
