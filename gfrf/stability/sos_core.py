@@ -105,12 +105,12 @@ class _Program:
             r = self._row(k)
             self.const[r] = self.const.get(r, 0.0) + sign * float(c)
 
-    def solve(self, skip: tuple[int, ...] | None = None) -> bool:
+    def residual(self) -> tuple[Any, np.ndarray]:
+        """The identity's coefficients as a cvxpy expression (one row per monomial) and
+        its constant part: the identity holds where ``expr + b == 0``."""
         import scipy.sparse as sps
 
-        cp = self.cp
         rows = len(self.index)
-        drop = self.index.get(skip) if skip is not None else None
         expr: Any = 0
         for entries, var in self.parts:
             keys = list(entries)
@@ -121,7 +121,13 @@ class _Program:
         b = np.zeros(rows)
         for r, c in self.const.items():
             b[r] = c
-        keep = np.array([r for r in range(rows) if r != drop])
+        return expr, b
+
+    def solve(self, skip: tuple[int, ...] | None = None) -> bool:
+        cp = self.cp
+        drop = self.index.get(skip) if skip is not None else None
+        expr, b = self.residual()
+        keep = np.array([r for r in range(len(self.index)) if r != drop])
         prob = cp.Problem(cp.Minimize(0), [expr[keep] + b[keep] == 0, *self.constraints])
         try:
             prob.solve(solver="CLARABEL")

@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
-from typing import Any
 
 import numpy as np
 
@@ -137,22 +136,11 @@ def global_certificate(system: PolySystem) -> tuple[SosResult | None, int]:
 
 def _solve_joint(p1: _Program, p2: _Program) -> bool:
     """Solve two coefficient-matching programs sharing variables together."""
-    import scipy.sparse as sps
 
     cp = p1.cp
     cons = []
     for prog in (p1, p2):
-        rows = len(prog.index)
-        expr: Any = 0
-        for entries, var in prog.parts:
-            keys = list(entries)
-            M = sps.csr_matrix(([entries[k] for k in keys], ([k[0] for k in keys],
-                                                            [k[1] for k in keys])),
-                               shape=(rows, var.size))
-            expr = expr + M @ var
-        bvec = np.zeros(rows)
-        for r, c in prog.const.items():
-            bvec[r] = c
+        expr, bvec = prog.residual()
         cons.append(expr + bvec == 0)
     prob = cp.Problem(cp.Minimize(0), cons)
     try:

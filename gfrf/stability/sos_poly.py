@@ -90,22 +90,11 @@ class _Shape:
 
 def _solve(progs: list[_Program], objective: Any = None) -> bool:
     """Solve coefficient-matching programs sharing variables (maximise ``objective``)."""
-    import scipy.sparse as sps
 
     cp = progs[0].cp
     cons = []
     for prog in progs:
-        rows = len(prog.index)
-        expr: Any = 0
-        for entries, var in prog.parts:
-            keys = list(entries)
-            M = sps.csr_matrix(([entries[k] for k in keys], ([k[0] for k in keys],
-                                                            [k[1] for k in keys])),
-                               shape=(rows, var.size))
-            expr = expr + M @ var
-        b = np.zeros(rows)
-        for r, c in prog.const.items():
-            b[r] = c
+        expr, b = prog.residual()
         cons.append(expr + b == 0)
         cons.extend(prog.constraints)
     goal = cp.Maximize(objective) if objective is not None else cp.Minimize(0)
