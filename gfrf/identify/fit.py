@@ -21,7 +21,7 @@ import itertools
 import math
 import warnings
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -46,6 +46,7 @@ from gfrf.identify.output_error import output_error_covariance, recurse, refine,
 from gfrf.identify.prune import Pruning, covariance, prune_and_refit
 from gfrf.identify.result import Identification
 from gfrf.identify.spread import DRAWS, RadiusSpread, radius, radius_spread
+from gfrf.identify.structure import revise_lags
 from gfrf.identify.threads import one_blas_thread
 from gfrf.identify.validate import (
     FREE_RUN_LIMIT,
@@ -214,8 +215,6 @@ OFFSET_FRACTION = 0.05
 ROUNDING_FLOOR = 1e-9
 #: Structures compared when lags and degree are not given: (lag, degree), ylag = ulag.
 STRUCTURES = tuple((lag, degree) for degree in (1, 2, 3) for lag in (1, 2, 3))
-#: Other lags tried, in the criterion's order, when the chosen structure fails validation.
-STRUCTURE_RETRIES = 2
 
 
 def _candidate_keys(ylag: int, ulag: int, degree: int) -> list[Key]:
@@ -363,10 +362,9 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
     ylag, ulag, degree : int or None
         Largest output lag, largest input lag, polynomial degree; those None are chosen
         among :data:`STRUCTURES` (lag 1 to 3, ``ylag = ulag``, degree 1 to 3) by the
-        smallest ``criterion``, the others held fixed; when lags chosen so fail
-        validation, at most :data:`STRUCTURE_RETRIES` other lags are tried (in the
-        criterion's order, with the largest degree compared) and the first adequate
-        model is kept, said in a note.
+        smallest ``criterion``, the others held fixed; lags chosen so are checked on
+        the held-out data (:func:`gfrf.identify.structure.revise_lags`: other lags
+        when they fail validation, fewer when an output-error model needs fewer).
     criterion : {"bic", "aic", "aicc", "fpe", "lilc"}
         Information criterion for the number of terms (sysidentpy's names).
     max_terms : int
@@ -402,23 +400,10 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
                "radius_draws": radius_draws}
     with one_blas_thread():
         first = _identify(y, u, sample_time, ylag=ylag, ulag=ulag, degree=degree, **options)
-        if first.validation.adequate or ulag is not None or ylag is not None:
+        if ulag is not None or ylag is not None:
             return first
-        # with output noise a one-step criterion prefers lags that predict the noise; when
-        # they fail validation, the next lags in the criterion's order, richest degree
-        table = sorted(first.structure, key=lambda r: r[criterion])
-        top = max(r["degree"] for r in table)
-        lags = [r["ylag"] for r in table if r["ylag"] != first.settings["ylag"]]
-        for lag in list(dict.fromkeys(lags))[:STRUCTURE_RETRIES]:
-            retry = _identify(y, u, sample_time, ylag=lag, ulag=lag, degree=top, **options)
-            if retry.validation.adequate:
-                rows = tuple({**r, "chosen": (r["ylag"], r["degree"]) == (lag, top)}
-                             for r in first.structure)
-                note = (f"the criterion's structure (--ylag {first.settings['ylag']} --ulag "
-                        f"{first.settings['ulag']} --degree {first.settings['degree']}) "
-                        f"failed validation: --ylag {lag} --ulag {lag} --degree {top} passed")
-                return replace(retry, structure=rows, notes=(*retry.notes, note))
-        return first
+        return revise_lags(first, lambda lag, top: _identify(
+            y, u, sample_time, ylag=lag, ulag=lag, degree=top, **options), criterion)
 
 
 def _identify(y: Any, u: Any, sample_time: float, *, ylag: int | None,
