@@ -64,10 +64,10 @@ def revise_lags(first: Identification, run: Callable[[int, int], Identification]
     said = (f"the criterion's structure (--ylag {lag} --ulag {first.settings['ulag']} "
             f"--degree {first.settings['degree']})")
     if adequate(first):
-        smaller = [lag - 1] if first.noise_model == "output error" and lag > 1 else []
+        others = [lag - 1] if first.noise_model == "output error" and lag > 1 else []
     else:
-        smaller = list(dict.fromkeys(r["ylag"] for r in table if r["ylag"] != lag))
-    for other in smaller[:RETRIES]:
+        others = list(dict.fromkeys(r["ylag"] for r in table if r["ylag"] != lag))
+    for other in others[:RETRIES]:
         retry = run(other, top)
         if not adequate(retry):
             continue
