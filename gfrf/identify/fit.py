@@ -46,6 +46,7 @@ from gfrf.identify.output_error import output_error_covariance, recurse, refine,
 from gfrf.identify.prune import Pruning, covariance, prune_and_refit
 from gfrf.identify.result import Identification
 from gfrf.identify.spread import DRAWS, RadiusSpread, radius, radius_spread
+from gfrf.identify.structure import revise_lags
 from gfrf.identify.threads import one_blas_thread
 from gfrf.identify.validate import (
     FREE_RUN_LIMIT,
@@ -361,7 +362,9 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
     ylag, ulag, degree : int or None
         Largest output lag, largest input lag, polynomial degree; those None are chosen
         among :data:`STRUCTURES` (lag 1 to 3, ``ylag = ulag``, degree 1 to 3) by the
-        smallest ``criterion``, the others held fixed.
+        smallest ``criterion``, the others held fixed; lags chosen so are checked on
+        the held-out data (:func:`gfrf.identify.structure.revise_lags`: other lags
+        when they fail validation, fewer when an output-error model needs fewer).
     criterion : {"bic", "aic", "aicc", "fpe", "lilc"}
         Information criterion for the number of terms (sysidentpy's names).
     max_terms : int
@@ -392,11 +395,15 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
     GfrfError
         sysidentpy is not installed (the message says how to install it).
     """
+    options = {"criterion": criterion, "max_terms": max_terms, "holdout": holdout,
+               "output": output, "input": input, "noise": noise, "prune": prune,
+               "radius_draws": radius_draws}
     with one_blas_thread():
-        return _identify(y, u, sample_time, ylag=ylag, ulag=ulag, degree=degree,
-                         criterion=criterion, max_terms=max_terms, holdout=holdout,
-                         output=output, input=input, noise=noise, prune=prune,
-                         radius_draws=radius_draws)
+        first = _identify(y, u, sample_time, ylag=ylag, ulag=ulag, degree=degree, **options)
+        if ulag is not None or ylag is not None:
+            return first
+        return revise_lags(first, lambda lag, top: _identify(
+            y, u, sample_time, ylag=lag, ulag=lag, degree=top, **options), criterion)
 
 
 def _identify(y: Any, u: Any, sample_time: float, *, ylag: int | None,

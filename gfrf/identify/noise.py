@@ -117,6 +117,7 @@ def extended_least_squares(keys: list[Key], y: np.ndarray, u: np.ndarray, lag: i
     psi = regressors(keys, y, u, lag)
     target = y[lag:]
     q, r = np.linalg.qr(psi)
+    q = np.asfortranarray(q)  # q.T @ extra in every iteration: contiguous columns
     qt = q.T @ target
     theta = _triangular(r, qt) if _well_conditioned(r) else \
         np.linalg.lstsq(psi, target, rcond=None)[0]
@@ -169,14 +170,16 @@ def _augmented_least_squares(psi: np.ndarray, q: np.ndarray, r: np.ndarray, qt: 
     """
     c = q.T @ extra
     rest = extra - q @ c
-    if np.any(np.sum(rest**2, axis=0) < 0.5 * np.sum(extra**2, axis=0)):
+    if np.any(np.einsum("ij,ij->j", rest, rest) < 0.5 * np.einsum("ij,ij->j", extra, extra)):
         c2 = q.T @ rest  # much cancelled: once more (Kahan's criterion)
         rest -= q @ c2
         c += c2
-    q2, r22 = np.linalg.qr(rest)
+    # the triangular factor of [rest, target]: r22 and q2.T @ target without forming q2
+    k = rest.shape[1]
+    r2 = np.linalg.qr(np.column_stack([rest, target]), mode="r")
     top = np.hstack([r, c])
-    bottom = np.hstack([np.zeros((r22.shape[0], r.shape[1])), r22])
+    bottom = np.hstack([np.zeros((k, r.shape[1])), r2[:k, :k]])
     whole = np.vstack([top, bottom])
     if not _well_conditioned(whole):
         return np.asarray(np.linalg.lstsq(np.hstack([psi, extra]), target, rcond=None)[0])
-    return _triangular(whole, np.r_[qt, q2.T @ target])
+    return _triangular(whole, np.r_[qt, r2[:k, k]])
