@@ -297,6 +297,7 @@ def test_every_output_file_is_written_through_a_temporary_path() -> None:
     allowed = {
         "gfrf/_atomic.py",  # the helper itself
         "gfrf/bench/identify.py",  # benchmark input data in a temporary folder
+        "gfrf/bench/cold.py",  # the CSV-reading benchmark's data in a temporary folder
         "gfrf/_cache.py",  # numba cache anchors: mkstemp file + rename
         "gfrf/model/modelfile.py",  # fdopen of a model file for reading ("rb")
     }
