@@ -176,7 +176,7 @@ def _augmented_least_squares(psi: np.ndarray, q: np.ndarray, r: np.ndarray, qt: 
         c += c2
     # the triangular factor of [rest, target]: r22 and q2.T @ target without forming q2
     k = rest.shape[1]
-    r2 = np.linalg.qr(np.column_stack([rest, target]), mode="r")
+    r2 = np.asarray(np.linalg.qr(np.column_stack([rest, target]), mode="r"))  # R alone
     top = np.hstack([r, c])
     bottom = np.hstack([np.zeros((k, r.shape[1])), r2[:k, :k]])
     whole = np.vstack([top, bottom])
