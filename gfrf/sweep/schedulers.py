@@ -177,6 +177,7 @@ def _abandon_start() -> None:
     atexit.unregister(spec.close_clusters)
     _silence_dask()  # the start goes on in its thread: its log lines are not ours
     _kill_children()
+    atexit.register(_kill_children)  # and a worker it spawns meanwhile dies at exit
 
 
 def _silence_dask() -> None:
