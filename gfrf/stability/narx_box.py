@@ -365,6 +365,23 @@ def check_box(system: PolySystem, cert: dict[str, Any]) -> str:
         return "the certificate has the wrong size"
     if any(s < 1 for s in splits) or math.prod(splits) > MAX_CELLS:
         return f"the subdivision is empty or above MAX_CELLS = {MAX_CELLS}"
+    why = coordinates_error(T, X, n)
+    if why:
+        return why
+    if any(not lo[i] <= 0 <= hi[i] for i in range(n)):
+        return "the box does not hold the rest state"
+    image = _enclosure_exact(box_map(system, T, X), lo + [-U], hi + [U], splits)
+    for i, (a, b) in enumerate(image):
+        if _frac(a) < lo[i] or _frac(b) > hi[i]:
+            return f"the image of the box leaves it in coordinate s_{i}"
+    return ""
+
+
+def coordinates_error(T: list[Poly], X: list[Poly], n: int) -> str:
+    """Why the certificate coordinates s = T(x), x = X(s) of an ``n``-state form are not
+    usable (``""`` when they are): they depend on the input, X does not invert T exactly,
+    or T does not map rest to 0."""
+    nv = n + 1
     if any(k[n] for p in T + X for k in p):
         return "the coordinates must not depend on the input v"
     v = _var(n, nv)
@@ -372,12 +389,6 @@ def check_box(system: PolySystem, cert: dict[str, Any]) -> str:
         return "X is not the inverse of the coordinates T"
     if any((0,) * nv in p for p in T):
         return "the coordinates do not map rest to 0"
-    if any(not lo[i] <= 0 <= hi[i] for i in range(n)):
-        return "the box does not hold the rest state"
-    image = _enclosure_exact(box_map(system, T, X), lo + [-U], hi + [U], splits)
-    for i, (a, b) in enumerate(image):
-        if _frac(a) < lo[i] or _frac(b) > hi[i]:
-            return f"the image of the box leaves it in coordinate s_{i}"
     return ""
 
 

@@ -29,13 +29,15 @@ from gfrf.stability.narx_box import (
     _above,
     _below,
     _candidates,
+    _frac,
     _outward,
     _poly_from,
     _poly_to,
     box_map,
+    coordinates_error,
     recursion,
 )
-from gfrf.stability.polysys import Poly, PolySystem, pcompose
+from gfrf.stability.polysys import Poly, PolySystem
 
 __all__ = ["PavingResult", "paving_certificate", "check_paving", "FORMAT",
            "GRID", "PIECES", "BISECTIONS", "MAX_OUTPUT_LAGS"]
@@ -212,14 +214,9 @@ def check_paving(system: PolySystem, cert: dict[str, Any]) -> str:
             or any(not 1 <= p <= PIECES for p in pieces) or np.prod(pieces) > _PIECE_BUDGET \
             or any(len(c) != ny or min(c) < 0 or max(c) >= N for c in S) or not S:
         return "the grid, the pieces or the cells are out of range"
-    v = {tuple(int(j == n) for j in range(nv)): Fraction(1)}
-    if any(k[n] for p in T + X for k in p):
-        return "the coordinates must not depend on the input v"
-    if any(pcompose(X[i], T + [v], nv) != {tuple(int(j == i) for j in range(nv)): Fraction(1)}
-           for i in range(n)):
-        return "X is not the inverse of the coordinates T"
-    if any((0,) * nv in p for p in T):
-        return "the coordinates do not map rest to 0"
+    why = coordinates_error(T, X, n)
+    if why:
+        return why
     h = [2 * r / N for r in R]
     if not any(all(-R[d] + c[d] * h[d] <= 0 <= -R[d] + (c[d] + 1) * h[d] for d in range(ny))
                for c in S):
@@ -230,7 +227,7 @@ def check_paving(system: PolySystem, cert: dict[str, Any]) -> str:
 
     whole = _enclosure_exact(g[ny:], [-r for r in R] + [-U] * (nv - ny), R + [U] * (nv - ny),
                              [1] * ny + pieces[ny:])
-    if any(_fr(a) < -U or _fr(b) > U for a, b in whole):
+    if any(_frac(a) < -U or _frac(b) > U for a, b in whole):
         return "the lagged inputs leave [-U, U]"
     q = [fmpq(x.numerator, x.denominator) for x in (*R, U)]
     Rq, Uq = q[:ny], q[ny]
@@ -292,10 +289,6 @@ def _pow(a: Any, b: Any, e: int) -> tuple[Any, Any]:
     if b <= 0:
         return b**e, a**e
     return 0 * a, max(a**e, b**e)
-
-
-def _fr(x: Any) -> Fraction:
-    return Fraction(int(x.p), int(x.q))
 
 
 def _extent(g: list[Poly], n: int, U: float) -> np.ndarray:
@@ -424,5 +417,5 @@ def _y_bound(system: PolySystem, X: list[Poly], R: list[Fraction], h: list[Fract
         lo = [-R[d] + cell[d] * h[d] for d in range(ny)] + [-U] * (nv - ny)
         hi = [-R[d] + (cell[d] + 1) * h[d] for d in range(ny)] + [U] * (nv - ny)
         for a, b in _enclosure_exact(X[:ny], lo, hi, [1] * nv):
-            top = max(top, abs(_fr(a)), abs(_fr(b)))
+            top = max(top, abs(_frac(a)), abs(_frac(b)))
     return top
