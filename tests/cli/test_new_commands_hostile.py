@@ -16,6 +16,7 @@ from fractions import Fraction
 from pathlib import Path
 
 import pytest
+from costly_certificates import padded_square
 
 from gfrf.cli import main
 from gfrf.stability.sos_check import is_psd
@@ -170,20 +171,9 @@ def test_certificate_check_refuses_a_costly_global_certificate_quickly(
     """A global certificate whose V = |x|^2 + (sum of 120 monomials)^2 is a true SOS
     identity for sigma_V, but makes G^2 tens of millions of products (it ran for minutes):
     it is refused by a count, before the product."""
-    import itertools
 
     model = "D(y,4) + 2*D(y,3) + 3*D(y,2) + 2*D(y) + y + 0.1*y**3 = u"
-    rng = random.Random(0)
-    monomials = [[*m, 0] for m in itertools.product(range(7), repeat=4) if sum(m)]
-    basis = rng.sample(monomials, 120)
-    V: dict[tuple[int, ...], int] = {}
-    for a in basis:
-        for b in basis:
-            k = tuple(x + y for x, y in zip(a, b, strict=True))
-            V[k] = V.get(k, 0) + 1
-    for i in range(4):
-        k = (*(2 * int(j == i) for j in range(4)), 0)
-        V[k] = V.get(k, 0) + 1
+    V, basis = padded_square()
     cert = {"format": "gfrf-sos-certificate", "kind": "global-continuous",
             "states": ["y", "D(y,1)", "D(y,2)", "D(y,3)"],
             "V": [[list(k), str(c)] for k, c in V.items()], "gamma": "1", "alpha": "1",

@@ -11,6 +11,7 @@ import time
 from pathlib import Path
 
 import pytest
+from costly_certificates import padded_square
 
 from gfrf.cli import main
 
@@ -61,17 +62,7 @@ def test_local_certificate_with_a_huge_lambda_is_refused_by_a_count(
     """V = |x|^2 + (sum of 120 monomials)^2 passes the radial check (a true SOS identity
     for sigma_V) with thousands of terms; a lambda of 400 terms makes lambda (V - c)
     millions of exact products (20,000 terms ran for minutes)."""
-    rng = random.Random(0)
-    monomials = [[*m, 0] for m in itertools.product(range(7), repeat=4) if sum(m)]
-    basis = rng.sample(monomials, 120)
-    V: dict[tuple[int, ...], int] = {}
-    for a in basis:
-        for b in basis:
-            k = tuple(x + y for x, y in zip(a, b, strict=True))
-            V[k] = V.get(k, 0) + 1
-    for i in range(4):
-        k = (*(2 * int(j == i) for j in range(4)), 0)
-        V[k] = V.get(k, 0) + 1
+    V, basis = padded_square()
     lam = [[list(m), "1"] for m in itertools.islice(itertools.product(range(13), repeat=5),
                                                     400)]
     cert = {"format": "gfrf-sos-certificate", "kind": "local-continuous",
