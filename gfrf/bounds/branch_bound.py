@@ -93,10 +93,16 @@ MAX_OPEN = 500_000
 #: operation on one box takes 0.2-0.3 us with the fused loops (measured on the
 #: pendulum's and the cart-pole's H5, ``gfrf bench``).
 DEFAULT_WORK = 36_000_000
-#: Fewest boxes a default budget gives (a small kernel's search is cheap anyway).
-LEAST_BUDGET = 20_000
+#: Fewest boxes a default budget gives: one box, so that the default work of a large
+#: kernel (a 13-term NARX model's H5: about 7,000 operations per box) stays within
+#: :data:`DEFAULT_WORK` instead of a fixed box count.
+LEAST_BUDGET = 1
 #: Nelder-Mead polishings of a new best box centre per search.
 MAX_POLISHES = 20
+#: Work of all polishings of one search, in evaluations of H_n times the operations of one
+#: evaluation: 20 polishings of 5,000 evaluations of a 720-operation kernel (every
+#: bundled model's H5 is below), a few seconds of scalar evaluations.
+POLISH_WORK = 72_000_000
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -393,9 +399,9 @@ def _in_domain(lo: np.ndarray, hi: np.ndarray, symmetric: bool) -> np.ndarray:
     return np.all(greedy[:, :-1] > lo[:, 1:], axis=1) & (greedy.sum(axis=1) > 0)
 
 
-def _polish(point: Callable[..., complex], x0: np.ndarray, scale: float
+def _polish(point: Callable[..., complex], x0: np.ndarray, scale: float, maxfev: int
             ) -> tuple[np.ndarray, float]:
-    """Nelder-Mead on -log|H_n| from x0."""
+    """Nelder-Mead on -log|H_n| from x0, at most ``maxfev`` evaluations."""
 
     def objective(x: np.ndarray) -> float:
         v = abs(point(*x))
@@ -404,7 +410,7 @@ def _polish(point: Callable[..., complex], x0: np.ndarray, scale: float
     n = x0.size
     res = nelder_mead(objective, x0, initial_simplex=np.vstack([x0, x0 + scale * np.eye(n)]),
                       xatol=1e-13 * (1 + float(np.max(np.abs(x0)))), fatol=1e-15,
-                      maxiter=800 * n, maxfev=1000 * n)
+                      maxiter=800 * n, maxfev=maxfev)
     return res.x, abs(point(*res.x))
 
 
@@ -480,7 +486,7 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
         width = math.pi / model.sample_time  # type: ignore[operator]
         return _search(taylor, point, inverse, model.sample_time, n, symmetric, best, best_x,
                        tol, max_boxes, progress, fused_start, leaves, width, 0.0,
-                       float(maj.coefficients(n)[n, 0]))
+                       float(maj.coefficients(n)[n, 0]), _operations(gen, n, symmetric))
     width = 2.0 * (1.0 + float(np.max(np.abs(poles))))
     tails = [(width, tail_bound(model, n, width, maj))]
     while tails[-1][1] > 0.5 * best and len(tails) < 60 and not (
@@ -495,18 +501,24 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
                                  argmax=tuple(float(x) for x in best_x), converged=False,
                                  boxes=0, width=width, tail=tail, stop="tail")
     return _search(taylor, point, inverse, None, n, symmetric, best, best_x, tol, max_boxes,
-                   progress, fused_start, leaves, width, tail, ceiling)
+                   progress, fused_start, leaves, width, tail, ceiling,
+                   _operations(gen, n, symmetric))
 
 
 def _search(taylor: Callable[..., Any], point: Callable[..., Any], inverse: Any,
             sample_time: float | None, n: int, symmetric: bool, best: float,
             best_x: np.ndarray, tol: float, max_boxes: int, progress: bool | None,
-            fused_start: bool, leaves: bool, width: float, tail: float, ceiling: float
-            ) -> BranchBoundResult:
-    """The branch-and-bound proper over [-width, width]^n (``tail`` bounds |H_n| outside)."""
+            fused_start: bool, leaves: bool, width: float, tail: float, ceiling: float,
+            operations: int) -> BranchBoundResult:
+    """The branch-and-bound proper over [-width, width]^n (``tail`` bounds |H_n| outside).
+
+    Work: at most ``max_boxes`` boxes (a step bisects at most as many boxes as the budget
+    has left) and :data:`POLISH_WORK` / ``operations`` point evaluations of the polishes.
+    """
     lo, hi = -width * np.ones((1, n)), width * np.ones((1, n))
     bound, value, split = enclose(taylor, inverse, lo, hi, fused_start, leaves, sample_time)
     boxes, pruned, polishes, stop = 1, 0.0, 0, "tol"
+    polish_points = POLISH_WORK // max(1, operations)
     from tqdm import tqdm
 
     bar = tqdm(total=max_boxes, initial=1, unit="box", desc=f"||H{n}|| bracket", leave=False,
@@ -524,7 +536,7 @@ def _search(taylor: Callable[..., Any], point: Callable[..., Any], inverse: Any,
             if boxes >= max_boxes or bound.size + min(bound.size, BATCH) > MAX_OPEN:
                 stop = "budget" if boxes >= max_boxes else "open boxes"
                 break
-            take = np.argsort(bound)[::-1][:BATCH]
+            take = np.argsort(bound)[::-1][:min(BATCH, (max_boxes - boxes + 1) // 2)]
             rest = np.ones(bound.size, bool)
             rest[take] = False
             p_lo, p_hi, p_split = lo[take], hi[take], split[take]
@@ -546,9 +558,12 @@ def _search(taylor: Callable[..., Any], point: Callable[..., Any], inverse: Any,
             if magnitude.size and magnitude.max() > best:
                 k = int(np.argmax(magnitude))
                 centre = 0.5 * (c_lo[k] + c_hi[k])
-                if magnitude[k] > best * (1 + tol) and polishes < MAX_POLISHES:
+                maxfev = min(1000 * n, polish_points)
+                if magnitude[k] > best * (1 + tol) and polishes < MAX_POLISHES and maxfev > 0:
                     polishes += 1
-                    x, polished = _polish(point, centre, float(np.max(c_hi[k] - c_lo[k])))
+                    polish_points -= maxfev
+                    x, polished = _polish(point, centre, float(np.max(c_hi[k] - c_lo[k])),
+                                          maxfev)
                     if polished > magnitude[k]:
                         centre, magnitude[k] = x, polished
                 best, best_x = float(magnitude[k]), centre

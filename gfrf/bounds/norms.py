@@ -53,7 +53,6 @@ True
 
 from __future__ import annotations
 
-import itertools
 import math
 import sys
 import warnings
@@ -64,18 +63,19 @@ import numpy as np
 
 from gfrf._results import Result, markdown_table, short_repr
 from gfrf.bounds.branch_bound import (
+    DEFAULT_WORK,
     MAX_OPEN,
     MAX_ORDER,
     BranchBoundResult,
+    box_work,
     branch_and_bound,
     check_budget,
     default_budget,
 )
 from gfrf.bounds.exact import PoleReport, format_roots, poles
+from gfrf.bounds.local_search import SEARCH_WORK, local_search
 from gfrf.bounds.majorant import linear_polynomials, majorant
 from gfrf.bounds.rational import check_proof, discrete_rational_sup, rational_sup
-from gfrf.bounds.simplex import nelder_mead
-from gfrf.bounds.starts import start_points
 from gfrf.errors import ArgumentError
 from gfrf.kernels.recursion import kernel
 from gfrf.model.equation import Model
@@ -275,25 +275,6 @@ def _control_norm(system: control.TransferFunction) -> float | None:
             return None
 
 
-def _frequencies(model: Model, proof: str) -> tuple[list[float], float]:
-    """Resonance frequencies (rad/s, >= 0) of the linear part and a local length scale."""
-    num, den = linear_polynomials(model)
-    if model.is_discrete:
-        peaks = [discrete_rational_sup(num, den, model.sample_time, proof).omega,  # type: ignore[arg-type]
-                 discrete_rational_sup(np.ones(1), den, model.sample_time, proof).omega]  # type: ignore[arg-type]
-        return sorted({0.0, *(abs(p) for p in peaks if math.isfinite(p))}), \
-            0.01 * math.pi / model.sample_time  # type: ignore[operator]
-    poles = np.roots(den) if den.size > 1 else np.zeros(0)
-    freqs = {0.0, *(float(abs(p.imag)) for p in poles)}
-    for res in (rational_sup(num, den, proof), rational_sup(np.ones(1), den, proof)):
-        if math.isfinite(res.omega):
-            freqs.add(float(res.omega))
-    damping = [abs(p.real) for p in poles if abs(p.real) > 0]
-    scale = min(max(0.25 * min(damping, default=1.0), 1e-9), 0.5)
-    rounded = sorted({round(f, 12) for f in freqs})
-    return rounded, scale
-
-
 def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = DEFAULT_TOL,
                 max_boxes: int | None = None, proof: str = "interval",
                 cross_check: bool = False, searches: int | None = None,
@@ -399,7 +380,14 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = DEFAU
                      stable=stable,
                      notes=(*notes, "||H_n|| = inf: H_n = -P_n / A(j(w_1+..+w_n)) with A(j w0) = 0 "
                       "and P_n bounded away from 0 near the hyperplane w_1+..+w_n = w0"))
-    lower, argmax = _search(k, model, n, symmetric, upper, tol, proof, searches)
+    found = local_search(k, model, n, symmetric, upper, tol, proof,
+                         box_work(model, n, symmetric) // 2, searches)
+    lower, argmax = found.value, found.argmax
+    if found.capped:
+        notes.append(f"local search stopped on its work cap ({found.evaluations} evaluations "
+                     f"of H_{n}, {box_work(model, n, symmetric) // 2} operations each; at most "
+                     f"{SEARCH_WORK} evaluations x operations per search): the lower end is "
+                     "the best value found")
     method = ({"interval": "recursive majorant in ball arithmetic (proven upper)",
                "float": "recursive majorant in floating point (certified upper)",
                "none": "recursive majorant in floating point (estimate)"}[proof]
@@ -423,7 +411,8 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = DEFAU
                          f"[-pi/T, pi/T]^{n} (one period of every w_i)" if model.is_discrete
                          else f"branch-and-bound: {bb.boxes} boxes; |H_{n}| <= "
                          f"{bb.tail:.6g} where some |w_i| > {bb.width:.6g} rad/s (tail bound)")
-            notes += [_stop_note(bb, max_boxes)] if bb.stop in ("budget", "open boxes") else []
+            if bb.stop in ("budget", "open boxes"):
+                notes.append(_stop_note(bb, max_boxes, box_work(model, n, symmetric)))
             method = (f"branch-and-bound, {bb.boxes} boxes in [-{bb.width:.4g}, "
                       f"{bb.width:.4g}]^{n} rad/s"
                       + (" (the torus)" if model.is_discrete else " + majorant tail")
@@ -463,15 +452,16 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = DEFAU
 _FLOAT_RANGE = (1e-280, 1e280)
 
 
-def _stop_note(bb: BranchBoundResult, max_boxes: int | None) -> str:
-    """Why the branch-and-bound stopped before ``tol``, and how to go further."""
+def _stop_note(bb: BranchBoundResult, max_boxes: int | None, work: int) -> str:
+    """Why the branch-and-bound stopped before ``tol``, and how to go further (``work``:
+    operations per box)."""
     if bb.stop == "open boxes":
         return (f"branch-and-bound stopped at {MAX_OPEN} open boxes (the memory cap "
                 "MAX_OPEN); the bracket is sound, a larger tol closes sooner")
-    which = "the default work cap (about 8 s of enclosures on one core)" if max_boxes is None \
-        else "the budget --max-boxes / max_boxes"
-    return (f"branch-and-bound stopped at {bb.boxes} boxes, {which}; a larger "
-            "max_boxes (gfrf norm --max-boxes N) goes further, taking about as much "
+    which = (f"the default work cap of {DEFAULT_WORK} operations (about 8 s of enclosures "
+             "on one core)" if max_boxes is None else "the budget --max-boxes / max_boxes")
+    return (f"branch-and-bound stopped at {bb.boxes} boxes of {work} operations each, {which}; "
+            "a larger max_boxes (gfrf norm --max-boxes N) goes further, taking about as much "
             "longer")
 
 
@@ -535,63 +525,3 @@ def _axis_blowup(k: Any, model: Model, n: int) -> tuple[float, ...] | None:
         if products[1] > 1e-12 and abs(products[0] - products[1]) <= 1e-3 * products[1]:
             return (*(float(b) for b in base), w0 - float(np.sum(base)))
     return None
-
-
-def _search(k: Any, model: Model, n: int, symmetric: bool, upper: float,
-            tol: float, proof: str, searches: int | None = None
-            ) -> tuple[float, tuple[float, ...]]:
-    """Best |H_n| from resonance start points, locally maximised."""
-    freqs, scale = _frequencies(model, proof)
-    starts = start_points(freqs, n)
-    if not symmetric and n <= 4:
-        starts = np.unique(np.array([p for s in starts for p in itertools.permutations(s)]),
-                           axis=0)
-    values = np.abs(k(*starts.T))
-    values[~np.isfinite(values)] = 0.0
-    order = np.argsort(values)[::-1]
-    best, best_x = float(values[order[0]]), tuple(float(v) for v in starts[order[0]])
-    batch = 4 if n <= 4 else 1
-    most = 3 * batch if n <= 4 else 2
-    for count, i in enumerate(order[: most if searches is None else min(most, searches)]):
-        if count >= batch and (upper - best) <= tol * upper:
-            break
-        x, value = (_nelder_mead(k, starts[i], scale) if n <= 4
-                    else _pattern_search(k, starts[i], scale))
-        if math.isfinite(value) and value > best:
-            best, best_x = value, tuple(float(v) for v in x)
-    return best, best_x
-
-
-def _nelder_mead(k: Any, x0: np.ndarray, scale: float) -> tuple[np.ndarray, float]:
-    """Nelder-Mead on -log|H_n| (low orders, where a scalar evaluation is cheap)."""
-    n = x0.size
-
-    def objective(x: np.ndarray) -> float:
-        v = abs(complex(k(*x)))
-        return -math.log(v) if v > 0 and math.isfinite(v) else 1e300
-
-    simplex = np.vstack([x0, x0 + scale * np.eye(n)])
-    res = nelder_mead(objective, x0, initial_simplex=simplex, xatol=1e-12 * (1 + scale),
-                      fatol=1e-14, maxiter=600 * n, maxfev=800 * n)
-    return res.x, abs(complex(k(*res.x)))
-
-
-def _pattern_search(k: Any, x0: np.ndarray, scale: float) -> tuple[np.ndarray, float]:
-    """Batched pattern search along +-e_i and +-e_i +- e_j (one vectorised call per step)."""
-    n = x0.size
-    eye = np.eye(n)
-    pairs = [eye[i] + sign * eye[j] for i in range(n) for j in range(i + 1, n)
-             for sign in (1.0, -1.0)]
-    directions = np.vstack([eye, -eye, *pairs, *(-p for p in pairs)])
-    x, value = x0.copy(), float(abs(k(*x0)))
-    step = scale
-    while step > 1e-12 * (1 + scale):
-        trial = x + step * directions
-        values = np.abs(k(*trial.T))
-        values[~np.isfinite(values)] = 0.0
-        j = int(np.argmax(values))
-        if values[j] > value:
-            x, value = trial[j], float(values[j])
-        else:
-            step *= 0.5
-    return x, value

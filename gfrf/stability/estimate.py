@@ -114,8 +114,8 @@ def _harmonic_coefficients(model: Model, w: float, n: int) -> np.ndarray | None:
 def _frequencies(model: Model) -> list[float]:
     """Resonances of the linear part (peaks, |Im p|, |p|; angles for NARX) and their
     halves and thirds (rad/s)."""
+    from gfrf.bounds.local_search import frequencies as resonances
     from gfrf.bounds.majorant import linear_polynomials
-    from gfrf.bounds.norms import _frequencies as resonances
 
     base, _ = resonances(model, "float")
     _, den = linear_polynomials(model)
