@@ -48,7 +48,8 @@ from typing import Any
 
 import numpy as np
 
-from gfrf.bounds.enclosure import InverseA, enclose
+from gfrf.bounds.enclosure import enclose
+from gfrf.bounds.inverse import InverseA
 from gfrf.bounds.majorant import linear_polynomials, majorant
 from gfrf.bounds.simplex import nelder_mead
 from gfrf.bounds.starts import start_points
@@ -364,7 +365,7 @@ def check_budget(max_boxes: object, least: int) -> int:
 
 @lru_cache(maxsize=16)
 def _inverse(den: tuple[float, ...], sample_time: float | None = None) -> Any:
-    """:class:`gfrf.bounds.enclosure.InverseA` of a denominator, or for a discrete model
+    """:class:`gfrf.bounds.inverse.InverseA` of a denominator, or for a discrete model
     :class:`gfrf.bounds.torus.InverseTrig`, built once per model."""
     if sample_time is None:
         return InverseA(np.array(den))

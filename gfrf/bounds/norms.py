@@ -176,6 +176,17 @@ def linear_poles(model: Model) -> PoleReport:
     Decided on the exact rational values of the (normalised) coefficients by Routh's
     test (after the Cayley map for NARX), with exact boundary roots; see
     :func:`gfrf.bounds.exact.poles`.
+
+    Parameters
+    ----------
+    model : Model
+        The plant model (continuous or NARX).
+
+    Returns
+    -------
+    PoleReport
+        Whether every root is inside, whether some is outside, the boundary roots and
+        all roots (s, or z = 1/q for NARX).
     """
     # For a NARX model den is A's coefficients, lowest power of q first; in z = 1/q the
     # polynomial z^L A(1/z) has those same coefficients, highest power of z first.
@@ -184,7 +195,18 @@ def linear_poles(model: Model) -> PoleReport:
 
 
 def linear_stability(model: Model) -> tuple[bool, np.ndarray]:
-    """(stable, poles) of A, stability decided exactly (see :func:`linear_poles`)."""
+    """(stable, poles) of A, stability decided exactly (see :func:`linear_poles`).
+
+    Parameters
+    ----------
+    model : Model
+        The plant model (continuous or NARX).
+
+    Returns
+    -------
+    tuple of (bool, numpy.ndarray)
+        Whether A is asymptotically stable, and its roots (s, or z = 1/q for NARX).
+    """
     report = linear_poles(model)
     return report.stable, report.roots
 
@@ -195,6 +217,7 @@ def h1_norm(model: Model, proof: str = "interval", cross_check: bool = False) ->
     Parameters
     ----------
     model : Model
+        The plant model (continuous or NARX).
     proof : {"interval", "float", "none"}
         Level of proof (:func:`gfrf.bounds.rational.rational_sup`); the default proves.
     cross_check : bool, optional
@@ -284,6 +307,7 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = DEFAU
     Parameters
     ----------
     model : Model
+        The plant model (continuous or NARX).
     n : int
         Kernel order (1 gives :func:`h1_norm`).
     symmetric : bool, optional

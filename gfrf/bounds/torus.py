@@ -1,6 +1,6 @@
 """1/A(q) and its derivatives over intervals of frequency for a discrete-time (NARX) model.
 
-The discrete counterpart of :class:`gfrf.bounds.enclosure.InverseA`: with
+The discrete counterpart of :class:`gfrf.bounds.inverse.InverseA`: with
 a(sigma) = A(exp(-j sigma T)) = sum_l a_l exp(-j l sigma T) (a trigonometric polynomial
 of the block's frequency sum sigma, rad/s) the branch-and-bound of
 :mod:`gfrf.bounds.branch_bound` needs r = 1/a and m = 1/|a| with their first two

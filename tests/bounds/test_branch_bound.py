@@ -176,7 +176,7 @@ def test_beyond_with_numerator_power() -> None:
 def test_box_modulus_bounds_are_sound_on_a_pole_cluster() -> None:
     """The box bounds' sup |1/A| over an interval holding the cluster is >= the 50-digit
     sup (float critical points of |A|^2 gave 1/3.4e-11 = 2.9e10 for 1.25e17)."""
-    from gfrf.bounds.enclosure import InverseA
+    from gfrf.bounds.inverse import InverseA
 
     ref = mp_sup_beyond([1.0], CLUSTER_DEN, 0.0)  # sup over R of 1/|A|, attained near 1
     inverse = InverseA(np.array(CLUSTER_DEN))

@@ -95,7 +95,7 @@ def test_modulus_derivative_bounds_hold(k: int) -> None:
     # sup over an interval of |d^k/dw^k 1/|A(j w)|| against 30-digit mpmath derivatives
     import mpmath as mp
 
-    from gfrf.bounds.enclosure import InverseA
+    from gfrf.bounds.inverse import InverseA
 
     inverse = InverseA(np.array(CLUSTER))
     mp.mp.dps = 30
@@ -114,7 +114,7 @@ def test_modulus_derivative_bounds_hold(k: int) -> None:
 def test_modulus_point_values_match_mpmath() -> None:
     import mpmath as mp
 
-    from gfrf.bounds.enclosure import InverseA
+    from gfrf.bounds.inverse import InverseA
 
     inverse = InverseA(np.array(CLUSTER))
     mp.mp.dps = 30
