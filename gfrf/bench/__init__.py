@@ -58,6 +58,7 @@ SECTION_MODULES: tuple[str, ...] = (
     "gfrf.bench.cold",
     "gfrf.bench.simulation",
     "gfrf.bench.norms",
+    "gfrf.bench.narx_norms",
     "gfrf.bench.brackets",
     "gfrf.bench.limits",
     "gfrf.bench.proof",
