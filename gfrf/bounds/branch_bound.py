@@ -26,7 +26,8 @@ Soundness.  The tail's one-dimensional sups are proven (Arb,
 
 Discrete-time (NARX) models.  H_n is a function of q_i = exp(-j w_i T), periodic in each
 w_i: the search covers the torus [-pi/T, pi/T]^n (one period, no tail), the variables'
-jets are those of q_i and 1/A(q) is bounded over intervals by
+jets are those of q_i, carried as exact phase turns (the carriers of
+:mod:`gfrf.bounds.enclosure`), and 1/A(q) is bounded over intervals by
 :class:`gfrf.bounds.torus.InverseTrig`; the same proof level (``"float"``) results.
 
 Examples
@@ -225,32 +226,52 @@ def _input_free(model: Model) -> bool:
 
 
 class _Count:
-    """Stands for a jet in the straight-line code of H_n and counts the jet operations."""
+    """Stands for a jet in the straight-line code of H_n and counts the jet operations.
 
-    def __init__(self, tally: list[int]) -> None:
-        self.tally = tally
+    ``phase`` mirrors the carrier of a NARX jet (:class:`gfrf.bounds.enclosure.Jet`): a
+    sum of two terms on different carriers costs two more products (the turns that
+    align them).
+    """
 
-    def _op(self, _other: object = None) -> _Count:
+    def __init__(self, tally: list[int], phase: tuple[int, ...] = ()) -> None:
+        self.tally, self.phase = tally, phase
+
+    def _op(self, other: object = None) -> _Count:
         self.tally[0] += 1
         return self
 
-    __add__ = __radd__ = __sub__ = __rsub__ = __mul__ = __rmul__ = _op
+    def _sum(self, other: object = None) -> _Count:
+        theirs = other.phase if isinstance(other, _Count) else ()
+        self.tally[0] += 1 if theirs == self.phase else 9
+        return self
+
+    def _product(self, other: object = None) -> _Count:
+        self.tally[0] += 1
+        if isinstance(other, _Count) and other.phase:
+            return _Count(self.tally, tuple(sorted(self.phase + other.phase)))
+        return self
+
+    __add__ = __radd__ = __sub__ = __rsub__ = _sum
+    __mul__ = __rmul__ = _product
 
     def __neg__(self) -> _Count:
         return self._op()
 
 
 @lru_cache(maxsize=32)
-def _operations(gen: GFRFGenerator, n: int, symmetric: bool) -> int:
+def _operations(gen: GFRFGenerator, n: int, symmetric: bool, discrete: bool = False) -> int:
     """Jet operations of one enclosure of H_n: the code's sums and products, and 1/A
-    factors counted as 4 (their value, derivatives and sup bounds cost about that)."""
+    factors counted as 4 (their value, derivatives and sup bounds cost about that); for a
+    NARX model (``discrete``) a sum on two carriers counts 9 (measured: its two turns
+    are products over the joint coordinates, in numpy)."""
     tally = [0]
 
     def inv_a(_block: tuple[int, ...]) -> _Count:
         tally[0] += 4
         return _Count(tally)
 
-    _compiled(gen, n, symmetric)[0]([_Count(tally) for _ in range(n)], inv_a)
+    _compiled(gen, n, symmetric)[0]([_Count(tally, (i,) if discrete else ())
+                                     for i in range(n)], inv_a)
     return max(tally[0], 1)
 
 
@@ -275,7 +296,7 @@ def box_work(model: Model, n: int, symmetric: bool = True) -> int:
     int
         The count, at least 2.
     """
-    return 2 * _operations(generator(model), n, symmetric)
+    return 2 * _operations(generator(model), n, symmetric, model.is_discrete)
 
 
 def default_budget(model: Model, n: int, symmetric: bool = True) -> int:
@@ -487,7 +508,7 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
         width = math.pi / model.sample_time  # type: ignore[operator]
         return _search(taylor, point, inverse, model.sample_time, n, symmetric, best, best_x,
                        tol, max_boxes, progress, fused_start, leaves, width, 0.0,
-                       float(maj.coefficients(n)[n, 0]), _operations(gen, n, symmetric))
+                       float(maj.coefficients(n)[n, 0]), _operations(gen, n, symmetric, True))
     width = 2.0 * (1.0 + float(np.max(np.abs(poles))))
     tails = [(width, tail_bound(model, n, width, maj))]
     while tails[-1][1] > 0.5 * best and len(tails) < 60 and not (

@@ -34,6 +34,18 @@ unchanged): the top factor 1/A(j(w_1 + .. + w_n)) always, and each H1(w_i) leaf 
 input enters a nonlinear term; being stationary at their resonance, their derivative
 bounds are second order (the pendulum's H5 needs 5x fewer boxes).
 
+Carriers (discrete-time models).  A variable q_i = exp(-j w_i T) of a NARX kernel turns
+fast on a box while its modulus stays 1.  A jet of a NARX kernel therefore stands for
+env(w) exp(j phi . (w - c)): ``phase`` holds the carrier phi per box (-T on q_i's own
+coordinate), the value, derivatives and bounds D_k are the envelope's.  The variables
+are exact carriers with a constant envelope (D_1 = D_2 = D_3 = 0), products add
+carriers, and a sum of two terms on different carriers keeps, per box, the carrier of
+the term with the larger D_0 and multiplies the other envelope by exp(j delta . (w - c))
+(delta the difference; its D_k are (sum |delta_i| r_i)^k).  |H_n| = |env|, so the three
+bounds below apply to the envelope unchanged, and they no longer pay for the phase
+turns of the q_i (the identified example's H3 closes to 1e-3 in 1,800 boxes instead of
+6,200).
+
 Soundness.  The extrema of |A| and its derivatives' numerators use critical points
 isolated exactly (Arb) and endpoint values widened by an a-priori Horner error bound.
 Taylor arithmetic in double precision without outward rounding; a centre's values are
@@ -125,9 +137,11 @@ class _Boxes:
         size = self.c.shape[0]
         if self.sample_time is not None:
             t = self.sample_time
-            q = np.exp(-1j * t * self.c[:, i])
-            d = (t * self.r[:, i])[:, None] ** np.arange(4)
-            return Jet(q, (-1j * t * q)[:, None], (-t * t * q)[:, None, None], d, (i,), self)
+            q = np.exp(-1j * t * self.c[:, i])  # q_c exp(-j T delta): a carrier, no envelope
+            d = np.zeros((size, 4))
+            d[:, 0] = 1.0
+            return Jet(q, np.zeros((size, 1), complex), np.zeros((size, 1, 1), complex), d,
+                       (i,), self, np.full((size, 1), -t))
         d = np.zeros((size, 4))
         d[:, 0] = np.abs(self.c[:, i]) + self.r[:, i]
         d[:, 1] = self.r[:, i]
@@ -190,11 +204,31 @@ class Jet:
     (the others are zero), so products of low-order factors stay small.
     """
 
-    __slots__ = ("v", "g", "h", "d", "names", "boxes")
+    __slots__ = ("v", "g", "h", "d", "names", "boxes", "phase")
 
     def __init__(self, v: np.ndarray, g: np.ndarray, h: np.ndarray, d: np.ndarray,
-                 names: tuple[int, ...], boxes: _Boxes) -> None:
+                 names: tuple[int, ...], boxes: _Boxes, phase: np.ndarray | None = None
+                 ) -> None:
         self.v, self.g, self.h, self.d, self.names, self.boxes = v, g, h, d, names, boxes
+        self.phase = phase
+
+    def carrier(self, names: tuple[int, ...]) -> np.ndarray | None:
+        """The carrier over ``names`` (a superset of the jet's), None when it is zero."""
+        if self.phase is None or names == self.names:
+            return self.phase
+        out = np.zeros((self.phase.shape[0], len(names)))
+        out[:, _union(names, self.names)[2]] = self.phase
+        return out
+
+    def _rotated(self, delta: np.ndarray, names: tuple[int, ...]) -> Jet:
+        """The envelope times exp(j delta . (w - c)) over ``names`` (its carrier dropped)."""
+        size = delta.shape[0]
+        r = self.boxes.radii(names)
+        s = np.sum(np.abs(delta) * r, axis=1)
+        turn = Jet(np.ones(size, complex), 1j * delta,
+                   -(delta[:, :, None] * delta[:, None, :]).astype(complex),
+                   np.stack([np.ones(size), s, s * s, s ** 3], axis=1), names, self.boxes)
+        return Jet(self.v, self.g, self.h, self.d, self.names, self.boxes) * turn
 
     def forms(self) -> tuple[np.ndarray, np.ndarray]:
         """(sum |g_i| r_i, sum |h_ij| r_i r_j) at the centres (NaN where unknown)."""
@@ -229,18 +263,20 @@ class Jet:
         h = np.zeros((size, m, m), complex)
         g[:, where] = self.g
         h[:, where[:, None], where[None, :]] = self.h
-        return Jet(self.v, g, h, self.d, names, self.boxes)
+        return Jet(self.v, g, h, self.d, names, self.boxes, self.carrier(names))
 
     def _scaled(self, c: complex) -> Jet:
         return Jet(c * self.v, c * self.g, c * self.h, abs(c) * self.d, self.names,
-                   self.boxes)
+                   self.boxes, self.phase)
 
     def __neg__(self) -> Jet:
         return self._scaled(-1.0)
 
-    def _fused(self, loop: str, other: Jet) -> tuple[tuple[int, ...], Jet | None]:
+    def _fused(self, loop: str, other: Jet, phase: np.ndarray | None = None
+               ) -> tuple[tuple[int, ...], Jet | None]:
         """(joint coordinates, the result of the fused numba ``loop`` of
-        :mod:`gfrf.bounds.jet_kernels`, or None without those loops)."""
+        :mod:`gfrf.bounds.jet_kernels` with carrier ``phase``, or None without those
+        loops)."""
         names, ia, ib = _union(self.names, other.names)
         fused = self.boxes.fused
         if fused is None:
@@ -248,18 +284,37 @@ class Jet:
         return names, Jet(*getattr(fused, loop)(self.v, self.g, self.h, self.d, ia, other.v,
                                                  other.g, other.h, other.d, ib,
                                                  self.boxes.radii(names)),
-                          names, self.boxes)
+                          names, self.boxes, phase)
+
+    def _aligned(self, other: Jet) -> tuple[Jet, Jet, np.ndarray | None]:
+        """Both terms of a sum on one carrier: per box the larger term's (by D_0); the
+        other's envelope turns by the difference (:meth:`_rotated`)."""
+        names = _union(self.names, other.names)[0]
+        pa, pb = self.carrier(names), other.carrier(names)
+        if pa is None and pb is None or pa is not None and pb is not None and \
+                np.array_equal(pa, pb):
+            return self, other, pa
+        size = self.v.shape[0]
+        pa = np.zeros((size, len(names))) if pa is None else pa
+        pb = np.zeros((size, len(names))) if pb is None else pb
+        target = np.where((self.d[:, 0] >= other.d[:, 0])[:, None], pa, pb)
+        a, b = self.embedded(names), other.embedded(names)
+        return a._rotated(pa - target, names), b._rotated(pb - target, names), target
 
     def __add__(self, other: Any) -> Jet:
         if not isinstance(other, Jet):
+            if self.phase is not None:
+                return self + _constant(other, self.boxes)
             d = self.d.copy()
             d[:, 0] += abs(other)
             return Jet(self.v + other, self.g, self.h, d, self.names, self.boxes)
-        names, fused = self._fused("jet_add", other)
+        left, right, phase = self._aligned(other)
+        names, fused = left._fused("jet_add", right, phase)
         if fused is not None:
             return fused
-        a, b = self.embedded(names), other.embedded(names)
-        return Jet(a.v + b.v, a.g + b.g, a.h + b.h, a.d + b.d, names, self.boxes).tighten()
+        a, b = left.embedded(names), right.embedded(names)
+        return Jet(a.v + b.v, a.g + b.g, a.h + b.h, a.d + b.d, names, self.boxes,
+                   phase).tighten()
 
     __radd__ = __add__
 
@@ -272,7 +327,10 @@ class Jet:
     def __mul__(self, other: Any) -> Jet:
         if not isinstance(other, Jet):
             return self._scaled(complex(other))
-        names, fused = self._fused("jet_mul", other)
+        names = _union(self.names, other.names)[0]
+        pa, pb = self.carrier(names), other.carrier(names)
+        phase = pb if pa is None else pa if pb is None else pa + pb
+        names, fused = self._fused("jet_mul", other, phase)
         if fused is not None:
             return fused
         a, b = self.embedded(names), other.embedded(names)
@@ -284,7 +342,7 @@ class Jet:
             for k, row in enumerate(_BINOMIAL):
                 d[:, k] = sum(c * a.d[:, i] * b.d[:, k - i] for i, c in enumerate(row))
         return Jet(a.v * b.v, a.g * b.v[:, None] + a.v[:, None] * b.g, h, _safe(d), names,
-                   self.boxes).tighten()
+                   self.boxes, phase).tighten()
 
     __rmul__ = __mul__
 
@@ -295,6 +353,15 @@ class Jet:
         for _ in range(k - 1):
             result = result * self
         return result
+
+
+def _constant(c: complex, boxes: _Boxes) -> Jet:
+    """The constant ``c`` as a jet over no coordinates."""
+    size = boxes.c.shape[0]
+    d = np.zeros((size, 4))
+    d[:, 0] = abs(c)
+    return Jet(np.full(size, complex(c)), np.zeros((size, 0), complex),
+               np.zeros((size, 0, 0), complex), d, (), boxes)
 
 
 def _modulus_bound(h: Jet) -> np.ndarray:

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import math
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -10,7 +13,7 @@ from gfrf.bounds.norms import kernel_norm
 from gfrf.kernels.compiled import HAVE_NUMBA
 from gfrf.kernels.recursion import kernel
 from gfrf.model.equation import parse_model
-from gfrf.model.modelfile import load_model
+from gfrf.model.modelfile import load_model, resolve_model
 
 PENDULUM = "models/hanging_pendulum.toml"
 MIXED = "D(y,2) + 0.3*D(y) + 1.5*y + 0.4*y**2 - 0.2*y**3 + 0.1*y*u = u"
@@ -156,3 +159,29 @@ def test_budget_accepts_numpy_integers() -> None:
     m = parse_model(MIXED)
     assert kernel_norm(m, 3, max_boxes=np.int64(2000)).upper == kernel_norm(
         m, 3, max_boxes=2000).upper
+
+
+MODELS = Path(__file__).resolve().parents[2] / "models"
+_MIXED_LAGS = ("y[k] = 0.5*y[k-1] - 0.2*y[k-2] + 0.6*u[k-1] + 0.3*u[k-2] + 0.15*y[k-1]*u[k-1] "
+               "- 0.1*u[k-1]**2 + 0.05*y[k-2]*u[k-3] - 0.05*y[k-1]**3 "
+               "+ 0.03*y[k-1]**2*u[k-2]")
+
+
+@pytest.mark.parametrize(("source", "n"), [("identified_example.toml", 5),
+                                           ("narx_example.toml", 5), (_MIXED_LAGS, 3)])
+@pytest.mark.parametrize("radius", [0.05, 0.5, 3.0])
+def test_narx_box_bounds_with_carriers_contain_sampled_values(source: str, n: int,
+                                                              radius: float) -> None:
+    # NARX jets carry the phase of each q_i = exp(-j w_i T) exactly (sums of terms on
+    # different carriers turn one of them): the bounds must still hold everywhere
+    model = (resolve_model(source, sample_time=0.1) if "=" in source
+             else load_model(MODELS / source)).plant
+    k = kernel(model, n)
+    rng = np.random.default_rng(11)
+    centres = rng.uniform(-math.pi / 0.1, math.pi / 0.1, (30, n))
+    lo, hi = centres - radius, centres + radius
+    bound, centre_value, _ = box_bounds(model, n, lo, hi)
+    assert np.allclose(centre_value, np.abs(k(*centres.T)), rtol=1e-9)
+    for _ in range(30):
+        x = rng.uniform(lo, hi)
+        assert np.all(np.abs(k(*x.T)) <= bound * (1 + 1e-12))
