@@ -213,7 +213,19 @@ class Jet:
         self.phase = phase
 
     def carrier(self, names: tuple[int, ...]) -> np.ndarray | None:
-        """The carrier over ``names`` (a superset of the jet's), None when it is zero."""
+        """The carrier over ``names`` (a superset of the jet's), None when it is zero.
+
+        Parameters
+        ----------
+        names : tuple of int
+            Sorted coordinate indices, a superset of the jet's ``names``.
+
+        Returns
+        -------
+        numpy.ndarray or None
+            Shape (boxes, len(names)): the carrier's frequency per coordinate (s), 0 on
+            the coordinates the jet does not depend on.
+        """
         if self.phase is None or names == self.names:
             return self.phase
         out = np.zeros((self.phase.shape[0], len(names)))
