@@ -17,11 +17,11 @@ import sympy as sp
 from scipy.optimize import minimize
 
 from gfrf.bounds.branch_bound import box_bounds
-from gfrf.bounds.majorant import linear_polynomials
+from gfrf.bounds.majorant import linear_polynomials, majorant
 from gfrf.bounds.norms import kernel_norm
 from gfrf.bounds.torus import InverseTrig
 from gfrf.kernels.recursion import kernel
-from gfrf.model.modelfile import load_model
+from gfrf.model.modelfile import load_model, resolve_model
 
 
 def _explicit(model, n: int):
@@ -120,3 +120,29 @@ def test_narx_h3_bracket_is_tight_and_contains_the_grid_sup(name: str) -> None:
     assert b.gap <= 1e-3
     assert b.lower <= value * (1 + 1e-9) and value <= b.upper * (1 + 1e-12)
     assert b.upper - value <= 1e-3 * b.upper  # the sup is found by both
+
+
+def test_narx_h2_bracket_contains_the_closed_form_sup() -> None:
+    # y[k] = a y[k-1] + u[k-1] + c1 y[k-1]^2 + c2 u[k-1]^2: with A(q) = 1 - a q,
+    # H1(q) = q / A(q) and H2 = q1 q2 (c1 H1(q1) H1(q2) + c2) / A(q1 q2) (q = e^{-j w T});
+    # c1 and c2 of opposite signs cancel, so the majorant is not attained
+    a, c1, c2, t = 0.6, 0.3, -0.5, 0.1
+    model = resolve_model(f"y[k] = {a}*y[k-1] + u[k-1] + {c1}*y[k-1]**2 + {c2}*u[k-1]**2",
+                          sample_time=t).plant
+
+    def closed(th1: np.ndarray, th2: np.ndarray) -> np.ndarray:
+        q1, q2 = np.exp(-1j * th1), np.exp(-1j * th2)
+        h1, h2 = q1 / (1 - a * q1), q2 / (1 - a * q2)
+        return np.abs(q1 * q2 * (c1 * h1 * h2 + c2) / (1 - a * q1 * q2))
+
+    axis = np.linspace(-math.pi, math.pi, 801)
+    g1, g2 = np.meshgrid(axis, axis, indexing="ij")
+    values = closed(g1, g2)
+    start = np.array([g1.flat[int(np.argmax(values))], g2.flat[int(np.argmax(values))]])
+    res = minimize(lambda x: -float(closed(x[0], x[1])), start, method="Nelder-Mead",
+                   options={"xatol": 1e-12, "fatol": 1e-15})
+    sup = max(float(values.max()), -float(res.fun))
+    b = kernel_norm(model, 2)
+    assert b.upper < 0.999 * float(majorant(model).coefficients(2)[2, 0])  # B&B lowered it
+    assert b.lower <= sup * (1 + 1e-12) and sup <= b.upper * (1 + 1e-12)
+    assert b.gap <= 1e-3
