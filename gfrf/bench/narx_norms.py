@@ -6,7 +6,8 @@ N^n grid of the torus [-pi/T, pi/T)^n (H_n is periodic in every frequency), eval
 with gfrf's own vectorised kernel (the symbolic kernel is built before either is timed,
 so neither time includes it).  Times are CPU seconds of this process.  The grid gives a
 value and no bound; its shortfall is measured against gfrf's lower end (an attained
-value), and every grid value must lie below gfrf's certified upper end.
+value), and every grid value must lie below gfrf's certified upper end (to the 1e-12
+relative rounding of a float evaluation).
 """
 
 from __future__ import annotations
@@ -79,7 +80,7 @@ def run(quick: bool) -> BenchSection:
             rows.append([name.removesuffix(".toml"), n, f"{t_ours:.2f}",
                          f"{bound.lower:.6g} .. {bound.upper:.6g}", f"{bound.gap:.1e}",
                          f"{GRID[n]}^{n}", f"{t_grid:.2f}", f"{t_grid / t_ours:.2g}",
-                         f"{shortfall:.1e}", "yes" if grid <= bound.upper else "NO"])
+                         f"{shortfall:.1e}", "yes" if grid <= bound.upper * (1 + 1e-12) else "NO"])
     notes = ["'grid / gfrf' is the grid's CPU time over gfrf's, measured in this run; the "
              "grid's shortfall is (gfrf lower - grid max) / gfrf lower (positive: the grid "
              "missed the peak by that much).",
