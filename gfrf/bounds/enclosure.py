@@ -141,7 +141,7 @@ class _Boxes:
             d = np.zeros((size, 4))
             d[:, 0] = 1.0
             return Jet(q, np.zeros((size, 1), complex), np.zeros((size, 1, 1), complex), d,
-                       (i,), self, np.full((size, 1), -t))
+                       (i,), self, phase=np.full((size, 1), -t))
         d = np.zeros((size, 4))
         d[:, 0] = np.abs(self.c[:, i]) + self.r[:, i]
         d[:, 1] = self.r[:, i]
@@ -275,11 +275,11 @@ class Jet:
         h = np.zeros((size, m, m), complex)
         g[:, where] = self.g
         h[:, where[:, None], where[None, :]] = self.h
-        return Jet(self.v, g, h, self.d, names, self.boxes, self.carrier(names))
+        return Jet(self.v, g, h, self.d, names, self.boxes, phase=self.carrier(names))
 
     def _scaled(self, c: complex) -> Jet:
         return Jet(c * self.v, c * self.g, c * self.h, abs(c) * self.d, self.names,
-                   self.boxes, self.phase)
+                   self.boxes, phase=self.phase)
 
     def __neg__(self) -> Jet:
         return self._scaled(-1.0)
@@ -296,7 +296,7 @@ class Jet:
         return names, Jet(*getattr(fused, loop)(self.v, self.g, self.h, self.d, ia, other.v,
                                                  other.g, other.h, other.d, ib,
                                                  self.boxes.radii(names)),
-                          names, self.boxes, phase)
+                          names, self.boxes, phase=phase)
 
     def _aligned(self, other: Jet) -> tuple[Jet, Jet, np.ndarray | None]:
         """Both terms of a sum on one carrier: per box the larger term's (by D_0); the
@@ -326,7 +326,7 @@ class Jet:
             return fused
         a, b = left.embedded(names), right.embedded(names)
         return Jet(a.v + b.v, a.g + b.g, a.h + b.h, a.d + b.d, names, self.boxes,
-                   phase).tighten()
+                   phase=phase).tighten()
 
     __radd__ = __add__
 
@@ -354,7 +354,7 @@ class Jet:
             for k, row in enumerate(_BINOMIAL):
                 d[:, k] = sum(c * a.d[:, i] * b.d[:, k - i] for i, c in enumerate(row))
         return Jet(a.v * b.v, a.g * b.v[:, None] + a.v[:, None] * b.g, h, _safe(d), names,
-                   self.boxes, phase).tighten()
+                   self.boxes, phase=phase).tighten()
 
     __rmul__ = __mul__
 
