@@ -23,7 +23,8 @@ from gfrf.kernels.recursion import GFRFGenerator, generator
 from gfrf.model.equation import Model
 
 __all__ = ["MAX_ORDER", "BOX_LIMIT", "MAX_OPEN", "DEFAULT_WORK", "LEAST_BUDGET",
-           "SECONDS_PER_WORK", "box_work", "default_budget", "budget_note", "check_budget"]
+           "SECONDS_PER_WORK", "box_work", "kernel_operations", "default_budget",
+           "budget_note", "check_budget"]
 
 #: Highest kernel order searched (the enclosure costs 2^n vertices and n^2 Hessian bounds).
 MAX_ORDER = 5
@@ -136,7 +137,8 @@ def _operations(gen: GFRFGenerator, n: int, symmetric: bool, discrete: bool = Fa
 
 
 def box_work(model: Model, n: int, symmetric: bool = True) -> int:
-    """Jet operations per box of the branch-and-bound of H_n (both enclosures of a box).
+    """Jet operations per box of the branch-and-bound of H_n: both enclosures of a box
+    (a NARX box gets one, :func:`gfrf.bounds.enclosure.enclose`).
 
     A count from the kernel's straight-line code, independent of the machine: the cost
     of a box is about proportional to it (0.2-0.3 us per operation on one core of a
@@ -154,9 +156,31 @@ def box_work(model: Model, n: int, symmetric: bool = True) -> int:
     Returns
     -------
     int
-        The count, at least 2.
+        The count, at least 1.
     """
-    return 2 * _operations(generator(model), n, symmetric, model.is_discrete)
+    operations = _operations(generator(model), n, symmetric, model.is_discrete)
+    return operations if model.is_discrete else 2 * operations
+
+
+def kernel_operations(model: Model, n: int, symmetric: bool = True) -> int:
+    """Operations of one evaluation of H_n: the sums and products of its straight-line
+    code (the unit of the local search's work cap, :mod:`gfrf.bounds.local_search`).
+
+    Parameters
+    ----------
+    model : Model
+        The plant model.
+    n : int
+        The order of the kernel.
+    symmetric : bool, optional
+        The symmetric kernel instead of the asymmetric one.
+
+    Returns
+    -------
+    int
+        The count, at least 1.
+    """
+    return _operations(generator(model), n, symmetric)
 
 
 def default_budget(model: Model, n: int, symmetric: bool = True) -> int:

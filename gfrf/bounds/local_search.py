@@ -5,9 +5,10 @@ from the resonance frequencies of the linear part), and the best starts are poli
 Nelder-Mead on -log|H_n| for n <= 4, a batched pattern search (one vectorised call per
 step) above.  Every search is bounded by a count of work, never by time: evaluations
 of H_n times the operations of one evaluation (the straight-line code's sums and
-products, :func:`gfrf.bounds.branch_bound.box_work` / 2), at most :data:`SEARCH_WORK`
-per search.  A search stopped by that cap returns the best point it has (a lower end
-is any attained value, so it stays sound); :class:`SearchResult` says whether it did.
+products, :func:`gfrf.bounds.budget.kernel_operations`), at most
+:data:`SEARCH_WORK` per search.  A search stopped by that cap returns the best point it
+has (a lower end is any attained value, so it stays sound); :class:`SearchResult` says
+whether it did.
 """
 
 from __future__ import annotations

@@ -72,6 +72,7 @@ from gfrf.bounds.branch_bound import (
     check_budget,
     default_budget,
 )
+from gfrf.bounds.budget import kernel_operations
 from gfrf.bounds.exact import PoleReport, format_roots, poles
 from gfrf.bounds.local_search import SEARCH_WORK, local_search
 from gfrf.bounds.majorant import linear_polynomials, majorant
@@ -405,11 +406,12 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = DEFAU
                      notes=(*notes, "||H_n|| = inf: H_n = -P_n / A(j(w_1+..+w_n)) with A(j w0) = 0 "
                       "and P_n bounded away from 0 near the hyperplane w_1+..+w_n = w0"))
     found = local_search(k, model, n, symmetric, upper, tol, proof,
-                         box_work(model, n, symmetric) // 2, searches)
+                         kernel_operations(model, n, symmetric), searches)
     lower, argmax = found.value, found.argmax
     if found.capped:
         notes.append(f"local search stopped on its work cap ({found.evaluations} evaluations "
-                     f"of H_{n}, {box_work(model, n, symmetric) // 2} operations each; at most "
+                     f"of H_{n}, {kernel_operations(model, n, symmetric)} operations each; "
+                     "at most "
                      f"{SEARCH_WORK} evaluations x operations per search): the lower end is "
                      "the best value found")
     method = ({"interval": "recursive majorant in ball arithmetic (proven upper)",

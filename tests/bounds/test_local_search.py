@@ -19,6 +19,7 @@ from gfrf.bounds.branch_bound import (
     branch_and_bound,
     default_budget,
 )
+from gfrf.bounds.budget import kernel_operations
 from gfrf.bounds.starts import start_points
 from gfrf.kernels.recursion import kernel
 from gfrf.model.modelfile import load_model, resolve_model
@@ -50,7 +51,7 @@ def test_local_search_of_a_13_term_narx_h5_counts_its_evaluations() -> None:
         points[0] += int(np.size(w[0]))
         return k(*w)
 
-    operations = box_work(model, 5) // 2
+    operations = kernel_operations(model, 5)
     found = local_search.local_search(counted, model, 5, True, np.inf, 1e-3, "float",
                                       operations)
     assert found.evaluations == points[0]
