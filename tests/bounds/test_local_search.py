@@ -11,6 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from gfrf.bounds import local_search
 from gfrf.bounds.branch_bound import (
@@ -76,3 +77,16 @@ def test_branch_and_bound_evaluates_at_most_its_budget() -> None:
     for budget in (1, 7, 300):
         result = branch_and_bound(model, 3, tol=1e-12, max_boxes=budget)
         assert result.boxes <= budget and result.stop == "budget"
+
+
+@pytest.mark.slow
+def test_order_5_norm_of_a_13_term_narx_ends_on_its_work_caps() -> None:
+    from gfrf.bounds.norms import kernel_norm
+
+    model = _thirteen()
+    b = kernel_norm(model, 5)
+    assert b.boxes <= default_budget(model, 5)
+    assert b.boxes * box_work(model, 5) <= DEFAULT_WORK
+    assert any(f"{b.boxes} boxes of {box_work(model, 5)} operations" in note
+               for note in b.notes)  # the work spent is stated
+    assert 0 < b.lower <= b.upper
