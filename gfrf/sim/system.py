@@ -122,9 +122,9 @@ def _controller_equation(ctrl: Controller, plant: Model, equation: str) -> sp.Ex
 
     A polynomial controller's output atoms (named like the plant input) are renamed to
     w (its input atoms, named like the plant output, are still y: :func:`_on_error`
-    makes them the error); a transfer function (discrete plants only here) is read as ``control.tf(num, den,
-    sample_time)``: powers of z, highest first, so that after left-padding num to the
-    length of den the entries are the coefficients of 1, z^-1, z^-2, ... and
+    makes them the error); a transfer function (discrete plants only here) is read as
+    ``control.tf(num, den, sample_time)``: powers of z, highest first, so that after
+    left-padding num to the length of den the entries are the coefficients of 1, z^-1, z^-2, ... and
     ``sum den_i w[k-i] = sum num_i y[k-i]``.
     """
     if ctrl.model is not None:
