@@ -1,6 +1,6 @@
 """The upper side: the smallest bounded input whose response from rest escapes.
 
-Two input families are searched, both switched on at t = 0 with the system at rest:
+Three input families are searched, all switched on at t = 0 with the system at rest:
 
 * **switching inputs** u = +-U, the sign following a state function s = c . z
   (z = (y, y', ..., y^(n-1))): the velocity, a*y + y' (the energy-pumping input of an
@@ -10,6 +10,9 @@ Two input families are searched, both switched on at t = 0 with the system at re
   steps on the switching function's phase).  Their amplitude is sup|u| = U, the
   L-infinity size of the lower side's class.  Not for NARX models or models that use
   input derivatives;
+* **chirps** u = A cos(omega_0 t + (omega_1 - omega_0) t^2 / (2 T)) on [0, T]
+  (:data:`CHIRPS`: sweeps across the least damped mode, down and up), amplitude
+  A = sup|u|; continuous models on the fast path, below the best switching edge;
 * **sums of tones** u = sum A cos(omega t + phi) on a log grid of frequencies spanning
   the linear part's eigenvalue moduli (x 0.2 .. x 3), the exact sub- and
   super-harmonics 1/3, 1/2, 2, 3 of the least damped mode, then a finer grid (0.5 %
@@ -40,6 +43,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -48,7 +52,7 @@ from gfrf.model.equation import Model
 from gfrf.model.modelfile import ModelFile
 from gfrf.twosided.escape import DEFAULT_LEVEL
 from gfrf.twosided.runner import CHECK_RTOLS, MAX_RUN_STEPS, TIME_AGREEMENT, EscapeRunner
-from gfrf.twosided.witness import Falsification, Tone, scaled, switching_text, tones_text
+from gfrf.twosided.witness import Chirp, Falsification, Tone, scaled, switching_text, tones_text
 
 __all__ = ["Falsification", "falsify", "ESCAPE_LEVEL", "CAP_FACTOR", "CHECK_RTOLS",
            "MARGINS", "MAX_RUN_STEPS", "tones_text", "switching_text"]
@@ -68,6 +72,9 @@ MAX_CANDIDATES = 4
 #: Phases a (times the reference frequency) of s = y' + a*y tried, then golden steps.
 PHASES = (-0.5, -0.2, 0.2, 0.5)
 GOLDEN_STEPS = 6
+#: Chirps tried: (start, end) frequency as multiples of the least damped mode's, and the
+#: duration as a fraction of the horizon (down-sweeps follow a softening resonance).
+CHIRPS = ((1.0, 0.5, 0.5), (1.3, 0.6, 0.5), (0.6, 1.3, 0.5), (1.3, 0.6, 0.25))
 
 
 def _frequencies(runner_ev: np.ndarray, discrete: bool, sample_time: float | None
@@ -217,7 +224,7 @@ def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
     nyquist = math.pi / float(system.sample_time) if system.discrete else None
     top = float(np.max(omegas)) * (3.0 if not system.discrete else 1.0)
     runner = EscapeRunner(system, model, top)
-    total = len(omegas) + 3 * 6 + 7 + 1
+    total = len(omegas) + 3 * 6 + 7 + 2
     done = 0
 
     def tick() -> None:
@@ -242,6 +249,16 @@ def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
     tick()
     best_switch = min([e for e, _, _ in switched], default=math.inf)
     tone_cap = min(cap, best_switch) if best_switch * MARGINS[-1] >= floor else cap
+    chirped: list[tuple[float, int, Chirp]] = []
+    if runner.chirps:
+        for w0, w1, part in CHIRPS:
+            unit = Chirp(amplitude=1.0, omega_start=w0 * ref, omega_end=w1 * ref,
+                         duration=part * runner.t_end)
+            edge = _edge(lambda a, c=unit: runner.escapes_chirp(replace(c, amplitude=a)),
+                         tone_cap)
+            if edge is not None:
+                chirped.append((edge, len(chirped), unit))
+    tick()
     found: list[tuple[float, int, list[Tone]]] = []
     for w in omegas:
         edge = _edge(lambda a, s=[(1.0, float(w), 0.0)]: runner.escapes(scaled(s, a)),
@@ -279,12 +296,10 @@ def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
         escape += "; " + "; ".join(runner.notes)
     candidates: list[tuple[float, int, str, Any]] = (
         [(e, i, "switching", c) for e, i, c in switched]
-        + [(e, len(switched) + i, "tones", s) for e, i, s in found])
+        + [(e, len(switched) + i, "tones", s) for e, i, s in found]
+        + [(e, len(switched) + len(found) + i, "chirp", c) for e, i, c in chirped])
     candidates.sort(key=lambda x: (x[0], x[1]))
-    listed = [{"edge": e, "kind": k, **({"tones": [list(t) for t in s]} if k == "tones" else
-                                        {"switching_function": s if isinstance(s, str)
-                                         else [float(x) for x in s]})}
-              for e, _, k, s in candidates]
+    listed = [{"edge": e, "kind": k, **_shape(k, s)} for e, _, k, s in candidates]
     common = dict(cap=cap, t_end=runner.t_end, escape=escape, levels=list(runner.levels),
                   discrete=runner.discrete, candidates=listed)
     above = [c for c in candidates if c[0] * MARGINS[-1] >= floor]
@@ -292,6 +307,16 @@ def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
         for factor in MARGINS:
             amp = edge * factor
             if amp < floor:
+                continue
+            if kind == "chirp":
+                chirp = replace(shape, amplitude=amp)
+                t_escape = runner.confirm_chirp(chirp)
+                if t_escape is not None:
+                    if progress:
+                        progress(total, total)
+                    return Falsification(amp, [], t_escape, edge, runs=runner.runs,
+                                         kind="chirp", chirp=chirp,
+                                         region=runner.region(amp), **common)
                 continue
             if kind == "switching":
                 run = runner.switch(shape, amp)
@@ -317,6 +342,17 @@ def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
     if progress:
         progress(total, total)
     return Falsification(None, [], None, None, runs=runner.runs, **common)
+
+
+def _shape(kind: str, shape: Any) -> dict[str, Any]:
+    """A candidate's input shape for the JSON ``candidates`` list."""
+    if kind == "tones":
+        return {"tones": [list(t) for t in shape]}
+    if kind == "chirp":
+        return {"chirp": {"omega_start": shape.omega_start, "omega_end": shape.omega_end,
+                          "duration": shape.duration}}
+    return {"switching_function": shape if isinstance(shape, str)
+            else [float(x) for x in shape]}
 
 
 def _level_reason(levels: np.ndarray) -> str:

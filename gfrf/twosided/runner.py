@@ -21,7 +21,7 @@ import numpy as np
 
 from gfrf.model.equation import Model
 from gfrf.twosided.escape import EscapeRegion, escape_levels, escape_region
-from gfrf.twosided.witness import Tone, tones_text
+from gfrf.twosided.witness import Chirp, Tone, tones_text
 
 __all__ = ["EscapeRunner", "T_MAX", "TIME_CONSTANTS", "PERIODS", "SAMPLES", "MAX_RUN_STEPS",
            "CHECK_RTOLS", "TIME_AGREEMENT"]
@@ -143,19 +143,79 @@ class EscapeRunner:
         region = self.region(sum(abs(a) for a, _, _ in tones))
         if self.discrete or self.module is None:
             return self._simulate(tones, 1e-7, region) is not None
-        from gfrf.sim.fastsim import _rk4
-
         steps, h = self.steps * refine, self.h / refine
         t = np.arange(2 * steps + 1) * (0.5 * h)
         V = np.zeros((t.size, len(self.orders)))
         for a, w, p in tones:
             for j, k in enumerate(self.orders):
                 V[:, j] += a * w**k * np.cos(w * t + p + k * math.pi / 2)
+        return self._fast(V, steps, h, region)
+
+    def _fast(self, V: np.ndarray, steps: int, h: float, region: EscapeRegion | None) -> bool:
+        """Escape of the fixed-step RK4 run from rest with inputs V at the half steps."""
+        from gfrf.sim.fastsim import _rk4
+
+        assert self.module is not None  # callers run the fast path only where it compiled
         z0 = np.zeros(self.system.n_states)
         with np.errstate(all="ignore"):
             Z, _, _, done = _rk4(self.module, z0, np.array([steps], dtype=np.int64),
                                  np.array([h]), V, V[-1:].copy(), steps, float(self.levels[0]))
         return self._escaped_states(Z[:done + 1], region)
+
+    @property
+    def chirps(self) -> bool:
+        """Chirps run here: a continuous system on the fast path reading u, u', u'' at most."""
+        return not self.discrete and self.module is not None and max(self.orders) <= 2
+
+    def escapes_chirp(self, chirp: Chirp, refine: int = 1) -> bool:
+        """True if the response from rest to ``chirp`` escapes within its duration.
+
+        Parameters
+        ----------
+        chirp : Chirp
+            The input (only where :attr:`chirps`).
+        refine : int, optional
+            Divide the RK4 step by this.
+
+        Returns
+        -------
+        bool
+        """
+        self.runs += 1
+        h = self.h / refine
+        steps = max(1, int(math.ceil(min(chirp.duration, self.t_end) / h)))
+        V = chirp.values(np.arange(2 * steps + 1) * (0.5 * h), self.orders)
+        return self._fast(V, steps, h, self.region(chirp.amplitude))
+
+    def confirm_chirp(self, chirp: Chirp) -> float | None:
+        """Escape time of ``chirp`` if the fast path at two steps and DOP853 at both
+        :data:`CHECK_RTOLS` agree that it escapes (times within :data:`TIME_AGREEMENT`).
+
+        Parameters
+        ----------
+        chirp : Chirp
+            The candidate witness.
+
+        Returns
+        -------
+        float or None
+            The escape time (s) at the tighter tolerance; None when a check disagrees.
+        """
+        from gfrf.twosided.switching import dop853_escape
+
+        if not (self.escapes_chirp(chirp) and self.escapes_chirp(chirp, refine=2)):
+            return None
+        orders = self.orders
+
+        def values(t: float, v: np.ndarray) -> None:
+            v[:] = chirp.values(np.array([t]), orders)[0]
+
+        region = self.region(chirp.amplitude)
+        self.runs += len(CHECK_RTOLS)
+        return self._agreeing([dop853_escape(self.system, values,
+                                             [0.0, min(chirp.duration, self.t_end)],
+                                             self.levels, rtol, region)
+                               for rtol in CHECK_RTOLS])
 
     def switch(self, c: Any, amplitude: float, first_sign: int = 1) -> Any:
         """The feedback run u = U sign(c . z) from rest.

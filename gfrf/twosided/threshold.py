@@ -43,6 +43,7 @@ _SERIES_CONDITIONS = ("norm series sum ||H_n|| r^n converges",
 #: ``upper_method`` per witness kind.
 UPPER_METHOD = {
     "switching": "falsifier: switching input u = +-U (sup|u| = U) from rest escapes",
+    "chirp": "falsifier: chirp A cos(w0 t + k t^2) (sup|u| = A) from rest escapes",
     "tones": "falsifier: sum of tones switched on at t = 0 from rest escapes "
              "(amplitude = sum of tone amplitudes)"}
 
@@ -111,7 +112,7 @@ class Threshold:
 
     @property
     def witness(self) -> dict[str, Any] | None:
-        """The witness (``kind`` ``"tones"`` or ``"switching"``, see
+        """The witness (``kind`` ``"tones"``, ``"switching"`` or ``"chirp"``, see
         :meth:`~gfrf.twosided.falsify.Falsification.witness`), ``{"kind":
         "unstable-pole", "reason": ...}`` for an unstable equilibrium, or None."""
         if self.unstable is not None:
@@ -135,7 +136,8 @@ class Threshold:
                     f"only) below {self.tone_radius:.6g}")
         if self.upper is None:
             return f"{low}; unknown above (no escaping input found)"
-        measure = ("sup|u|" if self.falsification and self.falsification.kind == "switching"
+        measure = ("sup|u|" if self.falsification
+                   and self.falsification.kind in ("switching", "chirp")
                    else "sum of tone amplitudes")
         return (f"{low}; unstable at {self.upper:.6g} ({measure}: a witness escapes, "
                 f"{self.upper_proof_words}); unknown in between")

@@ -1,8 +1,10 @@
 """The falsifier's witness: an input switched on at t = 0 from rest whose response escapes.
 
-Two kinds, as the JSON ``witness`` of ``gfrf threshold`` gives them: ``"tones"``
-(u = sum A cos(omega t + phi), amplitude the sum of the A) and ``"switching"``
-(u = +-U alternating at recorded switch times, amplitude U = sup|u|).  For a closed
+Three kinds, as the JSON ``witness`` of ``gfrf threshold`` gives them: ``"tones"``
+(u = sum A cos(omega t + phi), amplitude the sum of the A), ``"switching"``
+(u = +-U alternating at recorded switch times, amplitude U = sup|u|) and ``"chirp"``
+(:class:`Chirp`: u = A cos(omega_0 t + (omega_1 - omega_0) t^2 / (2 T)) on [0, T],
+amplitude A = sup|u|).  For a closed
 loop the input is the reference r of the loop u = C(r - y).  :class:`Falsification`
 is the result of :func:`gfrf.twosided.falsify.falsify`.
 """
@@ -12,9 +14,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+import numpy as np
+
 from gfrf.twosided.escape import EscapeRegion
 
-__all__ = ["Tone", "Falsification", "tones_text", "switching_text", "scaled"]
+__all__ = ["Tone", "Chirp", "Falsification", "tones_text", "switching_text", "scaled"]
 
 Tone = tuple[float, float, float]
 
@@ -82,16 +86,69 @@ def scaled(shape: list[Tone], amplitude: float) -> list[Tone]:
 
 
 @dataclass(frozen=True)
+class Chirp:
+    """A linear chirp u = A cos(omega_start t + rate t^2) on [0, duration], switched on at
+    t = 0 from rest; ``rate = (omega_end - omega_start) / (2 duration)``, so the
+    instantaneous frequency runs linearly from omega_start to omega_end (rad/s).
+
+    Attributes
+    ----------
+    amplitude : float
+        A = sup|u|.
+    omega_start, omega_end : float
+        Instantaneous angular frequency at t = 0 and at t = duration (rad/s).
+    duration : float
+        T (s): the input is defined on [0, T]; a witness escapes before T.
+    """
+
+    amplitude: float
+    omega_start: float
+    omega_end: float
+    duration: float
+
+    @property
+    def rate(self) -> float:
+        """(omega_end - omega_start) / (2 duration): the t^2 coefficient of the phase."""
+        return (self.omega_end - self.omega_start) / (2.0 * self.duration)
+
+    def text(self) -> str:
+        """u(t) as gfrf input text (exact float reprs), for ``gfrf simulate --input``."""
+        return f"{self.amplitude!r}*cos({self.omega_start!r}*t + {self.rate!r}*t**2)"
+
+    def values(self, t: np.ndarray, orders: list[int]) -> np.ndarray:
+        """u and the derivatives ``orders`` (each 0, 1 or 2) at the times ``t`` (s).
+
+        Parameters
+        ----------
+        t : numpy.ndarray
+            Times in s.
+        orders : list of int
+            The derivative orders wanted, one column each (at most 2).
+
+        Returns
+        -------
+        numpy.ndarray
+            Shape (len(t), len(orders)).
+        """
+        t = np.asarray(t, dtype=float)
+        phase = self.omega_start * t + self.rate * t * t
+        rate = self.omega_start + 2.0 * self.rate * t  # d phase / dt
+        a, c, s = self.amplitude, np.cos(phase), np.sin(phase)
+        table = {0: a * c, 1: -a * rate * s, 2: -a * (2.0 * self.rate * s + rate * rate * c)}
+        return np.stack([table[k] for k in orders], axis=-1)
+
+
+@dataclass(frozen=True)
 class Falsification:
     """Result of :func:`falsify`.
 
     Attributes
     ----------
     upper : float or None
-        The witness's amplitude: sup|u| = U of a switching input, the sum of the tone
-        amplitudes of a sum of tones; None: no escape up to ``cap``.
+        The witness's amplitude: sup|u| = U of a switching input, A of a chirp, the sum
+        of the tone amplitudes of a sum of tones; None: no escape up to ``cap``.
     kind : str or None
-        ``"switching"`` or ``"tones"``.
+        ``"switching"``, ``"chirp"`` or ``"tones"``.
     tones : list of (amplitude, omega_rad_s, phase_rad)
         A tone witness u = sum A cos(omega t + phi), switched on at t = 0 from rest.
     first_sign : int
@@ -117,6 +174,8 @@ class Falsification:
         Escape level of each state.
     candidates : list of dict
         The edges found per input shape, for reports.
+    chirp : Chirp or None
+        A chirp witness.
     """
 
     upper: float | None
@@ -134,11 +193,17 @@ class Falsification:
     levels: list[float] = field(default_factory=list, repr=False)
     discrete: bool = False
     candidates: list[dict[str, Any]] = field(default_factory=list, repr=False)
+    chirp: Chirp | None = None
 
     def witness(self) -> dict[str, Any] | None:
-        """The JSON witness (``kind`` ``"tones"`` or ``"switching"``), or None."""
+        """The JSON witness (``kind`` ``"tones"``, ``"switching"`` or ``"chirp"``), or None."""
         if self.upper is None:
             return None
+        if self.kind == "chirp" and self.chirp is not None:
+            c = self.chirp
+            return {"kind": "chirp", "amplitude": c.amplitude, "omega_start": c.omega_start,
+                    "omega_end": c.omega_end, "duration": c.duration,
+                    "t_escape": self.t_escape}
         if self.kind == "switching":
             return {"kind": "switching", "amplitude": self.upper,
                     "first_sign": self.first_sign, "switch_times": list(self.switch_times),
@@ -150,4 +215,8 @@ class Falsification:
         """The witness input in words."""
         if self.kind == "switching":
             return switching_text(self.upper or 0.0, self.first_sign, self.switch_times)
+        if self.kind == "chirp" and self.chirp is not None:
+            c = self.chirp
+            return (f"u = {c.text()} on [0, {c.duration:.6g}] s (a chirp from "
+                    f"{c.omega_start:.6g} to {c.omega_end:.6g} rad/s)")
         return f"u = {tones_text(self.tones)}"
