@@ -113,7 +113,9 @@ class Chirp:
 
     def text(self) -> str:
         """u(t) as gfrf input text (exact float reprs), for ``gfrf simulate --input``."""
-        return f"{self.amplitude!r}*cos({self.omega_start!r}*t + {self.rate!r}*t**2)"
+        sign = "-" if self.rate < 0 else "+"
+        return (f"{self.amplitude!r}*cos({self.omega_start!r}*t {sign} "
+                f"{abs(self.rate)!r}*t**2)")
 
     def values(self, t: np.ndarray, orders: list[int]) -> np.ndarray:
         """u and the derivatives ``orders`` (each 0, 1 or 2) at the times ``t`` (s).
@@ -211,12 +213,23 @@ class Falsification:
         return {"kind": "tones", "tones": [list(t) for t in self.tones],
                 "t_escape": self.t_escape}
 
-    def input_text(self) -> str:
-        """The witness input in words."""
+    def input_text(self, name: str = "u") -> str:
+        """The witness input in words.
+
+        Parameters
+        ----------
+        name : str, optional
+            The input's name (``"r"`` for the reference of a closed loop).
+
+        Returns
+        -------
+        str
+        """
         if self.kind == "switching":
-            return switching_text(self.upper or 0.0, self.first_sign, self.switch_times)
+            text = switching_text(self.upper or 0.0, self.first_sign, self.switch_times)
+            return name + text[1:] if name != "u" else text
         if self.kind == "chirp" and self.chirp is not None:
             c = self.chirp
-            return (f"u = {c.text()} on [0, {c.duration:.6g}] s (a chirp from "
+            return (f"{name} = {c.text()} on [0, {c.duration:.6g}] s (a chirp from "
                     f"{c.omega_start:.6g} to {c.omega_end:.6g} rad/s)")
-        return f"u = {tones_text(self.tones)}"
+        return f"{name} = {tones_text(self.tones)}"
