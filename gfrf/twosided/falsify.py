@@ -35,8 +35,8 @@ bisection counts), never on time: the same model gives the same witness, byte fo
 byte.  The witness is a simulation fact (estimate-grade) until
 :mod:`gfrf.twosided.enclose` encloses it.  The witness and its JSON are
 :mod:`gfrf.twosided.witness`; the escape tests of one system :mod:`gfrf.twosided.runner`.
-For a closed loop the input searched is the reference r of u = C(r - y) (sums of tones
-only; an improper controller reads the tones' exact derivatives r', r'').
+For a closed loop the input searched is the reference r of u = C(r - y) (chirps and sums
+of tones; an improper controller reads their exact derivatives r', r'').
 """
 
 from __future__ import annotations
