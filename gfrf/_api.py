@@ -127,7 +127,7 @@ def verdict(model: Model | ModelFile, order: int = 5, amplitude: float = 1.0,
     with_norms : bool
         Compute the lower bounds of the norms (slower).
     controller : control.TransferFunction or control.StateSpace, optional
-        A linear SISO controller C(s) in the loop ``u = r + feedback * C[y]``; it
+        A linear SISO controller C(s) in the loop ``u = C(r + feedback*y)``; it
         replaces the model file's controller.
     feedback : {-1, 1}
         Sign of the feedback of ``controller`` (default negative).

@@ -203,7 +203,7 @@ def test_to_nlsys_matches_simulate_on_the_same_input() -> None:
 
 
 def test_to_nlsys_closed_loop_with_a_dynamic_controller() -> None:
-    # y'' + y' - y + 0.1 y^3 = u, u = r - (4 s + 4)/(s + 2) [y]: linear closed loop
+    # y'' + y' - y + 0.1 y^3 = u, u = (4 s + 4)/(s + 2) [r - y]: linear closed loop
     # s^3 + 3 s^2 + 5 s + 2, stable
     mf = model_from_dict({"equation": UNSTABLE_PLANT,
                           "controller": {"num": [4, 4], "den": [1, 2]}})
@@ -235,14 +235,14 @@ def test_to_nlsys_narx_is_discrete_and_matches_the_recursion() -> None:
     for k in range(1, u.size):
         y[k] = 0.5 * y[k - 1] + u[k - 1] - (0.2 * y[k - 1] ** 2 * u[k - 2] if k >= 2 else 0)
     assert response.outputs == pytest.approx(y, abs=1e-12)
-    # in a loop with u = r - 0.3 y: outputs y and u, the recursion's own
+    # in a loop with u = C(r - y) = 0.3 (r - y): outputs y and u, the recursion's own
     loop = model_from_dict({"equation": "y[k] = 0.5*y[k-1] - 0.2*y[k-1]**2*u[k-2] + u[k-1]",
                             "sample_time": 0.1, "controller": {"num": [0.3], "den": [1]}})
     closed = gfrf.simulate(loop, "0.3*sin(2*t)", t_end=5.0, closed_loop=True)
     response = control.input_output_response(gfrf.to_nlsys(loop, closed_loop=True),
                                              closed.t, 0.3 * np.sin(2 * closed.t))
     r = 0.3 * np.sin(2 * closed.t)
-    assert np.max(np.abs(response.outputs[1] - (r - 0.3 * response.outputs[0]))) < 1e-12
+    assert np.max(np.abs(response.outputs[1] - 0.3 * (r - response.outputs[0]))) < 1e-12
     assert np.max(np.abs(response.outputs[0] - closed.y)) < 1e-12
 
 

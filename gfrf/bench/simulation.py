@@ -58,18 +58,19 @@ def _by_hand(t: float, y: np.ndarray) -> list[float]:
 
 
 # Cart-pole (models/cartpole.toml): ((M+m) 4/3 - m cos^2) th'' - (M+m) g/L sin th
-# + m th'^2 sin cos + cos u / L = 0 with u = r - (a th'' + b th' + c th), solved for th''.
+# + m th'^2 sin cos + cos u / L = 0 with u = C(r - th) = a e'' + b e' + c e, e = r - th,
+# solved for th''.
 _M, _m, _L, _g = 0.145, 0.03, 0.125, 9.8
 _A, _B, _C = 15.6, 379.3, 0.1331
 
 
 def _cartpole_by_hand(t: float, y: np.ndarray) -> list[float]:
     """The cart-pole loop as a user types it from eqs (8)-(9) and (15)."""
-    r = 0.02 * math.sin(t)
+    r, dr, ddr = 0.02 * math.sin(t), 0.02 * math.cos(t), -0.02 * math.sin(t)
     co, si = math.cos(y[0]), math.sin(y[0])
     lead = (_M + _m) * 4 / 3 - _m * co ** 2 - _A * co / _L
     rest = (_M + _m) * _g / _L * si - _m * y[1] ** 2 * si * co \
-        - co * (r - _B * y[1] - _C * y[0]) / _L
+        - co * (_A * ddr + _B * (dr - y[1]) + _C * (r - y[0])) / _L
     return [y[1], rest / lead]
 
 

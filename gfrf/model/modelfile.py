@@ -22,7 +22,7 @@ controller          table: ``num``/``den`` (transfer function, highest power fir
                     :func:`control.tf`; entries may be parameter expressions) or
                     ``equation`` (a polynomial controller whose input is the plant
                     output and whose output is the plant input); ``feedback`` = -1
-                    (default, u = r - C[y]) or +1; ``name``, ``source``, ``description``;
+                    (default, u = C(r - y)) or +1; ``name``, ``source``, ``description``;
                     ``sample_time`` (a discrete controller: it must equal the plant's, a
                     continuous controller on a discrete plant or the reverse is refused)
 =================== =====================================================================
@@ -76,7 +76,7 @@ class Controller(Result):
     model : Model or None
         Polynomial controller; its input is the plant output, its output the plant input.
     feedback : int
-        -1 for negative feedback ``u = r - C[y]`` (default), +1 for positive.
+        -1 for negative feedback ``u = C(r - y)`` (default), +1 for ``u = C(r + y)``.
     name, source, description : str
         Free text.
 

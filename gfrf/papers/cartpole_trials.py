@@ -180,7 +180,7 @@ def lagged_simulation(mf: ModelFile, tau: float, theta0: float = math.radians(5.
 
 @dataclass(frozen=True)
 class DriveTrial(Result):
-    """One closed-loop run driven by a cosine reference."""
+    """One closed-loop run driven by a cosine reference (amplitude: of the reference r)."""
 
     equation: str
     target_deg: float
@@ -243,12 +243,15 @@ def has_physical_equation(mf: ModelFile) -> bool:
 
 def loop_drive(mf: ModelFile, angles_deg: tuple[float, ...] = (5.0, 10.0, 15.0),
                periods: int = 100, blowup: float = 1e3) -> LoopDrive:
-    """Drive the closed loop with r = A cos(omega t) at its own frequency scale.
+    """Drive the closed loop u = C(r - y) with r = A cos(omega t) at its own frequency scale.
 
-    A is chosen so that the *linear* loop's steady angle amplitude is each of
-    ``angles_deg``; the nonlinear loop (polynomial equation, and the physical one when
-    the file has a distinct one, :func:`has_physical_equation`) is simulated by
-    :func:`gfrf.sim.simulation.simulate` over ``periods`` periods.
+    A is chosen so that the *linear* loop's steady angle amplitude |T(j omega)| A
+    (T = y/r) is each of ``angles_deg``; the nonlinear loop (polynomial equation, and the
+    physical one when the file has a distinct one, :func:`has_physical_equation`) is
+    simulated by :func:`gfrf.sim.simulation.simulate` over ``periods`` periods, started
+    on the linear loop's periodic steady state y = Re(T A e^{j omega t}) (y(0), y'(0)):
+    from rest, the slow pole's transient (time constant about 200 s on the cart-pole)
+    would last the whole run and double the peak.
 
     Parameters
     ----------
@@ -280,12 +283,14 @@ def loop_drive(mf: ModelFile, angles_deg: tuple[float, ...] = (5.0, 10.0, 15.0),
     t_end = periods * 2.0 * math.pi / omega
     equations = ["polynomial"] + (["physical"] if has_physical_equation(mf) else [])
     trials = []
+    steady = complex(loop.reference_to_output(1j * omega)) / gain  # per unit angle
     for eq in equations:
         system = build_system(mf, closed_loop=True, equation=eq)
         for deg in angles_deg:
             amp = math.radians(deg) / gain
+            start = [math.radians(deg) * steady.real, -math.radians(deg) * omega * steady.imag]
             res = simulate(system, f"{amp!r}*cos({omega!r}*t)", t_end=t_end, rtol=1e-8,
-                           atol=1e-11, blowup=blowup)
+                           atol=1e-11, blowup=blowup, initial=start)
             trials.append(DriveTrial(eq, deg, amp, res.bounded, res.peak, res.blowup_time))
     return LoopDrive(poles=poles,
                      resonant=bool(pairs),

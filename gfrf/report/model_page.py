@@ -146,7 +146,7 @@ def _model_section(a: ModelAnalysis) -> list[str]:
                    for r in plant.coefficient_table()])]
     ctrl = mf.controller
     if ctrl is not None:
-        loop_text = "u = r - C[y]" if ctrl.feedback == -1 else "u = r + C[y]"
+        loop_text = "u = C(r - y)" if ctrl.feedback == -1 else "u = C(r + y)"
         out += [f"Controller: {markdown_text(ctrl.name or 'linear')} "
                 f"({markdown_text(ctrl.source)}). C(s) = num/den with "
                 f"num = {cell(list(ctrl.num or ()))}, den = {cell(list(ctrl.den or ()))} "

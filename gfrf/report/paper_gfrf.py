@@ -326,11 +326,12 @@ def _cartpole_section(quick: bool) -> tuple[list[str], dict[str, Any], str]:
         table(["K_p", "K_d", "tau_f (s)", "lambda_1", "rho_1", "r* (certified)",
                "ceiling", "verdict at r = 1"], pd_rows),
         "**The loop has no resonance.** Both poles of the ideal loop are real "
-        f"({cell(list(drive.poles))}): it is overdamped and |y/r(jw)| falls monotonically. "
+        f"({cell(list(drive.poles))}): it is overdamped, |y/r(jw)| has no resonant peak. "
         "The cosine drives in the simulation table below therefore run at the loop's fast "
         f"corner |p| = {num(drive.omega, 4)} rad/s for {drive.periods} periods "
-        f"({num(drive.t_end, 4)} s), with reference amplitudes that give linear steady "
-        "angles of 5, 10 and 15 deg (the slow corner, "
+        f"({num(drive.t_end, 4)} s), with reference amplitudes (r of u = C(r - y)) that give "
+        "linear steady angles of 5, 10 and 15 deg, each run started on that linear steady "
+        "state (the slow corner, "
         f"{num(min(abs(p) for p in drive.poles), 3)} rad/s, has a period of "
         f"{num(2 * np.pi / min(abs(p) for p in drive.poles), 3)} s). The old 'resonance' "
         "drive used the peak of the *unstable plant's* |H1| (w -> 0; "

@@ -159,7 +159,7 @@ class SimulationResult:
     y : numpy.ndarray
         Output y(t).
     u : numpy.ndarray
-        Plant input u(t) (in closed loop: r + feedback*C[y]).
+        Plant input u(t) (in closed loop: C(r + feedback*y)).
     states : numpy.ndarray
         State trajectory, shape (n_states, len(t)).
     status : str
@@ -226,7 +226,7 @@ class SimulationResult:
         return simulation_markdown(self)
 
     def plot(self) -> Any:
-        """y(t) and u(t) (the plant input; r + feedback*C[y] in closed loop), t in seconds.
+        """y(t) and u(t) (the plant input; C(r + feedback*y) in closed loop), t in seconds.
 
         Returns
         -------

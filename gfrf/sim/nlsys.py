@@ -51,7 +51,7 @@ def to_nlsys(model: Model | ModelFile, closed_loop: bool = False, *,
         A model (:func:`gfrf.parse_model`) or a loaded model file
         (:func:`gfrf.load_model`; needed for ``closed_loop``).
     closed_loop : bool, optional
-        Close the loop with the model file's controller, ``u = r + feedback*C[y]``;
+        Close the loop with the model file's controller, ``u = C(r + feedback*y)``;
         the input is then the reference r and the outputs are y and the plant input u.
     equation : {"physical", "polynomial"}
         The untruncated equation of the file (when it has one) or the truncated
@@ -69,7 +69,8 @@ def to_nlsys(model: Model | ModelFile, closed_loop: bool = False, *,
     Raises
     ------
     ModelError
-        A continuous model (or loop) that reads derivatives of its input: python-control
+        A continuous model that reads derivatives of its input, or a loop whose
+        controller is improper (it reads derivatives of the reference): python-control
         gives the system its input only; a closed loop without a controller; the errors
         of :func:`gfrf.sim.system.build_system`.
 
@@ -99,9 +100,11 @@ def to_nlsys(model: Model | ModelFile, closed_loop: bool = False, *,
         return control.nlsys(update, output, states=states, dt=system.sample_time,
                              **kwargs)
     if system.n_inputs > 1:
-        raise ModelError(f"the {'closed loop' if closed_loop else 'model'} reads derivatives "
-                         f"of its input (D({plant.input},k)); a python-control system gets "
-                         f"the input only: no NonlinearIOSystem")
+        what = ("the closed loop u = C(r - y) with an improper controller reads derivatives "
+                "of the reference r" if closed_loop else
+                f"the model reads derivatives of its input (D({plant.input},k))")
+        raise ModelError(f"{what}; a python-control system gets the input only: no "
+                         f"NonlinearIOSystem")
     update, output = _continuous(system, closed_loop)
     y = plant.output
     states = [y] + [f"D({y},{k})" for k in range(1, system.order)]

@@ -181,7 +181,7 @@ def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | N
         source, closed_loop=closed_loop, equation=equation)
     z0 = _initial(system, initial)
     signal = _signal(input, system)
-    _check_impulses(signal, t_end)
+    _check_impulses(signal, t_end, system)
     _check_work(system, signal, t_end, max_evaluations)
     notes = list(system.notes)
     if system.linear_unstable:
@@ -206,7 +206,8 @@ def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | N
             value = math.inf
         if not math.isfinite(value):
             raise ArgumentError(f"the input{' derivative ' + str(k) if k else ''} is not "
-                                f"finite at t = 0 s: u(t) = {signal.text[:80]}")
+                                f"finite at t = 0 s: u(t) = {signal.text[:80]}"
+                                + (f"; {_loop_reads(system)}" if k else ""))
     start = time.perf_counter()
     if system.discrete:
         result = _narx(system, signal, z0, t_end, blowup)
@@ -282,18 +283,29 @@ def _signal(input_: str | InputSignal | None, system: OdeSystem) -> InputSignal:
     return parse_input(input_, max_derivative=need)
 
 
-def _check_impulses(signal: InputSignal, t_end: float) -> None:
-    """Refuse an input whose derivative needed by a D(u) term is an impulse in (0, t_end]."""
+def _loop_reads(system: OdeSystem) -> str:
+    """Why a state form reads derivatives of its input, in words."""
+    if system.closed_loop:
+        return (f"the loop u = C(r - y) with an improper controller reads the reference r "
+                f"and its derivatives up to order {system.n_inputs - 1}")
+    return f"the model uses derivatives of u up to order {system.n_inputs - 1}"
+
+
+def _check_impulses(signal: InputSignal, t_end: float, system: OdeSystem) -> None:
+    """Refuse an input whose derivative the state form reads (a D(u) term, or an
+    improper controller's derivatives of the reference) is an impulse in (0, t_end]."""
+    if system.discrete or system.n_inputs <= 1:
+        return
     times = signal.impulses(t_end)
     if times is None or times.size:
         where = ("at a time that is not known in closed form" if times is None else
                  f"at t = {', '.join(f'{x:.6g}' for x in times[:3])} s"
                  + (f" (and {times.size - 3} more)" if times.size > 3 else ""))
         raise ArgumentError(
-            f"the model uses derivatives of u up to order {signal.max_derivative}, and the "
-            f"input {quote(signal.text)} jumps (or its slope does) {where}: the derivative "
-            "there is an impulse (Dirac delta), which no integrator represents; use a "
-            "smooth input instead, e.g. 0.5*(1 + tanh((t-1)/0.01)) for step(t-1)")
+            f"{_loop_reads(system)}, and the input {quote(signal.text)} jumps (or its "
+            f"slope does) {where}: the derivative there is an impulse (Dirac delta), which "
+            "no integrator represents; use a smooth input instead, e.g. "
+            "0.5*(1 + tanh((t-1)/0.01)) for step(t-1)")
 
 
 def _narx(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end: float,

@@ -9,25 +9,34 @@ the numba fast path in :mod:`gfrf.sim.fastsim`, so both integrate the same right
 
 ``equation="physical"`` (default) takes the untruncated equation of the model
 file (``sin``/``cos`` kept) when it has one; ``"polynomial"`` the truncated model the
-GFRFs describe.  ``closed_loop=True`` closes the loop with the file's controller,
-``u = r + feedback*C[y]`` (feedback -1: ``u = r - C[y]``), where the given input is
-the reference r.  A controller C(s) = num/den is split into a polynomial part q(s)
-acting on derivatives of y and a strictly proper rest realised in controllable
-canonical form (extra states).  The cart-pole controller a s^2 + b s + c is improper:
-its s^2 term feeds theta'' back into u, so the loop equation is implicit in theta''.
+GFRFs describe.  ``closed_loop=True`` closes the loop with the file's controller C in
+the one convention of gfrf, that of Theorem 2 and of python-control's
+``feedback(C*G, 1)``: the controller acts on the error, ``u = C(e)`` with
+``e = r + feedback*y`` (feedback -1, negative feedback: ``u = C(r - y)``), and the
+given input is the reference r, in the units of y.  A controller C(s) = num/den is
+split into a polynomial part q(s) acting on derivatives of e and a strictly proper rest
+realised in controllable canonical form (extra states driven by e).  An improper
+controller needs derivatives of the reference up to the degree of q: they are inputs
+of the state form (``r, r', ...``), taken exactly from an input given as an
+expression (a tone's are exact; a jump's would be an impulse and is refused by the
+simulator).  The cart-pole controller a s^2 + b s + c is improper: its s^2 term feeds
+theta'' back into u, so the loop equation is implicit in theta''.
 It is solved algebraically for theta'' (plant and controller are both linear in it),
 which is exact as long as the coefficient of theta'' stays non-zero; where it vanishes
 the state becomes non-finite and the run stops there like a blow-up, with its time.
 
-A polynomial controller (``[controller] equation``) is a model whose output w = C[y]
-(named like the plant input) gives ``u = r + feedback*w``: its output derivatives
-w, ..., w^(m-1) join the state, and the plant and controller equations are solved for
-y^(n) and w^(m) (one after the other, or as the linear system they form when each
-holds the other's unknown, e.g. a controller using y^(n) with a static output m = 0).
-Plant input derivatives D(u,j), j <= m, are then allowed; the reference r, r', ...
-must be given.  A NARX plant is closed with a polynomial controller or a transfer
-function read as ``control.tf(num, den, sample_time)`` (powers of z, highest first;
-equal lengths: coefficients of 1, z^-1, ...) by direct recursion of (y[k], w[k]).
+A polynomial controller (``[controller] equation``) is a model whose input is named
+like the plant output and whose output w (named like the plant input) is the plant
+input, ``u = w = C[e]``: its input atoms D(y,k) become e^(k) = r^(k) + feedback*y^(k),
+its output derivatives w, ..., w^(m-1) join the state, and the plant and controller
+equations are solved for y^(n) and w^(m) (one after the other, or as the linear system
+they form when each holds the other's unknown, e.g. a controller using y^(n) with a
+static output m = 0).  Plant input derivatives D(u,j), j <= m, are then allowed; the
+reference r, r', ... up to the controller's highest input derivative must be given.
+A NARX plant is closed with a polynomial controller or a transfer function read as
+``control.tf(num, den, sample_time)`` (powers of z, highest first; equal lengths:
+coefficients of 1, z^-1, ...) by direct recursion of (y[k], w[k]), the controller
+reading e[k-i] = r[k-i] + feedback*y[k-i].
 
 The linearisation at z = 0 is computed with the state form (``linear_eigenvalues`` of
 the :class:`gfrf.sim.integrate.OdeSystem`), for the simulation to report an unstable
@@ -59,9 +68,20 @@ def _solve_for(expr: sp.Expr, top: sp.Symbol, what: str) -> sp.Expr:
     return -expr.subs(top, 0) / coefficient
 
 
-def _controller_law(ctrl: Controller, y_atom: Callable[[int], sp.Symbol], order: int,
-                    r: sp.Symbol) -> tuple[sp.Expr, list[sp.Symbol], list[sp.Expr]]:
-    """u = r + feedback*C[y] with C = num/den: (u expression, controller states, their rates)."""
+def _error(ctrl: Controller, y_atom: Callable[[int], sp.Symbol], k: int) -> sp.Expr:
+    """e^(k) = r^(k) + feedback*y^(k): the controller's input (the loop error), order k."""
+    return _r(k) + ctrl.feedback * y_atom(k)
+
+
+def _r(k: int) -> sp.Symbol:
+    """The reference r, its k-th derivative (continuous) or lag k (NARX)."""
+    return sp.Symbol(f"_r__{k}", real=True)
+
+
+def _controller_law(ctrl: Controller, y_atom: Callable[[int], sp.Symbol], order: int
+                    ) -> tuple[sp.Expr, list[sp.Symbol], list[sp.Expr], int]:
+    """u = C(e), e = r + feedback*y, C = num/den: (u expression, controller states, their
+    rates, the highest reference derivative the law reads)."""
     s = sp.Symbol("s")
     num = sp.Poly([sp.Float(c) for c in ctrl.num], s)
     den = sp.Poly([sp.Float(c) for c in ctrl.den], s)
@@ -69,8 +89,8 @@ def _controller_law(ctrl: Controller, y_atom: Callable[[int], sp.Symbol], order:
     if quotient.degree() > order:
         raise ModelError(f"the controller's improper part has degree {quotient.degree()}, "
                          f"above the plant order {order}: the loop has no state form")
-    v = sum((sp.Float(c) * y_atom(k) for k, c in enumerate(reversed(quotient.all_coeffs()))),
-            sp.Integer(0))
+    v = sum((sp.Float(c) * _error(ctrl, y_atom, k)
+             for k, c in enumerate(reversed(quotient.all_coeffs()))), sp.Integer(0))
     states: list[sp.Symbol] = []
     rates: list[sp.Expr] = []
     m = den.degree()
@@ -81,9 +101,9 @@ def _controller_law(ctrl: Controller, y_atom: Callable[[int], sp.Symbol], order:
         rc += [0] * (m - len(rc))
         states = [sp.Symbol(f"xc{i}", real=True) for i in range(m)]
         rates = [states[i + 1] for i in range(m - 1)]
-        rates.append(-sum(d[i] * states[i] for i in range(m)) + y_atom(0))
+        rates.append(-sum(d[i] * states[i] for i in range(m)) + _error(ctrl, y_atom, 0))
         v += sum(rc[i] * states[i] for i in range(m))
-    return r + ctrl.feedback * v, states, rates
+    return v, states, rates, max(quotient.degree(), 0)
 
 
 def _orders(expr: sp.Expr, name: str) -> list[int]:
@@ -93,7 +113,7 @@ def _orders(expr: sp.Expr, name: str) -> list[int]:
 
 
 def _w(k: int) -> sp.Symbol:
-    """Controller output w (C[y]; the plant input is u = r + feedback*w), order or lag k."""
+    """Controller output w = C[e], the plant input u, order or lag k."""
     return sp.Symbol(f"_w__{k}", real=True)
 
 
@@ -101,9 +121,10 @@ def _controller_equation(ctrl: Controller, plant: Model, equation: str) -> sp.Ex
     """The controller as ``expression = 0`` in its output atoms :func:`_w` and plant output.
 
     A polynomial controller's output atoms (named like the plant input) are renamed to
-    w; a transfer function (discrete plants only here) is read as ``control.tf(num, den,
-    sample_time)``: powers of z, highest first, so that after left-padding num to the
-    length of den the entries are the coefficients of 1, z^-1, z^-2, ... and
+    w (its input atoms, named like the plant output, are still y: :func:`_on_error`
+    makes them the error); a transfer function (discrete plants only here) is read as
+    ``control.tf(num, den, sample_time)``: powers of z, highest first, so that after
+    left-padding num to the length of den the entries are the coefficients of 1, z^-1, z^-2, ... and
     ``sum den_i w[k-i] = sum num_i y[k-i]``.
     """
     if ctrl.model is not None:
@@ -119,6 +140,15 @@ def _controller_equation(ctrl: Controller, plant: Model, equation: str) -> sp.Ex
     num = np.concatenate([np.zeros(den.size - num.size), num])
     return sum((sp.Float(a) * _w(i) - sp.Float(b) * plant.atom(plant.output, i)
                 for i, (a, b) in enumerate(zip(den, num, strict=True))), sp.Integer(0))
+
+
+def _on_error(cexpr: sp.Expr, ctrl: Controller, plant: Model) -> tuple[sp.Expr, int]:
+    """The controller equation read on the error: each y^(k) (lag k for NARX) becomes
+    r^(k) + feedback*y^(k); also the highest k (0 when it reads none)."""
+    ks = _orders(cexpr, plant.output)
+    y_atom = lambda k: plant.atom(plant.output, k)  # noqa: E731
+    return (cexpr.xreplace({y_atom(k): _error(ctrl, y_atom, k) for k in ks}),
+            max(ks, default=0))
 
 
 def _solve_pair(loop: sp.Expr, ctrl: sp.Expr, top_y: sp.Symbol,
@@ -152,7 +182,7 @@ def _polynomial_loop(expr: sp.Expr, model: Model, ctrl: Controller, equation: st
     """Continuous loop with a polynomial controller: (states, rates, inputs, u, notes).
 
     States are y, ..., y^(n-1) then w, ..., w^(m-1) (m: the controller's output order);
-    the inputs are r, r', ... up to the plant's highest input derivative.
+    the inputs are r, r', ... up to the controller's highest input derivative.
     """
     y_atom = lambda k: model.atom(model.output, k)  # noqa: E731
     cexpr = _controller_equation(ctrl, model, equation)
@@ -169,16 +199,16 @@ def _polynomial_loop(expr: sp.Expr, model: Model, ctrl: Controller, equation: st
     if q > m:
         raise ModelError(f"the plant uses D({model.input},{q}), above the controller's output "
                          f"order {m}: the loop has no state form")
-    r = [sp.Symbol(f"_r__{j}", real=True) for j in range(q + 1)]
-    loop = expr.xreplace({model.atom(model.input, j): r[j] + ctrl.feedback * _w(j)
-                          for j in u_orders})
+    loop = expr.xreplace({model.atom(model.input, j): _w(j) for j in u_orders})
+    cexpr, _ = _on_error(cexpr, ctrl, model)
+    r = [_r(j) for j in range(p + 1)]
     y_top, w_top = _solve_pair(loop, cexpr, y_atom(n), _w(m))
     notes = [f"the controller uses D({model.output},{n}): the loop is implicit; solved "
              f"algebraically for D({model.output},{n})"] if p == n else []
     z = [y_atom(k) for k in range(n)] + [_w(k) for k in range(m)]
     rates = [y_atom(k + 1) for k in range(n - 1)] + [y_top]
     rates += [_w(k + 1) for k in range(m - 1)] + ([w_top] if m else [])
-    plant_u = r[0] + ctrl.feedback * (_w(0) if m else w_top)
+    plant_u = _w(0) if m else w_top
     return z, rates, r, plant_u, notes
 
 
@@ -266,8 +296,7 @@ def build_system(source: ModelFile | Model, *, closed_loop: bool = False,
         if any(k > 0 for k in u_orders):
             raise ModelError("closed-loop simulation with input derivatives D(u,k) in the "
                              "plant is not supported with a transfer-function controller")
-        r = sp.Symbol("_r__0", real=True)
-        law, ctrl_states, ctrl_rates = _controller_law(ctrl, y_atom, n, r)
+        law, ctrl_states, ctrl_rates, k_r = _controller_law(ctrl, y_atom, n)
         if law.has(y_atom(n)):
             notes.append(f"the controller is improper: its D({model.output},{n}) term makes "
                          f"the loop implicit; solved algebraically for D({model.output},{n})")
@@ -275,7 +304,7 @@ def build_system(source: ModelFile | Model, *, closed_loop: bool = False,
         z = [y_atom(k) for k in range(n)] + ctrl_states
         rates = [y_atom(k + 1) for k in range(n - 1)] + [top]
         rates += [rate.xreplace({y_atom(n): top}) for rate in ctrl_rates]
-        plant_u, inputs = law, [r]
+        plant_u, inputs = law, [_r(k) for k in range(k_r + 1)]
     else:
         top = _solve_for(expr, y_atom(n), "model equation")
         inputs = [u_atom(k) for k in range(max(u_orders) + 1)]
@@ -313,23 +342,23 @@ def _narx_loop(model: Model, expr: sp.Expr, ctrl: Controller, equation: str,
     """NARX plant in a loop: ``rhs`` gives (y[k], w[k]) from past y, past w and r lags.
 
     The state is (y[k-1], ..., y[k-a], w[k-1], ..., w[k-b]); the inputs r[k], ..., r[k-q]
-    (q: the plant's largest input lag); u[k] = r[k] + feedback*w[k].
+    (p: the controller's largest input lag); u[k] = w[k] = C[e][k], e = r + feedback*y.
     """
     y_atom = lambda k: model.atom(model.output, k)  # noqa: E731
     cexpr = _controller_equation(ctrl, model, equation)
     u_orders = _orders(expr, model.input)
     q = max(u_orders, default=0)
-    r = [sp.Symbol(f"_r__{j}", real=True) for j in range(q + 1)]
-    loop = expr.xreplace({model.atom(model.input, j): r[j] + ctrl.feedback * _w(j)
-                          for j in u_orders})
-    y_now, w_now = _solve_pair(loop, cexpr, y_atom(0), _w(0))
+    loop = expr.xreplace({model.atom(model.input, j): _w(j) for j in u_orders})
     a = max(_orders(expr, model.output) + _orders(cexpr, model.output))
+    cexpr, p = _on_error(cexpr, ctrl, model)
+    r = [_r(j) for j in range(p + 1)]
+    y_now, w_now = _solve_pair(loop, cexpr, y_atom(0), _w(0))
     b = max(_orders(cexpr, "_w") + [q])
     z = [y_atom(k) for k in range(1, a + 1)] + [_w(k) for k in range(1, b + 1)]
     step = ([y_now] + z[:a - 1] if a else []) + ([w_now] + z[a:-1] if b else [])
     jac = sp.Matrix(step).jacobian(z).subs({s: 0 for s in z + r})
     eig = np.linalg.eigvals(np.array(jac.evalf(), dtype=float)) if z else np.zeros(0)
-    src, _ = _source(z, r, [y_now, w_now], r[0] + ctrl.feedback * _w(0), [y_atom(0), _w(0)])
+    src, _ = _source(z, r, [y_now, w_now], _w(0), [y_atom(0), _w(0)])
     return OdeSystem(n_states=len(z), order=a, n_inputs=len(r), source=src,
                      linear_eigenvalues=eig, label=label, closed_loop=True, discrete=True,
                      sample_time=model.sample_time)

@@ -282,11 +282,16 @@ def _amplitudes(v: Verdict, scale: float | None,
     return out
 
 
-def _inputs(r: float, w_r: float, t_end: float, seed: int) -> dict[str, InputSignal]:
-    return {"cosine at resonance": parse_input(f"{r!r}*cos({w_r!r}*t)"),
-            "two tones": parse_input(f"{r / 2!r}*cos({w_r!r}*t) + "
-                                     f"{r / 2!r}*cos({0.9 * w_r!r}*t)"),
-            "bounded random": random_input(r, seed, min(math.pi / w_r, t_end / 16))}
+def _inputs(r: float, w_r: float, t_end: float, seed: int, need: int
+            ) -> dict[str, InputSignal]:
+    """The trial inputs; ``need`` derivatives of each (a loop whose improper controller
+    reads r', r'': the piecewise-linear random input has none, and is left out)."""
+    out = {"cosine at resonance": parse_input(f"{r!r}*cos({w_r!r}*t)", max_derivative=need),
+           "two tones": parse_input(f"{r / 2!r}*cos({w_r!r}*t) + "
+                                    f"{r / 2!r}*cos({0.9 * w_r!r}*t)", max_derivative=need)}
+    if need == 0:
+        out["bounded random"] = random_input(r, seed, min(math.pi / w_r, t_end / 16))
+    return out
 
 
 def validate(mf: ModelFile, scale: float | None = None, *,
@@ -349,8 +354,12 @@ def validate(mf: ModelFile, scale: float | None = None, *,
         result.notes.append(f"the radius estimate {v.radius_estimate:.4g} is the plant's "
                             "(open-loop norms), not a radius of the loop: not tried")
     grid = np.linspace(0.0, t_end, 20001)
+    need = system.n_inputs - 1 if not system.discrete else 0
+    if need and _amplitudes(v, scale, factors):
+        result.notes.append(f"the loop u = C(r - y) reads r and its derivatives up to order "
+                            f"{need}: the piecewise-linear bounded random reference is not run")
     for label, r in _amplitudes(v, scale, factors):
-        for kind, signal in _inputs(r, w_r, t_end, seed).items():
+        for kind, signal in _inputs(r, w_r, t_end, seed, need).items():
             res = _run(system, signal, t_end, None, blowup, method)
             result.trials.append(Trial(kind=kind,
                                        label=label,

@@ -1,8 +1,9 @@
 """Linear plant, controller and closed loop as python-control objects (continuous time).
 
-The loop of a model file with a controller C is ``y = P[u]``, ``u = r + f * C[y]``
+The loop of a model file with a controller C is ``y = P[u]``, ``u = C[r + f y]``
 with ``f = controller.feedback`` (-1, the default, is negative feedback
-``u = r - C[y]``).  Its linear part has the characteristic polynomial
+``u = C(r - y)``, python-control's ``feedback(C*P, 1)``; the one convention of gfrf,
+simulation included).  Its linear part has the characteristic polynomial
 
     chi(s) = D_P(s) D_C(s) - f * N_P(s) N_C(s),
 
@@ -132,8 +133,7 @@ def loop_text(controller: Controller) -> str:
         what = f"C(s) = {num}" if den == "1" else f"C(s) = ({num}) / ({den})"
     else:
         what = f"C: {controller.model.equation()}"  # type: ignore[union-attr]
-    return (f"u = C(r {sign} y), {what}; r is the reference, in units of y (the simulator's "
-            f"closed loop is u = r {sign} C[y], another r)")
+    return f"u = C(r {sign} y), {what}; r is the reference, in units of y"
 
 
 def _poly_s(c: np.ndarray) -> str:
@@ -257,7 +257,7 @@ class ClosedLoop(Result):
         H1 of the plant and the controller's linear part (properties: python-control
         is imported on first use, not by the verdict).
     reference_to_output, sensitivity : control.TransferFunction
-        y/r = P / (1 - f P C) and g1 = 1 / (1 - f P C) (properties, likewise).
+        y/r = P C / (1 - f P C) and g1 = 1 / (1 - f P C) (properties, likewise).
     plant_poly, controller_poly : tuple of numpy.ndarray
         (numerator, denominator) of P and C, highest power first.
     sensitivity_num : numpy.ndarray
@@ -324,8 +324,8 @@ class ClosedLoop(Result):
 
     @property
     def reference_to_output(self) -> control.TransferFunction:
-        """y/r = P / (1 - f P C)."""
-        return _tf(np.polymul(self.plant_poly[0], self.controller_poly[1]), self.characteristic)
+        """y/r = P C / (1 - f P C) (the loop u = C(r + f y))."""
+        return _tf(np.polymul(self.plant_poly[0], self.controller_poly[0]), self.characteristic)
 
     @property
     def sensitivity(self) -> control.TransferFunction:

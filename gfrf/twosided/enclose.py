@@ -4,9 +4,11 @@ The model ``sum_t c_t prod D(y, o) prod D(u, o) = 0`` (a continuous polynomial m
 whose highest output derivative y^(n) appears in one linear term a_n y^(n)) becomes
 the polynomial flow z' = F(z, u) in z = (y, ..., y^(n-1)); a tone A cos(omega t + phi)
 adds the exact oscillator (c, s)' = omega (-s, c), so a tone witness is an autonomous
-polynomial flow too, and a switching witness is one with a constant u on each segment
-between switch times.  Coefficients, amplitudes, frequencies and switch times are the
-exact values of the doubles the model and the witness hold.
+polynomial flow too, a chirp A cos(omega_0 t + k t^2) (models without input
+derivatives) adds (c, s, tau)' = ((omega_0 + 2 k tau)(-s, c), 1) with u = A c, and a
+switching witness is one with a constant u on each segment between switch times.
+Coefficients, amplitudes, frequencies and switch times are the exact values of the
+doubles the model and the witness hold.
 
 Each step of length h (exact dyadic lengths; the switch times are step boundaries) is
 the interval Taylor method with a rigorous remainder (Moore's method): an a priori
@@ -135,17 +137,23 @@ def flow(model: Model) -> tuple[int, Monomials] | None:
 class _Field:
     """z' = F(z) on the state (y..y^(n-1), then per tone c, s), u per segment or tones."""
 
-    def __init__(self, n: int, monos: Monomials, tones: list[tuple[float, float, float]]):
+    def __init__(self, n: int, monos: Monomials, tones: list[tuple[float, float, float]],
+                 chirp: Any = None):
         from flint import arb, fmpq
 
         self.n, self.tones = n, tones
         self.monos = [(arb(fmpq(q.numerator, q.denominator)), e) for q, e in monos]
         self.nu = len(monos[0][1]) - n if monos else 1
         self.u_const: Any = arb(0)
-        self.dim = n + 2 * len(tones)
+        self.chirp = None if chirp is None else (  # A, omega_0, 2k: balls of the exact values
+            arb(chirp.amplitude), arb(chirp.omega_start),
+            (arb(chirp.omega_end) - arb(chirp.omega_start)) / arb(chirp.duration))
+        self.dim = n + 2 * len(tones) + (3 if chirp is not None else 0)
 
     def inputs(self, z: list[Any]) -> list[Any]:
-        """u, u', ... from the constant input or the tone states."""
+        """u, u', ... from the constant input, the chirp or the tone states."""
+        if self.chirp is not None:  # only for models without input derivatives
+            return [self.chirp[0] * z[self.n]]
         if not self.tones:
             return [self.u_const] + [0] * (self.nu - 1)
         from flint import arb
@@ -175,6 +183,10 @@ class _Field:
 
             c, s = z[self.n + 2 * i], z[self.n + 2 * i + 1]
             out += [-arb(w) * s, arb(w) * c]
+        if self.chirp is not None:
+            c, s, tau = z[self.n], z[self.n + 1], z[self.n + 2]
+            freq = tau * self.chirp[2] + self.chirp[1]  # omega_0 + 2 k tau
+            out += [-(freq * s), freq * c, tau * 0 + 1]
         return out
 
 
@@ -259,6 +271,8 @@ def enclose_witness(model: Model, falsification: Any, *,
     if shape is None:
         return None
     n, monos = shape
+    if f.kind == "chirp" and (f.chirp is None or (monos and len(monos[0][1]) - n > 1)):
+        return None  # a chirp drives models without input derivatives only
     last = None
     for bits, step in PRECISIONS:
         if (f.t_escape or f.t_end) / step > MAX_STEPS:
@@ -283,13 +297,18 @@ def _attempt(n: int, monos: Monomials, f: Any, bits: int, longest: float,
     ctx.prec, ctx.cap = bits, ORDER + 1  # series ops truncate at ctx.cap terms
     try:
         tones = list(f.tones) if f.kind == "tones" else []
-        field = _Field(n, monos, tones)
+        chirp = f.chirp if f.kind == "chirp" else None
+        field = _Field(n, monos, tones, chirp)
         X = [arb(0)] * n
         for _, _, p in tones:
             X += [arb(p).cos(), arb(p).sin()]
+        if chirp is not None:
+            X += [arb(1), arb(0), arb(0)]
         S = LohnerSet.of_box(X)
         region = f.region
         horizon = (f.t_escape or f.t_end) * 1.5
+        if chirp is not None:
+            horizon = min(horizon, chirp.duration)
         edges = [0.0, *(f.switch_times if f.kind == "switching" else []), horizon]
         sign = f.first_sign
         steps = 0

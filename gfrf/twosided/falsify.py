@@ -1,6 +1,6 @@
 """The upper side: the smallest bounded input whose response from rest escapes.
 
-Two input families are searched, both switched on at t = 0 with the system at rest:
+Three input families are searched, all switched on at t = 0 with the system at rest:
 
 * **switching inputs** u = +-U, the sign following a state function s = c . z
   (z = (y, y', ..., y^(n-1))): the velocity, a*y + y' (the energy-pumping input of an
@@ -10,6 +10,9 @@ Two input families are searched, both switched on at t = 0 with the system at re
   steps on the switching function's phase).  Their amplitude is sup|u| = U, the
   L-infinity size of the lower side's class.  Not for NARX models or models that use
   input derivatives;
+* **chirps** u = A cos(omega_0 t + (omega_1 - omega_0) t^2 / (2 T)) on [0, T]
+  (:data:`CHIRPS`: sweeps across the least damped mode, down and up), amplitude
+  A = sup|u|; continuous models on the fast path, below the best switching edge;
 * **sums of tones** u = sum A cos(omega t + phi) on a log grid of frequencies spanning
   the linear part's eigenvalue moduli (x 0.2 .. x 3), the exact sub- and
   super-harmonics 1/3, 1/2, 2, 3 of the least damped mode, then a finer grid (0.5 %
@@ -30,22 +33,26 @@ accepted only if that open-loop input escapes under scipy's DOP853 at rtol 1e-9 
 witness must also escape at half the step.  Every stop is on work (grid sizes,
 bisection counts), never on time: the same model gives the same witness, byte for
 byte.  The witness is a simulation fact (estimate-grade) until
-:mod:`gfrf.twosided.enclose` encloses it.
+:mod:`gfrf.twosided.enclose` encloses it.  The witness and its JSON are
+:mod:`gfrf.twosided.witness`; the escape tests of one system :mod:`gfrf.twosided.runner`.
+For a closed loop the input searched is the reference r of u = C(r - y) (chirps and sums
+of tones; an improper controller reads their exact derivatives r', r'').
 """
 
 from __future__ import annotations
 
 import math
-import warnings
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 
 from gfrf.model.equation import Model
 from gfrf.model.modelfile import ModelFile
-from gfrf.twosided.escape import DEFAULT_LEVEL, EscapeRegion, escape_levels, escape_region
+from gfrf.twosided.escape import DEFAULT_LEVEL
+from gfrf.twosided.runner import CHECK_RTOLS, MAX_RUN_STEPS, TIME_AGREEMENT, EscapeRunner
+from gfrf.twosided.witness import Chirp, Falsification, Tone, scaled, switching_text, tones_text
 
 __all__ = ["Falsification", "falsify", "ESCAPE_LEVEL", "CAP_FACTOR", "CHECK_RTOLS",
            "MARGINS", "MAX_RUN_STEPS", "tones_text", "switching_text"]
@@ -54,287 +61,20 @@ __all__ = ["Falsification", "falsify", "ESCAPE_LEVEL", "CAP_FACTOR", "CHECK_RTOL
 ESCAPE_LEVEL = DEFAULT_LEVEL
 #: The search cap: this many times the reference amplitude (the static bound, or r*, or 1).
 CAP_FACTOR = 10.0
-#: Longest horizon in seconds (continuous models).
-T_MAX = 400.0
-#: Horizon: this many time constants of the slowest linear mode ...
-TIME_CONSTANTS = 40.0
-#: ... and at least this many periods of the slowest linear mode.
-PERIODS = 10.0
-#: NARX horizon in samples: at least, at most.
-SAMPLES = (500, 2000)
-#: RK4 steps of one run at most: a stiff model's horizon is shortened to fit (stated).
-MAX_RUN_STEPS = 200_000
 #: Frequencies of the first stage.
 N_FREQUENCIES = 48
 #: Halvings from the cap, then bisections of the escaping amplitude.
 HALVINGS, BISECTIONS = 12, 10
 #: Factors on the best edge tried for the witness, in order.
 MARGINS = (1.02, 1.03, 1.05, 1.08, 1.12)
-#: The two DOP853 tolerances of the witness check (rtol; atol = rtol * 1e-3).
-CHECK_RTOLS = (1e-9, 1e-11)
-#: Relative agreement of the two escape times.
-TIME_AGREEMENT = 0.01
 #: Candidates (best edges) tried for a witness at most.
 MAX_CANDIDATES = 4
 #: Phases a (times the reference frequency) of s = y' + a*y tried, then golden steps.
 PHASES = (-0.5, -0.2, 0.2, 0.5)
 GOLDEN_STEPS = 6
-
-Tone = tuple[float, float, float]
-
-
-def tones_text(tones: list[Tone]) -> str:
-    """The input u(t) = sum A cos(omega t + phi) as gfrf input text (exact float reprs).
-
-    Parameters
-    ----------
-    tones : list of tuple of float
-        ``(A, omega, phi)`` per tone: amplitude, angular frequency in rad/s, phase in rad.
-    """
-    return " + ".join(f"{a!r}*cos({w!r}*t + {p!r})" for a, w, p in tones)
-
-
-def switching_text(amplitude: float, first_sign: int, switch_times: list[float]) -> str:
-    """The switching input in words (all switch times when few, else the first and last)."""
-    times = [f"{t:.6g}" for t in switch_times]
-    if len(times) > 8:
-        times = times[:4] + [f"... ({len(switch_times) - 6} more)"] + times[-2:]
-    start = f"u = {'+' if first_sign > 0 else '-'}{amplitude!r} on [0, t1)"
-    if not switch_times:
-        return f"u = {first_sign * amplitude!r} (constant)"
-    return (f"{start}, the sign alternating at each of {len(switch_times)} switch times t = "
-            + ", ".join(times) + " s")
-
-
-def _scaled(shape: list[Tone], amplitude: float) -> list[Tone]:
-    return [(a * amplitude, w, p) for a, w, p in shape]
-
-
-@dataclass(frozen=True)
-class Falsification:
-    """Result of :func:`falsify`.
-
-    Attributes
-    ----------
-    upper : float or None
-        The witness's amplitude: sup|u| = U of a switching input, the sum of the tone
-        amplitudes of a sum of tones; None: no escape up to ``cap``.
-    kind : str or None
-        ``"switching"`` or ``"tones"``.
-    tones : list of (amplitude, omega_rad_s, phase_rad)
-        A tone witness u = sum A cos(omega t + phi), switched on at t = 0 from rest.
-    first_sign : int
-        A switching witness: u = first_sign * U on [0, t1).
-    switch_times : list of float
-        A switching witness: the times (s) at which the sign of u alternates.
-    t_escape : float or None
-        Escape time (s) of the witness under DOP853 at the tighter tolerance
-        (NARX: of the recursion).
-    edge : float or None
-        The smallest escaping amplitude the search found (the witness has a margin on it).
-    cap : float
-        The search cap on the amplitude.
-    t_end : float
-        The horizon in seconds.
-    runs : int
-        Simulations run.
-    escape : str
-        What escape meant, and how the witness was checked.
-    region : EscapeRegion or None
-        The certified escape region used (oscillators).
-    levels : list of float
-        Escape level of each state.
-    candidates : list of dict
-        The edges found per input shape, for reports.
-    """
-
-    upper: float | None
-    tones: list[Tone]
-    t_escape: float | None
-    edge: float | None
-    cap: float
-    t_end: float
-    runs: int
-    escape: str
-    kind: str | None = None
-    first_sign: int = 1
-    switch_times: list[float] = field(default_factory=list, repr=False)
-    region: EscapeRegion | None = field(default=None, repr=False)
-    levels: list[float] = field(default_factory=list, repr=False)
-    discrete: bool = False
-    candidates: list[dict[str, Any]] = field(default_factory=list, repr=False)
-
-    def witness(self) -> dict[str, Any] | None:
-        """The JSON witness (``kind`` ``"tones"`` or ``"switching"``), or None."""
-        if self.upper is None:
-            return None
-        if self.kind == "switching":
-            return {"kind": "switching", "amplitude": self.upper,
-                    "first_sign": self.first_sign, "switch_times": list(self.switch_times),
-                    "t_escape": self.t_escape}
-        return {"kind": "tones", "tones": [list(t) for t in self.tones],
-                "t_escape": self.t_escape}
-
-    def input_text(self) -> str:
-        """The witness input in words."""
-        if self.kind == "switching":
-            return switching_text(self.upper or 0.0, self.first_sign, self.switch_times)
-        return f"u = {tones_text(self.tones)}"
-
-
-class _Runner:
-    """Escape tests of one system on the fast path (fixed step) or the NARX recursion."""
-
-    def __init__(self, system: Any, model: Model, top_omega: float):
-        self.system = system
-        self.model = model
-        self.runs = 0
-        self.notes: list[str] = []
-        ev = np.asarray(self.system.linear_eigenvalues, dtype=complex)
-        self.levels = escape_levels(model, ev, system.n_states)
-        self.discrete = self.system.discrete
-        self.module = self.bang = None
-        if self.discrete:
-            mod = float(np.max(np.abs(ev))) if ev.size else 0.0
-            decay = -math.log(mod) if 0 < mod < 1 else 1.0
-            n = int(min(SAMPLES[1], max(SAMPLES[0], math.ceil(TIME_CONSTANTS / decay))))
-            self.t_end = n * float(self.system.sample_time)  # type: ignore[arg-type]
-            self.samples = n
-            return
-        nonzero = np.abs(ev[np.abs(ev) > 0])
-        slow = float(np.min(np.abs(ev.real))) if ev.size else 1.0
-        fast = float(np.max(np.abs(ev))) if ev.size else 1.0
-        period = 2 * math.pi / float(nonzero.min()) if nonzero.size else 2 * math.pi
-        self.t_end = float(min(T_MAX, max(PERIODS * period,
-                                          TIME_CONSTANTS / max(slow, 1e-12))))
-        h = min(0.5 / max(fast, 1e-12), 2 * math.pi / top_omega / 40)
-        if self.t_end / h > MAX_RUN_STEPS:
-            self.notes.append(f"horizon shortened from {self.t_end:.4g} s to fit MAX_RUN_STEPS "
-                              f"= {MAX_RUN_STEPS} RK4 steps of {h:.3g} s")
-            self.t_end = MAX_RUN_STEPS * h
-        self.steps = max(1, int(math.ceil(self.t_end / h)))
-        self.h = self.t_end / self.steps
-        self.orders = []
-        for name in self.system.input_names:
-            head, _, k = name.rpartition("__")
-            self.orders.append(int(k) if k.isdigit() and head else 0)
-        from gfrf.sim.fastsim import compile_system, numba_available
-
-        if numba_available():
-            self.module = compile_system(self.system)[0]
-            if all(k == 0 for k in self.orders) and not self.system.closed_loop:
-                from gfrf.twosided.switching import switching_module
-
-                self.bang = switching_module(self.system)
-
-    def region(self, amplitude: float) -> EscapeRegion | None:
-        if self.discrete or self.system.closed_loop or self.system.n_states != 2:
-            return None
-        return escape_region(self.model, amplitude)
-
-    def _escaped_states(self, Z: np.ndarray, region: EscapeRegion | None) -> bool:
-        with np.errstate(invalid="ignore"):
-            if not np.all(np.abs(Z) < self.levels):
-                return True
-            if region is not None:
-                y, p = Z[:, 0], Z[:, 1]
-                return bool(np.any((y >= region.y_plus) & (p >= 0))
-                            or np.any((y <= -region.y_minus) & (p <= 0)))
-        return False
-
-    def escapes(self, tones: list[Tone], refine: int = 1) -> bool:
-        """True if the response from rest to ``tones`` escapes."""
-        self.runs += 1
-        region = self.region(sum(abs(a) for a, _, _ in tones))
-        if self.discrete or self.module is None:
-            return self._simulate(tones, 1e-7, region) is not None
-        from gfrf.sim.fastsim import _rk4
-
-        steps, h = self.steps * refine, self.h / refine
-        t = np.arange(2 * steps + 1) * (0.5 * h)
-        V = np.zeros((t.size, len(self.orders)))
-        for a, w, p in tones:
-            for j, k in enumerate(self.orders):
-                V[:, j] += a * w**k * np.cos(w * t + p + k * math.pi / 2)
-        z0 = np.zeros(self.system.n_states)
-        with np.errstate(all="ignore"):
-            Z, _, _, done = _rk4(self.module, z0, np.array([steps], dtype=np.int64),
-                                 np.array([h]), V, V[-1:].copy(), steps, float(self.levels[0]))
-        return self._escaped_states(Z[:done + 1], region)
-
-    def switch(self, c: Any, amplitude: float, first_sign: int = 1) -> Any:
-        """The feedback run u = U sign(c . z) (a :class:`~.switching.SwitchRun`); for a
-        NARX model ``c`` names a sign rule of :mod:`gfrf.twosided.narx_signs`."""
-        from gfrf.twosided.switching import run_switching
-
-        self.runs += 1
-        if self.discrete:
-            from gfrf.twosided.narx_signs import run_signs
-
-            return run_signs(self.system, c, amplitude, self.samples, float(self.levels[0]))
-        region = self.region(amplitude)
-        return run_switching(self.bang, self.system.n_states, c, amplitude, first_sign,  # type: ignore[arg-type]
-                             self.h, self.steps, self.levels,
-                             region.flags() if region is not None else (0.0, 0.0, 0.0))
-
-    def _simulate(self, tones: list[Tone], rtol: float, region: EscapeRegion | None
-                  ) -> float | None:
-        """Escape time of ``tones`` (scipy DOP853, or the NARX recursion), or None."""
-        if self.discrete:
-            from gfrf.sim.simulation import simulate
-
-            with warnings.catch_warnings():  # "expect growth": escaping is looked for
-                warnings.simplefilter("ignore", UserWarning)
-                res = simulate(self.system, tones_text(tones), t_end=self.t_end,
-                               method="dop853", rtol=rtol, atol=rtol * 1e-3,
-                               blowup=float(self.levels[0]), n_out=2)
-            return res.blowup_time if res.status == "blowup" else None
-        from gfrf.twosided.switching import dop853_escape
-
-        orders = self.orders
-
-        def values(t: float, v: np.ndarray) -> None:
-            v[:] = 0.0
-            for a, w, p in tones:
-                for j, k in enumerate(orders):
-                    v[j] += a * w**k * math.cos(w * t + p + k * math.pi / 2)
-
-        return dop853_escape(self.system, values, [0.0, self.t_end], self.levels, rtol,
-                             region)
-
-    def confirm(self, tones: list[Tone]) -> float | None:
-        """Escape time of ``tones`` if the independent checks agree that it escapes."""
-        region = self.region(sum(abs(a) for a, _, _ in tones))
-        if self.discrete:
-            self.runs += 1
-            return self._simulate(tones, 1e-9, region)
-        if not (self.escapes(tones) and self.escapes(tones, refine=2)):
-            return None
-        return self._agreeing([self._simulate(tones, rtol, region) for rtol in CHECK_RTOLS])
-
-    def confirm_switching(self, amplitude: float, first_sign: int, times: list[float]
-                          ) -> float | None:
-        from gfrf.twosided.switching import replay
-
-        if self.discrete:
-            from gfrf.twosided.narx_signs import replay_signs
-
-            self.runs += 1
-            return replay_signs(self.system, amplitude, first_sign, times, self.samples,
-                                float(self.levels[0]))
-        region = self.region(amplitude)
-        self.runs += len(CHECK_RTOLS)
-        return self._agreeing([replay(self.system, amplitude, first_sign, times, self.t_end,
-                                      self.levels, rtol, region) for rtol in CHECK_RTOLS])
-
-    @staticmethod
-    def _agreeing(times: list[float | None]) -> float | None:
-        if any(t is None for t in times):
-            return None
-        ts = [float(t) for t in times if t is not None]
-        if abs(ts[0] - ts[-1]) > TIME_AGREEMENT * max(ts):
-            return None
-        return ts[-1]
+#: Chirps tried: (start, end) frequency as multiples of the least damped mode's, and the
+#: duration as a fraction of the horizon (down-sweeps follow a softening resonance).
+CHIRPS = ((1.0, 0.5, 0.5), (1.3, 0.6, 0.5), (0.6, 1.3, 0.5), (1.3, 0.6, 0.25))
 
 
 def _frequencies(runner_ev: np.ndarray, discrete: bool, sample_time: float | None
@@ -404,7 +144,7 @@ def _switching_functions(n: int, ref: float) -> list[np.ndarray]:
     return out
 
 
-def _switching_stage(runner: _Runner, ref: float, cap: float
+def _switching_stage(runner: EscapeRunner, ref: float, cap: float
                      ) -> list[tuple[float, int, np.ndarray]]:
     """Edges of the switching inputs: the fixed functions, then golden steps on the phase."""
     n = runner.system.n_states
@@ -462,7 +202,8 @@ def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
     cap : float
         Largest amplitude searched (> 0).
     closed_loop : bool
-        Search the reference of the closed loop.
+        Search the reference r of the closed loop u = C(r - y) (the loop Theorem 2 and
+        the certificate engine analyse).
     floor : float
         A proven lower radius: witnesses below it are not reported (a switching input
         below Theorem 1's r* lies outside its class of sums of tones; either way a
@@ -482,8 +223,8 @@ def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
     omegas, ref = _frequencies(ev, system.discrete, system.sample_time)
     nyquist = math.pi / float(system.sample_time) if system.discrete else None
     top = float(np.max(omegas)) * (3.0 if not system.discrete else 1.0)
-    runner = _Runner(system, model, top)
-    total = len(omegas) + 3 * 6 + 7 + 1
+    runner = EscapeRunner(system, model, top)
+    total = len(omegas) + 3 * 6 + 7 + 2
     done = 0
 
     def tick() -> None:
@@ -508,9 +249,19 @@ def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
     tick()
     best_switch = min([e for e, _, _ in switched], default=math.inf)
     tone_cap = min(cap, best_switch) if best_switch * MARGINS[-1] >= floor else cap
+    chirped: list[tuple[float, int, Chirp]] = []
+    if runner.chirps:
+        for w0, w1, part in CHIRPS:
+            unit = Chirp(amplitude=1.0, omega_start=w0 * ref, omega_end=w1 * ref,
+                         duration=part * runner.t_end)
+            edge = _edge(lambda a, c=unit: runner.escapes_chirp(replace(c, amplitude=a)),
+                         tone_cap)
+            if edge is not None:
+                chirped.append((edge, len(chirped), unit))
+    tick()
     found: list[tuple[float, int, list[Tone]]] = []
     for w in omegas:
-        edge = _edge(lambda a, s=[(1.0, float(w), 0.0)]: runner.escapes(_scaled(s, a)),
+        edge = _edge(lambda a, s=[(1.0, float(w), 0.0)]: runner.escapes(scaled(s, a)),
                      tone_cap)
         if edge is not None:
             found.append((edge, len(found), [(1.0, float(w), 0.0)]))
@@ -524,7 +275,7 @@ def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
             break
     for i, w in enumerate(best_w):
         for shape in _refinements(w, i == 0, nyquist):
-            edge = _edge(lambda a, s=shape: runner.escapes(_scaled(s, a)), tone_cap)
+            edge = _edge(lambda a, s=shape: runner.escapes(scaled(s, a)), tone_cap)
             if edge is not None:
                 found.append((edge, len(found), shape))
             tick()
@@ -545,12 +296,10 @@ def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
         escape += "; " + "; ".join(runner.notes)
     candidates: list[tuple[float, int, str, Any]] = (
         [(e, i, "switching", c) for e, i, c in switched]
-        + [(e, len(switched) + i, "tones", s) for e, i, s in found])
+        + [(e, len(switched) + i, "tones", s) for e, i, s in found]
+        + [(e, len(switched) + len(found) + i, "chirp", c) for e, i, c in chirped])
     candidates.sort(key=lambda x: (x[0], x[1]))
-    listed = [{"edge": e, "kind": k, **({"tones": [list(t) for t in s]} if k == "tones" else
-                                        {"switching_function": s if isinstance(s, str)
-                                         else [float(x) for x in s]})}
-              for e, _, k, s in candidates]
+    listed = [{"edge": e, "kind": k, **_shape(k, s)} for e, _, k, s in candidates]
     common = dict(cap=cap, t_end=runner.t_end, escape=escape, levels=list(runner.levels),
                   discrete=runner.discrete, candidates=listed)
     above = [c for c in candidates if c[0] * MARGINS[-1] >= floor]
@@ -558,6 +307,16 @@ def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
         for factor in MARGINS:
             amp = edge * factor
             if amp < floor:
+                continue
+            if kind == "chirp":
+                chirp = replace(shape, amplitude=amp)
+                t_escape = runner.confirm_chirp(chirp)
+                if t_escape is not None:
+                    if progress:
+                        progress(total, total)
+                    return Falsification(amp, [], t_escape, edge, runs=runner.runs,
+                                         kind="chirp", chirp=chirp,
+                                         region=runner.region(amp), **common)
                 continue
             if kind == "switching":
                 run = runner.switch(shape, amp)
@@ -572,7 +331,7 @@ def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
                                          switch_times=run.switch_times,
                                          region=runner.region(amp), **common)
                 continue
-            tones = _scaled(shape, amp)
+            tones = scaled(shape, amp)
             t_escape = runner.confirm(tones)
             if t_escape is not None:
                 if progress:
@@ -583,6 +342,17 @@ def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
     if progress:
         progress(total, total)
     return Falsification(None, [], None, None, runs=runner.runs, **common)
+
+
+def _shape(kind: str, shape: Any) -> dict[str, Any]:
+    """A candidate's input shape for the JSON ``candidates`` list."""
+    if kind == "tones":
+        return {"tones": [list(t) for t in shape]}
+    if kind == "chirp":
+        return {"chirp": {"omega_start": shape.omega_start, "omega_end": shape.omega_end,
+                          "duration": shape.duration}}
+    return {"switching_function": shape if isinstance(shape, str)
+            else [float(x) for x in shape]}
 
 
 def _level_reason(levels: np.ndarray) -> str:

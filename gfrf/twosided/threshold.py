@@ -43,6 +43,7 @@ _SERIES_CONDITIONS = ("norm series sum ||H_n|| r^n converges",
 #: ``upper_method`` per witness kind.
 UPPER_METHOD = {
     "switching": "falsifier: switching input u = +-U (sup|u| = U) from rest escapes",
+    "chirp": "falsifier: chirp A cos(w0 t + k t^2) (sup|u| = A) from rest escapes",
     "tones": "falsifier: sum of tones switched on at t = 0 from rest escapes "
              "(amplitude = sum of tone amplitudes)"}
 
@@ -111,7 +112,7 @@ class Threshold:
 
     @property
     def witness(self) -> dict[str, Any] | None:
-        """The witness (``kind`` ``"tones"`` or ``"switching"``, see
+        """The witness (``kind`` ``"tones"``, ``"switching"`` or ``"chirp"``, see
         :meth:`~gfrf.twosided.falsify.Falsification.witness`), ``{"kind":
         "unstable-pole", "reason": ...}`` for an unstable equilibrium, or None."""
         if self.unstable is not None:
@@ -135,7 +136,8 @@ class Threshold:
                     f"only) below {self.tone_radius:.6g}")
         if self.upper is None:
             return f"{low}; unknown above (no escaping input found)"
-        measure = ("sup|u|" if self.falsification and self.falsification.kind == "switching"
+        measure = (("sup|r|" if self.lower_class == LOOP_LOWER_CLASS else "sup|u|")
+                   if self.falsification and self.falsification.kind in ("switching", "chirp")
                    else "sum of tone amplitudes")
         return (f"{low}; unstable at {self.upper:.6g} ({measure}: a witness escapes, "
                 f"{self.upper_proof_words}); unknown in between")
@@ -239,7 +241,10 @@ class Threshold:
                 e = self.enclosure
                 how = (f"proven: {e.method} to t = {e.t_proven:.6g} s, where the enclosure "
                        f"has {e.reason}")
-            lines.append(f"witness ({f.kind}): {f.input_text()}, from rest at t = 0, "
+            loop = self.lower_class == LOOP_LOWER_CLASS
+            of = ", the reference r of the loop u = C(r - y)" if loop else ""
+            lines.append(f"witness ({f.kind}{of}): {f.input_text('r' if loop else 'u')}, "
+                         f"from rest at t = 0, "
                          f"{where} at t = {f.t_escape:.6g} s ({how})")
         elif f is not None:
             lines.append(f"no switching input or sum of tones up to amplitude {f.cap:.6g} "

@@ -166,8 +166,8 @@ def test_domain_error_stops_the_run_without_nan():
 
 
 def test_closed_loop_plant_input_by_hand():
-    # Cart-pole with its improper controller: u = r - (a th'' + b th' + c th), th'' from
-    # eqs (8)-(9) typed by hand; gfrf's u is evaluated on whole trajectories at once.
+    # Cart-pole with its improper controller: u = C(r - th) = a e'' + b e' + c e, e = r - th,
+    # th'' from eqs (8)-(9) typed by hand; gfrf's u is evaluated on whole trajectories.
     mf = load_model("models/cartpole.toml")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -176,13 +176,14 @@ def test_closed_loop_plant_input_by_hand():
     big_m, m, length, g = 0.145, 0.03, 0.125, 9.8
     a, b, c = 15.6, 379.3, 0.1331
     th, om = res.states
-    r = 0.02 * np.sin(res.t)
+    r, dr, ddr = 0.02 * np.sin(res.t), 0.02 * np.cos(res.t), -0.02 * np.sin(res.t)
     co, si = np.cos(th), np.sin(th)
     acc = ((big_m + m) * g / length * si - m * om ** 2 * si * co
-           - co * (r - b * om - c * th) / length) \
+           - co * (a * ddr + b * (dr - om) + c * (r - th)) / length) \
         / ((big_m + m) * 4 / 3 - m * co ** 2 - a * co / length)
     assert res.status == "ok"
-    assert np.allclose(res.u, r - (a * acc + b * om + c * th), rtol=1e-9, atol=1e-9)
+    assert np.allclose(res.u, a * (ddr - acc) + b * (dr - om) + c * (r - th), rtol=1e-9,
+                       atol=1e-9)
 
 
 @pytest.mark.parametrize("method", ["rk45", "dop853"])

@@ -162,25 +162,25 @@ def test_linear_polynomial_controller_matches_transfer_function(method, equation
 
 
 def test_nonlinear_polynomial_controller_matches_substituted_plant():
-    # u = r - (3 y + 0.5 y^3) substituted into the plant by hand
+    # u = C(r - y) = 3 e + 0.5 e^3, e = r - y, substituted into the plant by hand
     loop = _loop_file(PLANT, {"equation": "u = 3*y + 0.5*y**3"})
-    equivalent = parse_model("D(y,2) + 0.5*D(y) + 5*y + 1.5*y**3 = u")
+    equivalent = parse_model("D(y,2) + 0.5*D(y) + 2*y + y**3 = 3*(u - y) + 0.5*(u - y)**3")
     kw = dict(t_end=10.0, method="dop853", rtol=1e-12, atol=1e-14, initial=[0.4, -0.1])
     a = simulate(loop, "0.5*sin(0.9*t)", closed_loop=True, **kw)
     b = simulate(equivalent, "0.5*sin(0.9*t)", **kw)
     assert np.max(np.abs(a.y - b.y)) < 1e-8
-    y = a.y
-    assert np.allclose(a.u, 0.5 * np.sin(0.9 * a.t) - 3 * y - 0.5 * y**3, atol=1e-12)
+    e = 0.5 * np.sin(0.9 * a.t) - a.y
+    assert np.allclose(a.u, 3 * e + 0.5 * e**3, atol=1e-12)
 
 
 def test_polynomial_controller_with_plant_input_derivative():
-    # (s^2+s+1) Y = (s+1) U, U = R - W, (s+2) W = 3 Y  =>
-    # y''' + 3y'' + 6y' + 5y = r'' + 3r' + 2r, with y''(0) = r'(0) - w'(0) = 1 for r = sin t
+    # (s^2+s+1) Y = (s+1) U, U = W, (s+2) W = 3 (R - Y)  =>
+    # y''' + 3y'' + 6y' + 5y = 3r' + 3r, with y''(0) = w'(0) + w(0) = 3 r(0) = 0 for r = sin t
     loop = _loop_file("D(y,2) + D(y) + y = D(u) + u", {"equation": "D(u) + 2*u = 3*y"})
-    equivalent = parse_model("D(y,3) + 3*D(y,2) + 6*D(y) + 5*y = D(u,2) + 3*D(u) + 2*u")
+    equivalent = parse_model("D(y,3) + 3*D(y,2) + 6*D(y) + 5*y = 3*D(u) + 3*u")
     kw = dict(t_end=6.0, method="dop853", rtol=1e-12, atol=1e-14)
     a = simulate(loop, "sin(t)", closed_loop=True, **kw)
-    b = simulate(equivalent, "sin(t)", initial=[0.0, 0.0, 1.0], **kw)
+    b = simulate(equivalent, "sin(t)", **kw)
     assert np.max(np.abs(a.y - b.y)) < 1e-8
 
 
@@ -207,26 +207,27 @@ NARX = "y[k] = 0.5*y[k-1] - 0.2*y[k-1]**2*u[k-2] + u[k-1]"
 
 
 def _narx_reference(r, controller, feedback=-1):
-    """Hand recursion of NARX under u = r + feedback*w, w[k] = controller(y, w, k)."""
+    """Hand recursion of NARX under u = w = C[e], e = r + feedback*y,
+    w[k] = controller(e, w, k)."""
     n = r.size
-    y, w, u = np.zeros(n), np.zeros(n), np.zeros(n)
+    y, w, e = np.zeros(n), np.zeros(n), np.zeros(n)
     for k in range(n):
         y1 = y[k - 1] if k >= 1 else 0.0
-        u1 = u[k - 1] if k >= 1 else 0.0
-        u2 = u[k - 2] if k >= 2 else 0.0
+        u1 = w[k - 1] if k >= 1 else 0.0
+        u2 = w[k - 2] if k >= 2 else 0.0
         y[k] = 0.5 * y1 - 0.2 * y1**2 * u2 + u1
-        w[k] = controller(y, w, k)
-        u[k] = r[k] + feedback * w[k]
-    return y, u
+        e[k] = r[k] + feedback * y[k]
+        w[k] = controller(e, w, k)
+    return y, w
 
 
 def test_narx_closed_loop_discrete_transfer_function():
     # C(z) = 0.3/(z - 0.2) (control.tf order, dt = plant sample time):
-    # w[k] = 0.2 w[k-1] + 0.3 y[k-1]
+    # w[k] = 0.2 w[k-1] + 0.3 e[k-1], e = r - y
     mf = _loop_file(NARX, {"num": [0.3], "den": [1.0, -0.2]}, sample_time=0.1)
     res = simulate(mf, "0.5*sin(2*t)", t_end=5.0, closed_loop=True)
     r = 0.5 * np.sin(2 * res.t)
-    y, u = _narx_reference(r, lambda y, w, k: (0.2 * w[k - 1] + 0.3 * y[k - 1]) if k else 0.0)
+    y, u = _narx_reference(r, lambda e, w, k: (0.2 * w[k - 1] + 0.3 * e[k - 1]) if k else 0.0)
     assert res.t.size == 51 and np.max(np.abs(res.y - y)) < 1e-12
     assert np.max(np.abs(res.u - u)) < 1e-12
 
@@ -236,19 +237,19 @@ def test_narx_closed_loop_polynomial_controller():
                            "feedback": 1}, sample_time=0.1)
     res = simulate(mf, "0.5*sin(2*t)", t_end=5.0, closed_loop=True)
     r = 0.5 * np.sin(2 * res.t)
-    y, u = _narx_reference(r, lambda y, w, k: 0.4 * y[k] + 0.1 * y[k]**3
+    y, u = _narx_reference(r, lambda e, w, k: 0.4 * e[k] + 0.1 * e[k]**3
                            - 0.3 * (w[k - 1] if k else 0.0), feedback=1)
     assert np.max(np.abs(res.y - y)) < 1e-12 and np.max(np.abs(res.u - u)) < 1e-12
 
 
 def test_narx_closed_loop_with_feedthrough_both_ways():
-    # y[k] = 0.5 y[k-1] + 0.5 u[k], u = r - w, w[k] = 0.8 y[k]: y[k] = (0.5 y[k-1] + 0.5 r[k]) / 1.4
+    # y[k] = 0.5 y[k-1] + 0.5 u[k], u = 0.8 (r[k] - y[k]): y[k] = (0.5 y[k-1] + 0.4 r[k]) / 1.4
     mf = _loop_file("y[k] = 0.5*y[k-1] + 0.5*u[k]", {"num": [0.8], "den": [1.0]},
                     sample_time=0.5)
     res = simulate(mf, "step(t)", t_end=3.0, closed_loop=True)
     y = np.zeros(7)
     for k in range(7):
-        y[k] = (0.5 * (y[k - 1] if k else 0.0) + 0.5) / 1.4
+        y[k] = (0.5 * (y[k - 1] if k else 0.0) + 0.4) / 1.4
     assert np.max(np.abs(res.y - y)) < 1e-14
     with pytest.raises(ModelError, match="not causal"):
         build_system(_loop_file(NARX, {"num": [1.0, 0.0], "den": [1.0]}, sample_time=0.1),
@@ -372,17 +373,19 @@ def test_narx_longer_than_budget_refused():
 
 
 def test_fast_plant_input_of_an_improper_loop_from_the_states():
-    # u = r - (2 y'' + 3 y' + 5 y) around y'' + 0.5 y' + 2 y + y^3 = u: the compiled
-    # plant-input loop (it solves for y'') against u rebuilt from the states by hand.
+    # u = C(r - y) = 2 e'' + 3 e' + 5 e, e = r - y, around y'' + 0.5 y' + 2 y + y^3 = u:
+    # the compiled plant-input loop (it solves for y'') against u rebuilt by hand.
     mf = _loop_file(PLANT, {"num": [2.0, 3.0, 5.0], "den": [1.0]})
     res = simulate(mf, "0.3*sin(1.3*t)", t_end=4.0, closed_loop=True, method="fast",
                    dt=1e-3, initial=[0.2, 0.0])
     y, dy = res.states
     r = 0.3 * np.sin(1.3 * res.t)
-    # y'' from the loop equation: 3 y'' = r - 3.5 y' - 7 y - y^3
-    ddy = (r - 3.5 * dy - 7.0 * y - y**3) / 3.0
+    dr, ddr = 0.3 * 1.3 * np.cos(1.3 * res.t), -0.3 * 1.3**2 * np.sin(1.3 * res.t)
+    # y'' from the loop equation: 3 y'' = 2 r'' + 3 r' + 5 r - 3.5 y' - 7 y - y^3
+    ddy = (2.0 * ddr + 3.0 * dr + 5.0 * r - 3.5 * dy - 7.0 * y - y**3) / 3.0
     assert res.status == "ok" and res.u.shape == res.t.shape
-    assert np.allclose(res.u, r - (2.0 * ddy + 3.0 * dy + 5.0 * y), rtol=0, atol=1e-12)
+    assert np.allclose(res.u, 2.0 * (ddr - ddy) + 3.0 * (dr - dy) + 5.0 * (r - y),
+                       rtol=0, atol=1e-12)
 
 
 def test_fast_cache_file_that_differs_is_rewritten_not_run(tmp_path, monkeypatch):

@@ -18,7 +18,7 @@ CARTPOLE = "models/cartpole_reduced.toml"
 
 def test_cartpole_characteristic_by_hand() -> None:
     # theta'' - 67.578 theta + 39.3185 u = 0: H1 = -39.3185 / (s^2 - 67.578);
-    # u = r - (15.6 s^2 + 379.3 s + 0.1331) theta:
+    # u = (15.6 s^2 + 379.3 s + 0.1331)(r - theta):
     # chi = (s^2 - 67.578) + (-39.3185)(15.6 s^2 + 379.3 s + 0.1331)
     loop = closed_loop(load_model(CARTPOLE))
     expected = [1 - 39.3185 * 15.6, -39.3185 * 379.3, -67.578 - 39.3185 * 0.1331]

@@ -7,6 +7,7 @@ must contain it at every step), and the scaled witness (0.9 x) that must not be 
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 from pathlib import Path
 
 import mpmath as mp
@@ -18,6 +19,7 @@ from gfrf.model.modelfile import load_model
 from gfrf.twosided.enclose import enclose_witness
 from gfrf.twosided.escape import escape_region
 from gfrf.twosided.falsify import Falsification, falsify
+from gfrf.twosided.witness import Chirp
 
 MODELS = Path(__file__).resolve().parents[2] / "models"
 #: mpmath's own error at 50 digits (odefun's tolerance), added to every ball's radius.
@@ -108,7 +110,7 @@ def test_narx_witness_is_proven_by_the_ball_recursion(capsys: pytest.CaptureFixt
     main(["threshold", str(MODELS / "narx_example.toml"), "--json"])
     data = json.loads(capsys.readouterr().out)
     assert data["upper_proof"] == "interval" and data["upper"] >= data["lower"]
-    assert data["witness"]["kind"] in ("tones", "switching")
+    assert data["witness"]["kind"] in ("tones", "switching", "chirp")
 
 
 @pytest.mark.slow
@@ -186,3 +188,51 @@ sys.exit(main(["threshold", "D(y,2) + 0.2*D(y) + y - 0.3*y**3 = u"]))
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
             proc.wait()
+
+
+def test_enclosure_holds_the_50_digit_taylor_solution_under_a_chirp() -> None:
+    """y'' + 0.2y' + 2y - 0.3y^3 = u, u = 0.5 cos(1.4 t + k t^2), k = (0.7 - 1.4)/(2*3):
+    the chirp's phase states (c, s, tau) ride along; the input is the exact chirp of the
+    witness's doubles."""
+    model = parse_model("D(y,2) + 0.2*D(y) + 2*y - 0.3*y**3 = u")
+    chirp = Chirp(amplitude=0.5, omega_start=1.4, omega_end=0.7, duration=3.0)
+    f = _witness("chirp", 0.5, 2.0, chirp=chirp)
+    trace: list = []
+    enclose_witness(model, f, trace=trace)
+    assert len(trace) >= 16 and float(trace[-1][0].mid()) == pytest.approx(2.0)  # 1.5 t_escape
+    with mp.workdps(50):
+        a, w0 = mp.mpf(0.5), mp.mpf(1.4)
+        k = (mp.mpf(0.7) - w0) / (2 * mp.mpf(3.0))
+        sol = mp.odefun(lambda t, y: [y[1], -mp.mpf(0.2) * y[1] - 2 * y[0]
+                                      + mp.mpf(0.3) * y[0] ** 3 + a * mp.cos(w0 * t + k * t * t)],
+                        0, [mp.mpf(0)] * 2)
+        for t, boxes in trace:
+            tm = mp.mpf(t.mid().str(60, radius=False))
+            ref = sol(tm)
+            assert all(_contains(x, r) for x, r in zip(boxes[:2], ref, strict=True)), tm
+            assert _contains(boxes[4], tm)  # tau is the time
+
+
+@pytest.mark.slow
+def test_chirp_witness_escape_is_proven_and_not_at_090() -> None:
+    """A down-sweep that escapes y'' + 0.2y' + 2y - 0.3y^3 = u: the enclosure enters the
+    certified escape region; the same chirp at 0.9 x the amplitude is not proven."""
+    from gfrf.sim.system import build_system
+    from gfrf.twosided.runner import EscapeRunner
+
+    model = parse_model("D(y,2) + 0.2*D(y) + 2*y - 0.3*y**3 = u")
+    runner = EscapeRunner(build_system(model, equation="polynomial"), model, 10.0)
+    chirp = Chirp(amplitude=0.551337890625, omega_start=2 ** 0.5, omega_end=0.5 * 2 ** 0.5,
+                  duration=200.0)
+    t_escape = runner.confirm_chirp(chirp)
+    assert t_escape is not None
+
+    def witness(c: Chirp) -> Falsification:
+        return Falsification(c.amplitude, [], t_escape, c.amplitude, cap=2.0,
+                             t_end=runner.t_end, runs=0, escape="", kind="chirp", chirp=c,
+                             region=runner.region(c.amplitude), levels=list(runner.levels))
+
+    proof = enclose_witness(model, witness(chirp))
+    assert proof is not None and proof.proven and proof.t_proven <= 1.01 * t_escape
+    weaker = enclose_witness(model, witness(replace(chirp, amplitude=0.9 * chirp.amplitude)))
+    assert weaker is not None and not weaker.proven

@@ -113,11 +113,12 @@ def test_narx_beam_search_beats_the_fixed_sign_rules_and_its_witness_replays() -
     from pathlib import Path
 
     from gfrf.model.modelfile import load_model
-    from gfrf.twosided.falsify import _edge, _Runner
+    from gfrf.twosided.falsify import _edge
     from gfrf.twosided.narx_signs import RULES
+    from gfrf.twosided.runner import EscapeRunner
 
     mf = load_model(Path(__file__).resolve().parents[2] / "models" / "identified_example.toml")
-    runner = _Runner(build_system(mf, equation="polynomial"), mf.plant, 10.0)
+    runner = EscapeRunner(build_system(mf, equation="polynomial"), mf.plant, 10.0)
     edges = {r: _edge(lambda a, r=r: runner.switch(r, a).escaped, 40.0) for r in RULES}
     beam = edges.pop("beam")
     assert beam is not None
