@@ -37,18 +37,17 @@ report: $(STAMP)
 	$(BIN)/gfrf report --out reports/
 
 # The static checks first (the layers with import-linter, ruff with unused-noqa detection,
-# mypy; configured in pyproject.toml), then the suite on every core (pytest-xdist; each
-# test module on one worker, so a module-scoped fixture is computed once, not once per
-# worker). `make test-slow` runs the tests marked slow (CI runs both: .ci/run).
+# mypy; configured in pyproject.toml), then the suite on every core (pytest-xdist).
+# `make test-slow` runs the tests marked slow (CI runs both: .ci/run).
 JOBS ?= auto
 test: $(STAMP)
 	$(BIN)/lint-imports --no-cache
 	$(BIN)/ruff check gfrf tests
 	$(BIN)/mypy gfrf
-	$(BIN)/python -m pytest -q -n $(JOBS) --dist loadscope
+	$(BIN)/python -m pytest -q -n $(JOBS)
 
 test-slow: $(STAMP)
-	$(BIN)/python -m pytest -q -n $(JOBS) --dist loadscope -m slow
+	$(BIN)/python -m pytest -q -n $(JOBS) -m slow
 
 bench: $(STAMP)
 	$(BIN)/gfrf bench --out reports/
