@@ -30,7 +30,7 @@ from gfrf.model.modelfile import ModelFile, load_model
 from gfrf.stability.criteria import verdict
 from gfrf.stability.verdicts import Verdict
 
-__all__ = ["Comparison", "compare", "write", "PAGE"]
+__all__ = ["Comparison", "compare", "render", "write", "PAGE", "LAYOUT"]
 
 #: File name of the page.
 PAGE = "identified-example.md"
@@ -133,6 +133,77 @@ def _verdict_rows(c: Comparison) -> list[list[object]]:
     return rows
 
 
+#: The page: one ``str.format`` layout that :func:`render` fills from a :class:`Comparison`.
+LAYOUT = "\n".join([
+    "{header}",
+    "## Data", "",
+    "`python -m gfrf.identify.example` simulates the true model `{true_equation}` "
+    "(T = {sample_time} s) driven by uniform white noise in [-1, 1] and adds white Gaussian "
+    "measurement noise of standard deviation {noise} to the output (seed {seed}); it writes "
+    "the CSV, the true model file and the identified model file into models/.", "",
+    "## Identification", "",
+    "{command}", "",
+    "Fit: {quality}. sysidentpy {sysidentpy}.",
+    "The committed model file matches this fresh identification: {matches}.",
+    "", "Coefficients theta of y[k] = sum theta * monomial:", "",
+    "{coefficients}",
+    "## Kernels", "",
+    "Gains on the same axes (rad/s, up to the Nyquist frequency pi/T). Relative "
+    "error: largest |H_identified - H_true| over the grid divided by the largest "
+    "|H_true|.", "",
+    "{errors}",
+    "{figures}", "",
+    "## Verdicts", "",
+    "{verdicts}",
+    "True model: {summary_true}", "",
+    "Identified model: {summary_identified}", "",
+])
+
+
+def render(c: Comparison, figures: list[str]) -> str:
+    """The Markdown text of the page from the comparison and its figures' file names.
+
+    Parameters
+    ----------
+    c : Comparison
+        The facts (:func:`compare`).
+    figures : list of str
+        The figures' file names.
+
+    Returns
+    -------
+    str
+        The page.
+    """
+    from gfrf.report._format import code, header, table
+
+    fit = c.fit
+    summary = [
+        f"A NARX model identified by `gfrf identify` from {fit.n_samples} noisy samples "
+        f"(models/{ex.STEM}.csv) against the model that generated them.",
+        f"Largest relative kernel errors: H1 {c.errors['H1']:.3g}, H2 {c.errors['H2']:.3g}; "
+        f"held-out free-run RRSE {fit.free_run_error:.3g}.",
+        f"Verdicts at r = 1: true model {c.verdict_true.verdict}, identified model "
+        f"{c.verdict_identified.verdict}."]
+    return LAYOUT.format(
+        header=header("Identification example: from measured data to a verdict", summary,
+                      "gfrf report --out reports/"),
+        true_equation=ex.TRUE_EQUATION, sample_time=ex.SAMPLE_TIME, noise=ex.NOISE,
+        seed=ex.SEED,
+        command=code(f"gfrf identify models/{ex.STEM}.csv --output y --input u --sample-time "
+                     f"{ex.SAMPLE_TIME} {fit.settings_text()} --out models/{ex.STEM}.toml"),
+        quality=fit.quality_text(), sysidentpy=fit.sysidentpy_version,
+        matches="yes" if c.file_matches_fit else "no (regenerate with the command above)",
+        coefficients=table(["monomial", "true", "identified", "identified - true"],
+                           _coefficient_rows(c)),
+        errors=table(["kernel", "relative error"], [["H1", c.errors["H1"]],
+                                                     ["H2", c.errors["H2"]]]),
+        figures="\n".join(f"![{name}]({name})" for name in figures),
+        verdicts=table(["model", "verdict at r = 1", "r*", "r* is", "||H1|| (upper)",
+                        "radius estimate from lower bounds"], _verdict_rows(c)),
+        summary_true=c.verdict_true.summary, summary_identified=c.verdict_identified.summary)
+
+
 def write(out_dir: str | Path, quick: bool = False) -> Path:
     """Write ``identified-example.md`` and its figures into ``out_dir``; return the page.
 
@@ -148,47 +219,7 @@ def write(out_dir: str | Path, quick: bool = False) -> Path:
     Path
         The path of the page.
     """
-    from gfrf.report._format import code, header, table
-
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     c = compare(quick=quick)
-    figures = _figures(c, out)
-    fit = c.fit
-    summary = [
-        f"A NARX model identified by `gfrf identify` from {fit.n_samples} noisy samples "
-        f"(models/{ex.STEM}.csv) against the model that generated them.",
-        f"Largest relative kernel errors: H1 {c.errors['H1']:.3g}, H2 {c.errors['H2']:.3g}; "
-        f"held-out free-run RRSE {fit.free_run_error:.3g}.",
-        f"Verdicts at r = 1: true model {c.verdict_true.verdict}, identified model "
-        f"{c.verdict_identified.verdict}."]
-    lines = [header("Identification example: from measured data to a verdict", summary,
-                    "gfrf report --out reports/"),
-             "## Data", "",
-             f"`python -m gfrf.identify.example` simulates the true model "
-             f"`{ex.TRUE_EQUATION}` (T = {ex.SAMPLE_TIME} s) driven by uniform white noise "
-             f"in [-1, 1] and adds white Gaussian measurement noise of standard deviation "
-             f"{ex.NOISE} to the output (seed {ex.SEED}); it writes the CSV, the true model "
-             f"file and the identified model file into models/.", "",
-             "## Identification", "",
-             code(f"gfrf identify models/{ex.STEM}.csv --output y --input u --sample-time "
-                  f"{ex.SAMPLE_TIME} {fit.settings_text()} --out models/{ex.STEM}.toml"), "",
-             f"Fit: {fit.quality_text()}. sysidentpy {fit.sysidentpy_version}.",
-             f"The committed model file matches this fresh identification: "
-             f"{'yes' if c.file_matches_fit else 'no (regenerate with the command above)'}.",
-             "", "Coefficients theta of y[k] = sum theta * monomial:", "",
-             table(["monomial", "true", "identified", "identified - true"],
-                   _coefficient_rows(c)),
-             "## Kernels", "",
-             "Gains on the same axes (rad/s, up to the Nyquist frequency pi/T). Relative "
-             "error: largest |H_identified - H_true| over the grid divided by the largest "
-             "|H_true|.", "",
-             table(["kernel", "relative error"], [["H1", c.errors["H1"]],
-                                                  ["H2", c.errors["H2"]]]),
-             *(f"![{name}]({name})" for name in figures), "",
-             "## Verdicts", "",
-             table(["model", "verdict at r = 1", "r*", "r* is", "||H1|| (upper)",
-                    "radius estimate from lower bounds"], _verdict_rows(c)),
-             f"True model: {c.verdict_true.summary}", "",
-             f"Identified model: {c.verdict_identified.summary}", ""]
-    return write_atomic(out / PAGE, "\n".join(lines))
+    return write_atomic(out / PAGE, render(c, _figures(c, out)))

@@ -14,6 +14,7 @@ import math
 import re
 from pathlib import Path
 
+import numpy as np
 import sympy as sp
 
 from gfrf._atomic import atomic_write_text
@@ -26,7 +27,7 @@ from gfrf.report._format import bracket_cells, cell, code, header, mark, num, ta
 from gfrf.report.analysis import MARGIN_OCTAVES, ModelAnalysis, analyse
 from gfrf.sim.validation import linear_vs_nonlinear, resonance_label
 
-__all__ = ["write", "summary_lines", "command_path"]
+__all__ = ["write", "summary_lines", "command_path", "growth_sentence"]
 
 #: Parts of a norm's notes computed in floating point whose last bits may differ between
 #: CPUs (box counts, the float gap): the pages leave the numbers out.
@@ -298,11 +299,34 @@ def _simulation_section(a: ModelAnalysis, out_dir: Path) -> list[str]:
     if a.closed:
         rows = [linear_vs_nonlinear(a.model_file, angle) for angle in (5.0, 10.0, 15.0)]
         out += ["Nonlinear versus linear closed loop from an initial angle (5 s, zero "
-                "reference): the difference grows like angle^2, the size of the neglected "
-                "cubic terms.", "",
+                f"reference): {growth_sentence(rows)}", "",
                 table(["initial angle (deg)", "max |difference| (rad)", "relative"],
                       [[r["angle_deg"], r["max_abs_error"], r["relative_error"]] for r in rows])]
     return out
+
+
+def growth_sentence(rows: list[dict[str, float]]) -> str:
+    """How the nonlinear-minus-linear difference grows with the initial angle, from the
+    rows: the powers are the least-squares slopes of log(difference) and log(relative
+    difference) against log(angle), rounded to integers.
+
+    Parameters
+    ----------
+    rows : list of dict
+        :func:`gfrf.sim.validation.linear_vs_nonlinear` results (``angle_deg``,
+        ``max_abs_error``, ``relative_error``), at least two angles.
+
+    Returns
+    -------
+    str
+        The sentence.
+    """
+    x = np.log([r["angle_deg"] for r in rows])
+    p_abs, p_rel = (round(float(np.polyfit(x, np.log([r[key] for r in rows]), 1)[0]))
+                    for key in ("max_abs_error", "relative_error"))
+    size = {2: "quadratic", 3: "cubic"}.get(p_abs, f"degree-{p_abs}")
+    return (f"the difference grows like angle^{p_abs} (relative to the response: "
+            f"angle^{p_rel}), the size of the neglected {size} terms.")
 
 
 def _certification(a: ModelAnalysis) -> list[str]:

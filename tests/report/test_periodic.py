@@ -76,3 +76,94 @@ def test_formula_table_marks_inherited_errors():
     row = FormulaCheck(equation="(48)", quantity="q", printed="p", regenerated="r", agrees=False,
                        corrected="c", note="n", inherits="(47) second")
     assert "| no (inherits (47) second) |" in _formula_table([row])
+
+
+def _comparison(label: str, delta_error: float, max_error: float, branch: str = "1/4"):
+    from gfrf.periodic.compare import PeriodicComparison
+
+    return PeriodicComparison(method=label.split(",")[0].split(" ")[0], branch=branch, eps=0.1,
+                              order=None, amplitude_method=0.5, amplitude_exact=0.5,
+                              delta_method=0.2 + delta_error, delta_exact=0.2,
+                              delta_error=delta_error, max_error=max_error, seconds=0.0)
+
+
+def _facts(errors: dict[str, tuple[float, float]], ham_rows=None, setting_rows=None):
+    """Facts of a one-cell page: ``errors`` maps a method label to (|d delta|, max|dx|)."""
+    from fractions import Fraction
+
+    from gfrf.periodic.equation import load_model
+    from gfrf.report.periodic import PeriodicFacts
+    from gfrf.report.periodic_checks import ErrorGrid
+
+    def grid(branch: str, labels: list[str]) -> ErrorGrid:
+        rows = {(lab, 0.1, 0.5): _comparison(lab, *errors[lab], branch) for lab in labels}
+        return ErrorGrid(branch=branch, eps_values=(0.1,), amplitudes=(0.5,), rows=rows)
+
+    labels = list(errors)
+    return PeriodicFacts(
+        model=load_model(), checks=(), grid14=grid("1/4", labels),
+        grid0=grid("0", [lab for lab in labels if not lab.startswith(("energy", "averaging"))]),
+        grid_up=ErrorGrid(branch="1/4", eps_values=(), amplitudes=(), rows={}, side="upper"),
+        conclusions=(), linear_rows=[], equation3_rows=[],
+        ham_setting_rows=setting_rows or [[0.01, 0.005, 1.2, -0.2, "0: none (no root)"]],
+        ham_rows=ham_rows or [[0.01, 0.24, 0.2, 1e-2, -0.9, 0.24, 1e-9]],
+        fig2_rows=[], fig3_rows=[], fig8_rows=[], fig6_rows=[], fig7_rows=[], fig9_rows=[],
+        fig10_rows=[], orbits={"Figure 2": [(0.1, 0.2)]}, energy_edge=Fraction(1, 4),
+        ham_eps=0.5, eps_zero=0.45, eps_zero_05=0.47,
+        figures={k: f"{k}.png" for k in ("fig2", "fig3", "fig6", "fig7", "fig8", "fig9",
+                                          "fig10", "fig45", "chart")})
+
+
+HOMOTOPY_BEST = {"perturbation, order 4": (1e-5, 1e-5), "homotopy, order 4": (1e-9, 1e-8),
+                 "energy (48)": (1e-3, 1e-2), "averaging (58)": (1e-3, 1e-2)}
+
+
+def test_page_names_the_method_with_the_smallest_errors():
+    from gfrf.report.periodic import render
+
+    page = render(_facts(HOMOTOPY_BEST))
+    assert "eq (4), homotopy, order 4 is the most accurate method on the 1/4 branch" in page
+    assert "here: its order-4 transition values are the most accurate of the four" in page
+    assert "{" not in page  # every field of the layout filled
+    # the numbers swapped: averaging now has the smallest errors, and the sentences follow
+    swapped = dict(HOMOTOPY_BEST, **{"homotopy, order 4": (1e-3, 1e-2),
+                                     "averaging (58)": (1e-9, 1e-8)})
+    page = render(_facts(swapped))
+    assert "eq (4), averaging (58) is the most accurate method on the 1/4 branch" in page
+    assert "are the most accurate of the four" not in page
+    assert "not the most accurate in the tables above (averaging (58) is)" in page
+
+
+def test_a_method_without_an_orbit_is_never_the_most_accurate():
+    from gfrf.report.periodic import render
+
+    errors = dict(HOMOTOPY_BEST, **{"energy (48)": (float("inf"), float("inf"))})
+    facts = _facts(errors)
+    assert facts.most_accurate_orbit() == facts.most_accurate_transition() == \
+        "homotopy, order 4"
+    assert "homotopy, order 4 is the most accurate" in render(facts)
+
+
+def test_transition_and_orbit_accuracy_are_ranked_separately():
+    # perturbation has the best transition value, homotopy the best orbit
+    errors = dict(HOMOTOPY_BEST, **{"perturbation, order 4": (1e-12, 1e-5)})
+    facts = _facts(errors)
+    assert facts.most_accurate_orbit() == "homotopy, order 4"
+    assert facts.most_accurate_transition() == "perturbation, order 4"
+
+
+def test_homotopy_setting_sentences_follow_the_rows():
+    from gfrf.report.periodic import render
+
+    page = render(_facts(HOMOTOPY_BEST))
+    assert "eps <= 0.08) has no periodic orbit of (4):" in page
+    assert "its (17) has gamma_0 < 0." in page
+    assert "initial guess: the paper's h is not a converged choice." in page
+    # an orbit found, gamma_0 > 0, and the paper's h at least as good as the best h
+    page = render(_facts(HOMOTOPY_BEST,
+                         ham_rows=[[0.05, 0.24, 0.24, 1e-9, -0.9, 0.24, 1e-6]],
+                         setting_rows=[[0.05, 0.005, 0.9, 0.3, "0: x(0) = 0.1; 1/4: none"]]))
+    assert "has a periodic orbit of (4) only at eps = 0.05:" in page
+    assert "and a periodic orbit exists only at eps = 0.05 (see below)" in page
+    assert "its (17) has gamma_0 < 0 only at some of them." in page
+    assert "no better than the paper's at eps = 0.05." in page

@@ -8,6 +8,7 @@ closed forms of the first orders.
 
 from __future__ import annotations
 
+import functools
 import json
 
 import numpy as np
@@ -24,9 +25,11 @@ from gfrf.sim.volterra import predict
 DUFFING = {"equation": "D(y,2) + 0.2*D(y) + y + k3*y**3 = u", "parameters": {"k3": 0.5}}
 
 
+@functools.cache
 def _harmonic(k3: float, amplitude: float, omega: float) -> complex:
     """Complex amplitude at omega of the steady state of y'' + 0.2 y' + y + k3 y^3 =
-    A cos(omega t), from solve_ivp (300 periods, the last 20 averaged)."""
+    A cos(omega t), from solve_ivp (300 periods, the last 20 averaged; computed once per
+    process: two tests compare with the same runs)."""
     def rhs(t: float, x: np.ndarray) -> list[float]:
         return [x[1], amplitude * np.cos(omega * t) - 0.2 * x[1] - x[0] - k3 * x[0] ** 3]
 
