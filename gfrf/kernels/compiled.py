@@ -120,7 +120,8 @@ def step_text(gen: Recursion, m: int, symmetric: bool) -> tuple[tuple[tuple[str,
                                                                  str]:
     """The recursion step of order ``m`` after common-subexpression elimination, as text
     in the generic names (variables ``s1..``/``q1..``, placeholders ``h_..``,
-    subexpressions ``_c0, _c1, ..``): ``((name, value), ...)`` and the numerator.
+    subexpressions ``_c0, _c1, ..``, partial sums of a long sum ``_r_0, ..``):
+    ``((name, value), ...)`` and the numerator.
 
     Computed once per order (sympy's ``cse`` and printing are the costly part of code
     generation) and renamed per block with :func:`rename`.
@@ -128,8 +129,27 @@ def step_text(gen: Recursion, m: int, symmetric: bool) -> tuple[tuple[tuple[str,
     printer = _Printer()
     replacements, (reduced,) = sp.cse(gen.plan(m, symmetric).numerator,
                                       symbols=sp.numbered_symbols("_c"))
-    return (tuple((str(sym), printer.doprint(value)) for sym, value in replacements),
-            printer.doprint(reduced))
+    assignments = [pair for sym, value in replacements
+                   for pair in _chunked(str(sym), value, printer)]
+    if len(sp.Add.make_args(reduced)) <= _CHUNK:
+        return tuple(assignments), printer.doprint(reduced)
+    return tuple(assignments + _chunked("_r", reduced, printer)), "_r"
+
+
+#: Most terms of one printed sum: Python's compiler nests a long chain of ``+`` (a sum
+#: of thousands of terms exceeds its recursion limit), so longer sums are split.
+_CHUNK = 500
+
+
+def _chunked(name: str, expr: sp.Expr, printer: _Printer) -> list[tuple[str, str]]:
+    """``[(name, text)]``, or for a sum of more than :data:`_CHUNK` terms its partial sums
+    ``name_0, name_1, ..`` and then ``name`` as their sum."""
+    terms = sp.Add.make_args(expr)
+    if len(terms) <= _CHUNK:
+        return [(name, printer.doprint(expr))]
+    parts = [(f"{name}_{i}", printer.doprint(sp.Add(*terms[start:start + _CHUNK])))
+             for i, start in enumerate(range(0, len(terms), _CHUNK))]
+    return parts + [(name, " + ".join(part for part, _ in parts))]
 
 
 def kernel_source(gen: Recursion, n: int, symmetric: bool, name: str = "kernel") -> str:
