@@ -36,6 +36,7 @@ import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
 from gfrf._cache import cache_root, load_generated
+from gfrf.kernels.realcode import real_step_lines
 from gfrf.model.equation import Model
 
 __all__ = ["kernel_source", "numba_ufunc", "HAVE_NUMBA", "cache_dir", "Recursion", "rename",
@@ -288,10 +289,11 @@ def cache_dir() -> Path:
 def _step_functions(gen: Recursion, n: int, symmetric: bool) -> tuple[str, str]:
     """(one function ``step_m`` per nonzero order m <= n, body of ``scalar_kernel``).
 
-    ``step_m(variables, placeholders)`` is the recursion step of order m (CSE'd once,
-    :func:`step_text`); the kernel calls it once per block.  So the compiler sees each
-    order's code once, not once per block: the cart-pole's H7 compiles in about 40 s
-    instead of about 480 s (and a fraction of the memory), at ~15 % more time per point.
+    ``step_m(variables, placeholders)`` is the recursion step of order m (CSE'd once, in
+    real arithmetic on the parts of its values, :func:`gfrf.kernels.realcode.real_step_lines`;
+    a continuous model's variables are the real w_i); the kernel calls it once per block.
+    So the compiler sees each order's code once, not once per block: the cart-pole's H7
+    compiles in about 20 s instead of about 480 s (and a fraction of the memory).
     """
     model = gen.model
     linear = model.linear_output
@@ -299,33 +301,32 @@ def _step_functions(gen: Recursion, n: int, symmetric: bool) -> tuple[str, str]:
     functions: list[str] = []
     done: set[int] = set()
     body = [f"def scalar_kernel({', '.join(f'w{i}' for i in range(n))}):"]
-    for i in range(n):
-        body.append(f"    x{i} = cmath_exp(-1j * {model.sample_time!r} * w{i})"
-                    if model.is_discrete else f"    x{i} = 1j * w{i}")
+    if model.is_discrete:
+        body += [f"    x{i} = cmath_exp(-1j * {model.sample_time!r} * w{i})" for i in range(n)]
+    frequency = "x" if model.is_discrete else "w"  # continuous: the real w_i themselves
     names: dict[tuple[int, ...], str] = {}
 
     def step(m: int) -> None:
         if m in done:
             return
         done.add(m)
-        plan = gen.plan(m, symmetric)
-        assignments, reduced = step_text(gen, m, symmetric)
-        variables = [str(v) for v in gen.variables(m)]
-        lines = ["@njit(cache=CACHE)",
-                 f"def step_{m}({', '.join(variables + [str(p) for p in plan.placeholders])}):"]
-        lines += [f"    {lhs} = {value}" for lhs, value in assignments]
-        combined = " * ".join(variables) if model.is_discrete else " + ".join(variables)
+        arguments, code, numerator = real_step_lines(gen, m, symmetric)
+        variables = list(arguments[:m])
+        lines = ["@njit(cache=CACHE)", f"def step_{m}({', '.join(arguments)}):"]
+        lines += [f"    {line}" for line in code]
+        combined = (" * ".join(variables) if model.is_discrete
+                    else "1j * (" + " + ".join(variables) + ")")
         lines.append(f"    _z = {combined}")
-        lines.append(f"    return -({reduced}) / ({_horner(coefficients, '_z')})")
+        lines.append(f"    return -({numerator}) / ({_horner(coefficients, '_z')})")
         functions.append("\n".join(lines) + "\n")
 
     def emit(block: tuple[int, ...]) -> str:
         if block not in names:
             plan = gen.plan(len(block), symmetric)
             if plan.is_zero:
-                names[block] = "0.0"
+                names[block] = "0j"
             else:
-                args = [f"x{i}" for i in block] + [emit(tuple(block[j] for j in sub))
+                args = [f"{frequency}{i}" for i in block] + [emit(tuple(block[j] for j in sub))
                                                    for sub in plan.blocks]
                 step(len(block))
                 label = "h_" + "_".join(map(str, block))
