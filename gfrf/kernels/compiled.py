@@ -36,7 +36,7 @@ import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
 from gfrf._cache import cache_root, load_generated
-from gfrf.kernels.realcode import real_step_lines
+from gfrf.kernels.realcode import FASTMATH, real_step_lines
 from gfrf.model.equation import Model
 
 __all__ = ["kernel_source", "numba_ufunc", "HAVE_NUMBA", "cache_dir", "Recursion", "rename",
@@ -342,8 +342,9 @@ def _module_source(parts: tuple[str, str], n: int, cache: bool) -> str:
     """Source of a module defining the ufunc ``scalar_kernel`` of H_n (``parts``: its
     :func:`_step_functions`)."""
     signature = f"complex128({', '.join(['float64'] * n)})"
-    return ("from cmath import exp as cmath_exp\n\nfrom numba import njit, vectorize\n\n"
-            f"CACHE = {cache}\n\n\n{parts[0]}\n\n"
+    return ("from cmath import exp as cmath_exp\n\nfrom numba import njit as _njit, vectorize\n\n"
+            f"CACHE = {cache}\n\n\ndef njit(**options):\n"
+            f"    return _njit(fastmath={FASTMATH!r}, **options)\n\n\n{parts[0]}\n\n"
             f"@vectorize([{signature!r}], cache=CACHE)\n" + parts[1])
 
 

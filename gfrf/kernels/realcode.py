@@ -20,8 +20,12 @@ from typing import Any
 
 import sympy as sp
 
-__all__ = ["real_step_lines"]
+__all__ = ["real_step_lines", "FASTMATH"]
 
+#: LLVM's floating-point freedom for the step functions: fused multiply-adds only (one
+#: rounding instead of two; no assumption on infinities, NaNs or signed zeros): the
+#: cart-pole's H5 evaluates in 0.036 s instead of 0.048 s at 10^5 points.
+FASTMATH = {"contract"}
 #: Most terms of one printed sum (Python's compiler nests a long chain of ``+``).
 _CHUNK = 500
 
