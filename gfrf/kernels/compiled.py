@@ -355,7 +355,7 @@ def numba_ufunc(gen: Recursion, n: int, symmetric: bool) -> Any:
     cart-pole model: order 5 compiles in 2.5-3.5 s and a later process loads it in 0.12 s
     as a shared library (:mod:`gfrf.kernels.native`, Linux with ``cc``), else from
     numba's on-disk cache (:func:`cache_dir`) in 0.9 s (numba's import and target set-up
-    are most of that); order 7 compiles in about 21 s (real-arithmetic steps).
+    are most of that); order 7 compiles in about 17 s (real-arithmetic steps).
 
     Parameters
     ----------
