@@ -1,7 +1,9 @@
 """Kernels: the generalised frequency response functions H1..Hn of a model.
 
-Owns the Billings / Peyton Jones recursion with symmetrisation (:mod:`.recursion`), the
-generated straight-line evaluators and their numba / on-disk cache (:mod:`.compiled`),
+Owns the Billings / Peyton Jones recursion with symmetrisation (:mod:`.recursion`, the
+public face; :mod:`.generator`, the symbolic plans; :mod:`.numeric`, their evaluation on
+numpy arrays), the generated straight-line evaluators and their numba / on-disk cache
+(:mod:`.compiled`, written in real arithmetic by :mod:`.realcode`),
 the multiset and composition counting they share (:mod:`.combinatorics`), one value never
 nan (a pole named, beyond the float range in mpmath: :mod:`.pointwise`), and harmonic
 probing, the independent method that checks the recursion (:mod:`.probing`).

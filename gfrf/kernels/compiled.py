@@ -36,6 +36,7 @@ import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
 from gfrf._cache import cache_root, load_generated
+from gfrf.kernels.realcode import FASTMATH, real_step_lines
 from gfrf.model.equation import Model
 
 __all__ = ["kernel_source", "numba_ufunc", "HAVE_NUMBA", "cache_dir", "Recursion", "rename",
@@ -120,7 +121,8 @@ def step_text(gen: Recursion, m: int, symmetric: bool) -> tuple[tuple[tuple[str,
                                                                  str]:
     """The recursion step of order ``m`` after common-subexpression elimination, as text
     in the generic names (variables ``s1..``/``q1..``, placeholders ``h_..``,
-    subexpressions ``_c0, _c1, ..``): ``((name, value), ...)`` and the numerator.
+    subexpressions ``_c0, _c1, ..``, partial sums of a long sum ``_r_0, ..``):
+    ``((name, value), ...)`` and the numerator.
 
     Computed once per order (sympy's ``cse`` and printing are the costly part of code
     generation) and renamed per block with :func:`rename`.
@@ -128,8 +130,27 @@ def step_text(gen: Recursion, m: int, symmetric: bool) -> tuple[tuple[tuple[str,
     printer = _Printer()
     replacements, (reduced,) = sp.cse(gen.plan(m, symmetric).numerator,
                                       symbols=sp.numbered_symbols("_c"))
-    return (tuple((str(sym), printer.doprint(value)) for sym, value in replacements),
-            printer.doprint(reduced))
+    assignments = [pair for sym, value in replacements
+                   for pair in _chunked(str(sym), value, printer)]
+    if len(sp.Add.make_args(reduced)) <= _CHUNK:
+        return tuple(assignments), printer.doprint(reduced)
+    return tuple(assignments + _chunked("_r", reduced, printer)), "_r"
+
+
+#: Most terms of one printed sum: Python's compiler nests a long chain of ``+`` (a sum
+#: of thousands of terms exceeds its recursion limit), so longer sums are split.
+_CHUNK = 500
+
+
+def _chunked(name: str, expr: sp.Expr, printer: _Printer) -> list[tuple[str, str]]:
+    """``[(name, text)]``, or for a sum of more than :data:`_CHUNK` terms its partial sums
+    ``name_0, name_1, ..`` and then ``name`` as their sum."""
+    terms = sp.Add.make_args(expr)
+    if len(terms) <= _CHUNK:
+        return [(name, printer.doprint(expr))]
+    parts = [(f"{name}_{i}", printer.doprint(sp.Add(*terms[start:start + _CHUNK])))
+             for i, start in enumerate(range(0, len(terms), _CHUNK))]
+    return parts + [(name, " + ".join(part for part, _ in parts))]
 
 
 def kernel_source(gen: Recursion, n: int, symmetric: bool, name: str = "kernel") -> str:
@@ -268,10 +289,11 @@ def cache_dir() -> Path:
 def _step_functions(gen: Recursion, n: int, symmetric: bool) -> tuple[str, str]:
     """(one function ``step_m`` per nonzero order m <= n, body of ``scalar_kernel``).
 
-    ``step_m(variables, placeholders)`` is the recursion step of order m (CSE'd once,
-    :func:`step_text`); the kernel calls it once per block.  So the compiler sees each
-    order's code once, not once per block: the cart-pole's H7 compiles in about 40 s
-    instead of about 480 s (and a fraction of the memory), at ~15 % more time per point.
+    ``step_m(variables, placeholders)`` is the recursion step of order m (CSE'd once, in
+    real arithmetic on the parts of its values, :func:`gfrf.kernels.realcode.real_step_lines`;
+    a continuous model's variables are the real w_i); the kernel calls it once per block.
+    So the compiler sees each order's code once, not once per block: the cart-pole's H7
+    compiles in about 20 s instead of about 480 s (and a fraction of the memory).
     """
     model = gen.model
     linear = model.linear_output
@@ -279,33 +301,32 @@ def _step_functions(gen: Recursion, n: int, symmetric: bool) -> tuple[str, str]:
     functions: list[str] = []
     done: set[int] = set()
     body = [f"def scalar_kernel({', '.join(f'w{i}' for i in range(n))}):"]
-    for i in range(n):
-        body.append(f"    x{i} = cmath_exp(-1j * {model.sample_time!r} * w{i})"
-                    if model.is_discrete else f"    x{i} = 1j * w{i}")
+    if model.is_discrete:
+        body += [f"    x{i} = cmath_exp(-1j * {model.sample_time!r} * w{i})" for i in range(n)]
+    frequency = "x" if model.is_discrete else "w"  # continuous: the real w_i themselves
     names: dict[tuple[int, ...], str] = {}
 
     def step(m: int) -> None:
         if m in done:
             return
         done.add(m)
-        plan = gen.plan(m, symmetric)
-        assignments, reduced = step_text(gen, m, symmetric)
-        variables = [str(v) for v in gen.variables(m)]
-        lines = ["@njit(cache=CACHE)",
-                 f"def step_{m}({', '.join(variables + [str(p) for p in plan.placeholders])}):"]
-        lines += [f"    {lhs} = {value}" for lhs, value in assignments]
-        combined = " * ".join(variables) if model.is_discrete else " + ".join(variables)
+        arguments, code, numerator = real_step_lines(gen, m, symmetric)
+        variables = list(arguments[:m])
+        lines = ["@njit(cache=CACHE)", f"def step_{m}({', '.join(arguments)}):"]
+        lines += [f"    {line}" for line in code]
+        combined = (" * ".join(variables) if model.is_discrete
+                    else "1j * (" + " + ".join(variables) + ")")
         lines.append(f"    _z = {combined}")
-        lines.append(f"    return -({reduced}) / ({_horner(coefficients, '_z')})")
+        lines.append(f"    return -({numerator}) / ({_horner(coefficients, '_z')})")
         functions.append("\n".join(lines) + "\n")
 
     def emit(block: tuple[int, ...]) -> str:
         if block not in names:
             plan = gen.plan(len(block), symmetric)
             if plan.is_zero:
-                names[block] = "0.0"
+                names[block] = "0j"
             else:
-                args = [f"x{i}" for i in block] + [emit(tuple(block[j] for j in sub))
+                args = [f"{frequency}{i}" for i in block] + [emit(tuple(block[j] for j in sub))
                                                    for sub in plan.blocks]
                 step(len(block))
                 label = "h_" + "_".join(map(str, block))
@@ -321,8 +342,9 @@ def _module_source(parts: tuple[str, str], n: int, cache: bool) -> str:
     """Source of a module defining the ufunc ``scalar_kernel`` of H_n (``parts``: its
     :func:`_step_functions`)."""
     signature = f"complex128({', '.join(['float64'] * n)})"
-    return ("from cmath import exp as cmath_exp\n\nfrom numba import njit, vectorize\n\n"
-            f"CACHE = {cache}\n\n\n{parts[0]}\n\n"
+    return ("from cmath import exp as cmath_exp\n\nfrom numba import njit as _njit, vectorize\n\n"
+            f"CACHE = {cache}\n\n\ndef njit(**options):\n"
+            f"    return _njit(fastmath={FASTMATH!r}, **options)\n\n\n{parts[0]}\n\n"
             f"@vectorize([{signature!r}], cache=CACHE)\n" + parts[1])
 
 
@@ -333,7 +355,7 @@ def numba_ufunc(gen: Recursion, n: int, symmetric: bool) -> Any:
     cart-pole model: order 5 compiles in 2.5-3.5 s and a later process loads it in 0.12 s
     as a shared library (:mod:`gfrf.kernels.native`, Linux with ``cc``), else from
     numba's on-disk cache (:func:`cache_dir`) in 0.9 s (numba's import and target set-up
-    are most of that); order 7 compiles in about 40 s.
+    are most of that); order 7 compiles in about 17 s (real-arithmetic steps).
 
     Parameters
     ----------

@@ -34,6 +34,8 @@ from typing import Any
 
 import numpy as np
 
+from gfrf.kernels.realcode import FASTMATH
+
 __all__ = ["NativeKernel", "native_kernel"]
 
 #: Name of the loop's symbol in the shared library.
@@ -85,7 +87,7 @@ def _loop_source(parts: tuple[str, str], n: int) -> str:
     args = ", ".join(f"w{i}" for i in range(n))
     return ("from cmath import exp as cmath_exp\n\nfrom numba import njit as _njit, types\n\n"
             "CACHE = False\n\n\ndef njit(**_options):\n"
-            "    return _njit(error_model='numpy')\n\n\n"
+            f"    return _njit(error_model='numpy', fastmath={FASTMATH!r})\n\n\n"
             f"{parts[0]}\n\n@njit(cache=CACHE)\n{parts[1]}\n\n"
             "_P = types.CPointer(types.float64)\n"
             f"@_njit(types.void({'_P, ' * n}types.CPointer(types.complex128), types.int64),"

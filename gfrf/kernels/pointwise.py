@@ -154,7 +154,7 @@ def _mp_value(k: Kernel, omega: list[float]) -> PointValue:
                     return memo[block]
                 sub = [xs[i] for i in block]
                 lower = [value(tuple(block[j] for j in b)) for b in plan.blocks]
-                numerator = gen._compiled_numerator(len(block), k.symmetric)(*sub, *lower)
+                numerator = gen.step(len(block), k.symmetric)(*sub, *lower)
                 combined = mpmath.fprod(sub) if discrete else mpmath.fsum(sub)
                 den = mpmath.fsum(c * combined ** p for p, c in linear.items())
                 w_sum = float(sum(omega[i] for i in block))
