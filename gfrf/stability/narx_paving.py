@@ -419,7 +419,9 @@ def paving_certificate(system: PolySystem, start: float = 0.0) -> PavingResult |
                         MID_STEPS)
     pieces = _pieces(g, ny, nv, FINE_PIECES)
     lo, _, R = _bracket(g, terms, pieces, ny, lo, FINE_GRID, BISECTIONS, lo * FINE_REACH)
-    for k in range(_BACKOFF if R is not None else 0):
+    if R is None:
+        return None
+    for k in range(_BACKOFF):
         U = _outward(lo * (1 - 0.02 * k), False)
         if U <= 0:
             break
