@@ -93,9 +93,10 @@ def run(quick: bool) -> BenchSection:
     for label, source in _cases(quick):
         mf = resolve_model(source)  # type: ignore[arg-type]
         system = state_form(mf)
+        solves: object = "-"
+        base_solves: object = "-"
         if system.discrete:
             cpu, lower, base_cpu, blow = _narx(system)
-            solves = base_solves = "-"
         else:
             t0 = time.process_time()
             res, solves = sos_certificate(system)
