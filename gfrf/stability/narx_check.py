@@ -43,7 +43,7 @@ MAX_TERMS = 200
 #: of T, f and X before it is composed).
 MAX_MAP_MONOMIALS = 5000
 #: Exact enclosure work: cells (times input pieces) times terms of the recursion.
-MAX_CHECK_WORK = 2_000_000
+MAX_CHECK_WORK = 8_000_000
 #: Cells of a paving.
 MAX_PAVING_CELLS = GRID**MAX_OUTPUT_LAGS
 

@@ -12,8 +12,11 @@ enclosure of a cell's image touches joins S).  Omega is invariant when the enclo
 the image of every cell of S, for every |v| <= U, is covered by cells of S: from rest,
 every input with sup|u| <= U keeps the state in Omega.  The search runs in floats (a
 proposal); the closure is then re-checked with every enclosure in exact rational
-arithmetic (python-flint ``fmpq``).  The work is bounded by counts (cells, input pieces,
-bisection steps), never by time.
+arithmetic (integer corners times one rational scale per variable,
+:mod:`gfrf.stability.narx_cells`).  The search screens each coordinate choice on a coarse
+grid, then bisects U on the fine grid with many pieces of the inputs (a cell's image is
+a thin curve along the input, enclosed piece by piece).  The work is bounded by counts
+(cells, input pieces, bisection steps), never by time.
 """
 
 from __future__ import annotations
@@ -37,26 +40,41 @@ from gfrf.stability.narx_box import (
     coordinates_error,
     recursion,
 )
+from gfrf.stability.narx_cells import CHUNK, enclose
 from gfrf.stability.polysys import Poly, PolySystem
 
 __all__ = ["PavingResult", "paving_certificate", "check_paving", "FORMAT",
-           "GRID", "PIECES", "BISECTIONS", "MAX_OUTPUT_LAGS"]
+           "GRID", "PIECES", "PIECE_BUDGET", "FINE_GRID", "FINE_PIECES", "MAX_SEARCH_CELLS",
+           "BISECTIONS", "MAX_OUTPUT_LAGS"]
 
 FORMAT = "gfrf-narx-paving"
-#: Grid cells per output coordinate, pieces per input coordinate of a cell's image
-#: (and of all input coordinates together).
-GRID = 96
-PIECES = 6
-_PIECE_BUDGET = 36
-#: Bisection steps on U (float search), then exact checks while backing off.
-BISECTIONS = 8
+#: Largest grid (cells per output coordinate) and input pieces (per input coordinate, and
+#: of all input coordinates together) a certificate may use.
+GRID = 256
+PIECES = 64
+PIECE_BUDGET = 64
+#: The search's middle grid, pieces and bisection steps (from the screened radius up),
+#: then its fine grid and pieces, bisected between the middle radius and FINE_REACH
+#: times it.
+MID_GRID = 96
+MID_PIECES = 24
+MID_STEPS = 6
+FINE_GRID = 192
+FINE_PIECES = 48
+FINE_REACH = 1.25
+#: A float search that reaches more cells than this counts as not closing.
+MAX_SEARCH_CELLS = 24_000
+#: Bisection steps on U on the fine grid (float search), then exact checks while
+#: backing off.
+BISECTIONS = 5
 _BACKOFF = 4
 #: Output lags a paving covers (cells grow as GRID ** lags).
 MAX_OUTPUT_LAGS = 2
 #: Grid half-widths tried, as multiples of the simulated extent.
 _SPANS = (1.5, 3.0)
-#: The coarse screening of each coordinate choice: grid and bisection steps.
+#: The coarse screening of each coordinate choice: grid, pieces and bisection steps.
 SCREEN_GRID = 48
+SCREEN_PIECES = 16
 SCREEN_STEPS = 4
 #: Doublings of U from the start, and the simulated runs and steps sizing the grid.
 _DOUBLINGS = 12
@@ -87,7 +105,7 @@ class PavingResult:
     certificate: dict[str, Any] = field(repr=False)
 
 
-def _pieces(g: list[Poly], ny: int, nv: int) -> list[int]:
+def _pieces(g: list[Poly], ny: int, nv: int, budget: int) -> list[int]:
     """Pieces per input coordinate: those occurring nonlinearly or in several terms."""
     count = [0] * nv
     for p in g[:ny]:
@@ -96,7 +114,7 @@ def _pieces(g: list[Poly], ny: int, nv: int) -> list[int]:
                 if e:
                     count[i] += 1 if e == 1 else 2
     split = [i for i in range(ny, nv) if count[i] > 1]
-    per = max(1, min(PIECES, int(_PIECE_BUDGET ** (1 / max(len(split), 1)) + 1e-9)))
+    per = max(1, min(PIECES, int(budget ** (1 / max(len(split), 1)) + 1e-9)))
     return [per if i in split else 1 for i in range(nv)]
 
 
@@ -143,15 +161,16 @@ def _subboxes(ny: int, nv: int, U: float, pieces: list[int]) -> tuple[np.ndarray
 
 def _search(terms: list[Any], ny: int, nv: int, U: float, R: np.ndarray, N: int,
             pieces: list[int]) -> set[tuple[int, ...]] | None:
-    """Float closure of the cell of rest under the recursion, or None when it leaves the grid."""
+    """Float closure of the cell of rest under the recursion, or None when it leaves the grid
+    (or holds more than :data:`MAX_SEARCH_CELLS` cells)."""
     h = 2 * R / N
     ua, ub = _subboxes(ny, nv, U, pieces)
     start = tuple(int(x) for x in np.minimum(np.floor(R / h), N - 1))
-    S = {start}
-    frontier = [start]
-    while frontier:
-        cells = np.array(frontier, dtype=float)
-        frontier = []
+    occ = np.zeros((N,) * ny, dtype=bool)
+    occ[start] = True
+    frontier = np.array([start], dtype=np.int64)
+    while len(frontier):
+        cells = frontier.astype(float)
         a = np.repeat(ua, len(cells), axis=0)
         b = np.repeat(ub, len(cells), axis=0)
         cl = np.tile(cells, (len(ua), 1))
@@ -164,16 +183,20 @@ def _search(terms: list[Any], ny: int, nv: int, U: float, R: np.ndarray, N: int,
             return None
         pad = 1e-9 * (1 + np.abs(lo) + np.abs(hi))
         i0 = np.floor((lo - pad + R) / h).astype(np.int64)
-        i1 = np.ceil((hi + pad + R) / h).astype(np.int64) - 1
+        i1 = np.maximum(np.ceil((hi + pad + R) / h).astype(np.int64) - 1, i0)
         if np.any(i0 < 0) or np.any(i1 >= N):
             return None
-        for row in np.unique(np.c_[i0, i1], axis=0).tolist():
-            for cell in itertools.product(*[range(p, max(p, q) + 1)
-                                            for p, q in zip(row[:ny], row[ny:], strict=True)]):
-                if cell not in S:
-                    S.add(cell)
-                    frontier.append(cell)
-    return S
+        width = i1 - i0 + 1
+        hit = np.zeros_like(occ)
+        for off in itertools.product(*[range(int(w)) for w in width.max(axis=0)]):
+            sel = np.all(width > np.array(off), axis=1)
+            hit[tuple((i0[sel] + np.array(off)).T)] = True
+        new = hit & ~occ
+        occ |= hit
+        if occ.sum() > MAX_SEARCH_CELLS:
+            return None
+        frontier = np.argwhere(new)
+    return {tuple(c) for c in np.argwhere(occ).tolist()}
 
 
 def check_paving(system: PolySystem, cert: dict[str, Any]) -> str:
@@ -191,8 +214,6 @@ def check_paving(system: PolySystem, cert: dict[str, Any]) -> str:
     str
         ``""`` when every condition holds, else the first one that fails.
     """
-    from flint import fmpq
-
     n = system.n
     nv = n + 1
     ny = min(system.bounded_states, default=n)
@@ -211,7 +232,7 @@ def check_paving(system: PolySystem, cert: dict[str, Any]) -> str:
     if not (len(T) == len(X) == n and len(R) == ny and len(pieces) == nv) or U <= 0:
         return "the certificate has the wrong size"
     if ny > MAX_OUTPUT_LAGS or not 1 <= N <= GRID or min(R) <= 0 \
-            or any(not 1 <= p <= PIECES for p in pieces) or np.prod(pieces) > _PIECE_BUDGET \
+            or any(not 1 <= p <= PIECES for p in pieces) or np.prod(pieces) > PIECE_BUDGET \
             or any(len(c) != ny or min(c) < 0 or max(c) >= N for c in S) or not S:
         return "the grid, the pieces or the cells are out of range"
     why = coordinates_error(T, X, n)
@@ -229,35 +250,61 @@ def check_paving(system: PolySystem, cert: dict[str, Any]) -> str:
                              [1] * ny + pieces[ny:])
     if any(_frac(a) < -U or _frac(b) > U for a, b in whole):
         return "the lagged inputs leave [-U, U]"
-    q = [fmpq(x.numerator, x.denominator) for x in (*R, U)]
-    Rq, Uq = q[:ny], q[ny]
-    hq = [2 * r / N for r in Rq]
-    upieces = [[(-Uq + 2 * Uq * j / pieces[i], -Uq + 2 * Uq * (j + 1) / pieces[i])
-                for j in range(pieces[i])] for i in range(ny, nv)]
-    terms = [[(fmpq(c.numerator, c.denominator), f) for c, f in tl] for tl in _terms(g, ny)]
+    cells = sorted(S)
     table = _occupancy(S, N, ny)
-    for cell in S:
-        box = [(-Rq[d] + cell[d] * hq[d], -Rq[d] + (cell[d] + 1) * hq[d]) for d in range(ny)]
-        for upart in itertools.product(*upieces):
-            full = box + list(upart)
-            need = []
-            for d, tl in enumerate(terms):
-                lo = hi = fmpq(0)
-                for c, factors in tl:
-                    tlo = thi = c
-                    for i, e in factors:
-                        x0, x1 = full[i]
-                        p0, p1 = _pow(x0, x1, e)
-                        pr = (tlo * p0, tlo * p1, thi * p0, thi * p1)
-                        tlo, thi = min(pr), max(pr)
-                    lo += tlo
-                    hi += thi
-                i0 = ((lo + Rq[d]) / hq[d]).floor()
-                i1 = max(int(((hi + Rq[d]) / hq[d]).ceil()) - 1, int(i0))
-                need.append((int(i0), i1))
-            if not _covered(table, need):
-                return f"the image of cell {list(cell)} leaves the paving"
+    for a, b, owner in _boxes(cells, N, ny, nv, pieces):
+        need = []
+        for d, (lo, hi, den) in enumerate(enclose(g[:ny], a, b, _scales(R, U, N, pieces, ny))):
+            # cell index of x: floor((x + R) / h) = floor((x N + R N) / (2 R)), x = num / den
+            num, rd = R[d].numerator, R[d].denominator
+            step = 2 * num * den
+            i0 = (lo * (N * rd) + den * num * N) // step
+            i1 = -((-(hi * (N * rd) + den * num * N)) // step) - 1
+            need.append((i0, np.maximum(i1, i0)))
+        bad = _uncovered(table, need, N)
+        if bad is not None:
+            return f"the image of cell {list(cells[owner[bad]])} leaves the paving"
     return ""
+
+
+def _scales(R: list[Fraction], U: Fraction, N: int, pieces: list[int], ny: int
+            ) -> list[Fraction]:
+    """Per variable: the rational unit of the integer box corners."""
+    return [r / N for r in R] + [U / p for p in pieces[ny:]]
+
+
+def _boxes(cells: list[tuple[int, ...]], N: int, ny: int, nv: int, pieces: list[int]
+           ) -> Any:
+    """Blocks of integer box corners (cell x input piece) and the cell of each box."""
+    combos = np.array(list(itertools.product(*[range(p) for p in pieces[ny:]])),
+                      dtype=np.int64).reshape(-1, nv - ny)
+    per = max(1, CHUNK // len(combos))
+    for start in range(0, len(cells), per):
+        block = np.array(cells[start:start + per], dtype=np.int64).reshape(-1, ny)
+        owner = np.repeat(np.arange(start, start + len(block)), len(combos))
+        a = np.empty((len(owner), nv), dtype=np.int64)
+        a[:, :ny] = 2 * np.repeat(block, len(combos), axis=0) - N
+        a[:, ny:] = 2 * np.tile(combos, (len(block), 1)) - np.array(pieces[ny:])
+        yield a, a + 2, owner
+
+
+def _uncovered(table: np.ndarray, need: list[tuple[np.ndarray, np.ndarray]], N: int
+               ) -> int | None:
+    """The first box whose block of needed cells is not all in the paving, or None:
+    counted from the summed-area table (inclusion-exclusion) against the block's size."""
+    out = np.zeros(len(need[0][0]), dtype=bool)
+    for i0, i1 in need:
+        out |= (i0 < 0) | (i1 >= N)
+    if np.any(out):
+        return int(np.flatnonzero(out)[0])
+    idx = [(i0.astype(np.int64), i1.astype(np.int64)) for i0, i1 in need]
+    count = np.zeros(len(out), dtype=np.int64)
+    for corner in itertools.product((0, 1), repeat=len(idx)):
+        at = tuple(i1 + 1 if c else i0 for (i0, i1), c in zip(idx, corner, strict=True))
+        count += table[at] * (-1) ** (len(idx) - sum(corner))
+    size = np.prod([i1 - i0 + 1 for i0, i1 in idx], axis=0)
+    bad = np.flatnonzero(count != size)
+    return int(bad[0]) if len(bad) else None
 
 
 def _occupancy(S: set[tuple[int, ...]], N: int, ny: int) -> np.ndarray:
@@ -268,27 +315,6 @@ def _occupancy(S: set[tuple[int, ...]], N: int, ny: int) -> np.ndarray:
     for axis in range(ny):
         occ = np.cumsum(occ, axis=axis)
     return occ
-
-
-def _covered(table: np.ndarray, need: list[tuple[int, int]]) -> bool:
-    """Every grid cell of the block ``need`` (index ranges, inclusive) is in the paving:
-    its count from the summed-area table (inclusion-exclusion) equals its size."""
-    N = table.shape[0] - 1
-    if any(i0 < 0 or i1 >= N for i0, i1 in need):
-        return False
-    count = 0
-    for corner in itertools.product((0, 1), repeat=len(need)):
-        idx = tuple(need[d][1] + 1 if b else need[d][0] for d, b in enumerate(corner))
-        count += int(table[idx]) * (-1) ** (len(need) - sum(corner))
-    return count == int(np.prod([i1 - i0 + 1 for i0, i1 in need]))
-
-
-def _pow(a: Any, b: Any, e: int) -> tuple[Any, Any]:
-    if e % 2 or a >= 0:
-        return a**e, b**e
-    if b <= 0:
-        return b**e, a**e
-    return 0 * a, max(a**e, b**e)
 
 
 def _extent(g: list[Poly], n: int, U: float) -> np.ndarray:
@@ -326,29 +352,40 @@ def _closes(g: list[Poly], terms: list[Any], pieces: list[int], ny: int, U: floa
 
 
 def _bracket(g: list[Poly], terms: list[Any], pieces: list[int], ny: int, start: float,
-             N: int, steps: int) -> tuple[float, float]:
-    """(lo, hi): lo closes on the grid (0 if nothing does), hi does not."""
-    lo, U = 0.0, start
-    for _ in range(_DOUBLINGS):
-        if _closes(g, terms, pieces, ny, U, N) is None:
+             N: int, steps: int, top: float = 0.0) -> tuple[float, float, np.ndarray | None]:
+    """(lo, hi, R): lo closes on the grid of half-widths R (0 and None if nothing does),
+    hi does not.  With ``top`` > ``start`` the bracket is (start, top), else it is found by
+    doubling from ``start``."""
+    lo, U, R = 0.0, start, None
+    for _ in range(_DOUBLINGS if top <= start else 0):
+        found = _closes(g, terms, pieces, ny, U, N)
+        if found is None:
             break
-        lo, U = U, 2 * U
-    hi = U
+        lo, U, R = U, 2 * U, found[0]
+    hi = U if top <= start else top
+    if top > start:
+        lo = start
     for _ in range(steps):
         mid = (lo + hi) / 2 if lo else hi / 4
-        if _closes(g, terms, pieces, ny, mid, N) is not None:
-            lo = mid
+        found = _closes(g, terms, pieces, ny, mid, N)
+        if found is not None:
+            lo, R = mid, found[0]
         else:
             hi = mid
-    return lo, hi
+    if lo and R is None:
+        found = _closes(g, terms, pieces, ny, lo, N)
+        lo, R = (lo, found[0]) if found is not None else (0.0, None)
+    return lo, hi, R
 
 
 def paving_certificate(system: PolySystem, start: float = 0.0) -> PavingResult | None:
     """The largest U (doubling, then bisection) with an exactly verified invariant paving.
 
     Every coordinate choice of :func:`gfrf.stability.narx_box.coordinates` (and the
-    modal one) is screened on a coarse grid; the best is bisected on the
-    :data:`GRID` grid and checked exactly, backing off U a little when the check fails.
+    modal one) is screened on a coarse grid (:data:`SCREEN_GRID`, :data:`SCREEN_PIECES`);
+    the best is bracketed and bisected on the :data:`FINE_GRID` grid with
+    :data:`FINE_PIECES` input pieces and checked exactly, backing off U a little when
+    the check fails.
 
     Parameters
     ----------
@@ -371,51 +408,47 @@ def paving_certificate(system: PolySystem, start: float = 0.0) -> PavingResult |
     screened = []
     for T, X in _candidates(system):
         g = box_map(system, T, X)
-        terms, pieces = _terms(g, ny), _pieces(g, ny, nv)
-        lo, hi = _bracket(g, terms, pieces, ny, start, SCREEN_GRID, SCREEN_STEPS)
-        screened.append((lo, hi, T, X, g, terms, pieces))
-    lo, hi, T, X, g, terms, pieces = max(screened, key=lambda t: t[0])
+        terms = _terms(g, ny)
+        lo, _, _ = _bracket(g, terms, _pieces(g, ny, nv, SCREEN_PIECES), ny, start,
+                            SCREEN_GRID, SCREEN_STEPS)
+        screened.append((lo, T, X, g, terms))
+    lo, T, X, g, terms = max(screened, key=lambda t: t[0])
     if lo <= 0:
         return None
-    for _ in range(BISECTIONS):
-        mid = (lo + hi) / 2
-        if _closes(g, terms, pieces, ny, mid, GRID) is not None:
-            lo = mid
-        else:
-            hi = mid
+    lo, _, _ = _bracket(g, terms, _pieces(g, ny, nv, MID_PIECES), ny, lo, MID_GRID,
+                        MID_STEPS)
+    pieces = _pieces(g, ny, nv, FINE_PIECES)
+    lo, _, R = _bracket(g, terms, pieces, ny, lo, FINE_GRID, BISECTIONS, lo * FINE_REACH)
+    if R is None:
+        return None
     for k in range(_BACKOFF):
         U = _outward(lo * (1 - 0.02 * k), False)
-        found = _closes(g, terms, pieces, ny, float(U), GRID)
-        if U <= 0 or found is None:
-            continue
-        Rq = [_outward(float(r), True) for r in found[0]]
-        S = _search(terms, ny, nv, float(U), np.array([float(r) for r in Rq]), GRID, pieces)
+        if U <= 0:
+            break
+        Rq = [_outward(float(r), True) for r in R]
+        S = _search(terms, ny, nv, float(U), np.array([float(r) for r in Rq]), FINE_GRID,
+                    pieces)
         if S is None:
             continue
         cert = {"format": FORMAT, "kind": "narx-paving", "version": 1,
                 "state_map": system.map_text(), "states": list(system.states),
                 "recursion": recursion(system), "U": str(U),
                 "T": [_poly_to(p) for p in T], "X": [_poly_to(p) for p in X],
-                "R": [str(r) for r in Rq], "N": GRID, "pieces": pieces,
+                "R": [str(r) for r in Rq], "N": FINE_GRID, "pieces": pieces,
                 "cells": sorted([list(c) for c in S])}
         if check_paving(system, cert) == "":
-            h = [2 * r / GRID for r in Rq]
-            bound = _y_bound(system, X, Rq, h, S, U, ny)
+            bound = _y_bound(X, Rq, sorted(S), U, ny, FINE_GRID)
             return PavingResult(radius=_below(U), bound=_above(bound), cells=len(S),
                                 certificate=cert)
     return None
 
 
-def _y_bound(system: PolySystem, X: list[Poly], R: list[Fraction], h: list[Fraction],
-             S: set[tuple[int, ...]], U: Fraction, ny: int) -> Fraction:
+def _y_bound(X: list[Poly], R: list[Fraction], cells: list[tuple[int, ...]], U: Fraction,
+             ny: int, N: int) -> Fraction:
     """An exact bound on |y[k-1]|, .., |y[k-ny]| over the paving."""
-    from gfrf.stability.narx_box import _enclosure_exact
-
-    nv = system.n + 1
+    nv = len(X) + 1
     top = Fraction(0)
-    for cell in S:
-        lo = [-R[d] + cell[d] * h[d] for d in range(ny)] + [-U] * (nv - ny)
-        hi = [-R[d] + (cell[d] + 1) * h[d] for d in range(ny)] + [U] * (nv - ny)
-        for a, b in _enclosure_exact(X[:ny], lo, hi, [1] * nv):
-            top = max(top, abs(_frac(a)), abs(_frac(b)))
+    for a, b, _ in _boxes(cells, N, ny, nv, [1] * nv):
+        for lo, hi, den in enclose(X[:ny], a, b, _scales(R, U, N, [1] * nv, ny)):
+            top = max(top, Fraction(max(-min(lo), max(hi)), den))
     return top

@@ -2,14 +2,15 @@
 
 The inputs of size U from rest reach a set of states that grows sample by sample; an
 input escapes when that set leaves the escape level.  The beam keeps, at every sample,
-the :data:`WIDTH` states with the largest |y[k]| (ties by index: the same beam on every
-run) among the two children u[k] = +U, -U of each
+the :data:`WIDTH` states with the largest score (the larger |y| of this sample and of
+the next one with the next input 0: a sign acts on the output one sample later; ties by
+index: the same beam on every run) among the two children u[k] = +U, -U of each
 state of the previous beam, all advanced at once by the model's recursion on numpy
 arrays (the generated ``rhs`` works elementwise).  The first child that leaves the
 level (or is not finite) is the witness: its sign sequence, read back through the
 parent links, becomes a switching input (``first_sign``, ``switch_times`` at the
 sample times), replayed and proven like every other sign sequence.  The work is
-WIDTH x 2 recursion steps per sample for at most :data:`HORIZON` samples.
+WIDTH x 4 recursion steps per sample for at most :data:`HORIZON` samples.
 """
 
 from __future__ import annotations
@@ -71,11 +72,23 @@ def beam_search(system: Any, amplitude: float, samples: int, level: float) -> Sw
             bad = ~(np.abs(y) < level)
             if np.any(bad):
                 return _witness(parents, signs, int(np.flatnonzero(bad)[0]), k, period)
-            keep = np.argsort(-np.abs(y), kind="stable")[:WIDTH]
+            zn = np.concatenate((y[None, :], zc[:a - 1]), axis=0) if a else zc
+            keep = np.argsort(-_lookahead(rhs, zn, uc, np.abs(y)),
+                              kind="stable")[:WIDTH]
             parents[-1], signs[-1] = parent[keep], sign[keep]
-            z = np.concatenate((y[None, keep], zc[:a - 1, keep]), axis=0) if a else zc[:, keep]
+            z = zn[:, keep]
             u = uc[:, keep]
     return SwitchRun(False, None, [], 1)
+
+
+def _lookahead(rhs: Any, z: np.ndarray, u: np.ndarray, now: np.ndarray) -> np.ndarray:
+    """The score of each child: the larger |y| of this sample and of the next one (the
+    next input taken 0), so a sign that acts on the output one sample later is ranked by
+    its effect."""
+    un = np.concatenate((np.zeros((1, u.shape[1])), u[:-1]), axis=0)
+    out = np.zeros((1, u.shape[1]))
+    rhs(z, un, out)
+    return np.maximum(now, np.where(np.isfinite(out[0]), np.abs(out[0]), np.inf))
 
 
 def _witness(parents: list[np.ndarray], signs: list[np.ndarray], index: int, k: int,

@@ -21,7 +21,7 @@ from conftest import MODELS
 
 from gfrf.cli import main
 from gfrf.model.modelfile import resolve_model
-from gfrf.stability.narx_check import MAX_DIGITS
+from gfrf.stability.narx_check import MAX_DIGITS, MAX_PAVING_CELLS
 from gfrf.stability.narx_paving import paving_certificate
 from gfrf.stability.polysys import state_form
 
@@ -214,7 +214,7 @@ def test_the_identified_paving_holds_and_contains_simulated_responses(paving_fil
     assert code == 1
     # too many cells for a paving: bad input before the work
     many = copy.deepcopy(paving_file)
-    many["cells"] = many["cells"] * 5
+    many["cells"] = many["cells"] * (MAX_PAVING_CELLS // len(many["cells"]) + 1)
     code, _, err = _check(capsys, IDENTIFIED, many, tmp_path)
     assert code == 2 and "MAX_PAVING_CELLS" in err
 
