@@ -101,13 +101,13 @@ def test_noise_floor_from_repeated_periods_is_the_added_noise():
 def test_noise_floor_of_a_rich_predictor_is_near_the_output_noise():
     """White output noise: the floor is at least the noise (no predictor beats it) and
     within 25 % of it (the rich predictor whitened by its AR filter)."""
-    from gfrf.identify.fit import _candidate_keys
+    from gfrf.identify.frols import candidate_keys
 
     for level in (0.02, 0.08):
         u, y = _narx_data(level, 0.0, seed=4)
         n_train = 3000
         truth = level * np.std(_narx(u)) / np.std(y[n_train + 2:])
-        keys = _candidate_keys(2, 2, 3)
+        keys = candidate_keys(2, 2, 3)
         floor, method = noise_floor(y, u, n_train, 2, keys, keys, 2)
         assert method == "rich model" and 0.9 * truth < floor < 1.25 * truth
 
