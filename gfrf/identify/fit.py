@@ -381,7 +381,8 @@ def _identify(y: Any, u: Any, sample_time: float, *, ylag: int | None,
         w = warm_up(theta, lag, n_train - lag)
         theta, noise_terms, pruning = prune_and_refit(
             theta, noise_terms, kind, y[:n_fit] - cy, u[:n_fit] - cu, yc[n_train - w:],
-            uc[n_train - w:], lag, ylag, floor >= PRECISE_FIT, w)
+            uc[n_train - w:], lag, ylag, floor >= PRECISE_FIT, w,
+            lambda th: _score(th, mean_y - cy, sample_time, output, input))
     constant = theta.get(((), ()))
     y0c = 0.0 if constant is None else equilibrium(theta, 0.0, mean_y - cy)
     model, about = _about(theta, mean_y - cy, sample_time, output, input)
@@ -453,6 +454,16 @@ def _about(theta: dict[Key, float], near: float, sample_time: float, output: str
         theta = shift(theta, equilibrium(theta, 0.0, near), 0.0)
     about = {k: round_significant(v) for k, v in theta.items()}
     return _model(about, sample_time, output, input_), about
+
+
+def _score(theta: dict[Key, float], near: float, sample_time: float, output: str,
+           input_: str) -> float:
+    """r* of the model of ``theta`` (floating-point proof), 0 when it has none: the
+    pruning's preference among removals the held-out data cannot tell apart."""
+    try:
+        return radius(_about(theta, near, sample_time, output, input_)[0], proof="float")
+    except GfrfError:
+        return 0.0
 
 
 def _spread(model: Model, theta: dict[Key, float], full_theta: dict[Key, float],
