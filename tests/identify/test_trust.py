@@ -201,6 +201,22 @@ def _asymmetric_oscillator(u: np.ndarray, step: float) -> np.ndarray:
     return y
 
 
+ASYMMETRIC = "D(y,2) + 0.5*D(y) + y + 0.3*y**2 + 0.5*y**3 = u"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("noise, offset", [(0.02, 0.0), (0.02, 0.5), (0.05, 0.0)])
+def test_asymmetric_oscillator_with_output_noise(noise, offset, capsys, tmp_path):
+    """Noisy samples of an oscillator with a square and a cube: least squares splits the
+    cube over nearly collinear monomials that nearly cancel; the pruned model is within
+    15 % of the true r* and stable at 0.7 r*_true."""
+    rng = np.random.default_rng(2)
+    u = 3.0 * rng.uniform(-1, 1, 4000)
+    y = _asymmetric_oscillator(u, 0.1)
+    noisy = y + noise * np.std(y) * np.random.default_rng(11).standard_normal(y.size)
+    _check_target(u, noisy + offset, 0.1, _true_radius(ASYMMETRIC), capsys, tmp_path)
+
+
 @pytest.mark.slow
 def test_lags_that_fail_validation_give_way_to_the_next_ones():
     """5 % output noise on a sampled oscillator: the one-step criterion picks three lags
