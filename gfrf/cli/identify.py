@@ -2,7 +2,7 @@
 
 ``gfrf identify DATA.csv --output y --input u [--sample-time T] [--ylag 2 --ulag 2
 --degree 3] [--criterion bic] [--out model.toml] [--json]`` fits a polynomial NARMAX
-model with sysidentpy's FROLS (:func:`gfrf.identify.fit.identify`; terms pruned on the
+model with FROLS (:func:`gfrf.identify.fit.identify`; terms pruned on the
 held-out free run unless ``--no-prune``), prints the identified equation (and the full
 one when terms were pruned), its noise terms and operating point, r* with its spread,
 the validation on the held-out end of the data against the noise floor
@@ -10,8 +10,7 @@ the validation on the held-out end of the data against the noise floor
 marked), the verdict of Theorem 1 with the identification's rule
 (:func:`gfrf.identify.trust.identified_verdict`); it writes the model file when
 ``--out`` is given.  Exit codes: 0 an adequate model and stability proven, 1 not adequate, not
-proven or unstable, 2 bad input or sysidentpy missing (the message says how to
-install it).
+proven or unstable, 2 bad input.
 """
 
 from __future__ import annotations
@@ -34,17 +33,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         The gfrf parser's subcommand collection the parsers are added to.
     """
     p = subparsers.add_parser(
-        "identify", help="identify a polynomial NARMAX model from CSV data (sysidentpy "
-                         "FROLS), validate it and give its verdict",
+        "identify", help="identify a polynomial NARMAX model from CSV data (FROLS), "
+                         "validate it and give its verdict",
         description="Fit a polynomial NARMAX model to the output and input columns of a "
-                    "CSV file with sysidentpy's FROLS (terms, and lags and degree when not "
+                    "CSV file with FROLS (terms, and lags and degree when not "
                     "given, by an information criterion; a constant term or an input mean "
                     "makes an operating point; noise terms when the residuals are "
                     "coloured), validate it on the held-out end of the data (free run and "
                     "correlation tests), write the model file (--out) and print the "
-                    "stability verdict if the model passes validation. Needs the optional "
-                    "extra gfrf[identify]. Exit code 0: adequate model, stability proven; "
-                    "1: not adequate, not proven or unstable; 2: bad input.")
+                    "stability verdict if the model passes validation. Exit code 0: "
+                    "adequate model, stability proven; 1: not adequate, not proven or "
+                    "unstable; 2: bad input.")
     p.add_argument("data", metavar="DATA.csv", help="CSV file with a header row")
     p.add_argument("--output", default="y", help="output column name (default y)")
     p.add_argument("--input", default="u", help="input column name (default u)")

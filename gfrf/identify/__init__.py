@@ -1,4 +1,4 @@
-"""From measured data to a gfrf model: polynomial NARX models identified with sysidentpy.
+"""From measured data to a gfrf model: polynomial NARX models identified by FROLS.
 
 One module per step, each importing only those before it:
 
@@ -7,7 +7,9 @@ One module per step, each importing only those before it:
 * :mod:`gfrf.identify.narx` - :func:`~gfrf.identify.narx.from_sysidentpy`, the exact
   converter of a fitted sysidentpy polynomial model, and
   :func:`~gfrf.identify.narx.narx_equation`;
-* :mod:`gfrf.identify.fit` - :func:`~gfrf.identify.fit.identify` (sysidentpy's FROLS,
+* :mod:`gfrf.identify.frols` - FROLS as sysidentpy runs it (error reduction ratio
+  ranking, :mod:`gfrf.identify.ols`, and an information criterion);
+* :mod:`gfrf.identify.fit` - :func:`~gfrf.identify.fit.identify` (FROLS,
   held-out free-run error) and its :class:`~gfrf.identify.fit.Identification`;
 * :mod:`gfrf.identify.validate`, :mod:`gfrf.identify.operating`,
   :mod:`gfrf.identify.noise`, :mod:`gfrf.identify.result` - hold-out validation
@@ -23,8 +25,9 @@ One module per step, each importing only those before it:
   from the identification to a model file that ``gfrf verdict`` and ``gfrf report``
   read like any other.
 
-sysidentpy is the optional extra ``gfrf[identify]``; it is imported only inside
-:func:`~gfrf.identify.fit.identify`.  The public names of these modules are re-exported
+Identification does not import sysidentpy (its FROLS is reproduced, and checked against
+it in the tests); :func:`~gfrf.identify.narx.from_sysidentpy` converts a model a user
+fitted with it.  The public names of these modules are re-exported
 here.  Also: :mod:`gfrf.identify.example` (the worked example's data generator),
 :mod:`gfrf.report.identified` (its report page), :mod:`gfrf.bench.identify`
 (identification timings).
@@ -41,7 +44,6 @@ from gfrf.identify.data import (
     read_data,
 )
 from gfrf.identify.fit import (
-    INSTALL_HINT,
     SAME_TERMS_RTOL,
     Identification,
     free_run,
@@ -55,5 +57,5 @@ from gfrf.identify.trust import identified_verdict
 __all__ = ["Identification", "from_sysidentpy", "identify", "read_csv", "free_run",
            "model_file_text", "load_text", "narx_equation", "write_atomic", "candidate_count",
            "same_terms", "SAME_TERMS_RTOL", "read_data",
-           "identified_verdict", "INSTALL_HINT", "MAX_CANDIDATES", "MAX_SAMPLES",
+           "identified_verdict", "MAX_CANDIDATES", "MAX_SAMPLES",
            "MIN_SAMPLES"]

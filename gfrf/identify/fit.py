@@ -1,8 +1,9 @@
-"""The identification step: sysidentpy's FROLS on input/output data, and the fit's quality.
+"""The identification step: FROLS on input/output data, and the fit's quality.
 
-:func:`identify` fits a polynomial NARMAX model to input/output data with sysidentpy's
-FROLS (the number of terms, and the lags and degree when not given, chosen by an
-information criterion; a constant term among the candidates), re-estimates it with
+:func:`identify` fits a polynomial NARMAX model to input/output data with FROLS as
+sysidentpy runs it (:mod:`gfrf.identify.frols`; the number of terms, and the lags and
+degree when not given, chosen by an information criterion; a constant term among the
+candidates), re-estimates it with
 noise terms by extended least squares when its residuals are coloured
 (:mod:`gfrf.identify.noise`), rewrites it about its operating point so that the
 deviations ``y = u = 0`` are an equilibrium (:mod:`gfrf.identify.operating`), rounds
@@ -11,17 +12,14 @@ the coefficients, and validates it on a held-out final part of the data (free ru
 an :class:`~gfrf.identify.result.Identification`.
 :func:`same_terms` compares two identified models to a relative tolerance.
 
-sysidentpy is the optional extra ``gfrf[identify]``; it is imported only inside
-:func:`identify` (:data:`INSTALL_HINT` says how to install it).
+sysidentpy is not imported: :func:`sysidentpy_version` only reads the version of an
+installed copy, for the record of which FROLS the fit reproduces.
 """
 
 from __future__ import annotations
 
-import itertools
 import math
-import warnings
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -37,10 +35,10 @@ from gfrf.identify.data import (
     check_rank,
 )
 from gfrf.identify.floor import noise_floor
+from gfrf.identify.frols import Selection, candidate_keys, frols, regressor_code
 from gfrf.identify.grow import grow_output_error, held_out_rrse
-from gfrf.identify.narx import _decode, _lead, narx_model
+from gfrf.identify.narx import _lead, narx_model
 from gfrf.identify.noise import extended_least_squares, regressors, residuals
-from gfrf.identify.ols import error_reduction_ratio
 from gfrf.identify.operating import equilibrium, round_significant, shift
 from gfrf.identify.output_error import output_error_covariance, recurse, refine, warm_up
 from gfrf.identify.prune import Pruning, covariance, prune_and_refit
@@ -60,11 +58,7 @@ from gfrf.model.equation import Model, Term
 Key = tuple[tuple[int, ...], tuple[int, ...]]
 
 __all__ = ["Identification", "identify", "free_run", "same_terms", "SAME_TERMS_RTOL",
-           "INSTALL_HINT"]
-
-#: What to tell a user who lacks the optional dependency.
-INSTALL_HINT = ("gfrf identify needs sysidentpy, the optional extra gfrf[identify]: "
-                "pip install 'gfrf[identify]' (or: pip install sysidentpy)")
+           "sysidentpy_version"]
 #: A free run stops when |y| exceeds this multiple of the data's largest |y|.
 _BLOWUP = 1e6
 
@@ -128,84 +122,28 @@ def same_terms(a: Sequence[Term], b: Sequence[Term], rtol: float = SAME_TERMS_RT
         for s, t in zip(a, b, strict=True))
 
 
+def sysidentpy_version() -> str:
+    """The installed sysidentpy's version, read without importing it ("" if absent).
+
+    Returns
+    -------
+    str
+        The version string.
+    """
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("sysidentpy")
+    except PackageNotFoundError:
+        return ""
+
+
 def _rrse(measured: np.ndarray, predicted: np.ndarray) -> float:
     """Root relative squared error sqrt(sum (y - yhat)^2 / sum (y - mean y)^2)."""
     spread = float(np.sum((measured - np.mean(measured)) ** 2))
     if spread == 0.0:
         return math.inf
     return math.sqrt(float(np.sum((measured - predicted) ** 2)) / spread)
-
-
-def _frols(ylag: int, ulag: int, degree: int, criterion: str, max_terms: int,
-           constant: bool = False, forced: bool = False) -> Any:
-    """sysidentpy's FROLS with least squares; the constant regressor a candidate only if
-    ``constant``; ``forced``: ``max_terms`` terms whatever the criterion says."""
-    try:
-        import matplotlib  # sysidentpy imports it anyway
-
-        # sysidentpy's first import restyles matplotlib globally (top and right spines
-        # off): the caller's plots, and gfrf's reports, are not its to change.
-        with matplotlib.rc_context():
-            from sysidentpy.basis_function import Polynomial
-            from sysidentpy.model_structure_selection import FROLS
-            from sysidentpy.parameter_estimation import LeastSquares
-    except ImportError:
-        raise GfrfError(INSTALL_HINT) from None
-    first = 0 if constant else 1
-
-    class _Frols(FROLS):  # type: ignore[misc, valid-type]
-        """FROLS over the candidate regressors, minus the constant (column 0) unless asked."""
-
-        ranking: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
-
-        def run_mss_algorithm(self, psi: np.ndarray, y: np.ndarray,
-                              process_term_number: int) -> tuple[Any, ...]:
-            """sysidentpy's ERR ranking (:func:`gfrf.identify.ols.error_reduction_ratio`),
-            computed once for the largest size: the greedy choice of n terms is the
-            first n of a longer run, so the fit reuses the criterion's run."""
-            count = process_term_number
-            if self.ranking is None or self.ranking[0] is not psi or \
-                    self.ranking[2].size < count:
-                self.ranking = (psi, *error_reduction_ratio(psi[:, first:],
-                                                            y[self.max_lag:], count))
-            err = np.zeros_like(self.ranking[1])
-            err[:count + 1] = self.ranking[1][:count + 1]
-            piv = self.ranking[2][:count]
-            return err, piv + first, psi[:, piv + first]
-
-        def information_criterion(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
-            """sysidentpy's criterion for 1..n_info_values terms from one greedy ERR run.
-
-            The ERR selection is sequential, so the first n regressors of a run for
-            n_info_values terms are those of a run for n terms: least squares on each
-            prefix (one QR factorisation) gives sysidentpy's values without one
-            selection run per size.
-            """
-            count = self.n_info_values
-            selected = self.run_mss_algorithm(x, y, count)[2]
-            target = self._default_estimation_target(y)
-            n_samples = y.shape[0] - self.max_lag
-            values = np.full(count, np.nan)
-            # least squares on each prefix from one QR factorisation: the residual of
-            # the first i+1 columns is the target minus its projections on q_0..q_i
-            q = np.linalg.qr(selected, mode="reduced")[0]
-            residual = np.array(target, dtype=float).ravel()
-            coefficients = q.T @ residual
-            for i in range(count):
-                residual = residual - q[:, i] * coefficients[i]
-                values[i] = self.info_criteria_function(i + 1, n_samples,
-                                                        float(np.var(residual, ddof=1)))
-            self.raw_info_values = values
-            # sysidentpy keeps the size before the criterion's first increase, a local
-            # minimum (one term for a lightly damped system); the global minimum is meant:
-            # its distance from it, which first increases after it, selects it
-            size = count - 1 if forced else int(np.argmin(values))
-            return np.abs(np.arange(count, dtype=float) - float(size))
-
-    return _Frols(
-        ylag=ylag, xlag=ulag, order_selection=True, info_criteria=criterion,
-        n_info_values=max_terms, estimator=LeastSquares(),
-        basis_function=Polynomial(degree=degree), model_type="NARMAX")
 
 
 #: A mean of u larger than this fraction of its standard deviation is an operating input.
@@ -217,48 +155,20 @@ ROUNDING_FLOOR = 1e-9
 STRUCTURES = tuple((lag, degree) for degree in (1, 2, 3) for lag in (1, 2, 3))
 
 
-def _candidate_keys(ylag: int, ulag: int, degree: int) -> list[Key]:
-    """The constant and every monomial of degree 1..degree (sysidentpy's candidates)."""
-    factors = [("y", lag) for lag in range(1, ylag + 1)] + \
-        [("u", lag) for lag in range(1, ulag + 1)]
-    keys: list[Key] = [((), ())]
-    for d in range(1, degree + 1):
-        for combo in itertools.combinations_with_replacement(factors, d):
-            keys.append((tuple(sorted(lag for n, lag in combo if n == "y")),
-                         tuple(sorted(lag for n, lag in combo if n == "u"))))
-    return keys
-
-
 def _key_name(key: Key) -> str:
     ys, us = key
     return "*".join([f"y[k-{lag}]" for lag in ys] + [f"u[k-{lag}]" for lag in us]) or "1"
 
 
-@dataclass(frozen=True)
-class _Fit:
-    keys: list[Key]
-    theta: np.ndarray
-    frols: Any
-    criterion_value: float
-
-
 def _fit_structure(y: np.ndarray, u: np.ndarray, ylag: int, ulag: int, degree: int,
-                   criterion: str, max_terms: int, constant: bool, forced: bool = False
-                   ) -> _Fit:
-    """FROLS on the training window; the selected monomials, theta and the criterion."""
+                   criterion: str, max_terms: int, forced: bool = False,
+                   estimate: bool = True) -> Selection:
+    """FROLS on the training window (the candidates' rank checked first)."""
     lag = max(ylag, ulag)
-    keys = _candidate_keys(ylag, ulag, degree)
+    keys = candidate_keys(ylag, ulag, degree)
     rows = min(y.size, 20000 + lag)
-    check_rank(regressors(keys if constant else keys[1:], y[:rows], u[:rows], lag),
-               [_key_name(k) for k in (keys if constant else keys[1:])])
-    frols = _frols(ylag, ulag, degree, criterion, max_terms, constant, forced)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        frols.fit(X=u[:, None], y=y[:, None])
-    frols.ranking = None  # the candidate matrix is no longer needed
-    selected = [_decode(row) for row in frols.final_model]
-    theta = np.ravel(frols.theta)
-    return _Fit(selected, theta, frols, float(np.min(frols.raw_info_values)))
+    check_rank(regressors(keys, y[:rows], u[:rows], lag), [_key_name(k) for k in keys])
+    return frols(y, u, ylag, ulag, degree, criterion, max_terms, forced, estimate)
 
 
 def _choose_structure(y: np.ndarray, u: np.ndarray, given: tuple[int | None, ...],
@@ -282,12 +192,12 @@ def _choose_structure(y: np.ndarray, u: np.ndarray, given: tuple[int | None, ...
     for ylag, ulag, degree, candidates, _, _ in valid:
         try:
             fit = _fit_structure(y[:window], u[:window], ylag, ulag, degree, criterion,
-                                 min(max_terms, candidates), True)
+                                 min(max_terms, candidates), estimate=False)
         except ArgumentError as exc:  # dependent candidates: this degree is not excited
             first_error = first_error or exc
             continue
         table.append({"ylag": ylag, "ulag": ulag, "degree": degree, "terms": len(fit.keys),
-                      criterion: round_significant(fit.criterion_value)})
+                      criterion: round_significant(float(np.min(fit.criterion)))})
     if not table:
         assert first_error is not None
         raise first_error
@@ -301,7 +211,7 @@ def _choose_structure(y: np.ndarray, u: np.ndarray, given: tuple[int | None, ...
 
 def _estimate(y: np.ndarray, u: np.ndarray, ylag: int, ulag: int, degree: int,
               criterion: str, max_terms: int, noise: bool | None, forced: bool = False
-              ) -> tuple[_Fit, dict[Key, float], tuple[float, ...], list[str], str]:
+              ) -> tuple[Selection, dict[Key, float], tuple[float, ...], list[str], str]:
     """FROLS, then a noise model when asked or when the residuals are coloured.
 
     Returns the fit, the process coefficients, the noise coefficients, notes and the
@@ -310,7 +220,7 @@ def _estimate(y: np.ndarray, u: np.ndarray, ylag: int, ulag: int, degree: int,
     :mod:`gfrf.identify.output_error`).
     """
     lag = max(ylag, ulag)
-    fit = _fit_structure(y, u, ylag, ulag, degree, criterion, max_terms, True, forced)
+    fit = _fit_structure(y, u, ylag, ulag, degree, criterion, max_terms, forced)
     theta = dict(zip(fit.keys, (float(v) for v in fit.theta), strict=True))
     notes: list[str] = []
     floor = ROUNDING_FLOOR * float(np.std(y))
@@ -339,7 +249,7 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
              max_terms: int = 15, holdout: float = 0.25, output: str = "y",
              input: str = "u", noise: bool | None = None,
              prune: bool = True, radius_draws: int | None = DRAWS) -> Identification:
-    """Identify a polynomial NARMAX model from input/output data with sysidentpy's FROLS.
+    """Identify a polynomial NARMAX model from input/output data with FROLS.
 
     The first ``1 - holdout`` of the samples train the model: FROLS ranks the
     candidate regressors (the constant and the monomials of degree 1..``degree`` in
@@ -366,7 +276,8 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
         the held-out data (:func:`gfrf.identify.structure.revise_lags`: other lags
         when they fail validation, fewer when an output-error model needs fewer).
     criterion : {"bic", "aic", "aicc", "fpe", "lilc"}
-        Information criterion for the number of terms (sysidentpy's names).
+        Information criterion for the number of terms (sysidentpy's names and
+        formulas).
     max_terms : int
         Largest number of terms the criterion considers (at most the candidates).
     holdout : float
@@ -392,8 +303,6 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
         Bad data or settings (non-finite or constant samples, values beyond
         :data:`~gfrf.identify.data.MAX_MAGNITUDE`, linearly dependent candidates, too
         few samples for the candidates, a limit exceeded); checked before any fitting.
-    GfrfError
-        sysidentpy is not installed (the message says how to install it).
     """
     options = {"criterion": criterion, "max_terms": max_terms, "holdout": holdout,
                "output": output, "input": input, "noise": noise, "prune": prune,
@@ -448,7 +357,7 @@ def _identify(y: Any, u: Any, sample_time: float, *, ylag: int | None,
                                                          ylag,
                                                    ulag, degree, criterion, max_terms, noise)
     yc, uc = y - cy, u - cu
-    floor, floor_method = noise_floor(yc, uc, n_train, lag, _candidate_keys(ylag, ulag, degree),
+    floor, floor_method = noise_floor(yc, uc, n_train, lag, candidate_keys(ylag, ulag, degree),
                                       fit.keys, ylag)
     if prune and len(fit.keys) < max_terms and not model_error(
             held_out_rrse(theta, yc, uc, n_train, lag), floor) < FREE_RUN_LIMIT:
@@ -457,7 +366,7 @@ def _identify(y: Any, u: Any, sample_time: float, *, ylag: int | None,
         if kind == grown[4] == "output error":  # least squares on noisy data is biased
             grown = (grown[0], grow_output_error(theta, grown[1], y[:n_fit] - cy,
                                                  u[:n_fit] - cu, lag,
-                                                 _candidate_keys(ylag, ulag, degree)),
+                                                 candidate_keys(ylag, ulag, degree)),
                      *grown[2:])
         if held_out_rrse(grown[1], yc, uc, n_train, lag) < held_out_rrse(
                 theta, yc, uc, n_train, lag):
@@ -472,11 +381,10 @@ def _identify(y: Any, u: Any, sample_time: float, *, ylag: int | None,
         w = warm_up(theta, lag, n_train - lag)
         theta, noise_terms, pruning = prune_and_refit(
             theta, noise_terms, kind, y[:n_fit] - cy, u[:n_fit] - cu, yc[n_train - w:],
-            uc[n_train - w:], lag, ylag, floor >= PRECISE_FIT, w)
+            uc[n_train - w:], lag, ylag, floor >= PRECISE_FIT, w,
+            lambda th: _score(th, mean_y - cy, sample_time, output, input))
     constant = theta.get(((), ()))
     y0c = 0.0 if constant is None else equilibrium(theta, 0.0, mean_y - cy)
-    import sysidentpy
-
     model, about = _about(theta, mean_y - cy, sample_time, output, input)
     y0 = cy + y0c
     if first_constant is None and u0 == 0.0:
@@ -521,17 +429,16 @@ def _identify(y: Any, u: Any, sample_time: float, *, ylag: int | None,
         notes.append(f"the identified model's free run blew up at held-out sample {blowup}: "
                      f"it does not reproduce the data")
     regressor_rows = tuple(
-        {"codes": [int(c) for c in row], "theta": round_significant(float(t)),
+        {"codes": regressor_code(k, degree), "theta": round_significant(float(t)),
          "err": round_significant(float(e_))}
-        for row, t, e_ in zip(fit.frols.final_model, fit.theta,
-                              np.ravel(fit.frols.err)[:fit.theta.size], strict=True))
+        for k, t, e_ in zip(fit.keys, fit.theta, fit.err, strict=True))
     settings = {"ylag": ylag, "ulag": ulag, "degree": degree, "criterion": criterion,
                 "max_terms": max_terms, "holdout": float(holdout)}
     return Identification(
         model=model, settings=settings, n_samples=int(y.size), n_train=n_train,
         candidates=candidates, regressors=regressor_rows, free_run_error=free,
         one_step_error=one_step, blowup=blowup, notes=tuple(notes),
-        sysidentpy_version=str(sysidentpy.__version__),
+        sysidentpy_version=sysidentpy_version(),
         operating_point={"u0": u0, "y0": y0, "constant": first_constant, "how": how},
         noise=noise_terms, validation=validation, structure=structure, n_fit=n_fit,
         noise_model=kind, pruning=pruning, radius=spread,
@@ -547,6 +454,16 @@ def _about(theta: dict[Key, float], near: float, sample_time: float, output: str
         theta = shift(theta, equilibrium(theta, 0.0, near), 0.0)
     about = {k: round_significant(v) for k, v in theta.items()}
     return _model(about, sample_time, output, input_), about
+
+
+def _score(theta: dict[Key, float], near: float, sample_time: float, output: str,
+           input_: str) -> float:
+    """r* of the model of ``theta`` (floating-point proof), 0 when it has none: the
+    pruning's preference among removals the held-out data cannot tell apart."""
+    try:
+        return radius(_about(theta, near, sample_time, output, input_)[0], proof="float")
+    except GfrfError:
+        return 0.0
 
 
 def _spread(model: Model, theta: dict[Key, float], full_theta: dict[Key, float],

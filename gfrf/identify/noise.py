@@ -20,9 +20,13 @@ __all__ = ["regressors", "extended_least_squares", "residuals", "ELS_ITERATIONS"
 
 Key = tuple[tuple[int, ...], tuple[int, ...]]
 #: Most iterations of extended least squares (it stops earlier when no process
-#: coefficient moves by more than 1e-14 of the largest, so that the digits written are
-#: those of the limit: work, never time, decides).
+#: coefficient moves by more than 1e-14 of the largest, or when a step below
+#: :data:`_ROUNDING_LEVEL` of the largest is no smaller than the one before: the
+#: iteration has reached the level of its rounding errors, and the digits written are
+#: those of the limit; work, never time, decides).
 ELS_ITERATIONS = 200
+#: Steps below this fraction of the largest coefficient that stop shrinking are rounding.
+_ROUNDING_LEVEL = 1e-9
 
 
 def regressors(keys: list[Key], y: np.ndarray, u: np.ndarray, lag: int) -> np.ndarray:
@@ -123,13 +127,18 @@ def extended_least_squares(keys: list[Key], y: np.ndarray, u: np.ndarray, lag: i
         np.linalg.lstsq(psi, target, rcond=None)[0]
     e = target - psi @ theta
     noise = np.zeros(order)
+    previous = np.inf
     for _iteration in range(iterations):
         lagged = np.column_stack([np.r_[np.zeros(j), e[:e.size - j]]
                                   for j in range(1, order + 1)])
         full = _augmented_least_squares(psi, q, r, qt, lagged, target)
         if np.any(np.abs(np.roots(np.r_[1.0, full[len(keys):]])) >= 1.0):
             break  # a noise model that is not invertible: keep the last invertible one
-        done = np.max(np.abs(full[:len(keys)] - theta)) <= 1e-14 * np.max(np.abs(theta))
+        step = float(np.max(np.abs(full[:len(keys)] - theta)))
+        scale = float(np.max(np.abs(theta)))
+        # converged, or at the rounding level: a small step that no longer shrinks
+        done = step <= 1e-14 * scale or previous <= step <= _ROUNDING_LEVEL * scale
+        previous = step
         theta, noise = full[:len(keys)], full[len(keys):]
         if done:
             break
@@ -150,11 +159,11 @@ def _well_conditioned(r: np.ndarray) -> bool:
     return bool(diag.size) and float(np.min(diag)) > _RANK_TOLERANCE * float(np.max(diag))
 
 
-def _triangular(r: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-    """The solution of the upper triangular system ``r x = rhs``."""
+def _triangular(r: np.ndarray, rhs: np.ndarray, lower: bool = False) -> np.ndarray:
+    """The solution of the triangular system ``r x = rhs`` (upper unless ``lower``)."""
     from scipy.linalg import solve_triangular
 
-    return np.asarray(solve_triangular(r, rhs))
+    return np.asarray(solve_triangular(r, rhs, lower=lower))
 
 
 def _augmented_least_squares(psi: np.ndarray, q: np.ndarray, r: np.ndarray, qt: np.ndarray,
@@ -163,23 +172,50 @@ def _augmented_least_squares(psi: np.ndarray, q: np.ndarray, r: np.ndarray, qt: 
 
     ``psi = q r`` and ``qt = q.T target`` are computed once; each call orthogonalises
     the few ``extra`` columns against ``q`` (classical Gram-Schmidt, repeated when a
-    column lost more than half its squared norm) and factors what is left: the QR
-    factorisation of the whole matrix by blocks, ``O(rows * columns * extra)`` work
-    instead of a new factorisation.
-    A rank-deficient matrix goes to ``numpy.linalg.lstsq`` (minimum-norm solution).
+    column kept less than :data:`_REORTHOGONALISE` of its squared norm: one pass leaves
+    an orthogonality error of about the unit roundoff over that fraction) and factors
+    what is left, ``rest``: the QR factorisation of the whole matrix by blocks,
+    ``O(rows * columns * extra)`` work instead of a new factorisation.  The triangular
+    factor of ``rest`` is the Cholesky factor of ``rest.T rest`` when that is well
+    conditioned (lagged residuals are nearly orthogonal to each other), else that of a
+    QR factorisation.  A rank-deficient matrix goes to ``numpy.linalg.lstsq``
+    (minimum-norm solution).
     """
     c = q.T @ extra
     rest = extra - q @ c
-    if np.any(np.einsum("ij,ij->j", rest, rest) < 0.5 * np.einsum("ij,ij->j", extra, extra)):
-        c2 = q.T @ rest  # much cancelled: once more (Kahan's criterion)
+    if np.any(np.einsum("ij,ij->j", rest, rest)
+              < _REORTHOGONALISE * np.einsum("ij,ij->j", extra, extra)):
+        c2 = q.T @ rest  # much cancelled: once more
         rest -= q @ c2
         c += c2
-    # the triangular factor of [rest, target]: r22 and q2.T @ target without forming q2
     k = rest.shape[1]
-    r2 = np.asarray(np.linalg.qr(np.column_stack([rest, target]), mode="r"))  # R alone
-    top = np.hstack([r, c])
-    bottom = np.hstack([np.zeros((k, r.shape[1])), r2[:k, :k]])
-    whole = np.vstack([top, bottom])
+    r22, top2 = _cholesky_factor(rest, target)
+    if r22 is None:  # the triangular factor of [rest, target]: r22 and q2.T @ target
+        r2 = np.asarray(np.linalg.qr(np.column_stack([rest, target]), mode="r"))
+        r22, top2 = r2[:k, :k], r2[:k, k]
+    whole = np.vstack([np.hstack([r, c]), np.hstack([np.zeros((k, r.shape[1])), r22])])
     if not _well_conditioned(whole):
         return np.asarray(np.linalg.lstsq(np.hstack([psi, extra]), target, rcond=None)[0])
-    return _triangular(whole, np.r_[qt, r2[:k, k]])
+    return _triangular(whole, np.r_[qt, top2])
+
+
+#: An extra column that keeps less than this fraction of its squared norm after one
+#: Gram-Schmidt pass is orthogonalised again.
+_REORTHOGONALISE = 0.01
+#: A Cholesky factor of ``rest.T rest`` whose smallest diagonal entry is below this
+#: fraction of its largest squares too large a condition number: QR instead.
+_CHOLESKY_TOLERANCE = 1e-4
+
+
+def _cholesky_factor(rest: np.ndarray, target: np.ndarray
+                     ) -> tuple[np.ndarray | None, np.ndarray]:
+    """``(r22, q2.T target)`` of ``rest = q2 r22`` from the Cholesky factor of
+    ``rest.T rest``; ``(None, ...)`` when that is not well conditioned."""
+    try:
+        lower = np.linalg.cholesky(rest.T @ rest)
+    except np.linalg.LinAlgError:
+        return None, target[:0]
+    diag = np.abs(np.diag(lower))
+    if not float(np.min(diag)) > _CHOLESKY_TOLERANCE * float(np.max(diag)):
+        return None, target[:0]
+    return lower.T, _triangular(lower, rest.T @ target, lower=True)

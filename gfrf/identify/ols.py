@@ -22,8 +22,8 @@ __all__ = ["error_reduction_ratio"]
 _EPS = float(np.finfo(np.float64).eps)
 
 
-def error_reduction_ratio(psi: np.ndarray, y: np.ndarray, terms: int
-                          ) -> tuple[np.ndarray, np.ndarray]:
+def error_reduction_ratio(psi: np.ndarray, y: np.ndarray, terms: int,
+                          overwrite: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """The error reduction ratios and order of the first ``terms`` regressors chosen.
 
     Parameters
@@ -34,6 +34,9 @@ def error_reduction_ratio(psi: np.ndarray, y: np.ndarray, terms: int
         The target, ``rows`` samples.
     terms : int
         Number of regressors to choose (at most the candidates).
+    overwrite : bool, optional
+        ``psi`` may be overwritten: when ``psi.T`` is C-contiguous (one candidate per
+        contiguous row) the ranking works in it, with no copy.
 
     Returns
     -------
@@ -47,8 +50,9 @@ def error_reduction_ratio(psi: np.ndarray, y: np.ndarray, terms: int
     rows, count = psi.shape
     target = np.asarray(y, dtype=float).ravel()
     squared_y = max(float(target @ target), _EPS)
-    work = np.array(psi.T, dtype=float, order="C")  # one candidate per contiguous row,
-    # in the order of ``position``
+    # one candidate per contiguous row, in the order of ``position``
+    work = psi.T if overwrite and psi.dtype == np.float64 and psi.T.flags.c_contiguous \
+        else np.array(psi.T, dtype=float, order="C")
     residual = target.copy()
     position = np.arange(count)  # candidate at each position, swapped as sysidentpy does
     basis = np.empty((min(terms, count), rows))

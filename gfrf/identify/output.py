@@ -55,10 +55,11 @@ def model_file_text(result: Identification, data: str, name: str = "",
         The TOML text.
     """
     m = result.model
+    how = (f"FROLS as in sysidentpy {result.sysidentpy_version}" if result.sysidentpy_version
+           else "FROLS")
     source = (f"gfrf identify {data} --output {m.output} --input {m.input} --sample-time "
-              f"{m.sample_time!r} {result.settings_text()} (sysidentpy "
-              f"{result.sysidentpy_version} FROLS): {result.quality_text()}")
-    lines = ["# Identified from measured data by `gfrf identify` (sysidentpy FROLS); "
+              f"{m.sample_time!r} {result.settings_text()} ({how}): {result.quality_text()}")
+    lines = ["# Identified from measured data by `gfrf identify` (FROLS); "
              "coefficients rounded to 10 significant digits.",
              f"name = {_toml_string(name or 'NARX identified from ' + Path(data).name)}",
              f"equation = {_toml_string(m.text)}",

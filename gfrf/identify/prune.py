@@ -7,7 +7,15 @@ in each round the terms are tried in the order of their least-squares t-statisti
 (smallest ``|theta| / sd`` first; on noisy data only those below :data:`SIGNIFICANT`),
 each removal refitted with the same estimator and
 simulated on the held-out part; the first removal whose free run stays within the
-confidence band of the full model's is kept, and the next round starts.  The band is
+confidence band of the full model's is kept, and the next round starts.  Given a
+``score`` (r* of a model), the elimination starts with merges of nearly collinear terms:
+on fast sampling ``y[k-1]**3``, ``y[k-1]**2*y[k-2]``, ``y[k-2]**3`` are nearly the same
+regressor, the band cannot tell them apart, and a pair that nearly cancels adds both
+magnitudes to the majorant of r*.  Each group of terms with the same input factors and
+the same degree in the output is replaced by the one of its members whose refitted
+model stays within the band with the largest score, when that beats the model's.
+Merges are tried on noisy data only (:func:`prune_and_refit`): a noise-free record
+identifies the true terms, and a merge would only trade accuracy for r*.  The band is
 paired: the squared free-run errors of the candidate and of the full model are
 compared sample by sample, averaged over :data:`BLOCKS` consecutive blocks, and the
 mean difference must be at most :data:`Z` standard errors of the block means plus
@@ -175,6 +183,40 @@ def _name(key: Key) -> str:
     return "*".join([f"y[k-{lag}]" for lag in ys] + [f"u[k-{lag}]" for lag in us]) or "1"
 
 
+def _merge(current: dict[Key, float], best: np.ndarray,
+           score: Callable[[dict[Key, float]], float], budget: list[int],
+           trial: Callable[[list[Key]], tuple[dict[Key, float], np.ndarray | None]],
+           removed: list[str], unit: int) -> tuple[dict[Key, float], np.ndarray]:
+    """Each collinear group replaced by its best-scoring member within the band (when it
+    beats the model's score); ``budget`` = [refits, work] is counted on, ``removed``
+    gets the names of the terms merged away; a trial costs ``unit`` per term."""
+    for group in _collinear_groups(current):
+        value = score(current)
+        choice = None
+        for keep in group:
+            if budget[0] >= MAX_REFITS or budget[1] + unit * len(current) > MAX_WORK:
+                break
+            budget[0] += 1
+            budget[1] += unit * len(current)
+            model, r = trial([k for k in current if k == keep or k not in group])
+            if r is not None and (s := score(model)) > value:
+                choice, value = (model, r, keep), s
+        if choice is not None:
+            removed += [_name(k) for k in group if k != choice[2]]
+            current, best = choice[0], choice[1]
+    return current, best
+
+
+def _collinear_groups(theta: dict[Key, float]) -> list[list[Key]]:
+    """Groups of two or more terms with the same input factors and the same degree in
+    the output (nearly the same regressor when the output changes little per sample)."""
+    groups: dict[tuple[int, tuple[int, ...]], list[Key]] = {}
+    for key in theta:
+        if key[0] and len(key[0]) + len(key[1]) > 1:
+            groups.setdefault((len(key[0]), key[1]), []).append(key)
+    return [g for g in groups.values() if len(g) > 1]
+
+
 def _within(trial: np.ndarray, full: np.ndarray, scale: float) -> bool:
     """True when the mean of ``trial**2 - full**2`` is within the paired band."""
     d = trial**2 - full**2
@@ -186,7 +228,8 @@ def _within(trial: np.ndarray, full: np.ndarray, scale: float) -> bool:
 
 def prune(theta: dict[Key, float], refit: Callable[[list[Key]], dict[Key, float]],
           y_train: np.ndarray, u_train: np.ndarray, y_test: np.ndarray, u_test: np.ndarray,
-          lag: int, refit_work: int = 0, significant: float = math.inf, warm: int = 0
+          lag: int, refit_work: int = 0, significant: float = math.inf, warm: int = 0,
+          score: Callable[[dict[Key, float]], float] | None = None
           ) -> tuple[dict[Key, float], Pruning]:
     """Backward elimination of the terms of ``theta`` on the held-out free run.
 
@@ -214,6 +257,9 @@ def prune(theta: dict[Key, float], refit: Callable[[list[Key]], dict[Key, float]
     warm : int, optional
         Samples at the start of ``y_test`` the free runs go through before they are
         scored.
+    score : callable, optional
+        ``score(theta)``, larger is better (r* of the model): merges of collinear terms
+        before the elimination (None: none).
 
     Returns
     -------
@@ -231,12 +277,24 @@ def prune(theta: dict[Key, float], refit: Callable[[list[Key]], dict[Key, float]
     def rrse(r: np.ndarray | None) -> float:
         return math.inf if r is None else float(np.linalg.norm(r)) / spread
 
-    current, removed, refits, complete = dict(theta), [], 0, True
+    current, refits, complete = dict(theta), 0, True
+    removed: list[str] = []
     if full is None or scale == 0.0 or len(theta) > MAX_TERMS:
         return current, Pruning(removed=(), full_error=rrse(full), pruned_error=rrse(full),
                                 refits=0, complete=len(theta) <= MAX_TERMS, window=n - first)
     best = full
     work = 0
+
+    def merge_trial(keys: list[Key]) -> tuple[dict[Key, float], np.ndarray | None]:
+        trial = refit(keys)
+        r = free_run_residual(trial, y_w, u_w, lag, warm)
+        return trial, r if r is not None and _within(r, full, scale) else None
+
+    budget = [refits, work]
+    if score is not None:
+        current, best = _merge(current, best, score, budget, merge_trial, removed,
+                               n + refit_work)
+    refits, work = budget
     while True:
         keys = [k for k in current if k != ((), ())]
         if len(keys) <= 1:
@@ -318,7 +376,8 @@ def refitter(kind: str, y: np.ndarray, u: np.ndarray, lag: int, order: int,
 
 def prune_and_refit(theta: dict[Key, float], noise: tuple[float, ...], kind: str,
                     y_train: np.ndarray, u_train: np.ndarray, y_test: np.ndarray,
-                    u_test: np.ndarray, lag: int, order: int, noisy: bool, warm: int = 0
+                    u_test: np.ndarray, lag: int, order: int, noisy: bool, warm: int = 0,
+                    score: Callable[[dict[Key, float]], float] | None = None
                     ) -> tuple[dict[Key, float], tuple[float, ...], Pruning]:
     """:func:`prune` with the estimator of ``kind`` (:func:`refitter`), then the pruned
     terms refitted with that estimator's full work (extended least squares to
@@ -345,6 +404,8 @@ def prune_and_refit(theta: dict[Key, float], noise: tuple[float, ...], kind: str
         :data:`~gfrf.identify.validate.PRECISE_FIT`.
     warm : int, optional
         Samples at the start of ``y_test`` the free runs go through unscored.
+    score : callable, optional
+        ``score(theta)`` of :func:`prune` (r* of the model); used on ``noisy`` data only.
     """
     from gfrf.identify.noise import extended_least_squares
     from gfrf.identify.output_error import refine
@@ -354,7 +415,8 @@ def prune_and_refit(theta: dict[Key, float], noise: tuple[float, ...], kind: str
                   if kind == "output error" else 0)
     pruned, pruning = prune(theta, refitter(kind, y_train, u_train, lag, order, theta),
                             y_train, u_train, y_test, u_test, lag, refit_work,
-                            SIGNIFICANT if noisy else math.inf, warm)
+                            SIGNIFICANT if noisy else math.inf, warm,
+                            score if noisy else None)
     if not pruning.removed:
         return theta, noise, pruning
     keys = list(pruned)

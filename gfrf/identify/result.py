@@ -53,6 +53,8 @@ class Identification(Result):
     notes : tuple of str
         Remarks (criterion at its limit, training window, ...).
     sysidentpy_version : str
+        The installed sysidentpy whose FROLS the fit reproduces ("" when not installed;
+        identification does not import it).
     operating_point : dict
         ``u0``, ``y0``, ``constant`` (the fitted constant term or None) and ``how``.
     noise : tuple of float

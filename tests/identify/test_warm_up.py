@@ -50,12 +50,12 @@ def test_a_lightly_damped_system_with_output_noise_scores_its_noise():
 
 def test_the_noise_floor_of_a_lightly_damped_system_is_near_its_output_noise():
     """The rich predictor's longer lags reach the noise (lags up to 2 gave 1.6 times it)."""
-    from gfrf.identify.fit import _candidate_keys
     from gfrf.identify.floor import noise_floor
+    from gfrf.identify.frols import candidate_keys
 
     u, x, white = _oscillator_samples(4000, 3)
     y = x + 0.05 * np.std(x) * white
-    keys = _candidate_keys(2, 2, 3)
+    keys = candidate_keys(2, 2, 3)
     floor, method = noise_floor(y, u, 3000, 2, keys, keys, 2)
     truth = 0.05 * np.std(x) / np.std(y[3002:])
     assert method == "rich model" and 0.9 * truth < floor < 1.15 * truth

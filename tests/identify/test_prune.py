@@ -1,0 +1,53 @@
+"""Merging nearly collinear terms before backward elimination: same-degree output
+monomials that are nearly the same regressor on fast sampling."""
+
+import numpy as np
+
+from gfrf.identify.noise import regressors
+from gfrf.identify.prune import _collinear_groups, prune
+
+SLOW = {((1,), ()): 1.9, ((2,), ()): -0.905, ((), (1,)): 0.01, ((1, 1, 1), ()): -0.002}
+
+
+def _simulate(u: np.ndarray) -> np.ndarray:
+    """y[k] = 1.9 y[k-1] - 0.905 y[k-2] + 0.01 u[k-1] - 0.002 y[k-1]**3, written out."""
+    y = np.zeros(u.size)
+    for k in range(2, u.size):
+        y[k] = 1.9 * y[k - 1] - 0.905 * y[k - 2] + 0.01 * u[k - 1] - 0.002 * y[k - 1] ** 3
+    return y
+
+
+def test_collinear_groups_share_input_factors_and_output_degree():
+    theta = {((1,), ()): 1.0, ((2,), ()): 1.0, ((1, 1), ()): 1.0, ((1, 2), ()): 1.0,
+             ((1,), (1,)): 1.0, ((2,), (1,)): 1.0, ((1,), (2,)): 1.0, ((), (1, 1)): 1.0,
+             ((1, 1, 2), ()): 1.0}
+    groups = sorted(sorted(g) for g in _collinear_groups(theta))
+    assert groups == [[((1,), (1,)), ((2,), (1,))], [((1, 1), ()), ((1, 2), ())]]
+
+
+def test_a_near_cancelling_pair_is_merged_into_one_term():
+    """Least squares on noisy slow data splits the cube over y[k-1]**3, y[k-1]**2*y[k-2]
+    and y[k-1]*y[k-2]**2 with large opposite coefficients; the merge keeps one of them,
+    with about the true coefficient, and the smaller sum of magnitudes."""
+    rng = np.random.default_rng(3)
+    u = 3 * rng.uniform(-1, 1, 6000)
+    y = _simulate(u) + 0.001 * rng.standard_normal(u.size)
+    keys = list(SLOW) + [((1, 1, 2), ()), ((1, 2, 2), ())]
+    train, lag = 4000, 2
+
+    def refit(ks):
+        theta = np.linalg.lstsq(regressors(ks, y[:train], u[:train], lag), y[lag:train],
+                                rcond=None)[0]
+        return dict(zip(ks, (float(v) for v in theta), strict=True))
+
+    def score(theta):  # a stand-in for r*: the smaller the cubic magnitudes, the better
+        return -sum(abs(v) for k, v in theta.items() if len(k[0]) == 3)
+
+    full = refit(keys)
+    assert score(full) < -0.01  # the split: magnitudes far above the true 0.002
+    # significant=0: no term may be eliminated, only merged
+    pruned, pruning = prune(full, refit, y[:train], u[:train], y[train:], u[train:], lag,
+                            significant=0.0, score=score)
+    cubes = {k: v for k, v in pruned.items() if len(k[0]) == 3}
+    assert len(cubes) == 1 and len(pruning.removed) >= 2
+    assert abs(next(iter(cubes.values())) + 0.002) < 0.0005
