@@ -9,10 +9,18 @@ the damping margin; and the simulations that confirm or refute the conclusions
 
 The paper's values are quoted from the model files' ``[paper]`` tables and from
 ``paper_checks``; nothing else is typed in.
+
+The page is computed, then rendered: :func:`compute` gathers every number in a
+:class:`PaperGfrfFacts` (and draws the figures), :func:`render` fills the layout
+:data:`PAGE` from it, and each sentence that compares or states a property of the
+numbers (a verdict certified or not, a value inside a bracket, every row explained) is
+chosen by the facts.  The figures section is in :mod:`gfrf.report.paper_gfrf_figures`,
+the cart-pole section in :mod:`gfrf.report.paper_gfrf_cartpole`.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -189,9 +197,12 @@ _KEPT = ("neither section reproduces its theta_3", "one section reproduces its t
 _DROPPED = ("neither does", "one does", "both do")
 
 
-def _alpha_section(rows: tuple[AlphaRow, ...], readings: tuple[ThetaReading, ...]
+def _alpha_section(rows: Sequence[AlphaRow], readings: Sequence[ThetaReading] | None = None
                    ) -> tuple[list[str], str]:
-    """Eq (2) (alpha = 1/(m L^2) kept) against eq (6) (alpha = 1): text and summary."""
+    """Eq (2) (alpha = 1/(m L^2) kept) against eq (6) (alpha = 1): text and summary
+    (``readings`` defaults to :func:`theta_readings` of the bundled models)."""
+    if readings is None:
+        readings = theta_readings(MODELS_DIR)
     by = {r.model: r for r in rows}
     eq2 = [by[Path(n).stem] for n in EQ2_MODELS]
     table_rows = [[f"[{r.model}](models/{r.model}.md)", r.alpha, r.rho, r.h1_norm, r.radius,
