@@ -165,6 +165,11 @@ def _inertia(c: CartpoleFacts) -> str:
                "controller can do that." if c.reversal_stabilises() else "."))
 
 
+def _and(values: list[float]) -> str:
+    words = [num(v) for v in values]
+    return ", ".join(words[:-1]) + " and " + words[-1] if len(words) > 1 else "".join(words)
+
+
 def _resonance(c: CartpoleFacts) -> str:
     d = c.drive
     slow = min(abs(p) for p in d.poles)
@@ -177,8 +182,9 @@ def _resonance(c: CartpoleFacts) -> str:
             f"({cell(list(d.poles))}). The cosine drives in the simulation table below run "
             f"at the least damped pair's |p| = {num(d.omega, 4)} rad/s")
     return (head + f" for {d.periods} periods ({num(d.t_end, 4)} s), with reference "
-            "amplitudes (r of u = C(r - y)) that give linear steady angles of 5, 10 and 15 "
-            "deg, each run started on that linear steady state"
+            "amplitudes (r of u = C(r - y)) that give linear steady angles of "
+            f"{_and(sorted({t.target_deg for t in d.trials}))} deg, each run started on "
+            "that linear steady state"
             + ("" if d.resonant else
                f" (the slow corner, {num(slow, 3)} rad/s, has a period of "
                f"{num(2 * np.pi / slow, 3)} s)")

@@ -81,6 +81,7 @@ def test_cartpole_claims_hold_on_their_numbers() -> None:
     assert "each below its own ceiling" in text and "The 2 best:" in text
     assert "**The loop has no resonance.** Both poles of the ideal loop are real" in text
     assert "has no resonant peak" in text and "*unstable plant's* |H1|" in text
+    assert "that give linear steady angles of 5 deg, each run" in text
     assert text.endswith("Cart-pole: the paper's loop is stable only because the improper "
                          "a s^2 term makes the theta'' coefficient 1 - 2 x 1 = -1; any lag "
                          "tau = 0.001..0.01 s gives a pole at +101..1e+03 1/s and the lagged "
@@ -110,11 +111,14 @@ def test_cartpole_sentences_follow_swapped_numbers() -> None:
     assert "from an initial angle does not always reach 1 rad" in text
     assert "is not the unstable pole:" in text
     # a complex pole pair: the loop can resonate; a stable plant; c_file stabilises
-    drive = replace(_cart().drive, poles=(-1 + 3j, -1 - 3j), resonant=True, omega=3.1623)
+    runs = tuple(replace(_cart().drive.trials[0], target_deg=a) for a in (15.0, 5.0, 10.0))
+    drive = replace(_cart().drive, poles=(-1 + 3j, -1 - 3j), resonant=True, omega=3.1623,
+                    trials=runs)
     sign = replace(_cart().sign, poles_file=(-3.0, -0.5), poles_above=(-3.0, 0.01))
     text = _text(_cart(drive=drive, plant_unstable=False, sign=sign))
     assert "no resonant peak" not in text and "**The loop can resonate.**" in text
     assert "least damped pair's |p| = 3.162 rad/s" in text and "slow corner" not in text
+    assert "steady angles of 5, 10 and 15 deg" in text
     assert "*plant's* |H1|" in text and "unstable plant" not in text
     assert "the ideal loop has no right-half-plane pole." in text
     assert "leaves no unstable pole" in text and "all poles in the left half" not in text
