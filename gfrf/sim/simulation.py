@@ -198,6 +198,7 @@ def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | N
         if t_eval.ndim != 1 or t_eval.size < 1 or np.any(np.diff(t_eval) <= 0) \
                 or t_eval[0] < 0 or t_eval[-1] > t_end:
             raise ArgumentError("t_eval must be increasing times within [0, t_end]")
+    starts: list[float] = []
     for k in range(system.n_inputs if not system.discrete else 1):
         try:
             with np.errstate(all="ignore"):
@@ -208,6 +209,10 @@ def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | N
             raise ArgumentError(f"the input{' derivative ' + str(k) if k else ''} is not "
                                 f"finite at t = 0 s: u(t) = {signal.text[:80]}"
                                 + (f"; {_loop_reads(system)}" if k else ""))
+        starts.append(value)
+    switch_on = _switch_on_note(system, starts, initial)
+    if switch_on:
+        notes.append(switch_on)
     start = time.perf_counter()
     if system.discrete:
         result = _narx(system, signal, z0, t_end, blowup)
@@ -289,6 +294,26 @@ def _loop_reads(system: OdeSystem) -> str:
         return (f"the loop u = C(r - y) with an improper controller reads the reference r "
                 f"and its derivatives up to order {system.n_inputs - 1}")
     return f"the model uses derivatives of u up to order {system.n_inputs - 1}"
+
+
+def _switch_on_note(system: OdeSystem, starts: list[float], initial: Any) -> str:
+    """The note for a run from rest whose input reads derivatives (a D(u) term or an
+    improper controller) and does not start at rest: the switch-on at t = 0 is a jump
+    of u (or r) or of a derivative, whose impulse the run leaves out."""
+    if system.discrete or initial is not None or system.n_inputs <= 1:
+        return ""
+    moving = [k for k, v in enumerate(starts[:-1]) if v != 0.0]
+    if not moving:
+        return ""
+    name = "r" if system.closed_loop else "u"
+    first = moving[0]
+    primes = "'" * first
+    needed = (f"{name} and its first {system.n_inputs - 2} derivative(s)"
+              if system.n_inputs > 2 else name)
+    return (f"{name}{primes}(0) = {starts[first]:.6g}, not 0: {_loop_reads(system)}, and "
+            f"the run starts from rest at t = 0+ without the impulse that switching {name} "
+            f"on at t = 0 sends through them (python-control's forced_response includes "
+            f"it); {needed} starting at 0 avoid(s) the difference")
 
 
 def _check_impulses(signal: InputSignal, t_end: float, system: OdeSystem) -> None:

@@ -145,7 +145,8 @@ def _validate(system: PolySystem, cert: dict[str, Any]) -> str:
         if ny > MAX_OUTPUT_LAGS:
             raise _bad(f"a paving covers at most MAX_OUTPUT_LAGS = {MAX_OUTPUT_LAGS} output "
                        "lags")
-        [_rational(x, "R") for x in _list(cert.get("R"), ny, "R")]
+        if any(_rational(x, "R") <= 0 for x in _list(cert.get("R"), ny, "R")):
+            raise _bad("every half-width in R must be positive")
         N = _int(cert.get("N"), "N", 1, GRID)
         pieces = [_int(p, "pieces", 1, PIECES) for p in _list(cert.get("pieces"), nv,
                                                                "pieces")]

@@ -121,3 +121,25 @@ def test_improper_loop_refuses_a_reference_whose_derivative_is_an_impulse():
     res = simulate(_loop(PLANT2, [0.5, 0.2], [1.0, 0.0]), "0.3*step(t - 1)", t_end=2.0,
                    closed_loop=True)
     assert res.status == "ok"
+
+
+def test_improper_loop_says_when_the_reference_does_not_start_at_rest():
+    # cos(1.3 t) jumps from 0 to 1 at t = 0: python-control's loop gets the impulse of
+    # C's s^2 and s terms, the run from rest at t = 0+ does not, and says so
+    num, den = [0.3, 1.0, 2.0], [1.0]
+    mf = _loop(PLANT2, num, den)
+    t = np.linspace(0.0, 10.0, 50001)
+    expected = control.forced_response(
+        control.feedback(control.tf(num, den) * control.tf([1.0], [1.0, 0.4, 2.0]), 1), t,
+        np.cos(1.3 * t)).outputs
+    res = simulate(mf, "cos(1.3*t)", t_end=10.0, t_eval=t, closed_loop=True,
+                   method="dop853", rtol=1e-12, atol=1e-14)
+    assert np.max(np.abs(res.y - expected)) > 1e-3
+    assert any(n.startswith("r(0) = 1, not 0") and "impulse" in n for n in res.notes)
+    slope = simulate(mf, "sin(1.3*t)", t_end=1.0, closed_loop=True)
+    assert any(n.startswith("r'(0) = 1.3, not 0") for n in slope.notes)
+    quiet = simulate(mf, REFERENCE, t_end=1.0, closed_loop=True)
+    assert not any("not 0" in n for n in quiet.notes)
+    # a given initial state is the state at t = 0+: nothing is left out
+    given = simulate(mf, "cos(1.3*t)", t_end=1.0, closed_loop=True, initial=[0.0, 0.0])
+    assert not any("not 0" in n for n in given.notes)

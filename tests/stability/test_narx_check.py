@@ -217,6 +217,12 @@ def test_the_identified_paving_holds_and_contains_simulated_responses(paving_fil
     many["cells"] = many["cells"] * (MAX_PAVING_CELLS // len(many["cells"]) + 1)
     code, _, err = _check(capsys, IDENTIFIED, many, tmp_path)
     assert code == 2 and "MAX_PAVING_CELLS" in err
+    # a half-width of zero or below: malformed, not a paving that fails to hold
+    for R_bad in (["0", "0"], ["-1", "1"]):
+        flat = copy.deepcopy(paving_file)
+        flat["R"] = R_bad
+        code, out, err = _check(capsys, IDENTIFIED, flat, tmp_path)
+        assert code == 2 and out == "" and "R must be positive" in err
 
 
 @pytest.mark.slow
