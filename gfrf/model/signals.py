@@ -229,6 +229,40 @@ class InputSignal(Result):
         found = np.concatenate(times)
         return np.unique(found[np.isfinite(found) & (found > 0) & (found <= t_end)])
 
+    def time_scale(self, t_end: float) -> float | None:
+        """The shortest time scale in s on which a smooth part of u changes in [0, t_end].
+
+        For every smooth function of the grammar (``tanh``, ``sin``, ``exp``, ...) whose
+        argument p(t) is a polynomial in t, 1 / max |p'(t)| over [0, t_end]: a smoothed
+        jump ``tanh((t - 1)/w)`` gives w, a tone ``sin(w*t)`` gives 1/w.  Arguments of
+        other forms do not count.
+
+        Parameters
+        ----------
+        t_end : float
+            End of the time range in seconds.
+
+        Returns
+        -------
+        float or None
+            The scale in s; None when no smooth function has a polynomial argument (a
+            sum of tones read without sympy, a CSV input, a polynomial in t).
+
+        Examples
+        --------
+        >>> parse_input("0.5*(1 + tanh((t - 1)/0.01))").time_scale(5.0)
+        0.01
+        >>> parse_input("step(t - 1)").time_scale(5.0) is None
+        True
+        """
+        if self.expr is None:
+            return None
+        rates = [_largest_slope(f.args[0], t_end) for f in self.expr.atoms(sp.Function)
+                 if isinstance(f, _SMOOTH) and f.args and f.args[0].is_polynomial(T)
+                 and T in f.args[0].free_symbols]
+        rates = [r for r in rates if r > 0]
+        return 1.0 / max(rates) if rates else None
+
     def _computed(self) -> dict[str, Any]:
         """The expression as text."""
         return {"expression": None if self.expr is None else str(self.expr)}
@@ -489,3 +523,14 @@ def _zeros(argument: sp.Expr, t_end: float) -> np.ndarray | None:
     k = np.arange(math.ceil(lo / math.pi), math.floor(hi / math.pi) + 1) \
         if (hi - lo) / math.pi <= MAX_BREAKPOINTS else None
     return None if k is None else (k * math.pi + shift - p) / w
+
+
+def _largest_slope(argument: sp.Expr, t_end: float) -> float:
+    """max |p'(t)| over [0, t_end] of a polynomial p in t (ends and critical points)."""
+    slope = sp.Poly(sp.diff(argument, T), T)
+    candidates = [0.0, float(t_end)]
+    if slope.degree() >= 1:
+        candidates += [float(r) for r in sp.Poly(sp.diff(slope.as_expr(), T), T)
+                       .nroots(n=15) if abs(sp.im(r)) < 1e-12 and 0 <= sp.re(r) <= t_end]
+    values = np.abs([float(slope.eval(x)) for x in candidates])
+    return float(np.max(values))

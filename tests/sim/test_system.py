@@ -143,3 +143,19 @@ def test_improper_loop_says_when_the_reference_does_not_start_at_rest():
     # a given initial state is the state at t = 0+: nothing is left out
     given = simulate(mf, "cos(1.3*t)", t_end=1.0, closed_loop=True, initial=[0.0, 0.0])
     assert not any("not 0" in n for n in given.notes)
+
+
+def test_improper_loop_refuses_a_reference_too_steep_to_integrate_and_runs_a_smooth_one():
+    num, den = [0.3, 1.0, 2.0], [1.0]
+    mf = _loop(PLANT2, num, den)
+    with pytest.raises(ArgumentError, match=r"improper controller.*time scale of 1e-09 s"):
+        simulate(mf, "0.3*(1 + tanh((t - 1)/1e-9))", t_end=3.0, closed_loop=True)
+    # a smoothed jump wide against the loop's time scale: python-control's linear loop
+    t = np.linspace(0.0, 6.0, 6001)
+    reference = 0.3 * (1 + np.tanh((t - 1) / 0.05))
+    expected = control.forced_response(
+        control.feedback(control.tf(num, den) * control.tf([1.0], [1.0, 0.4, 2.0]), 1), t,
+        reference).outputs
+    res = simulate(mf, "0.3*(1 + tanh((t - 1)/0.05))", t_end=6.0, t_eval=t,
+                   closed_loop=True, method="dop853", rtol=1e-10, atol=1e-12)
+    assert np.max(np.abs(res.y - expected)) < 1e-5
