@@ -54,8 +54,8 @@ from gfrf.twosided.escape import DEFAULT_LEVEL
 from gfrf.twosided.runner import CHECK_RTOLS, MAX_RUN_STEPS, TIME_AGREEMENT, EscapeRunner
 from gfrf.twosided.witness import Chirp, Falsification, Tone, scaled, switching_text, tones_text
 
-__all__ = ["Falsification", "falsify", "ESCAPE_LEVEL", "CAP_FACTOR", "CHECK_RTOLS",
-           "MARGINS", "MAX_RUN_STEPS", "tones_text", "switching_text"]
+__all__ = ["Falsification", "falsify", "chirp_edges", "frequencies", "ESCAPE_LEVEL",
+           "CAP_FACTOR", "CHECK_RTOLS", "MARGINS", "MAX_RUN_STEPS", "tones_text", "switching_text"]
 
 #: Escape level of a model without a scale of its own (see :mod:`gfrf.twosided.escape`).
 ESCAPE_LEVEL = DEFAULT_LEVEL
@@ -77,9 +77,26 @@ GOLDEN_STEPS = 6
 CHIRPS = ((1.0, 0.5, 0.5), (1.3, 0.6, 0.5), (0.6, 1.3, 0.5), (1.3, 0.6, 0.25))
 
 
-def _frequencies(runner_ev: np.ndarray, discrete: bool, sample_time: float | None
-                 ) -> tuple[np.ndarray, float]:
-    """The first-stage grid (rad/s) and the least damped mode's frequency."""
+def frequencies(runner_ev: np.ndarray, discrete: bool, sample_time: float | None
+                ) -> tuple[np.ndarray, float]:
+    """The first-stage grid (rad/s) and the least damped mode's frequency.
+
+    Parameters
+    ----------
+    runner_ev : numpy.ndarray
+        Eigenvalues of the linear part (a NARX model: unused).
+    discrete : bool
+        A NARX model: the grid spans 1 % of the Nyquist frequency to it.
+    sample_time : float or None
+        The NARX sample time (s).
+
+    Returns
+    -------
+    numpy.ndarray
+        The grid (rad/s).
+    float
+        The least damped mode's frequency (a NARX model: a quarter of Nyquist).
+    """
     if discrete:
         nyquist = math.pi / float(sample_time)  # type: ignore[arg-type]
         grid = np.geomspace(0.01 * nyquist, nyquist, N_FREQUENCIES)
@@ -190,6 +207,34 @@ def _switching_stage(runner: EscapeRunner, ref: float, cap: float
     return found
 
 
+def chirp_edges(runner: EscapeRunner, ref: float, cap: float
+                ) -> list[tuple[float, int, Chirp]]:
+    """The escaping amplitude of each chirp of :data:`CHIRPS` (those found below ``cap``).
+
+    Parameters
+    ----------
+    runner : EscapeRunner
+        The escape tests of the system (``runner.chirps`` must hold).
+    ref : float
+        The least damped mode's frequency (rad/s): the chirps sweep multiples of it.
+    cap : float
+        Largest amplitude searched.
+
+    Returns
+    -------
+    list of (edge, index, Chirp)
+        The edge found and the chirp at unit amplitude, in the order of :data:`CHIRPS`.
+    """
+    chirped: list[tuple[float, int, Chirp]] = []
+    for w0, w1, part in CHIRPS:
+        unit = Chirp(amplitude=1.0, omega_start=w0 * ref, omega_end=w1 * ref,
+                     duration=part * runner.t_end)
+        edge = _edge(lambda a, c=unit: runner.escapes_chirp(replace(c, amplitude=a)), cap)
+        if edge is not None:
+            chirped.append((edge, len(chirped), unit))
+    return chirped
+
+
 def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
             floor: float = 0.0,
             progress: Callable[[int, int], None] | None = None) -> Falsification:
@@ -220,7 +265,7 @@ def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
     model = source.plant if isinstance(source, ModelFile) else source
     system = build_system(source, closed_loop=closed_loop, equation="polynomial")
     ev = np.asarray(system.linear_eigenvalues, dtype=complex)
-    omegas, ref = _frequencies(ev, system.discrete, system.sample_time)
+    omegas, ref = frequencies(ev, system.discrete, system.sample_time)
     nyquist = math.pi / float(system.sample_time) if system.discrete else None
     top = float(np.max(omegas)) * (3.0 if not system.discrete else 1.0)
     runner = EscapeRunner(system, model, top)
@@ -249,15 +294,7 @@ def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
     tick()
     best_switch = min([e for e, _, _ in switched], default=math.inf)
     tone_cap = min(cap, best_switch) if best_switch * MARGINS[-1] >= floor else cap
-    chirped: list[tuple[float, int, Chirp]] = []
-    if runner.chirps:
-        for w0, w1, part in CHIRPS:
-            unit = Chirp(amplitude=1.0, omega_start=w0 * ref, omega_end=w1 * ref,
-                         duration=part * runner.t_end)
-            edge = _edge(lambda a, c=unit: runner.escapes_chirp(replace(c, amplitude=a)),
-                         tone_cap)
-            if edge is not None:
-                chirped.append((edge, len(chirped), unit))
+    chirped = chirp_edges(runner, ref, tone_cap) if runner.chirps else []
     tick()
     found: list[tuple[float, int, list[Tone]]] = []
     for w in omegas:
