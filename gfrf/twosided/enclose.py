@@ -165,7 +165,14 @@ def loop_flow(source: Any) -> tuple[int, list[Monomials], tuple[str, ...]] | Non
     if system.discrete:
         return None
     rows = [[(q, tuple(k)) for k, q in sorted(p.items())] for p in system.f]
-    return system.n, rows, system.states
+    names = tuple(_derivative_name(int(s[4:-1])) if s.startswith("D(y,") else s
+                  for s in system.states)
+    return system.n, rows, names
+
+
+def _derivative_name(j: int) -> str:
+    """y, y', y'', y^(3), ... for the j-th derivative of the output."""
+    return "y" + "'" * j if j < 3 else f"y^({j})"
 
 
 def _chain(n: int, monos: Monomials) -> list[Monomials]:
@@ -338,7 +345,7 @@ def enclose_witness(model: Model | ModelFile, falsification: Any, *,
             return None
         n, monos = shape
         rows = _chain(n, monos)
-        names = tuple("y" + "'" * j if j < 3 else f"y^({j})" for j in range(n))
+        names = tuple(_derivative_name(j) for j in range(n))
     width = max((len(e) for row in rows for _, e in row), default=n + 1)
     if f.kind == "chirp" and (f.chirp is None or width - n > 1):
         return None  # a chirp drives models without input derivatives only
