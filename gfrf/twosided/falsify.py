@@ -8,8 +8,9 @@ Three input families are searched, all switched on at t = 0 with the system at r
   input's extremals this bang-bang form), and each state alone (for a first-order
   model, a constant input); then a count-bounded optimiser over a (golden-section
   steps on the switching function's phase).  Their amplitude is sup|u| = U, the
-  L-infinity size of the lower side's class.  Not for NARX models or models that use
-  input derivatives;
+  L-infinity size of the lower side's class.  In a loop with a proper controller z
+  also holds the controller's states and the input is the reference r.  Not for NARX
+  models (sign sequences instead) or systems that read input derivatives;
 * **chirps** u = A cos(omega_0 t + (omega_1 - omega_0) t^2 / (2 T)) on [0, T]
   (:data:`CHIRPS`: sweeps across the least damped mode, down and up), amplitude
   A = sup|u|; continuous models on the fast path, below the best switching edge;
@@ -35,8 +36,9 @@ bisection counts), never on time: the same model gives the same witness, byte fo
 byte.  The witness is a simulation fact (estimate-grade) until
 :mod:`gfrf.twosided.enclose` encloses it.  The witness and its JSON are
 :mod:`gfrf.twosided.witness`; the escape tests of one system :mod:`gfrf.twosided.runner`.
-For a closed loop the input searched is the reference r of u = C(r - y) (chirps and sums
-of tones; an improper controller reads their exact derivatives r', r'').
+For a closed loop the input searched is the reference r of u = C(r - y) (switching
+references with a proper controller; chirps and sums of tones, whose exact derivatives
+r', r'' an improper controller reads).
 """
 
 from __future__ import annotations
