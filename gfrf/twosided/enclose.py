@@ -2,7 +2,10 @@
 
 The model ``sum_t c_t prod D(y, o) prod D(u, o) = 0`` (a continuous polynomial model
 whose highest output derivative y^(n) appears in one linear term a_n y^(n)) becomes
-the polynomial flow z' = F(z, u) in z = (y, ..., y^(n-1)); a tone A cos(omega t + phi)
+the polynomial flow z' = F(z, u) in z = (y, ..., y^(n-1)); a closed loop u = C(r - y)
+with a proper linear controller becomes the loop's flow in z = (y, ..., y^(n-1), the
+controller's states) with the reference r as input (:func:`loop_flow`, the state form
+of :mod:`gfrf.stability.polysys`).  A tone A cos(omega t + phi)
 adds the exact oscillator (c, s)' = omega (-s, c), so a tone witness is an autonomous
 polynomial flow too, a chirp A cos(omega_0 t + k t^2) (models without input
 derivatives) adds (c, s, tau)' = ((omega_0 + 2 k tau)(-s, c), 1) with u = A c, and a
