@@ -2,7 +2,10 @@
 
 The model ``sum_t c_t prod D(y, o) prod D(u, o) = 0`` (a continuous polynomial model
 whose highest output derivative y^(n) appears in one linear term a_n y^(n)) becomes
-the polynomial flow z' = F(z, u) in z = (y, ..., y^(n-1)); a tone A cos(omega t + phi)
+the polynomial flow z' = F(z, u) in z = (y, ..., y^(n-1)); a closed loop u = C(r - y)
+with a proper linear controller becomes the loop's flow in z = (y, ..., y^(n-1), the
+controller's states) with the reference r as input (:func:`loop_flow`, the state form
+of :mod:`gfrf.stability.polysys`).  A tone A cos(omega t + phi)
 adds the exact oscillator (c, s)' = omega (-s, c), so a tone witness is an autonomous
 polynomial flow too, a chirp A cos(omega_0 t + k t^2) (models without input
 derivatives) adds (c, s, tau)' = ((omega_0 + 2 k tau)(-s, c), 1) with u = A c, and a
@@ -37,9 +40,11 @@ from typing import Any
 
 from gfrf._results import Result
 from gfrf.model.equation import Model
+from gfrf.model.modelfile import ModelFile
 from gfrf.twosided.lohner import LohnerSet, lohner_step
 
-__all__ = ["Enclosure", "enclose_witness", "flow", "ORDER", "MAX_STEPS", "PRECISIONS"]
+__all__ = ["Enclosure", "enclose_witness", "flow", "loop_flow", "ORDER", "MAX_STEPS",
+           "PRECISIONS"]
 
 #: Taylor order K of a step.
 ORDER = 24
@@ -134,16 +139,72 @@ def flow(model: Model) -> tuple[int, Monomials] | None:
     return n, out
 
 
-class _Field:
-    """z' = F(z) on the state (y..y^(n-1), then per tone c, s), u per segment or tones."""
+def loop_flow(source: Any) -> tuple[int, list[Monomials], tuple[str, ...]] | None:
+    """(n, rows, state names) of a closed loop with a proper linear controller, or None.
 
-    def __init__(self, n: int, monos: Monomials, tones: list[tuple[float, float, float]],
+    The loop u = C(r - y) in the polynomial state form of
+    :func:`gfrf.stability.polysys.state_form` (the plant's companion state, then the
+    controller's controllable canonical state, in the order of
+    :func:`gfrf.sim.system.build_system`): row i holds the monomials of x_i' with
+    exponents over (x_0, ..., x_{n-1}, r) and exact rational coefficients.
+
+    Parameters
+    ----------
+    source : ModelFile
+        A model file with a ``[controller]`` (a proper transfer function).
+
+    Returns
+    -------
+    tuple or None
+        None when the loop has no such state form (an improper or polynomial controller,
+        a discrete plant, input derivatives in the plant).
+    """
+    from gfrf.stability.polysys import StateFormError, state_form
+
+    try:
+        system = state_form(source)
+    except StateFormError:
+        return None
+    if system.discrete:
+        return None
+    rows = [[(q, tuple(k)) for k, q in sorted(p.items())] for p in system.f]
+    names = tuple(_derivative_name(int(s[4:-1])) if s.startswith("D(y,") else s
+                  for s in system.states)
+    return system.n, rows, names
+
+
+def _derivative_name(j: int) -> str:
+    """y, y', y'', y^(3), ... for the j-th derivative of the output."""
+    return "y" + "'" * j if j < 3 else f"y^({j})"
+
+
+def _chain(n: int, monos: Monomials) -> list[Monomials]:
+    """The rows of the companion form: x_i' = x_{i+1}, x_{n-1}' = the monomials."""
+    width = len(monos[0][1]) if monos else n + 1
+    rows: list[Monomials] = [[(Fraction(1), tuple(int(j == i + 1) for j in range(width)))]
+                             for i in range(n - 1)]
+    return rows + [monos]
+
+
+class _Field:
+    """z' = F(z) on the state (x_0..x_{n-1}, then per tone c, s; or the chirp's c, s, tau),
+    x_i' a polynomial row in (x, u, u', ...), u per segment, from the tones or the chirp."""
+
+    def __init__(self, n: int, rows: list[Monomials], tones: list[tuple[float, float, float]],
                  chirp: Any = None):
         from flint import arb, fmpq
 
         self.n, self.tones = n, tones
-        self.monos = [(arb(fmpq(q.numerator, q.denominator)), e) for q, e in monos]
-        self.nu = len(monos[0][1]) - n if monos else 1
+        width = max((len(e) for row in rows for _, e in row), default=n + 1)
+        self.nu = width - n
+        # a row that is one variable with coefficient 1 is that variable (no products)
+        self.rows: list[Any] = []
+        for row in rows:
+            if len(row) == 1 and row[0][0] == 1 and sum(row[0][1]) == 1:
+                self.rows.append(row[0][1].index(1))
+            else:
+                self.rows.append([(arb(fmpq(q.numerator, q.denominator)), e)
+                                  for q, e in row])
         self.u_const: Any = arb(0)
         self.chirp = None if chirp is None else (  # A, omega_0, 2k: balls of the exact values
             arb(chirp.amplitude), arb(chirp.omega_start),
@@ -170,14 +231,19 @@ class _Field:
 
     def __call__(self, z: list[Any]) -> list[Any]:
         vals = list(z[:self.n]) + self.inputs(z)
-        top: Any = 0
-        for q, e in self.monos:
-            term: Any = q
-            for j, p in enumerate(e):
-                for _ in range(p):  # products, never a power (Arb's pow of a ball
-                    term = term * vals[j]  # holding 0 can be nan)
-            top = top + term
-        out = list(z[1:self.n]) + [top]
+        out = []
+        for row in self.rows:
+            if isinstance(row, int):
+                out.append(vals[row])
+                continue
+            total: Any = 0
+            for q, e in row:
+                term: Any = q
+                for j, p in enumerate(e):
+                    for _ in range(p):  # products, never a power (Arb's pow of a ball
+                        term = term * vals[j]  # holding 0 can be nan)
+                total = total + term
+            out.append(total)
         for i, (_, w, _) in enumerate(self.tones):
             from flint import arb
 
@@ -242,14 +308,16 @@ def _apriori(field: Any, X: list[Any], h: Any) -> list[Any] | None:
     return None
 
 
-def enclose_witness(model: Model, falsification: Any, *,
+def enclose_witness(model: Model | ModelFile, falsification: Any, *,
                     trace: list[tuple[Any, list[Any]]] | None = None) -> Enclosure | None:
     """Enclose the escape of the falsifier's witness in ball arithmetic, or None.
 
     Parameters
     ----------
-    model : Model
-        The open-loop plant the witness drives.
+    model : Model or ModelFile
+        The open-loop plant the witness drives, or a model file with a proper linear
+        ``[controller]``: then the witness is the reference r of the loop u = C(r - y),
+        enclosed on the loop's state (plant and controller, :func:`loop_flow`).
     falsification : Falsification
         With a witness (``upper`` not None).
     trace : list, optional
@@ -260,18 +328,29 @@ def enclose_witness(model: Model, falsification: Any, *,
     -------
     Enclosure or None
         None when the model is outside the supported class (a discrete model, an
-        implicit highest derivative) or there is no witness.
+        implicit highest derivative, a loop without a polynomial state form) or there is
+        no witness.
     """
     f = falsification
     if f is None or f.upper is None:
         return None
-    if model.is_discrete:
-        return _narx(model, f)
-    shape = flow(model)
-    if shape is None:
-        return None
-    n, monos = shape
-    if f.kind == "chirp" and (f.chirp is None or (monos and len(monos[0][1]) - n > 1)):
+    if isinstance(model, ModelFile) and model.controller is not None:
+        loop = loop_flow(model)
+        if loop is None:
+            return None
+        n, rows, names = loop
+    else:
+        plant = model.plant if isinstance(model, ModelFile) else model
+        if plant.is_discrete:
+            return _narx(plant, f)
+        shape = flow(plant)
+        if shape is None:
+            return None
+        n, monos = shape
+        rows = _chain(n, monos)
+        names = tuple(_derivative_name(j) for j in range(n))
+    width = max((len(e) for row in rows for _, e in row), default=n + 1)
+    if f.kind == "chirp" and (f.chirp is None or width - n > 1):
         return None  # a chirp drives models without input derivatives only
     last = None
     for bits, step in PRECISIONS:
@@ -279,7 +358,7 @@ def enclose_witness(model: Model, falsification: Any, *,
             break
         if trace is not None:
             trace.clear()
-        last = _attempt(n, monos, f, bits, step, trace)
+        last = _attempt(n, rows, names, f, bits, step, trace)
         if last.proven or last.reason == _HORIZON:
             # a narrow enclosure that stayed out of the escape to the horizon: a finer
             # step would enclose the same non-escaping trajectory
@@ -289,8 +368,8 @@ def enclose_witness(model: Model, falsification: Any, *,
                                     f"needs more than MAX_STEPS = {MAX_STEPS} steps")
 
 
-def _attempt(n: int, monos: Monomials, f: Any, bits: int, longest: float,
-             trace: list[tuple[Any, list[Any]]] | None) -> Enclosure:
+def _attempt(n: int, rows: list[Monomials], names: tuple[str, ...], f: Any, bits: int,
+             longest: float, trace: list[tuple[Any, list[Any]]] | None) -> Enclosure:
     from flint import arb, ctx
 
     old = ctx.prec, ctx.cap
@@ -298,7 +377,7 @@ def _attempt(n: int, monos: Monomials, f: Any, bits: int, longest: float,
     try:
         tones = list(f.tones) if f.kind == "tones" else []
         chirp = f.chirp if f.kind == "chirp" else None
-        field = _Field(n, monos, tones, chirp)
+        field = _Field(n, rows, tones, chirp)
         X = [arb(0)] * n
         for _, _, p in tones:
             X += [arb(p).cos(), arb(p).sin()]
@@ -338,7 +417,7 @@ def _attempt(n: int, monos: Monomials, f: Any, bits: int, longest: float,
                 X = S.hull()
                 if trace is not None:
                     trace.append((t, list(X)))
-                hit = _escaped(X, region, list(f.levels), n)
+                hit = _escaped(X, region, list(f.levels), names)
                 if hit:
                     return Enclosure(proven=True, t_proven=float(t.mid()), steps=steps,
                                      precision=bits, width=_width(X), reason=hit)
@@ -363,17 +442,16 @@ def _width(X: list[Any]) -> float:
     return max(float(x.rad()) for x in X)
 
 
-def _escaped(X: list[Any], region: Any, levels: list[float], n: int) -> str:
-    """Why the box X is inside the escape, or ''."""
-    if region is not None and n == 2:
+def _escaped(X: list[Any], region: Any, levels: list[float], names: tuple[str, ...]) -> str:
+    """Why the box X is inside the escape, or '' (``names``: the system's states)."""
+    if region is not None and len(names) == 2:
         y, v = X[0], X[1]
         if math.isfinite(region.y_plus) and y >= region.y_plus and v >= 0:
             return f"y >= {region.y_plus:.6g} and y' >= 0 (the certified escape region)"
         if math.isfinite(region.y_minus) and y <= -region.y_minus and v <= 0:
             return f"y <= {-region.y_minus:.6g} and y' <= 0 (the certified escape region)"
-    for j, level in enumerate(levels[:n]):
+    for j, (level, name) in enumerate(zip(levels, names, strict=False)):
         if math.isfinite(level) and abs(X[j]) > level:
-            name = "y" + "'" * j if j < 3 else f"y^({j})"
             return f"|{name}| > {level:.6g} (the stated escape level)"
     return ""
 

@@ -8,8 +8,9 @@ Three input families are searched, all switched on at t = 0 with the system at r
   input's extremals this bang-bang form), and each state alone (for a first-order
   model, a constant input); then a count-bounded optimiser over a (golden-section
   steps on the switching function's phase).  Their amplitude is sup|u| = U, the
-  L-infinity size of the lower side's class.  Not for NARX models or models that use
-  input derivatives;
+  L-infinity size of the lower side's class.  In a loop with a proper controller z
+  also holds the controller's states and the input is the reference r.  Not for NARX
+  models (sign sequences instead) or systems that read input derivatives;
 * **chirps** u = A cos(omega_0 t + (omega_1 - omega_0) t^2 / (2 T)) on [0, T]
   (:data:`CHIRPS`: sweeps across the least damped mode, down and up), amplitude
   A = sup|u|; continuous models on the fast path, below the best switching edge;
@@ -35,8 +36,9 @@ bisection counts), never on time: the same model gives the same witness, byte fo
 byte.  The witness is a simulation fact (estimate-grade) until
 :mod:`gfrf.twosided.enclose` encloses it.  The witness and its JSON are
 :mod:`gfrf.twosided.witness`; the escape tests of one system :mod:`gfrf.twosided.runner`.
-For a closed loop the input searched is the reference r of u = C(r - y) (chirps and sums
-of tones; an improper controller reads their exact derivatives r', r'').
+For a closed loop the input searched is the reference r of u = C(r - y) (switching
+references with a proper controller; chirps and sums of tones, whose exact derivatives
+r', r'' an improper controller reads).
 """
 
 from __future__ import annotations
@@ -54,8 +56,8 @@ from gfrf.twosided.escape import DEFAULT_LEVEL
 from gfrf.twosided.runner import CHECK_RTOLS, MAX_RUN_STEPS, TIME_AGREEMENT, EscapeRunner
 from gfrf.twosided.witness import Chirp, Falsification, Tone, scaled, switching_text, tones_text
 
-__all__ = ["Falsification", "falsify", "ESCAPE_LEVEL", "CAP_FACTOR", "CHECK_RTOLS",
-           "MARGINS", "MAX_RUN_STEPS", "tones_text", "switching_text"]
+__all__ = ["Falsification", "falsify", "chirp_edges", "frequencies", "ESCAPE_LEVEL",
+           "CAP_FACTOR", "CHECK_RTOLS", "MARGINS", "MAX_RUN_STEPS", "tones_text", "switching_text"]
 
 #: Escape level of a model without a scale of its own (see :mod:`gfrf.twosided.escape`).
 ESCAPE_LEVEL = DEFAULT_LEVEL
@@ -77,9 +79,26 @@ GOLDEN_STEPS = 6
 CHIRPS = ((1.0, 0.5, 0.5), (1.3, 0.6, 0.5), (0.6, 1.3, 0.5), (1.3, 0.6, 0.25))
 
 
-def _frequencies(runner_ev: np.ndarray, discrete: bool, sample_time: float | None
-                 ) -> tuple[np.ndarray, float]:
-    """The first-stage grid (rad/s) and the least damped mode's frequency."""
+def frequencies(runner_ev: np.ndarray, discrete: bool, sample_time: float | None
+                ) -> tuple[np.ndarray, float]:
+    """The first-stage grid (rad/s) and the least damped mode's frequency.
+
+    Parameters
+    ----------
+    runner_ev : numpy.ndarray
+        Eigenvalues of the linear part (a NARX model: unused).
+    discrete : bool
+        A NARX model: the grid spans 1 % of the Nyquist frequency to it.
+    sample_time : float or None
+        The NARX sample time (s).
+
+    Returns
+    -------
+    numpy.ndarray
+        The grid (rad/s).
+    float
+        The least damped mode's frequency (a NARX model: a quarter of Nyquist).
+    """
     if discrete:
         nyquist = math.pi / float(sample_time)  # type: ignore[arg-type]
         grid = np.geomspace(0.01 * nyquist, nyquist, N_FREQUENCIES)
@@ -190,6 +209,34 @@ def _switching_stage(runner: EscapeRunner, ref: float, cap: float
     return found
 
 
+def chirp_edges(runner: EscapeRunner, ref: float, cap: float
+                ) -> list[tuple[float, int, Chirp]]:
+    """The escaping amplitude of each chirp of :data:`CHIRPS` (those found below ``cap``).
+
+    Parameters
+    ----------
+    runner : EscapeRunner
+        The escape tests of the system (``runner.chirps`` must hold).
+    ref : float
+        The least damped mode's frequency (rad/s): the chirps sweep multiples of it.
+    cap : float
+        Largest amplitude searched.
+
+    Returns
+    -------
+    list of (edge, index, Chirp)
+        The edge found and the chirp at unit amplitude, in the order of :data:`CHIRPS`.
+    """
+    chirped: list[tuple[float, int, Chirp]] = []
+    for w0, w1, part in CHIRPS:
+        unit = Chirp(amplitude=1.0, omega_start=w0 * ref, omega_end=w1 * ref,
+                     duration=part * runner.t_end)
+        edge = _edge(lambda a, c=unit: runner.escapes_chirp(replace(c, amplitude=a)), cap)
+        if edge is not None:
+            chirped.append((edge, len(chirped), unit))
+    return chirped
+
+
 def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
             floor: float = 0.0,
             progress: Callable[[int, int], None] | None = None) -> Falsification:
@@ -220,7 +267,7 @@ def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
     model = source.plant if isinstance(source, ModelFile) else source
     system = build_system(source, closed_loop=closed_loop, equation="polynomial")
     ev = np.asarray(system.linear_eigenvalues, dtype=complex)
-    omegas, ref = _frequencies(ev, system.discrete, system.sample_time)
+    omegas, ref = frequencies(ev, system.discrete, system.sample_time)
     nyquist = math.pi / float(system.sample_time) if system.discrete else None
     top = float(np.max(omegas)) * (3.0 if not system.discrete else 1.0)
     runner = EscapeRunner(system, model, top)
@@ -249,15 +296,7 @@ def falsify(source: ModelFile | Model, cap: float, *, closed_loop: bool = False,
     tick()
     best_switch = min([e for e, _, _ in switched], default=math.inf)
     tone_cap = min(cap, best_switch) if best_switch * MARGINS[-1] >= floor else cap
-    chirped: list[tuple[float, int, Chirp]] = []
-    if runner.chirps:
-        for w0, w1, part in CHIRPS:
-            unit = Chirp(amplitude=1.0, omega_start=w0 * ref, omega_end=w1 * ref,
-                         duration=part * runner.t_end)
-            edge = _edge(lambda a, c=unit: runner.escapes_chirp(replace(c, amplitude=a)),
-                         tone_cap)
-            if edge is not None:
-                chirped.append((edge, len(chirped), unit))
+    chirped = chirp_edges(runner, ref, tone_cap) if runner.chirps else []
     tick()
     found: list[tuple[float, int, list[Tone]]] = []
     for w in omegas:

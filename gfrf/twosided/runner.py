@@ -93,7 +93,7 @@ class EscapeRunner:
 
         if numba_available():
             self.module = compile_system(self.system)[0]
-            if all(k == 0 for k in self.orders) and not self.system.closed_loop:
+            if all(k == 0 for k in self.orders):
                 from gfrf.twosided.switching import switching_module
 
                 self.bang = switching_module(self.system)

@@ -327,7 +327,7 @@ def threshold(model: ModelFile | Model, *, order: int = 5, prove: bool = True,
         if upper is not None and prove:
             from gfrf.twosided.enclose import enclose_witness
 
-            enclosure = enclose_witness(mf.plant, falsification) if not closed else None
+            enclosure = enclose_witness(mf if closed else mf.plant, falsification)
     return Threshold(
         name=getattr(mf, "name", "") or "", lower=lower,
         lower_method=best.method if best else "none",

@@ -64,6 +64,8 @@ def switching_text(amplitude: float, first_sign: int, switch_times: list[float])
     start = f"u = {'+' if first_sign > 0 else '-'}{amplitude!r} on [0, t1)"
     if not switch_times:
         return f"u = {first_sign * amplitude!r} (constant)"
+    if len(switch_times) == 1:
+        return f"{start}, the sign switching once at t = {times[0]} s"
     return (f"{start}, the sign alternating at each of {len(switch_times)} switch times t = "
             + ", ".join(times) + " s")
 

@@ -11,7 +11,7 @@ from flint import arb, ctx
 from scipy.linalg import expm
 
 from gfrf import parse_model
-from gfrf.twosided.enclose import _apriori, _Field, _series, flow
+from gfrf.twosided.enclose import _apriori, _chain, _Field, _series, flow
 from gfrf.twosided.lohner import LohnerSet, lohner_step
 
 #: y'' + 0.2 y' + y = u with u = 0.5: z' = A z + (0, 0.5).
@@ -33,7 +33,7 @@ def test_a_rotated_box_keeps_its_true_size_and_holds_the_exact_corners() -> None
     old = ctx.prec, ctx.cap
     ctx.prec, ctx.cap = 128, 25
     try:
-        field = _Field(*shape, [])
+        field = _Field(shape[0], _chain(*shape), [])
         field.u_const = arb(U)
         radius = 1e-6
         centre = np.array([0.3, -0.2])
@@ -60,6 +60,6 @@ def test_a_rotated_box_keeps_its_true_size_and_holds_the_exact_corners() -> None
 def test_the_step_refuses_without_an_a_priori_enclosure() -> None:
     shape = flow(parse_model("D(y,2) + y - y**3 = u"))
     assert shape is not None
-    field = _Field(*shape, [])
+    field = _Field(shape[0], _chain(*shape), [])
     S = LohnerSet.of_box([arb(1e8), arb(1e8)])
     assert lohner_step(field, S, arb(1.0), 24, _apriori, _series) is None

@@ -138,3 +138,60 @@ def test_narx_beam_search_beats_the_fixed_sign_rules_and_its_witness_replays() -
                  + 0.3025633491 * u2 + 0.1508917809 * y1 * u1 - 0.100037633 * u1**2
                  - 0.04852880773 * y1**3)
     assert abs(y[-1]) >= 1e6 and all(abs(v) < 1e6 for v in y[:-1])
+
+
+def _terms_rhs(model: object) -> tuple[int, object]:
+    """(n, rhs(z, u)) of a continuous model evaluated term by term from its coefficients
+    (y^(n) = -(the other terms) / a_n), not from the generated right-hand side."""
+    terms = model.terms  # type: ignore[attr-defined]
+    n = max(max(t.y_orders, default=0) for t in terms)
+    lead = next(t.coefficient for t in terms if t.y_orders == (n,) and not t.u_orders)
+
+    def rhs(z: np.ndarray, u: float) -> list[float]:
+        total = 0.0
+        for t in terms:
+            if t.y_orders == (n,) and not t.u_orders:
+                continue
+            total += t.coefficient * np.prod([z[o] for o in t.y_orders]) * u ** len(t.u_orders)
+        return [*z[1:n], -total / lead]
+
+    return n, rhs
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["hanging_pendulum", "hanging_pendulum_damped",
+                                  "hanging_pendulum_eq2", "hanging_pendulum_eq2_damped"])
+def test_every_bundled_switching_witness_escapes_in_an_independent_replay(name: str) -> None:
+    """The witness u = +-U at its switch times, replayed by DOP853 on the model evaluated
+    term by term (each switch an integration boundary, the escape level an event), leaves
+    the level where the falsifier says it escapes (or its step size collapses there)."""
+    from pathlib import Path
+
+    from gfrf.model.modelfile import load_model
+    from gfrf.stability.static import radius_upper
+    from gfrf.twosided.falsify import falsify
+
+    mf = load_model(Path(__file__).resolve().parents[2] / "models" / f"{name}.toml")
+    bound = radius_upper(mf.plant)
+    assert bound is not None
+    f = falsify(mf, 10 * float(bound.value))
+    assert f.kind == "switching" and f.upper is not None and f.t_escape is not None
+    n, rhs = _terms_rhs(mf.plant)
+    level = f.levels[0]
+
+    def out(_t: float, z: np.ndarray, u: float) -> float:
+        return abs(z[0]) - level
+
+    out.terminal = True  # type: ignore[attr-defined]
+    end = f.t_escape + 50.0
+    edges = [0.0, *[t for t in f.switch_times if t < end], end]
+    z, sign, hit = np.zeros(n), f.first_sign, None
+    for a, b in zip(edges[:-1], edges[1:], strict=True):
+        with np.errstate(all="ignore"):
+            sol = solve_ivp(lambda t, x, u: rhs(x, u), (a, b), z, method="DOP853",  # type: ignore[operator]
+                            rtol=1e-11, atol=1e-14, events=out, args=(sign * f.upper,))
+        if sol.status != 0:  # the level reached, or the step size collapsed (a blow-up)
+            hit = float(sol.t_events[0][0]) if sol.status == 1 else float(sol.t[-1])
+            break
+        z, sign = sol.y[:, -1], -sign
+    assert hit is not None and f.t_escape - 1e-6 <= hit <= f.t_escape + 20.0

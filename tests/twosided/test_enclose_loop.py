@@ -1,0 +1,128 @@
+"""Proven escapes of closed loops u = C(r - y) with a proper controller: the Arb
+enclosure of the loop's state (plant and controller) under the witness's reference.
+
+Independent references: mpmath's Taylor-series ODE solver at 50 digits on the loop
+written by hand (the controller realised by hand, not by the code's state form), and the
+witness scaled by 0.9, which must not be proven.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import mpmath as mp
+import pytest
+
+from gfrf.cli import main
+from gfrf.model.modelfile import load_model, model_from_dict
+from gfrf.twosided.enclose import enclose_witness, loop_flow
+from gfrf.twosided.falsify import Falsification, falsify
+
+MODELS = Path(__file__).resolve().parents[2] / "models"
+PLANT = "D(y,2) + 0.2*D(y) + y - 0.3*y**3 = u"
+#: C = 0.5 + 0.2/s (PI) and C = (2s + 1)/(s + 2) = 2 - 3/(s + 2) (lead-lag).
+PI = {"equation": PLANT, "controller": {"num": [0.5, 0.2], "den": [1.0, 0.0]}}
+LEAD = {"equation": PLANT, "controller": {"num": [2.0, 1.0], "den": [1.0, 2.0]}}
+#: mpmath's own error at 50 digits (odefun's tolerance), added to every ball's radius.
+MP_SLACK = mp.mpf("1e-44")
+
+
+def _witness(kind: str, amplitude: float, t_end: float, **kw: object) -> Falsification:
+    # the enclosure runs to 1.5 * t_escape: t_escape = t_end / 1.5
+    return Falsification(amplitude, kw.pop("tones", []), t_end / 1.5, amplitude,  # type: ignore[arg-type]
+                         cap=10.0, t_end=t_end, runs=0, escape="", kind=kind,
+                         levels=[1e6, 1e6, 1e6], **kw)  # type: ignore[arg-type]
+
+
+def _contains(ball: object, value: mp.mpf) -> bool:
+    mid = mp.mpf(ball.mid().str(60, radius=False))  # type: ignore[attr-defined]
+    rad = mp.mpf(ball.rad().str(20, radius=False))  # type: ignore[attr-defined]
+    return abs(value - mid) <= rad + MP_SLACK
+
+
+def _plant(y: mp.mpf, v: mp.mpf, u: mp.mpf) -> mp.mpf:
+    """y'' of the plant, with its coefficients as the model's doubles hold them."""
+    return -mp.mpf(0.2) * v - y + mp.mpf(0.3) * y ** 3 + u
+
+
+def test_pi_loop_enclosure_holds_the_50_digit_taylor_solution_under_a_switching_reference(
+        ) -> None:
+    """r = +-0.3 switching at 1 s; the PI state z' = e = r - y, u = 0.5 e + 0.2 z."""
+    f = _witness("switching", 0.3, 2.4, first_sign=1, switch_times=[1.0])
+    trace: list = []
+    proof = enclose_witness(model_from_dict(PI), f, trace=trace)
+    assert proof is not None and not proof.proven
+    assert len(trace) >= 16 and float(trace[-1][0].mid()) == pytest.approx(2.4)
+    with mp.workdps(50):
+        edges, z, sign, checked = [0, 1.0, 2.4], [mp.mpf(0)] * 3, 1, 0
+        for a, b in zip(edges[:-1], edges[1:], strict=True):
+            r = sign * mp.mpf(0.3)
+
+            def rhs(t: mp.mpf, x: list, r: mp.mpf = r) -> list:
+                e = r - x[0]
+                return [x[1], _plant(x[0], x[1], mp.mpf(0.5) * e + mp.mpf(0.2) * x[2]), e]
+
+            sol = mp.odefun(rhs, mp.mpf(a), z)
+            for t, boxes in trace:
+                tm = mp.mpf(t.mid().str(60, radius=False))
+                if mp.mpf(a) < tm <= mp.mpf(b):
+                    ref = sol(tm)
+                    assert all(_contains(x, v) for x, v in zip(boxes[:2], ref, strict=False)), tm
+                    checked += 1
+            z, sign = sol(mp.mpf(b)), -sign
+        assert checked == len(trace)
+
+
+@pytest.mark.slow
+def test_lead_lag_loop_enclosure_holds_the_50_digit_taylor_solution_under_a_tone() -> None:
+    """r = 1.2 cos(0.9 t + 0.3); the lead-lag state z' = -2 z + e, u = 2 e - 3 z (the
+    tone's oscillator states ride along after the loop's three states)."""
+    f = _witness("tones", 1.2, 1.5, tones=[(1.2, 0.9, 0.3)])
+    trace: list = []
+    enclose_witness(model_from_dict(LEAD), f, trace=trace)
+    assert len(trace) >= 12
+    with mp.workdps(50):
+        a, w, p = mp.mpf(1.2), mp.mpf(0.9), mp.mpf(0.3)
+
+        def rhs(t: mp.mpf, x: list) -> list:
+            e = a * mp.cos(w * t + p) - x[0]
+            return [x[1], _plant(x[0], x[1], 2 * e - 3 * x[2]), -2 * x[2] + e]
+
+        sol = mp.odefun(rhs, 0, [mp.mpf(0)] * 3)
+        for t, boxes in trace:
+            ref = sol(mp.mpf(t.mid().str(60, radius=False)))
+            assert all(_contains(x, v) for x, v in zip(boxes[:2], ref, strict=False))
+
+
+def test_lead_lag_loop_witness_is_proven_and_not_at_0_9() -> None:
+    mf = model_from_dict(LEAD)
+    f = falsify(mf, 7.0, closed_loop=True)
+    assert f.kind == "switching" and f.upper is not None and f.t_escape is not None
+    proof = enclose_witness(mf, f)
+    assert proof is not None and proof.proven, proof
+    assert proof.t_proven == pytest.approx(f.t_escape, rel=0.02)
+    weaker = Falsification(0.9 * f.upper, [], f.t_escape, f.edge, cap=f.cap, t_end=f.t_end,
+                           runs=0, escape="", kind="switching", first_sign=f.first_sign,
+                           switch_times=f.switch_times, levels=f.levels)
+    scaled = enclose_witness(mf, weaker)
+    assert scaled is not None and not scaled.proven
+
+
+def test_an_improper_controller_has_no_loop_enclosure() -> None:
+    mf = load_model(MODELS / "cartpole_reduced.toml")
+    assert loop_flow(mf) is None
+    assert enclose_witness(mf, _witness("switching", 1.0, 3.0, switch_times=[1.0])) is None
+
+
+@pytest.mark.slow
+def test_threshold_of_a_lead_lag_loop_proves_its_witness(tmp_path: Path,
+                                                         capsys: pytest.CaptureFixture[str]
+                                                         ) -> None:
+    path = tmp_path / "loop.toml"
+    path.write_text(f'output = "y"\nequation = "{PLANT}"\n\n[controller]\nnum = [2, 1]\n'
+                    "den = [1, 2]\nfeedback = -1\n")
+    assert main(["threshold", str(path), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["upper_proof"] == "interval" and data["witness"]["kind"] == "switching"
+    assert data["lower"] <= data["upper"] <= 1.3 * data["lower"]
