@@ -36,7 +36,7 @@ import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
 from gfrf._cache import cache_root, load_generated
-from gfrf.kernels.realcode import FASTMATH, real_step_lines
+from gfrf.kernels.realcode import FASTMATH, grouped_numerator, real_step_lines
 from gfrf.model.equation import Model
 
 __all__ = ["kernel_source", "numba_ufunc", "HAVE_NUMBA", "cache_dir", "Recursion", "rename",
@@ -128,7 +128,8 @@ def step_text(gen: Recursion, m: int, symmetric: bool) -> tuple[tuple[tuple[str,
     generation) and renamed per block with :func:`rename`.
     """
     printer = _Printer()
-    replacements, (reduced,) = sp.cse(gen.plan(m, symmetric).numerator,
+    plan = gen.plan(m, symmetric)
+    replacements, (reduced,) = sp.cse(grouped_numerator(plan.numerator, plan.placeholders),
                                       symbols=sp.numbered_symbols("_c"))
     assignments = [pair for sym, value in replacements
                    for pair in _chunked(str(sym), value, printer)]
