@@ -33,7 +33,7 @@ __all__ = ["ProbingBaseline", "probing_work"]
 
 
 def probing_work(model: Model, n: int) -> int:
-    """Ordered splittings the probing of order ``n`` sums over (all nonlinear terms).
+    """At most as many products as the probing of order ``n`` sums (a bound on its work).
 
     Parameters
     ----------
@@ -45,9 +45,10 @@ def probing_work(model: Model, n: int) -> int:
     Returns
     -------
     int
-        Sum over the nonlinear and input terms of (factors)! * S(n, factors), the number of
-        products in the coefficient of exp((s_1 + ... + s_n)*t) (S: Stirling numbers of
-        the second kind); a bench caps the baseline by it.
+        Sum over the nonlinear and input terms of (factors)! * S(n, factors) (S: Stirling
+        numbers of the second kind), the ordered splittings of n probes over the factors:
+        the products of the coefficient of exp((s_1 + ... + s_n)*t) are at most that
+        many; a bench caps the baseline by it.
     """
     total = 0
     for term in model.terms:

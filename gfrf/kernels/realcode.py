@@ -142,7 +142,8 @@ def grouped_numerator(numerator: sp.Expr, placeholders: tuple[sp.Symbol, ...]) -
     kernels = set(placeholders)
     groups: dict[sp.Expr, list[sp.Expr]] = {}
     for term in sp.Add.make_args(numerator):
-        weight, product = [], []
+        weight: list[sp.Basic] = []
+        product: list[sp.Basic] = []
         for factor in sp.Mul.make_args(term):
             (product if factor.free_symbols & kernels else weight).append(factor)
         groups.setdefault(sp.Mul(*product), []).append(sp.Mul(*weight))
