@@ -29,6 +29,8 @@ SIMULATE = ["-c", CLI, "simulate", str(DUFFING), "--input", "0.1*sin(t)", "--t-e
             "5", "--method", "fast", "--json"]
 KERNEL = """
 import gfrf
+import gfrf.kernels.native
+gfrf.kernels.native.native_kernel = lambda *args: None  # numba's cache, whose trust is tested
 from gfrf.kernels.recursion import kernel
 k = kernel(gfrf.parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"), 3)
 # the Duffing H3(w, w, w) in closed form: -0.5 H1(w)^3 H1(3w)
@@ -48,8 +50,9 @@ def _simulate(cache: Path, **env: str) -> subprocess.CompletedProcess[str]:
     return _run(SIMULATE, {"GFRF_CACHE_DIR": str(cache), **env})
 
 
-#: The kernels' runs have no C compiler on the PATH: they go through numba's cache, whose
-#: trust these tests check (shared-library kernels: tests/kernels/test_compiled_cache.py).
+#: The kernels' runs have no C compiler on the PATH and no native kernel (``KERNEL``): they
+#: go through numba's cache, whose trust these tests check (native kernels:
+#: tests/kernels/test_compiled_cache.py).
 NO_CC = {"PATH": str(Path(sys.executable).parent)}
 
 

@@ -36,7 +36,7 @@ import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
 from gfrf._cache import cache_root, load_generated
-from gfrf.kernels.realcode import FASTMATH, real_step_lines
+from gfrf.kernels.realcode import FASTMATH, grouped_numerator, real_step_lines
 from gfrf.model.equation import Model
 
 __all__ = ["kernel_source", "numba_ufunc", "HAVE_NUMBA", "cache_dir", "Recursion", "rename",
@@ -128,7 +128,8 @@ def step_text(gen: Recursion, m: int, symmetric: bool) -> tuple[tuple[tuple[str,
     generation) and renamed per block with :func:`rename`.
     """
     printer = _Printer()
-    replacements, (reduced,) = sp.cse(gen.plan(m, symmetric).numerator,
+    plan = gen.plan(m, symmetric)
+    replacements, (reduced,) = sp.cse(grouped_numerator(plan.numerator, plan.placeholders),
                                       symbols=sp.numbered_symbols("_c"))
     assignments = [pair for sym, value in replacements
                    for pair in _chunked(str(sym), value, printer)]
@@ -225,12 +226,13 @@ def _horner(coefficients: list[float], variable: str) -> str:
 #: numpy path always runs: no numba import, no compile on a command's path).
 MIN_POINTS = 1_000_000
 #: Calibration of :func:`compile_pays`, CPU seconds on one core of a 2-core 2026 machine
-#: (the cart-pole's H5 and H7 at 10^5 points): per point and operation of the recursion
-#: by the numpy path and by the compiled ufunc, and the compile per operation of the
-#: generated step functions plus a fixed part (numba's import and target set-up).
-NUMPY_SECONDS_PER_OP = 3.6e-9
-COMPILED_SECONDS_PER_OP = 0.9e-9
-COMPILE_SECONDS_PER_OP = 0.016
+#: (the cart-pole's H5 and H7 at 10^5 points, steps grouped by products of kernels): per
+#: point and operation of the recursion by the numpy path (1.6-2.0 s for H7) and by the
+#: compiled ufunc (0.35 s), and the compile per operation of the generated step
+#: functions (H7: 14 s, H5: 3.5 s) plus a fixed part (numba's import and target set-up).
+NUMPY_SECONDS_PER_OP = 2.4e-9
+COMPILED_SECONDS_PER_OP = 0.5e-9
+COMPILE_SECONDS_PER_OP = 0.008
 COMPILE_SECONDS = 1.0
 
 
@@ -246,7 +248,7 @@ def compile_pays(gen: Recursion, n: int, symmetric: bool, points: int) -> bool:
     once), never on time or on the state of the cache, so the same call takes the same
     path, with the same bits, every run.  False without numba or below
     :data:`MIN_POINTS`.  With the calibration constants above, the cart-pole's H7 pays
-    from about 1.6e6 points, its H5 from about 3e6, its H3 from about 1e7.
+    from about 1.1e6 points, its H5 from about 3e6, its H3 from about 2e7.
 
     Parameters
     ----------
@@ -352,10 +354,11 @@ def numba_ufunc(gen: Recursion, n: int, symmetric: bool) -> Any:
     """A numba-compiled numpy ufunc ``f(w1..wn) -> complex128`` of H_n, cached on disk.
 
     Measured on a 2-core machine (numba 0.68, one step function per order), the
-    cart-pole model: order 5 compiles in 2.5-3.5 s and a later process loads it in 0.12 s
-    as a shared library (:mod:`gfrf.kernels.native`, Linux with ``cc``), else from
-    numba's on-disk cache (:func:`cache_dir`) in 0.9 s (numba's import and target set-up
-    are most of that); order 7 compiles in about 17 s (real-arithmetic steps).
+    cart-pole model: order 5 compiles in 2.5-3.5 s and a later process loads it in
+    0.12-0.19 s as a shared library (:mod:`gfrf.kernels.native`, Linux with ``cc``), else
+    from numba's on-disk cache (:func:`cache_dir`) in 0.9 s (numba's import and target
+    set-up are most of that); order 7 compiles in about 14 s (real-arithmetic steps
+    grouped by products of kernels).
 
     Parameters
     ----------

@@ -20,7 +20,7 @@ from typing import Any
 
 import sympy as sp
 
-__all__ = ["real_step_lines", "FASTMATH"]
+__all__ = ["real_step_lines", "grouped_numerator", "FASTMATH"]
 
 #: LLVM's floating-point freedom for the step functions: fused multiply-adds only (one
 #: rounding instead of two; no assumption on infinities, NaNs or signed zeros): the
@@ -117,6 +117,39 @@ class _Emitter:
                       self.bind(" + ".join(im)) if im else None)
 
 
+def grouped_numerator(numerator: sp.Expr, placeholders: tuple[sp.Symbol, ...]) -> sp.Expr:
+    """``numerator`` as a sum over its distinct products of placeholders, each times the
+    sum of its coefficients (polynomials in the variables).
+
+    The recursion step sums over ordered set partitions, so one product of lower-order
+    kernels comes with many weights (one per term of the model and per assignment of the
+    derivatives); summing the weights first leaves one product of kernels per partition
+    (the cart-pole's P_5: 30 products of kernels instead of 90, about 0.4x the
+    operations after common-subexpression elimination).  The same polynomial.
+
+    Parameters
+    ----------
+    numerator : sympy.Expr
+        A polynomial in the variables and the placeholders.
+    placeholders : tuple of sympy.Symbol
+        The placeholders of the lower-order kernels.
+
+    Returns
+    -------
+    sympy.Expr
+        ``sum_M M * c_M`` with ``M`` the products of placeholders.
+    """
+    kernels = set(placeholders)
+    groups: dict[sp.Expr, list[sp.Expr]] = {}
+    for term in sp.Add.make_args(numerator):
+        weight: list[sp.Basic] = []
+        product: list[sp.Basic] = []
+        for factor in sp.Mul.make_args(term):
+            (product if factor.free_symbols & kernels else weight).append(factor)
+        groups.setdefault(sp.Mul(*product), []).append(sp.Mul(*weight))
+    return sp.Add(*(product * sp.Add(*weights) for product, weights in groups.items()))
+
+
 @lru_cache(maxsize=256)
 def real_step_lines(gen: Any, m: int, symmetric: bool) -> tuple[tuple[str, ...],
                                                                 tuple[str, ...], str]:
@@ -144,7 +177,7 @@ def real_step_lines(gen: Any, m: int, symmetric: bool) -> tuple[tuple[str, ...],
     """
     plan = gen.plan(m, symmetric)
     variables = gen.variables(m)
-    numerator = plan.numerator
+    numerator = grouped_numerator(plan.numerator, plan.placeholders)
     env: dict[sp.Basic, _Value] = {}
     unpack = []
     if gen.model.is_discrete:

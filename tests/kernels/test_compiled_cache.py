@@ -29,12 +29,18 @@ print(abs(value - exact) <= 1e-12 * abs(exact), "numba" in sys.modules)
 """
 
 
-def run(cache: Path, native: bool = False) -> str:
-    """The script's line; without ``native`` no ``cc`` on the PATH (numba's cache is used)."""
+#: Prepended to the script to switch the native kernels off (numba's cache is used).
+NO_NATIVE = "import gfrf.kernels.native as n\nn.native_kernel = lambda *args: None\n"
+
+
+def run(cache: Path, native: bool = False, cc: bool = True) -> str:
+    """The script's line; without ``native`` no native kernel (numba's cache is used),
+    without ``cc`` no C compiler driver on the PATH."""
     env = {**os.environ, "GFRF_CACHE_DIR": str(cache)}
-    if not native:
+    if not cc:
         env["PATH"] = str(Path(sys.executable).parent)
-    done = subprocess.run([sys.executable, "-c", SCRIPT], capture_output=True, text=True,
+    script = SCRIPT if native else NO_NATIVE + SCRIPT
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
                           env=env, timeout=300)
     assert done.returncode == 0, done.stderr
     return done.stdout.strip()
@@ -91,3 +97,12 @@ def test_a_shared_library_in_a_folder_others_can_write_is_not_loaded(tmp_path: P
     folder.chmod(0o700)
     assert done.stdout.strip() == "True True"  # compiled in memory by numba
     assert "writable by group or others" in done.stderr
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="native kernels: Linux")
+def test_without_cc_a_second_process_loads_the_object_without_numba(tmp_path: Path) -> None:
+    assert run(tmp_path, native=True, cc=False) == "True True"  # compiled by numba
+    (obj,) = (tmp_path / "kernels").glob("gfrf_native_*.o")
+    built = obj.stat().st_mtime_ns
+    assert run(tmp_path, native=True, cc=False) == "True False"  # linked in memory by LLVM
+    assert obj.stat().st_mtime_ns == built

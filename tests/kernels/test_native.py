@@ -38,6 +38,20 @@ def test_h2_matches_its_closed_form_at_broadcast_points(tmp_path: Path,
     assert isinstance(f(0.4, -1.3), complex)  # a scalar for scalars, like a ufunc
 
 
+def test_without_cc_the_object_file_is_linked_in_memory(tmp_path: Path,
+                                                        monkeypatch: pytest.MonkeyPatch) -> None:
+    import gfrf.kernels.native as native
+
+    monkeypatch.setattr(native.shutil, "which", lambda name: None)  # no C compiler driver
+    f = _native("D(y,2) + 0.2*D(y) + y + 0.3*y**2 = u", 2, tmp_path, monkeypatch)
+    assert [p.suffix for p in (tmp_path / "kernels").glob("gfrf_native_*")] == [".o"]
+    h1 = lambda w: 1 / (1 - w * w + 0.2j * w)  # noqa: E731
+    w1, w2 = np.linspace(-3, 3, 7)[:, None], np.linspace(-2, 2, 5)[None, :]
+    np.testing.assert_allclose(f(w1, w2), -0.3 * h1(w1) * h1(w2) * h1(w1 + w2), rtol=1e-13)
+    again = _native("D(y,2) + 0.2*D(y) + y + 0.3*y**2 = u", 2, tmp_path, monkeypatch)
+    assert np.array_equal(again(w1, w2), f(w1, w2))  # loaded from the cached object
+
+
 def test_a_point_on_a_pole_raises_zero_division(tmp_path: Path,
                                                 monkeypatch: pytest.MonkeyPatch) -> None:
     f = _native("D(y,2) + y + y**2 = u", 2, tmp_path, monkeypatch)

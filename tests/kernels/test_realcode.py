@@ -10,7 +10,7 @@ import pytest
 import sympy as sp
 
 from gfrf.kernels.probing import probe_kernel
-from gfrf.kernels.realcode import real_step_lines
+from gfrf.kernels.realcode import grouped_numerator, real_step_lines
 from gfrf.kernels.recursion import generator, kernel
 from gfrf.model.equation import parse_model
 
@@ -77,3 +77,17 @@ def test_the_compiled_kernel_agrees_with_harmonic_probing(text: str) -> None:
             reference = probe_kernel(model, list(w))
             value = complex(f(*w))
             assert abs(value - reference) <= 1e-12 * abs(reference), (n, w)
+
+
+@pytest.mark.parametrize("text", MODELS)
+def test_grouped_numerator_is_the_same_polynomial(text: str) -> None:
+    gen = generator(_model(text))
+    for m in range(2, 6):
+        plan = gen.plan(m, True)
+        grouped = grouped_numerator(plan.numerator, plan.placeholders)
+        assert sp.expand(grouped - plan.numerator) == 0, m
+        # one term per distinct product of lower-order kernels
+        products = {sp.Mul(*(f for f in sp.Mul.make_args(t) if f in plan.placeholders
+                             or f.free_symbols & set(plan.placeholders)))
+                    for t in sp.Add.make_args(plan.numerator)} - {sp.Integer(0)}
+        assert len(sp.Add.make_args(grouped)) == len(products) or plan.is_zero, m
