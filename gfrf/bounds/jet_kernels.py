@@ -2,8 +2,8 @@
 
 One pass over a batch of boxes per operation instead of a dozen numpy temporaries:
 the same formulas as the numpy path of :mod:`gfrf.bounds.enclosure` (values, gradients and
-Hessians at the centres, Leibniz's rule for the bounds D_0..D_3, then the Taylor-form
-tightening): the whole enclosure of a box takes about half the time of the numpy
+Hessians at the centres, Leibniz's rule for the bounds D_0..D_3, the Taylor-model
+remainder R in column 4, then the Taylor-form tightening): the whole enclosure of a box takes about half the time of the numpy
 path (40 against 73 us per box for the pendulum's H5, one core).  Model-independent,
 so compiled once per installation (numba ``cache=True``) and never per model.
 Imported only when numba is installed (the ``fast`` extra).
@@ -33,13 +33,50 @@ def _tighten(k, v, g, h, d, r):
         for j in range(i + 1, n):
             second += 2.0 * _abs(h[k, i, j]) * r[k, i] * r[k, j]
     d3 = d[k, 3]
-    forms = (abs(v[k]) + first + 0.5 * second + d3 / 6.0, first + second + 0.5 * d3,
-             second + d3)
+    rest = d[k, 4]
+    if rest != rest:  # an undetermined remainder is none
+        rest = np.inf
+    if rest < np.inf and d3 / 6.0 < rest:  # R = inf: no Taylor model (kept as it is)
+        rest = d3 / 6.0
+    d[k, 4] = rest
+    forms = (abs(v[k]) + first + 0.5 * second + min(rest, d3 / 6.0),
+             first + second + 0.5 * d3, second + d3)
     for m in range(3):
         if forms[m] < d[k, m]:  # NaN forms keep the propagated bound
             d[k, m] = forms[m]
         if d[k, m] != d[k, m]:
             d[k, m] = np.inf
+
+
+@njit(cache=True, inline="always")
+def _forms(k, g, h, idx, r):
+    """(sum |g_p| r_p, 1/2 sum |h_pq| r_p r_q) of one operand over its coordinates ``idx``."""
+    first = 0.0
+    second = 0.0
+    for p in range(idx.size):
+        rp = r[k, idx[p]]
+        first += _abs(g[k, p]) * rp
+        for q in range(idx.size):
+            second += _abs(h[k, p, q]) * rp * r[k, idx[q]]
+    return first, 0.5 * second
+
+
+@njit(cache=True, inline="always")
+def _remainder(k, av, ag, ah, ad, ia, bv, bg, bh, bd, ib, r):
+    """Taylor-model remainder of a product: the degree-3 and -4 terms of the product of the
+    quadratic parts, plus R_a sup|b| + sup|P_a| R_b (inf when either remainder is)."""
+    ra, rb = ad[k, 4], bd[k, 4]
+    if not (ra < np.inf and rb < np.inf):
+        return np.inf
+    a1, a2 = _forms(k, ag, ah, ia, r)
+    b1, b2 = _forms(k, bg, bh, ib, r)
+    sup_a = min(abs(av[k]) + a1 + a2, ad[k, 0] + ra)
+    out = a1 * b2 + a2 * b1 + a2 * b2
+    if ra > 0.0:  # an exact operand (R = 0) adds nothing, whatever the other's sup
+        out += ra * bd[k, 0]
+    if rb > 0.0:
+        out += sup_a * rb
+    return out if out == out else np.inf
 
 
 @njit(cache=True)
@@ -74,7 +111,7 @@ def jet_mul(av, ag, ah, ad, ia, bv, bg, bh, bd, ib, r):
     v = np.empty(size, np.complex128)
     g = np.zeros((size, m), np.complex128)
     h = np.zeros((size, m, m), np.complex128)
-    d = np.empty((size, 4))
+    d = np.empty((size, 5))
     for k in range(size):
         a0, b0 = av[k], bv[k]
         v[k] = a0 * b0
@@ -100,5 +137,6 @@ def jet_mul(av, ag, ah, ad, ia, bv, bg, bh, bd, ib, r):
         for j in range(4):
             if d[k, j] != d[k, j]:
                 d[k, j] = np.inf
+        d[k, 4] = _remainder(k, av, ag, ah, ad, ia, bv, bg, bh, bd, ib, r)
         _tighten(k, v, g, h, d, r)
     return v, g, h, d
