@@ -3,9 +3,10 @@
 One pass over a batch of boxes per operation instead of a dozen numpy temporaries:
 the same formulas as the numpy path of :mod:`gfrf.bounds.enclosure` (values, gradients and
 Hessians at the centres, Leibniz's rule for the bounds D_0..D_3, the Taylor-model
-remainder R in column 4, then the Taylor-form tightening): the whole enclosure of a box takes about half the time of the numpy
-path (40 against 73 us per box for the pendulum's H5, one core).  Model-independent,
-so compiled once per installation (numba ``cache=True``) and never per model.
+remainder R in column 4, then the Taylor-form tightening): the whole enclosure of a box
+takes about half the time of the numpy path (40 against 73 us per box for the pendulum's
+H5, one core).  Model-independent, so compiled once per installation (numba
+``cache=True``) and never per model.
 Imported only when numba is installed (the ``fast`` extra).
 """
 
