@@ -100,7 +100,7 @@ def _fused_kernels() -> Any:
     from gfrf.bounds import jet_kernels
 
     if not getattr(jet_kernels, "checked", False):  # numba reads its cache at the first call
-        trust_dispatchers([jet_kernels.jet_add, jet_kernels.jet_mul])
+        trust_dispatchers([jet_kernels.jet_add, jet_kernels.jet_mul, jet_kernels.jet_turn])
         jet_kernels.checked = True
     return jet_kernels
 
@@ -253,6 +253,10 @@ class Jet:
 
     def _rotated(self, delta: np.ndarray, names: tuple[int, ...]) -> Jet:
         """The envelope times exp(j delta . (w - c)) over ``names`` (its carrier dropped)."""
+        fused = self.boxes.fused
+        if fused is not None:  # the jet is on ``names`` already (see _aligned)
+            return Jet(*fused.jet_turn(self.v, self.g, self.h, self.d, delta,
+                                       self.boxes.radii(names)), names, self.boxes)
         size = delta.shape[0]
         r = self.boxes.radii(names)
         s = np.sum(np.abs(delta) * r, axis=1)
