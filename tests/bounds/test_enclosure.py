@@ -55,7 +55,8 @@ def test_overestimate_is_third_order_at_the_peak(peak) -> None:
 
 
 @pytest.mark.skipif(not HAVE_NUMBA, reason="numba not installed")
-@pytest.mark.parametrize(("text", "n"), [(MIXED, 3), (PENDULUM, 5)])
+@pytest.mark.parametrize(("text", "n"), [(MIXED, 3), (PENDULUM, 5),
+                                        ("models/identified_example.toml", 5)])
 def test_fused_loops_match_the_numpy_arithmetic(text: str, n: int) -> None:
     m = load_model(text).plant if text.endswith(".toml") else parse_model(text)
     rng = np.random.default_rng(4)

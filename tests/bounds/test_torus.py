@@ -146,3 +146,46 @@ def test_narx_h2_bracket_contains_the_closed_form_sup() -> None:
     assert b.upper < 0.999 * float(majorant(model).coefficients(2)[2, 0])  # B&B lowered it
     assert b.lower <= sup * (1 + 1e-12) and sup <= b.upper * (1 + 1e-12)
     assert b.gap <= 1e-3
+
+
+@pytest.fixture(scope="module")
+def h5_peak():
+    """The identified example's H5, its explicit form and a maximiser of |H5| (dense random
+    sample of the torus polished by scipy's Nelder-Mead, all on the explicit form)."""
+    model = load_model("models/identified_example.toml").plant
+    numeric, _ = _explicit(model, 5)
+    t = model.sample_time
+    rng = np.random.default_rng(11)
+    points = rng.uniform(-math.pi / t, math.pi / t, (30_000, 5))
+    start = points[int(np.argmax(numeric(*points.T)))]
+    res = minimize(lambda x: -float(numeric(*x)), start, method="Nelder-Mead",
+                   options={"xatol": 1e-9, "fatol": 1e-15, "maxiter": 2000})
+    return model, numeric, res.x, -res.fun
+
+
+@pytest.mark.parametrize("radius", [0.05, 0.5, 3.0])
+def test_h5_box_bounds_contain_sampled_values(h5_peak, radius: float) -> None:
+    model, numeric, peak, _ = h5_peak
+    t = model.sample_time
+    rng = np.random.default_rng(12)
+    centres = np.vstack([peak + rng.uniform(-0.5, 0.5, (10, 5)),
+                         rng.uniform(-math.pi / t, math.pi / t, (20, 5))])
+    lo, hi = centres - radius, centres + radius
+    bound, centre_value, _ = box_bounds(model, 5, lo, hi)
+    assert np.allclose(centre_value, numeric(*centres.T), rtol=1e-9)
+    x = rng.uniform(lo, hi, (40, 30, 5))  # 40 points per box, one vectorised call
+    x[:, :, :2] = np.where(rng.uniform(size=(40, 30, 2)) < 0.5, lo[:, :2], hi[:, :2])
+    assert np.all(numeric(*x.reshape(-1, 5).T).reshape(40, 30) <= bound * (1 + 1e-12))
+
+
+def test_h5_box_bound_is_tight_around_the_peak(h5_peak) -> None:
+    """A box of side 2 pi / 128 in every theta = w T around the maximiser is bounded
+    within 2 % of the largest sampled |H5| in it (quadratic Taylor models with their
+    remainders)."""
+    model, numeric, peak, value = h5_peak
+    half = math.pi / 128 / model.sample_time
+    bound, _, _ = box_bounds(model, 5, (peak - half)[None], (peak + half)[None])
+    rng = np.random.default_rng(13)
+    inside = max(value, float(numeric(*rng.uniform(peak - half, peak + half, (2000, 5)).T)
+                              .max()))
+    assert inside <= bound[0] <= 1.02 * inside
