@@ -532,5 +532,5 @@ def _largest_slope(argument: sp.Expr, t_end: float) -> float:
     if slope.degree() >= 1:
         candidates += [float(r) for r in sp.Poly(sp.diff(slope.as_expr(), T), T)
                        .nroots(n=15) if abs(sp.im(r)) < 1e-12 and 0 <= sp.re(r) <= t_end]
-    values = np.abs([float(slope.eval(x)) for x in candidates])
+    values = np.abs(np.polyval([float(c) for c in slope.all_coeffs()], candidates))
     return float(np.max(values))
