@@ -29,7 +29,8 @@ from typing import Any
 
 from gfrf.stability.implicit import ImplicitLoop
 
-__all__ = ["FORMAT", "KIND", "check_region", "MAX_VERTICES", "MAX_SUBDIVISIONS"]
+__all__ = ["FORMAT", "KIND", "check_region", "polygon_parts", "bound", "MAX_VERTICES",
+           "MAX_SUBDIVISIONS"]
 
 #: The ``format`` value of an implicit-loop certificate file.
 FORMAT = "gfrf-implicit-region"
@@ -124,10 +125,26 @@ def _negative(p: TPoly, budget: _Budget, depth: int = 0) -> bool:
                                                                         depth + 1)
 
 
-def _parts(form: ImplicitLoop) -> tuple[dict[tuple[int, int], Fraction],
-                                        dict[tuple[int, int], Fraction],
-                                        dict[tuple[int, int], Fraction]]:
-    """(q, -s R0, -s R1) as polynomials in (y, v); ValueError when the form does not fit."""
+def polygon_parts(form: ImplicitLoop) -> tuple[dict[tuple[int, int], Fraction],
+                                               dict[tuple[int, int], Fraction],
+                                               dict[tuple[int, int], Fraction]]:
+    """(q, -s R0, -s R1) as polynomials in (y, v), so that g = (q v, -s R0 - s d R1).
+
+    Parameters
+    ----------
+    form : ImplicitLoop
+        The loop's implicit form.
+
+    Returns
+    -------
+    tuple of dict
+        The three polynomials, exponents (i, j) of y^i v^j.
+
+    Raises
+    ------
+    ValueError
+        Not 2 states, D depends on y', or R is not affine in d.
+    """
     if form.n != 2:
         raise ValueError(f"the polygon certificate needs 2 states, the loop has {form.n}")
     s = Fraction(form.sign)
@@ -204,7 +221,7 @@ def _check(form: ImplicitLoop, cert: dict[str, Any]) -> str:
     if list(cert.get("states", [])) != list(form.states) or cert.get("input") != form.input_name:
         return (f"the state map differs from the model's: file {str(cert.get('states'))[:80]}, "
                 f"model {list(form.states)}")
-    q, r0, r1 = _parts(form)
+    q, r0, r1 = polygon_parts(form)
     U = _q(cert["U"])
     if not U > 0:
         return "U must be positive"

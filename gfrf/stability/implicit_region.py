@@ -29,9 +29,10 @@ from typing import Any
 import numpy as np
 
 from gfrf.stability.implicit import ImplicitLoop
-from gfrf.stability.implicit_check import FORMAT, KIND, _parts, check_region
+from gfrf.stability.implicit_check import FORMAT, KIND, check_region, polygon_parts
 
-__all__ = ["region_certificate", "VERTICES", "BISECTIONS", "PARAMETERS"]
+__all__ = ["region_certificate", "certificate_at", "LoopField", "VERTICES", "BISECTIONS",
+           "PARAMETERS"]
 
 #: Vertices per chain.
 VERTICES = 500
@@ -45,22 +46,33 @@ MAX_STEPS = 200_000
 _ROUND = 2**44
 
 
-class _Field:
-    """q, -s R0, -s R1 of the loop evaluated in floats."""
+class LoopField:
+    """q, -s R0, -s R1 of a second-order implicit loop evaluated in floats (estimates:
+    for the search and for simulation, never for the check).
+
+    Parameters
+    ----------
+    form : ImplicitLoop
+        The loop; ValueError when it does not fit (see
+        :func:`gfrf.stability.implicit_check.polygon_parts`).
+    """
 
     def __init__(self, form: ImplicitLoop):
-        q, r0, r1 = _parts(form)
+        q, r0, r1 = polygon_parts(form)
         self.q = [(k[0], float(c)) for k, c in q.items()]
         self.r0 = [(k, float(c)) for k, c in r0.items()]
         self.r1 = [(k, float(c)) for k, c in r1.items()]
 
     def qf(self, y: float) -> float:
+        """q(y) = s D(y) (positive near the equilibrium) at the output value ``y``."""
         return sum(c * y**i for i, c in self.q)
 
     def g0(self, y: float, v: float) -> float:
+        """-s R(y, v, 0) at the state (y, v = y')."""
         return sum(c * y**i * v**j for (i, j), c in self.r0)
 
     def g1(self, y: float, v: float) -> float:
+        """The coefficient of d in -s R at the state (y, v = y')."""
         return sum(c * y**i * v**j for (i, j), c in self.r1)
 
     def singular(self) -> tuple[float, float]:
@@ -100,7 +112,7 @@ class _Field:
         return None
 
 
-def _chain(fl: _Field, U: float, start: tuple[float, float], sgn: int, angle: float,
+def _chain(fl: LoopField, U: float, start: tuple[float, float], sgn: int, angle: float,
            lift: float, scale: tuple[float, float]) -> np.ndarray | None:
     from scipy.integrate import solve_ivp
 
@@ -136,7 +148,7 @@ def _chain(fl: _Field, U: float, start: tuple[float, float], sgn: int, angle: fl
     return pts
 
 
-def _polygon(fl: _Field, U: float, sing: tuple[float, float], params: tuple[float, ...]
+def _polygon(fl: LoopField, U: float, sing: tuple[float, float], params: tuple[float, ...]
              ) -> list[tuple[float, float]] | None:
     angle, frac, mfrac, eta = params
     yp = fl.equilibrium(U, 1, sing[1])
@@ -161,7 +173,7 @@ def _polygon(fl: _Field, U: float, sing: tuple[float, float], params: tuple[floa
     return [(float(a), float(b)) for a, b in np.concatenate((up, lo))]
 
 
-def _sampled_ok(fl: _Field, U: float, P: list[tuple[float, float]]) -> bool:
+def _sampled_ok(fl: LoopField, U: float, P: list[tuple[float, float]]) -> bool:
     """The edge condition on 5 points per edge (floats: a filter before the exact check)."""
     A = np.array(P)
     B = np.roll(A, -1, axis=0)
@@ -185,7 +197,26 @@ def _exact(form: ImplicitLoop, U: float, P: list[tuple[float, float]]
     return cert if check_region(form, cert) == "" else None
 
 
-def _try(form: ImplicitLoop, fl: _Field, U: float, sing: tuple[float, float]
+def certificate_at(form: ImplicitLoop, U: float) -> dict[str, Any] | None:
+    """An exactly verified invariant polygon for the bound U, or None.
+
+    Parameters
+    ----------
+    form : ImplicitLoop
+        A second-order implicit loop.
+    U : float
+        The input bound.
+
+    Returns
+    -------
+    dict or None
+        The certificate (``check_region`` passed).
+    """
+    fl = LoopField(form)
+    return _try(form, fl, U, fl.singular())[0]
+
+
+def _try(form: ImplicitLoop, fl: LoopField, U: float, sing: tuple[float, float]
          ) -> tuple[dict[str, Any] | None, int]:
     tried = 0
     for params in PARAMETERS:
@@ -215,7 +246,7 @@ def region_certificate(form: ImplicitLoop, U_hi: float
         The certificate (``check_region`` passed) and the number of polygons built.
     """
     try:
-        fl = _Field(form)
+        fl = LoopField(form)
     except ValueError:
         return None, 0
     sing = fl.singular()

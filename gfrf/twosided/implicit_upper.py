@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 
 from gfrf.stability.implicit import ImplicitLoop
-from gfrf.stability.implicit_region import _Field
+from gfrf.stability.implicit_region import LoopField
 
 __all__ = ["ImplicitWitness", "implicit_witness", "SINGULAR_LEVEL", "HORIZON"]
 
@@ -87,7 +87,7 @@ class ImplicitWitness:
 
 class _Runs:
     def __init__(self, form: ImplicitLoop):
-        self.fl = _Field(form)
+        self.fl = LoopField(form)
         self.sing = self.fl.singular()
         self.q0 = self.fl.qf(0.0)
         self.count = 0

@@ -204,12 +204,14 @@ def _implicit_lower(mf: ModelFile, theorem_certificate: Certificate) -> LowerSid
     coefficient, an improper polynomial controller): an exactly checked invariant
     polygon, in the class of bounded plant-input signals d (d = C r for a loop)."""
     from gfrf.stability.implicit import implicit_form
+    from gfrf.stability.implicit_check import polygon_parts
     from gfrf.stability.implicit_region import region_certificate
     from gfrf.stability.polysys import StateFormError
 
     try:
         form = implicit_form(mf)
-    except StateFormError:
+        polygon_parts(form)  # the polygon needs 2 states, D of y alone, R affine in d
+    except (StateFormError, ValueError):
         return None
     linf = IMPROPER_LOWER_CLASS if form.loop else LINF_LOWER_CLASS
     cap = _static_cap(form)
@@ -241,10 +243,10 @@ def _implicit_lower(mf: ModelFile, theorem_certificate: Certificate) -> LowerSid
 def _static_cap(form: Any) -> float | None:
     """The search cap: the constant input whose equilibrium reaches the singular set
     (no polygon can hold beyond it), or None when the form does not fit."""
-    from gfrf.stability.implicit_region import _Field
+    from gfrf.stability.implicit_region import LoopField
 
     try:
-        fl = _Field(form)
+        fl = LoopField(form)
     except ValueError:
         return None
     ys = fl.singular()[1]

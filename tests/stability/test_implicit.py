@@ -12,7 +12,7 @@ from scipy.integrate import solve_ivp
 from gfrf.model.modelfile import load_model
 from gfrf.stability.implicit import implicit_form
 from gfrf.stability.implicit_check import check_region
-from gfrf.stability.implicit_region import _Field, _try
+from gfrf.stability.implicit_region import certificate_at
 from gfrf.stability.polysys import StateFormError
 from tests.conftest import MODELS
 
@@ -42,8 +42,7 @@ def cartpole():
 
 @pytest.fixture(scope="module")
 def certificate(cartpole):
-    fl = _Field(cartpole)
-    cert, _ = _try(cartpole, fl, 100.0, fl.singular())
+    cert = certificate_at(cartpole, 100.0)
     assert cert is not None
     return cert
 
