@@ -40,7 +40,7 @@ VERTICES = 500
 BISECTIONS = 9
 #: (turn angle, where right of y_+ the corner lies as a fraction of (y_D - y_+), where
 #: the biased equilibrium lies as a fraction of that, eta as a fraction of max |v|).
-PARAMETERS = tuple(itertools.product((1e-4,), (0.6, 0.8, 0.3), (0.5,), (1e-3,)))
+PARAMETERS = tuple(itertools.product((1e-4,), (0.97, 0.6, 0.3), (0.5,), (1e-3,)))
 #: Steps of the chain integration at most.
 MAX_STEPS = 200_000
 _ROUND = 2**44
