@@ -534,6 +534,10 @@ def check_certificate(model: Any, certificate: dict[str, Any] | str | Path) -> C
             raise ArgumentError("certificate file is not JSON: nested too deeply") from None
         if not isinstance(certificate, dict):
             raise ArgumentError("certificate file must hold a JSON object")
+    from gfrf.stability.implicit_check import FORMAT as IMPLICIT_FORMAT
+
+    if certificate.get("format") == IMPLICIT_FORMAT:
+        return _check_implicit(model, certificate)
     try:
         system = state_form(model)
     except StateFormError as exc:
@@ -560,3 +564,30 @@ def check_certificate(model: Any, certificate: dict[str, Any] | str | Path) -> C
     return CertificateCheck(valid=not reason, reason=str(reason), kind=kind,
                             radius=radius if not reason else 0.0,
                             property=prop if not reason else "", state_map=system.map_text())
+
+
+def _check_implicit(model: Any, certificate: dict[str, Any]) -> CertificateCheck:
+    """Re-verify an invariant polygon of an implicit loop (:mod:`gfrf.stability.implicit_check`)."""
+    from gfrf.errors import ArgumentError
+    from gfrf.stability.implicit import implicit_form
+    from gfrf.stability.implicit_check import check_region
+    from gfrf.stability.polysys import StateFormError
+
+    try:
+        form = implicit_form(model)
+    except StateFormError as exc:
+        raise ArgumentError(f"the model has no implicit state form: {exc}") from None
+    reason = check_region(form, certificate)
+    if reason.startswith("malformed certificate"):
+        raise ArgumentError(reason)
+    radius = 0.0
+    if not reason:
+        U = q(certificate["U"])
+        radius = float(U) if Fraction(float(U)) <= U else math.nextafter(float(U), 0.0)
+    return CertificateCheck(valid=not reason, reason=reason, kind=str(certificate["kind"]),
+                            radius=radius,
+                            property="" if reason else (
+                                "bounded: every solution from rest under every input with "
+                                f"sup|v| <= U (v = {form.input_name}) stays in the polygon"),
+                            state_map=f"D(x) y'' + R(x, v) = 0, x = ({', '.join(form.states)})"
+                                      f", v = {form.input_name}")

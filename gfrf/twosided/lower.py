@@ -12,6 +12,7 @@ decided exactly, answers ``lower = upper = 0``.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -28,6 +29,12 @@ LINF_LOWER_CLASS = ("every input u(t) with sup|u| <= lower (L-infinity, any shap
 LOOP_LOWER_CLASS = ("every reference r(t) with sup|r| <= lower (L-infinity), loop "
                     "u = C(r - y), from rest")
 SOS_METHOD = "sum-of-squares storage function V (exact rational check)"
+#: The class of a loop with an improper polynomial controller: d = C r enters the plant
+#: exactly as a plant-input signal, so the bound is on C r, not on r.
+IMPROPER_LOWER_CLASS = ("every reference r(t) with sup|C(s) r| <= lower (equivalently every "
+                        "plant-input signal d = C r with sup|d| <= lower), loop u = C(r - y) "
+                        "= d - C y, from rest")
+REGION_METHOD = "invariant polygon of the implicit loop (exact rational check)"
 #: Classes that count for the top-level lower.
 _LINF_PROOFS = ("exact", "interval")
 
@@ -52,15 +59,22 @@ class LowerSide(Result):
     files : dict
         The re-checkable file (exact rationals, ``gfrf certificate check``) of each
         verified certificate that has one, by method.
+    input_class : str or None
+        The class of the top-level lower when it is not the model's usual one (a loop
+        with an improper controller: :data:`IMPROPER_LOWER_CLASS`).
+    implicit : Any
+        The implicit form (:class:`gfrf.stability.implicit.ImplicitLoop`) behind it.
     """
 
-    _exclude = ("best", "sos", "files")
+    _exclude = ("best", "sos", "files", "implicit")
 
     certificates: tuple[Certificate, ...]
     best: Certificate | None
     unstable: str | None = None
     sos: Any = None
     files: dict[str, dict[str, Any]] = field(default_factory=dict, repr=False)
+    input_class: str | None = None
+    implicit: Any = field(default=None, repr=False)
 
     @property
     def best_file(self) -> dict[str, Any] | None:
@@ -133,6 +147,9 @@ def lower_side(mf: ModelFile, theorem_certificate: Certificate) -> LowerSide:
         why_not = ""
     except StateFormError as exc:
         system, why_not = None, f"no polynomial state form: {exc}"
+        implicit = _implicit_lower(mf, theorem_certificate)
+        if implicit is not None:
+            return implicit
     unstable = _unstable(mf, system)
     if unstable is not None:
         return LowerSide(certificates=tuple(certs), best=None, unstable=unstable)
@@ -179,3 +196,62 @@ def lower_side(mf: ModelFile, theorem_certificate: Certificate) -> LowerSide:
     proven = [c for c in certs[1:] if c.proof in _LINF_PROOFS and c.radius > 0]
     best = max(proven, key=lambda c: c.radius, default=None)
     return LowerSide(certificates=tuple(certs), best=best, sos=sos, files=files)
+
+
+def _implicit_lower(mf: ModelFile, theorem_certificate: Certificate) -> LowerSide | None:
+    """The lower side of a loop with no polynomial state form but an implicit one
+    (:mod:`gfrf.stability.implicit`: the highest derivative with a polynomial
+    coefficient, an improper polynomial controller): an exactly checked invariant
+    polygon, in the class of bounded plant-input signals d (d = C r for a loop)."""
+    from gfrf.stability.implicit import implicit_form
+    from gfrf.stability.implicit_check import polygon_parts
+    from gfrf.stability.implicit_region import region_certificate
+    from gfrf.stability.polysys import StateFormError
+
+    try:
+        form = implicit_form(mf)
+        polygon_parts(form)  # the polygon needs 2 states, D of y alone, R affine in d
+    except (StateFormError, ValueError):
+        return None
+    linf = IMPROPER_LOWER_CLASS if form.loop else LINF_LOWER_CLASS
+    cap = _static_cap(form)
+    cert, work = region_certificate(form, cap) if cap is not None else (None, 0)
+    if cert is None:
+        c = Certificate(REGION_METHOD, 0.0, "none", linf,
+                        f"not applicable: no polygon passed the exact check ({work} built)")
+        return LowerSide(certificates=(theorem_certificate, c), best=None,
+                         input_class=linf, implicit=form)
+    from fractions import Fraction
+
+    from gfrf.stability.implicit_check import bound
+
+    U = Fraction(cert["U"])
+    radius = float(U) if Fraction(float(U)) <= U else math.nextafter(float(U), 0.0)
+    ymax, vmax = bound(cert)
+    detail = (f"D(x) y'' + R(x, d) = 0 with x = ({', '.join(form.states)}), d = "
+              f"{form.input_name}; a polygon of {len(cert['vertices'])} vertices with "
+              f"|y| <= {ymax:.6g}, |y'| <= {vmax:.6g} is invariant for every |d| <= {cert['U']}"
+              f" and D stays away from 0 on it ({work} polygons built; edges, simplicity "
+              "and D re-checked in exact rational arithmetic)")
+    c = Certificate(REGION_METHOD, radius, "exact", linf, detail,
+                    "bounded: every solution from rest stays in the invariant polygon "
+                    "(not: returns to the equilibrium)")
+    return LowerSide(certificates=(theorem_certificate, c), best=c,
+                     files={REGION_METHOD: cert}, input_class=linf, implicit=form)
+
+
+def _static_cap(form: Any) -> float | None:
+    """The search cap: the constant input whose equilibrium reaches the singular set
+    (no polygon can hold beyond it), or None when the form does not fit."""
+    from gfrf.stability.implicit_region import LoopField
+
+    try:
+        fl = LoopField(form)
+    except ValueError:
+        return None
+    ys = fl.singular()[1]
+    if not math.isfinite(ys):
+        return None
+    y = ys * (1 - 1e-9)
+    g1 = fl.g1(y, 0.0)
+    return abs(fl.g0(y, 0.0) / g1) if g1 else None

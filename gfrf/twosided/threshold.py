@@ -25,7 +25,12 @@ from gfrf.model.modelfile import ModelFile, resolve_model
 from gfrf.model.safetext import markdown_text
 from gfrf.stability.energy import Certificate
 from gfrf.twosided.falsify import CAP_FACTOR, Falsification, falsify
-from gfrf.twosided.lower import LINF_LOWER_CLASS, LOOP_LOWER_CLASS, lower_side
+from gfrf.twosided.lower import (
+    IMPROPER_LOWER_CLASS,
+    LINF_LOWER_CLASS,
+    LOOP_LOWER_CLASS,
+    lower_side,
+)
 
 __all__ = ["Threshold", "threshold", "THEOREM_CLASS"]
 
@@ -45,7 +50,10 @@ UPPER_METHOD = {
     "switching": "falsifier: switching input u = +-U (sup|u| = U) from rest escapes",
     "chirp": "falsifier: chirp A cos(w0 t + k t^2) (sup|u| = A) from rest escapes",
     "tones": "falsifier: sum of tones switched on at t = 0 from rest escapes "
-             "(amplitude = sum of tone amplitudes)"}
+             "(amplitude = sum of tone amplitudes)",
+    "implicit": "falsifier: switching plant-input signal d = +-U (sup|d| = U; d = C r) from "
+                "rest reaches the singular set D(y) = 0 of the loop, where y'' = -R/D is "
+                "unbounded"}
 
 
 @dataclass(frozen=True)
@@ -104,6 +112,7 @@ class Threshold:
     unstable: str | None = None
     sos: Any = field(default=None, repr=False)
     certificate_file: dict[str, Any] | None = field(default=None, repr=False)
+    d_witness: Any = field(default=None, repr=False)
 
     @property
     def tone_radius(self) -> float:
@@ -117,6 +126,8 @@ class Threshold:
         "unstable-pole", "reason": ...}`` for an unstable equilibrium, or None."""
         if self.unstable is not None:
             return {"kind": "unstable-pole", "reason": self.unstable}
+        if self.d_witness is not None and self.upper:
+            return dict(self.d_witness.witness())
         return self.falsification.witness() if self.falsification and self.upper else None
 
     @property
@@ -127,6 +138,8 @@ class Threshold:
         if self.unstable is not None:
             return f"unstable at every {signal}: {self.unstable}"
         what = "every reference with sup|r|" if self.theorem == 2 else "every input with sup|u|"
+        if self.lower_class == IMPROPER_LOWER_CLASS:
+            what = "every reference with sup|C r| (a plant-input signal d = C r)"
         if math.isinf(self.lower):
             return f"bounded for every bounded input ({proof}: {self.lower_method})"
         low = (f"stable for {what} below {self.lower:.6g} ({proof}: {self.lower_method})"
@@ -138,6 +151,7 @@ class Threshold:
             return f"{low}; unknown above (no escaping input found)"
         measure = (("sup|r|" if self.lower_class == LOOP_LOWER_CLASS else "sup|u|")
                    if self.falsification and self.falsification.kind in ("switching", "chirp")
+                   else "sup|d| = sup|C r|" if self.d_witness is not None
                    else "sum of tone amplitudes")
         return (f"{low}; unstable at {self.upper:.6g} ({measure}: a witness escapes, "
                 f"{self.upper_proof_words}); unknown in between")
@@ -232,6 +246,12 @@ class Threshold:
         f = self.falsification
         lines = [self.name] if self.name else []
         lines.append(self.answer)
+        if self.d_witness is not None and self.upper is not None:
+            w = self.d_witness
+            lines.append(f"witness (switching, the plant-input signal d = C r of the loop): "
+                         f"{w.text('d')}, from rest at t = 0, reaches the singular set "
+                         f"D(y) = 0 at t = {w.t_escape:.6g} s (simulation, estimate-grade; "
+                         "DOP853 at two tolerances agree)")
         if f is not None and self.upper is not None:
             where = (f"enters the escape region {f.region.text()}" if f.region is not None
                      else "leaves the escape levels")
@@ -313,7 +333,13 @@ def threshold(model: ModelFile | Model, *, order: int = 5, prove: bool = True,
     falsification = None
     upper = 0.0 if side.unstable is not None else None
     enclosure = None
-    if not math.isinf(lower) and side.unstable is None:
+    d_witness = None
+    if side.implicit is not None and not math.isinf(lower):
+        from gfrf.twosided.implicit_upper import implicit_witness
+
+        d_witness = implicit_witness(side.implicit, lower) if lower > 0 else None
+        upper = d_witness.amplitude if d_witness is not None else None
+    elif not math.isinf(lower) and side.unstable is None:
         # the cap from the finite scales only (a linear model's radii are infinite)
         ref = max((x for x in (static_bound, float(v.radius))
                    if x is not None and 0 < x < math.inf), default=1.0)
@@ -335,9 +361,11 @@ def threshold(model: ModelFile | Model, *, order: int = 5, prove: bool = True,
         upper_method=(None if upper is None
                       else "unstable equilibrium (exact pole location)"
                       if side.unstable is not None
+                      else UPPER_METHOD["implicit"] if d_witness is not None
                       else UPPER_METHOD.get(falsification.kind or "")
                       if falsification is not None else None),
         certificates=tuple(certs), falsification=falsification, enclosure=enclosure,
         static_bound=static_bound, theorem=v.theorem,
-        lower_class=LOOP_LOWER_CLASS if closed else LINF_LOWER_CLASS,
-        unstable=side.unstable, sos=side.sos, certificate_file=side.best_file)
+        lower_class=side.input_class or (LOOP_LOWER_CLASS if closed else LINF_LOWER_CLASS),
+        unstable=side.unstable, sos=side.sos, certificate_file=side.best_file,
+        d_witness=d_witness)

@@ -1,0 +1,276 @@
+"""The search of an invariant polygon for a second-order implicit loop (a proposal that
+:func:`gfrf.stability.implicit_check.check_region` then re-verifies exactly).
+
+For the loop D(y) y'' + R(y, y', d) = 0 (:mod:`gfrf.stability.implicit`) and a bound U:
+
+* the equilibria y_+ and y_- under the constant inputs d = +U and d = -U are found on
+  the axis y' = 0 (bisection between 0 and the nearest zero y_D of D);
+* the upper chain is a trajectory, in the rescaled time of g = (q v, -s R) (polynomial,
+  no singularity), of the *outward-biased worst field*: the d = +-U that maximises v'
+  at each point, its direction turned outward by a small angle and lifted by a constant
+  that moves its equilibrium beyond y_+; it starts at (y_L, eta) left of y_- and stops
+  where it reaches v = 0 right of y_+; the lower chain is the mirror construction from
+  (y_R, -eta) right of y_+ with the d that minimises v';
+* the two chains, sampled by arc length, are the polygon.  A true solution under any
+  |d| <= U crosses a biased trajectory only inward; the bias pays for the chords.
+
+The largest U is found by bisection between a proven value and ``U_hi`` (a witness's
+amplitude) on a fixed grid of bias parameters.  The work is bounded by counts
+(bisection steps, parameter sets, vertices, the integrator's step cap), never by time.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from fractions import Fraction
+from typing import Any
+
+import numpy as np
+
+from gfrf.stability.implicit import ImplicitLoop
+from gfrf.stability.implicit_check import FORMAT, KIND, check_region, polygon_parts
+
+__all__ = ["region_certificate", "certificate_at", "LoopField", "VERTICES", "BISECTIONS",
+           "PARAMETERS"]
+
+#: Vertices per chain.
+VERTICES = 500
+#: Bisection steps on U.
+BISECTIONS = 9
+#: (turn angle, where right of y_+ the corner lies as a fraction of (y_D - y_+), where
+#: the biased equilibrium lies as a fraction of that, eta as a fraction of max |v|).
+PARAMETERS = tuple(itertools.product((1e-4,), (0.97, 0.6, 0.3), (0.5,), (1e-3,)))
+#: Steps of the chain integration at most.
+MAX_STEPS = 200_000
+_ROUND = 2**44
+
+
+class LoopField:
+    """q, -s R0, -s R1 of a second-order implicit loop evaluated in floats (estimates:
+    for the search and for simulation, never for the check).
+
+    Parameters
+    ----------
+    form : ImplicitLoop
+        The loop; ValueError when it does not fit (see
+        :func:`gfrf.stability.implicit_check.polygon_parts`).
+    """
+
+    def __init__(self, form: ImplicitLoop):
+        q, r0, r1 = polygon_parts(form)
+        self.q = [(k[0], float(c)) for k, c in q.items()]
+        self.r0 = [(k, float(c)) for k, c in r0.items()]
+        self.r1 = [(k, float(c)) for k, c in r1.items()]
+
+    def qf(self, y: float) -> float:
+        """q(y) = s D(y) (positive near the equilibrium) at the output value ``y``."""
+        return sum(c * y**i for i, c in self.q)
+
+    def g0(self, y: float, v: float) -> float:
+        """-s R(y, v, 0) at the state (y, v = y')."""
+        return sum(c * y**i * v**j for (i, j), c in self.r0)
+
+    def g1(self, y: float, v: float) -> float:
+        """The coefficient of d in -s R at the state (y, v = y')."""
+        return sum(c * y**i * v**j for (i, j), c in self.r1)
+
+    def singular(self) -> tuple[float, float]:
+        """(nearest zero of q left of 0, right of 0); +-inf when none within 1e6."""
+        out = []
+        for sgn in (-1.0, 1.0):
+            hi = 1.0
+            while self.qf(sgn * hi) > 0 and hi < 1e6:
+                hi *= 2
+            if self.qf(sgn * hi) > 0:
+                out.append(sgn * math.inf)
+                continue
+            lo = 0.0
+            for _ in range(80):
+                mid = (lo + hi) / 2
+                lo, hi = (mid, hi) if self.qf(sgn * mid) > 0 else (lo, mid)
+            out.append(sgn * lo)
+        return out[0], out[1]
+
+    def equilibrium(self, U: float, sgn: int, edge: float) -> float | None:
+        """The first root of g0 + sgn U g1 on the axis v = 0 from 0 towards ``edge``."""
+        f = [self.g0(0, 0) + sgn * U * self.g1(0, 0)]
+        if not math.isfinite(edge):
+            return None
+        ys = np.linspace(0, edge, 4001)[1:]
+        prev = f[0] if f[0] != 0 else sgn * 1.0
+        for a, b in zip(np.concatenate(([0.0], ys[:-1])), ys, strict=True):
+            val = self.g0(b, 0) + sgn * U * self.g1(b, 0)
+            if (val > 0) != (prev > 0):
+                lo, hi = a, b
+                for _ in range(80):
+                    mid = (lo + hi) / 2
+                    vm = self.g0(mid, 0) + sgn * U * self.g1(mid, 0)
+                    lo, hi = (mid, hi) if (vm > 0) == (prev > 0) else (lo, mid)
+                return lo
+            prev = val
+        return None
+
+
+def _chain(fl: LoopField, U: float, start: tuple[float, float], sgn: int, angle: float,
+           lift: float, scale: tuple[float, float]) -> np.ndarray | None:
+    from scipy.integrate import solve_ivp
+
+    Y, V = scale
+    ca, sa = math.cos(angle), math.sin(angle)
+
+    def rhs(_t: float, x: np.ndarray) -> list[float]:
+        y, v = float(x[0]), float(x[1])
+        g1 = fl.qf(y) * v
+        g2 = fl.g0(y, v) + sgn * U * abs(fl.g1(y, v))
+        a, b = g1 / Y, g2 / V
+        return [(ca * a - sa * b) * Y, (sa * a + ca * b) * V + sgn * lift]
+
+    def cross(_t: float, x: np.ndarray) -> float:
+        return float(x[1])
+
+    cross.terminal = True  # type: ignore[attr-defined]
+    cross.direction = -sgn  # type: ignore[attr-defined]
+    with np.errstate(all="ignore"):
+        sol = solve_ivp(rhs, (0.0, 1e6), list(start), method="LSODA", rtol=1e-10, atol=1e-13,
+                        events=cross, dense_output=True)
+    if sol.status != 1 or not np.all(np.isfinite(sol.y)):
+        return None
+    tt = np.linspace(sol.t[0], sol.t[-1], 40 * VERTICES + 1)
+    X = sol.sol(tt).T
+    seg = np.linalg.norm(np.diff(X / np.array([Y, V]), axis=0), axis=1)
+    arc = np.concatenate(([0.0], np.cumsum(seg)))
+    idx = np.unique(np.clip(np.searchsorted(arc, np.linspace(0, arc[-1], VERTICES)), 0,
+                            len(X) - 1))
+    pts = X[idx]
+    pts[-1] = X[-1]
+    pts[-1, 1] = 0.0
+    return pts
+
+
+def _polygon(fl: LoopField, U: float, sing: tuple[float, float], params: tuple[float, ...]
+             ) -> list[tuple[float, float]] | None:
+    angle, frac, mfrac, eta = params
+    yp = fl.equilibrium(U, 1, sing[1])
+    ym = fl.equilibrium(U, -1, sing[0])
+    if yp is None or ym is None or not yp > 0 > ym:
+        return None
+    yL, yR = ym + (sing[0] - ym) * frac, yp + (sing[1] - yp) * frac
+    ys_r, ys_l = yp + (yR - yp) * mfrac, ym + (yL - ym) * mfrac
+    lift_u = -(fl.g0(ys_r, 0) + U * abs(fl.g1(ys_r, 0)))
+    lift_l = fl.g0(ys_l, 0) - U * abs(fl.g1(ys_l, 0))
+    if not (lift_u > 0 and lift_l > 0):
+        return None
+    Y = max(abs(yL), abs(yR))
+    first = _chain(fl, U, (yL, 1e-3), 1, 0.0, lift_u, (Y, 1.0))
+    if first is None:
+        return None
+    V = float(np.max(np.abs(first[:, 1])))
+    up = _chain(fl, U, (yL, eta * V), 1, angle, lift_u, (Y, V))
+    lo = _chain(fl, U, (yR, -eta * V), -1, angle, lift_l, (Y, V))
+    if up is None or lo is None or not (up[-1, 0] < yR and lo[-1, 0] > yL):
+        return None
+    return [(float(a), float(b)) for a, b in np.concatenate((up, lo))]
+
+
+def _sampled_ok(fl: LoopField, U: float, P: list[tuple[float, float]]) -> bool:
+    """The edge condition on 5 points per edge (floats: a filter before the exact check)."""
+    A = np.array(P)
+    B = np.roll(A, -1, axis=0)
+    for t in np.linspace(0, 1, 5):
+        X = A + t * (B - A)
+        e = B - A
+        for (y, v), (ey, ev) in zip(X, e, strict=True):
+            val = -ev * fl.qf(y) * v + ey * fl.g0(y, v)
+            if val + U * abs(ey * fl.g1(y, v)) >= 0:
+                return False
+    return True
+
+
+def _exact(form: ImplicitLoop, U: float, P: list[tuple[float, float]]
+           ) -> dict[str, Any] | None:
+    Ur = Fraction(U).limit_denominator(2**20)
+    verts = [[str(Fraction(round(y * _ROUND), _ROUND)), str(Fraction(round(v * _ROUND), _ROUND))]
+             for y, v in P]
+    cert = {"format": FORMAT, "version": 1, "kind": KIND, "states": list(form.states),
+            "input": form.input_name, "U": str(Ur), "vertices": verts}
+    return cert if check_region(form, cert) == "" else None
+
+
+def certificate_at(form: ImplicitLoop, U: float) -> dict[str, Any] | None:
+    """An exactly verified invariant polygon for the bound U, or None.
+
+    Parameters
+    ----------
+    form : ImplicitLoop
+        A second-order implicit loop.
+    U : float
+        The input bound.
+
+    Returns
+    -------
+    dict or None
+        The certificate (``check_region`` passed).
+    """
+    fl = LoopField(form)
+    return _try(form, fl, U, fl.singular())[0]
+
+
+def _try(form: ImplicitLoop, fl: LoopField, U: float, sing: tuple[float, float]
+         ) -> tuple[dict[str, Any] | None, int]:
+    tried = 0
+    for params in PARAMETERS:
+        P = _polygon(fl, U, sing, params)
+        tried += 1
+        if P is not None and _sampled_ok(fl, U, P):
+            cert = _exact(form, U, P)
+            if cert is not None:
+                return cert, tried
+    return None, tried
+
+
+def region_certificate(form: ImplicitLoop, U_hi: float
+                       ) -> tuple[dict[str, Any] | None, int]:
+    """The largest-U exactly verified invariant polygon found below ``U_hi``.
+
+    Parameters
+    ----------
+    form : ImplicitLoop
+        A second-order implicit loop (D of y alone, R affine in d).
+    U_hi : float
+        Where to stop: an input bound known to fail (a witness), or a search cap.
+
+    Returns
+    -------
+    (dict or None, int)
+        The certificate (``check_region`` passed) and the number of polygons built.
+    """
+    try:
+        fl = LoopField(form)
+    except ValueError:
+        return None, 0
+    sing = fl.singular()
+    best: dict[str, Any] | None = None
+    work = 0
+    lo, hi = 0.0, float(U_hi)
+    U = hi / 64
+    # halve from U_hi / 64 until one passes, then bisect between it and U_hi
+    for _ in range(12):
+        cert, k = _try(form, fl, U, sing)
+        work += k
+        if cert is not None:
+            best, lo = cert, U
+            break
+        hi, U = U, U / 2
+    if best is None:
+        return None, work
+    hi = float(U_hi)
+    for _ in range(BISECTIONS):
+        U = (lo + hi) / 2
+        cert, k = _try(form, fl, U, sing)
+        work += k
+        if cert is not None:
+            best, lo = cert, U
+        else:
+            hi = U
+    return best, work
