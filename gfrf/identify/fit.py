@@ -42,7 +42,7 @@ from gfrf.identify.narx import _lead, narx_model
 from gfrf.identify.noise import extended_least_squares, regressors, residuals
 from gfrf.identify.operating import equilibrium, round_significant, shift
 from gfrf.identify.output_error import output_error_covariance, recurse, refine, warm_up
-from gfrf.identify.prune import Pruning, covariance, prune_and_refit
+from gfrf.identify.prune import WINDOW, Pruning, covariance, prune_and_refit
 from gfrf.identify.result import Identification
 from gfrf.identify.spread import DRAWS, RadiusSpread, radius, radius_spread
 from gfrf.identify.structure import revise_lags
@@ -390,8 +390,11 @@ def _identify(y: Any, u: Any, sample_time: float, *, ylag: int | None,
                                                   u[:n_fit] - cu, lag, ylag,
                                                   candidate_keys(ylag, ulag, degree))
             if swaps:
+                end = n_train + lag + WINDOW  # the pruning's window
                 pruning = replace(pruning, removed=pruning.removed + tuple(a for a, _ in swaps),
-                                  added=tuple(b for _, b in swaps))
+                                  added=tuple(b for _, b in swaps),
+                                  pruned_error=held_out_rrse(theta, yc[:end], uc[:end],
+                                                             n_train, lag))
     constant = theta.get(((), ()))
     y0c = 0.0 if constant is None else equilibrium(theta, 0.0, mean_y - cy)
     model, about = _about(theta, mean_y - cy, sample_time, output, input)
