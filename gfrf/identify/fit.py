@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -41,10 +42,11 @@ from gfrf.identify.narx import _lead, narx_model
 from gfrf.identify.noise import extended_least_squares, regressors, residuals
 from gfrf.identify.operating import equilibrium, round_significant, shift
 from gfrf.identify.output_error import output_error_covariance, recurse, refine, warm_up
-from gfrf.identify.prune import Pruning, covariance, prune_and_refit
+from gfrf.identify.prune import WINDOW, Pruning, covariance, prune_and_refit
 from gfrf.identify.result import Identification
 from gfrf.identify.spread import DRAWS, RadiusSpread, radius, radius_spread
 from gfrf.identify.structure import revise_lags
+from gfrf.identify.swap import swap_lags
 from gfrf.identify.threads import one_blas_thread
 from gfrf.identify.validate import (
     FREE_RUN_LIMIT,
@@ -383,6 +385,16 @@ def _identify(y: Any, u: Any, sample_time: float, *, ylag: int | None,
             theta, noise_terms, kind, y[:n_fit] - cy, u[:n_fit] - cu, yc[n_train - w:],
             uc[n_train - w:], lag, ylag, floor >= PRECISE_FIT, w,
             lambda th: _score(th, mean_y - cy, sample_time, output, input))
+        if floor >= PRECISE_FIT:  # FROLS ranked the lags on noisy outputs
+            theta, noise_terms, swaps = swap_lags(theta, noise_terms, kind, y[:n_fit] - cy,
+                                                  u[:n_fit] - cu, lag, ylag,
+                                                  candidate_keys(ylag, ulag, degree))
+            if swaps:
+                end = n_train + lag + WINDOW  # the pruning's window
+                pruning = replace(pruning, removed=pruning.removed + tuple(a for a, _ in swaps),
+                                  added=tuple(b for _, b in swaps),
+                                  pruned_error=held_out_rrse(theta, yc[:end], uc[:end],
+                                                             n_train, lag))
     constant = theta.get(((), ()))
     y0c = 0.0 if constant is None else equilibrium(theta, 0.0, mean_y - cy)
     model, about = _about(theta, mean_y - cy, sample_time, output, input)

@@ -14,6 +14,9 @@ regressor, the band cannot tell them apart, and a pair that nearly cancels adds 
 magnitudes to the majorant of r*.  Each group of terms with the same input factors and
 the same degree in the output is replaced by the one of its members whose refitted
 model stays within the band with the largest score, when that beats the model's.
+An output-error trial starts from the group's coefficients summed on the member kept
+(:func:`carried`): from that member's own coefficient alone, the model can be far off
+or blow up, and a trial's few steps do not recover.
 Merges are tried on noisy data only (:func:`prune_and_refit`): a noise-free record
 identifies the true terms, and a merge would only trade accuracy for r*.  The band is
 paired: the squared free-run errors of the candidate and of the full model are
@@ -45,8 +48,8 @@ from gfrf.identify.noise import regressors
 from gfrf.identify.output_error import recurse
 
 __all__ = ["Pruning", "prune", "free_run_residual", "t_statistics", "covariance",
-           "refitter", "prune_and_refit", "WINDOW", "MAX_REFITS", "MAX_WORK", "MAX_TERMS",
-           "SIGNIFICANT", "BLOCKS", "Z", "TOLERANCE", "CAP"]
+           "refitter", "carried", "prune_and_refit", "WINDOW", "MAX_REFITS", "MAX_WORK",
+           "MAX_TERMS", "SIGNIFICANT", "BLOCKS", "Z", "TOLERANCE", "CAP"]
 
 Key = tuple[tuple[int, ...], tuple[int, ...]]
 #: Held-out samples each trial free run simulates (the first ones).
@@ -144,6 +147,9 @@ class Pruning(Result):
     ----------
     removed : tuple of str
         The monomials removed, in order.
+    added : tuple of str
+        Candidates swapped in for a term of their collinear group
+        (:func:`gfrf.identify.swap.swap_lags`; the terms they replaced are in ``removed``).
     full_error, pruned_error : float
         Held-out free-run RRSE of the full and the pruned model on the window.
     refits : int
@@ -156,6 +162,7 @@ class Pruning(Result):
     """
 
     removed: tuple[str, ...]
+    added: tuple[str, ...] = ()
     full_error: float
     pruned_error: float
     refits: int
@@ -171,6 +178,8 @@ class Pruning(Result):
         """One line for the text output."""
         what = (f"removed {len(self.removed)} term(s) ({', '.join(self.removed)})"
                 if self.removed else "removed no term")
+        if self.added:
+            what += f", swapped in {', '.join(self.added)}"
         stop = "" if self.complete else (f" (stopped at a work limit: {MAX_REFITS} refits, "
                                          f"{MAX_WORK:.3g} term-samples, {MAX_TERMS} terms)")
         return (f"pruning: {what}: held-out free-run RRSE {self.pruned_error:.4g} against "
@@ -212,9 +221,15 @@ def _collinear_groups(theta: dict[Key, float]) -> list[list[Key]]:
     the output (nearly the same regressor when the output changes little per sample)."""
     groups: dict[tuple[int, tuple[int, ...]], list[Key]] = {}
     for key in theta:
-        if key[0] and len(key[0]) + len(key[1]) > 1:
-            groups.setdefault((len(key[0]), key[1]), []).append(key)
+        if (group := _group(key)) is not None:
+            groups.setdefault(group, []).append(key)
     return [g for g in groups.values() if len(g) > 1]
+
+
+def _group(key: Key) -> tuple[int, tuple[int, ...]] | None:
+    """The collinear group of a nonlinear term with output factors: (output degree, input
+    lags); None for the others."""
+    return (len(key[0]), key[1]) if key[0] and len(key[0]) + len(key[1]) > 1 else None
 
 
 def _within(trial: np.ndarray, full: np.ndarray, scale: float) -> bool:
@@ -369,9 +384,35 @@ def refitter(kind: str, y: np.ndarray, u: np.ndarray, lag: int, order: int,
         return lambda keys: extended_least_squares(keys, y, u, lag, order,
                                                    TRIAL_ELS_ITERATIONS)[0]
     if kind == "output error":
-        return lambda keys: refine({k: start[k] for k in keys}, y, u, lag,
+        return lambda keys: refine(carried(start, keys), y, u, lag,
                                    TRIAL_OE_EVALUATIONS * (len(keys) + 1), TRIAL_OE_WINDOW)
     return least_squares
+
+
+def carried(start: dict[Key, float], keys: list[Key]) -> dict[Key, float]:
+    """The coefficients of ``start`` on ``keys``, each term of ``start`` left out added to
+    the first of ``keys`` in its collinear group (:func:`_group`), if any.
+
+    Nearly collinear regressors act as one: a pair that nearly cancels (``-0.0071
+    y[k-1]**2 + 0.0041 y[k-2]**2``) is one term of their sum's size, and a few
+    Levenberg-Marquardt steps from the kept member's own coefficient alone end far from
+    the optimum they would reach from the sum.
+
+    Parameters
+    ----------
+    start : dict
+        The coefficients of the larger model.
+    keys : list
+        The terms kept (those not in ``start`` start at 0).
+    """
+    theta = {k: start.get(k, 0.0) for k in keys}
+    for key, value in start.items():
+        if key not in theta:
+            group = _group(key)
+            home = next((k for k in keys if group is not None and _group(k) == group), None)
+            if home is not None:
+                theta[home] += value
+    return theta
 
 
 def prune_and_refit(theta: dict[Key, float], noise: tuple[float, ...], kind: str,

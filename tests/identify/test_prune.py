@@ -4,7 +4,7 @@ monomials that are nearly the same regressor on fast sampling."""
 import numpy as np
 
 from gfrf.identify.noise import regressors
-from gfrf.identify.prune import _collinear_groups, prune
+from gfrf.identify.prune import _collinear_groups, carried, free_run_residual, prune, refitter
 
 SLOW = {((1,), ()): 1.9, ((2,), ()): -0.905, ((), (1,)): 0.01, ((1, 1, 1), ()): -0.002}
 
@@ -51,3 +51,26 @@ def test_a_near_cancelling_pair_is_merged_into_one_term():
     cubes = {k: v for k, v in pruned.items() if len(k[0]) == 3}
     assert len(cubes) == 1 and len(pruning.removed) >= 2
     assert abs(next(iter(cubes.values())) + 0.002) < 0.0005
+
+
+def test_carried_adds_a_left_out_term_to_its_group():
+    start = {((1,), ()): 1.9, ((1, 1), ()): -0.0071, ((2, 2), ()): 0.0041,
+             ((1,), (1,)): 0.2, ((2,), (2,)): 0.1}
+    theta = carried(start, [((1,), ()), ((1, 1), ()), ((1,), (1,))])
+    # y[k-2]**2 goes to y[k-1]**2 (same group); y[k-2]*u[k-2] has no member left
+    assert theta == {((1,), ()): 1.9, ((1, 1), ()): -0.0071 + 0.0041, ((1,), (1,)): 0.2}
+
+
+def test_an_output_error_trial_of_a_merged_pair_starts_from_their_sum():
+    """A split cube (0.010 y[k-1]**3 - 0.012 y[k-2]**3, sum the true -0.002) merged into
+    y[k-1]**3: from 0.010 alone the model softens and its free run blows up (no start for
+    Levenberg-Marquardt); from the sum, the refit reaches the true coefficient and
+    reproduces the noise-free output."""
+    u = 3 * np.random.default_rng(5).uniform(-1, 1, 3000)
+    y = _simulate(u)
+    split = dict(SLOW) | {((1, 1, 1), ()): 0.010, ((2, 2, 2), ()): -0.012}
+    refit = refitter("output error", y, u, 2, 2, split)
+    merged = refit([k for k in split if k != ((2, 2, 2), ())])
+    assert abs(merged[((1, 1, 1), ())] + 0.002) < 2e-4
+    residual = free_run_residual(merged, y, u, 2)
+    assert residual is not None and np.std(residual) < 0.05 * np.std(y)
