@@ -29,7 +29,7 @@ from gfrf.model.signals import parse_input
 from gfrf.model.template import model_template
 
 PACKAGE = Path(__file__).resolve().parent.parent / "gfrf"
-#: Seconds any refusal may take (the issue's bound is 5 s on this 2-core machine).
+#: Seconds any refusal may take (at most 5 s on a 2-core machine).
 BOUND = 5.0
 BASE = "D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"
 

@@ -54,7 +54,9 @@ class Threshold:
 
     ``to_dict`` stays written out: the contract is mostly derived values (the regions'
     ends, the answer, the proof words), a summary of the falsification search and the
-    certificates with their proof levels mapped to the contract's, not the fields.
+    certificates with their proof levels mapped to the contract's, not the fields.  Left
+    out: ``sos`` (summarised in ``certificates``) and ``certificate_file`` (what
+    ``--certificate-out`` writes).
 
     Attributes
     ----------
@@ -169,7 +171,7 @@ class Threshold:
     def upper_proof_words(self) -> str:
         """How the witness's escape was shown, in words."""
         if self.upper_proof == "interval":
-            return "proven"
+            return proof_word("interval")
         if self.falsification is not None and self.falsification.discrete:
             return "witnessed by the NARX recursion"
         return "witnessed"

@@ -145,7 +145,7 @@ def test_library_verdict_checks_order_first(monkeypatch: pytest.MonkeyPatch) -> 
         criteria.verdict(parse_model(STABLE), MAX_KERNEL_ORDER + 1)
 
 
-# -- levels of proof (issue 13 s4) ------------------------------------------------------
+# -- levels of proof ---------------------------------------------------------------------
 BETA = 1.0 / math.sqrt(2.0 - 0.25)  # ||H1|| of D(y,2) + D(y) + 2*y: 1/(b sqrt(c - b^2/4))
 
 

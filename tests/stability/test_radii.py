@@ -76,7 +76,7 @@ def test_pendulum_upper_bound_closed_form_and_estimate_inside() -> None:
     v = verdict(mf, order=3)
     assert v.radius_upper == pytest.approx(_pendulum_upper(), rel=1e-14)
     assert v.radius <= v.radius_estimate <= v.radius_upper
-    # issue 11: the two-term ratio said 0.983, more terms "about 0.9 or less".
+    # the two-term ratio said 0.983, more terms "about 0.9 or less".
     assert v.radius_estimate <= 0.92
     # an amplitude between r* and the estimate is never called stable
     between = 0.5 * (v.radius + v.radius_estimate)

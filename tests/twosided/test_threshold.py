@@ -2,9 +2,9 @@
 
 The checks are independent of the code under test: the energy certificate's dV/dt is
 recomputed with sympy from V and the ODE; the witness is re-simulated with a
-hand-written right-hand side and scipy's solve_ivp (escape = |theta| > 10 from rest, the
-issue's own scan); the measured tone threshold A = 1.34 of the damped pendulum comes from
-the issue's independent scan.
+hand-written right-hand side and scipy's solve_ivp (escape = |theta| > 10 from
+rest); the measured tone threshold A = 1.34 of the damped pendulum comes from an
+independent scan.
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ from gfrf.stability.energy import energy_certificate
 
 ROOT = Path(__file__).resolve().parents[2]
 MODELS = ROOT / "models"
-#: The issue's independent scan: smallest escaping tone of hanging_pendulum_damped.
+#: An independent scan: smallest escaping tone of hanging_pendulum_damped.
 TONE_THRESHOLD = 1.34
 CONTRACT = {"lower", "lower_method", "lower_proof", "upper", "upper_method", "witness",
             "certificates"}
