@@ -309,7 +309,7 @@ def test_fuzz_random_strings(text: str) -> None:
     assert time.perf_counter() - start < BOUND
 
 
-# -- findings of the hostile audit of the parser -----------------------------------------
+# -- hostile inputs to the parser --------------------------------------------------------
 
 def test_sweep_template_never_puts_user_names_in_code(sentinel: Path) -> None:
     evil = f"x=__import__('os').system('touch {sentinel}')"
