@@ -287,13 +287,14 @@ def run(quick: bool) -> BenchSection:
     rows: list[list[object]] = []
     rows += _cold_rows(repeat, quick)
     notes = [load_note(load)]
-    labels = (("", {}), (", NUMBA_CACHE_DIR set", {"NUMBA_CACHE_DIR": "numba"}))
+    labels: list[tuple[str, dict[str, str]]] = [
+        ("", {}), (", NUMBA_CACHE_DIR set", {"NUMBA_CACHE_DIR": "numba"})]
     if not _has_numba():
-        labels = ()
+        labels = []
         notes.append("numba not installed: the cached compiled rows were skipped.")
     with tempfile.TemporaryDirectory(prefix="gfrf-bench-cache-") as scratch:
-        for label, extra in labels:
-            extra = {key: str(Path(scratch) / value) for key, value in extra.items()}
+        for label, folders in labels:
+            extra = {key: str(Path(scratch) / value) for key, value in folders.items()}
             env = {"GFRF_CACHE_DIR": str(Path(scratch) / f"gfrf{len(extra)}"), **extra}
             first = _child(_LOAD, [bundled_model("cartpole.toml")], env)["seconds"]
             second, _ = _median(_LOAD, [bundled_model("cartpole.toml")], repeat, env)
