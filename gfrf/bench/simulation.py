@@ -116,7 +116,7 @@ def _default_vs_rk45(rtols: list[float], repeat: int) -> dict[str, dict[str, Cur
 def _model_curves(file: str, loop: bool, f: Any, text: str, y0: tuple[float, ...],
                   t_end: float, rtols: list[float], repeat: int) -> dict[str, Curve]:
     system = build_system(load_model(MODELS_DIR / file), closed_loop=loop)
-    signal = parse_input(text, max_derivative=system.n_inputs - 1)  # the loop's r', r''
+    signal = parse_input(text, max_derivative=system.n_inputs - 1)  # r'' of an improper C
     t_eval = np.linspace(0.0, t_end, 2001)
     ref = _plain("DOP853", 1e-13, 1e-15, t_eval, f, y0)
     curves: dict[str, Curve] = {"default": [], "plain": []}
