@@ -29,7 +29,6 @@ interleaved, the median of the repetitions:
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import os
 import statistics
@@ -221,11 +220,6 @@ def _cold_child(args: list[str]) -> dict:
         return _child(_COLD, args, {"GFRF_CACHE_DIR": scratch})
 
 
-def _has_numba() -> bool:
-    """Whether numba (the optional extra ``gfrf[fast]``) is installed: the compiled rows."""
-    return importlib.util.find_spec("numba") is not None
-
-
 def _cold_rows(repeat: int, quick: bool) -> list[list[object]]:
     """Cold H1..H5 of every bundled GFRF model; cold and warm H7 of the cart-pole."""
     rows: list[list[object]] = []
@@ -250,7 +244,7 @@ def _cold_rows(repeat: int, quick: bool) -> list[list[object]]:
     rows.append(["warm H7 of cartpole.toml, 10^5 points, H(w)", f"{mine:.3f} s",
                  f"{theirs:.3f} s (the lambdified function called again)",
                  f"{mine / theirs:.2f}", "target <= 0.3"])
-    if not quick and _has_numba():  # the compile takes a minute
+    if not quick:  # the compile takes a minute
         with tempfile.TemporaryDirectory(prefix="gfrf-bench-warm-") as scratch:
             warm = _child(_WARM_COMPILED, [bundled_model("cartpole.toml"), "7"],
                           {"GFRF_CACHE_DIR": scratch})["seconds"]
@@ -286,15 +280,9 @@ def run(quick: bool) -> BenchSection:
     repeat = 1 if quick else 3
     rows: list[list[object]] = []
     rows += _cold_rows(repeat, quick)
-    notes = [load_note(load)]
-    labels: list[tuple[str, dict[str, str]]] = [
-        ("", {}), (", NUMBA_CACHE_DIR set", {"NUMBA_CACHE_DIR": "numba"})]
-    if not _has_numba():
-        labels = []
-        notes.append("numba not installed: the cached compiled rows were skipped.")
     with tempfile.TemporaryDirectory(prefix="gfrf-bench-cache-") as scratch:
-        for label, folders in labels:
-            extra = {key: str(Path(scratch) / value) for key, value in folders.items()}
+        for label, extra in (("", {}), (", NUMBA_CACHE_DIR set",
+                                        {"NUMBA_CACHE_DIR": str(Path(scratch) / "numba")})):
             env = {"GFRF_CACHE_DIR": str(Path(scratch) / f"gfrf{len(extra)}"), **extra}
             first = _child(_LOAD, [bundled_model("cartpole.toml")], env)["seconds"]
             second, _ = _median(_LOAD, [bundled_model("cartpole.toml")], repeat, env)
@@ -324,4 +312,4 @@ def run(quick: bool) -> BenchSection:
         title="Cold kernels, cached kernels, NARX norms, prepared simulations",
         intro=" ".join(__doc__.split("\n\n", 1)[1].split()),
         columns=["what", "gfrf (CPU)", "baseline (CPU)", "ratio", "goal"],
-        rows=rows, notes=notes)
+        rows=rows, notes=[load_note(load)])
