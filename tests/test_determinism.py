@@ -63,7 +63,7 @@ def _norm_json() -> bytes:
 
 @pytest.mark.slow
 def test_cartpole_h5_norm_same_bytes_under_load() -> None:
-    # The issue's case: ||H5|| of the cart-pole was 0.0412 in one run, 0.1164 in another.
+    # A reported case: ||H5|| of the cart-pole was 0.0412 in one run, 0.1164 in another.
     # Fresh processes, so hash randomisation is exercised as well as the load.
     quiet = _norm_json()
     with cpu_load():
@@ -104,5 +104,5 @@ def test_model_report_same_bytes_under_load(tmp_path: Path) -> None:
 
 @pytest.mark.slow
 def test_all_reports_same_bytes_under_load(tmp_path: Path) -> None:
-    # issue 11 section 1: every page of `gfrf report --quick`, once under load
+    # every page of `gfrf report --quick`, once under load
     _same_report_under_load(tmp_path)

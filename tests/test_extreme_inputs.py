@@ -23,7 +23,7 @@ def _cubic_radius(c3: float) -> float:
 @pytest.mark.parametrize("s", [1e-150, 1e-20, 1e-3, 0.3, 3.7, 1e5, 1e9, 1e14,
                                math.sqrt(5e27 / 0.5), 1e30, 1e100, 1e150])
 def test_radius_scales_exactly(s: float) -> None:
-    """Item 1: r*(c3 s^2) = r*(c3) / s, at the interval level, for every magnitude."""
+    """r*(c3 s^2) = r*(c3) / s, at the interval level, for every magnitude."""
     from gfrf.bounds.majorant import majorant, plant_radius
     from gfrf.model.equation import parse_model
 
@@ -50,7 +50,7 @@ def test_radius_power_of_four_bitwise() -> None:
 
 
 def test_verdict_huge_cubic_is_stable(capsys: pytest.CaptureFixture[str]) -> None:
-    """Item 1: the issue's command; the true radius 4.832e-16 > r = 1e-16."""
+    """the true radius 4.832e-16 > r = 1e-16."""
     code, out, _ = run(capsys, "verdict", "D(y,2) + 0.2*D(y) + y + 5e27*y**3 = u",
                        "--amplitude", "1e-16", "--order", "3", "--json")
     data = json.loads(out)
@@ -60,7 +60,7 @@ def test_verdict_huge_cubic_is_stable(capsys: pytest.CaptureFixture[str]) -> Non
 
 
 def test_kernel_far_out_prints_zero(capsys: pytest.CaptureFixture[str]) -> None:
-    """Item 2: |H3| at 1e308 underflows (mpmath: H3 ~ 1/w^6); printed 0, never nan."""
+    """|H3| at 1e308 underflows (mpmath: H3 ~ 1/w^6); printed 0, never nan."""
     import mpmath
 
     code, out, _ = run(capsys, "kernel", "models/hanging_pendulum.toml", "--order", "3",
@@ -76,7 +76,7 @@ def test_kernel_far_out_prints_zero(capsys: pytest.CaptureFixture[str]) -> None:
                                                     (2, "-1,3", [1])])
 def test_kernel_at_pole_names_it(capsys: pytest.CaptureFixture[str], order: int, at: str,
                                  block: list[int]) -> None:
-    """Item 2: at a pole of 1/A (A = s^2 + 1: s = +-j) the command says so, exit 1."""
+    """at a pole of 1/A (A = s^2 + 1: s = +-j) the command says so, exit 1."""
     code, out, _ = run(capsys, "kernel", "D(y,2) + y + 0.5*y**3 + 0.1*y**2 = u",
                        "--order", str(order), "--at", at, "--json")
     data = json.loads(out)
@@ -101,7 +101,7 @@ def _cluster(zeta: float, k: int) -> list[float]:
 @pytest.mark.parametrize("k", [2, 3])
 @pytest.mark.parametrize("zeta", [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8])
 def test_float_level_lower_end_is_evaluated(zeta: float, k: int) -> None:
-    """Item 3: on pole clusters the float path may refuse its upper end, but its lower
+    """on pole clusters the float path may refuse its upper end, but its lower
     end is a value of |H1| at an evaluated point: <= the 60-digit sup, never inf."""
     from mp_reference import mp_sup
 
@@ -125,7 +125,7 @@ def test_float_level_lower_end_is_evaluated(zeta: float, k: int) -> None:
 
 
 def test_norm_float_cluster_json(capsys: pytest.CaptureFixture[str]) -> None:
-    """Item 3: the issue's command: lower end 250000.25 (mpmath), never inf, no nan witness."""
+    """lower end 250000.25 (mpmath), never inf, no nan witness."""
     from mp_reference import mp_sup
 
     model = ("D(y,4) + 0.004*D(y,3) + 2.000004*D(y,2) + 0.004*D(y) + 1.0*y "
@@ -143,7 +143,7 @@ def test_norm_float_cluster_json(capsys: pytest.CaptureFixture[str]) -> None:
 @pytest.mark.parametrize("coefficient", ["tan(pi/2)", "tan(-3*pi/2)", "tan(2*atan(1))",
                                          "1/cos(pi/2)", "1/sin(pi)", "1/tan(pi)"])
 def test_coefficient_at_a_pole_is_an_error(coefficient: str) -> None:
-    """Item 4: sympy's exact value is zoo (tan(pi/2)) or the divisor is exactly 0."""
+    """sympy's exact value is zoo (tan(pi/2)) or the divisor is exactly 0."""
     import sympy as sp
 
     from gfrf.errors import ModelError
@@ -170,7 +170,7 @@ def test_coefficient_near_a_pole_is_a_number(coefficient: str, value: float) -> 
 
 def test_parameter_at_a_pole_is_an_error(tmp_path: object, capsys: pytest.CaptureFixture[str]
                                          ) -> None:
-    """Item 4 in a model file: a parameter tan(pi/2) is refused, exit 2."""
+    """In a model file: a parameter tan(pi/2) is refused, exit 2."""
     from pathlib import Path
 
     path = Path(str(tmp_path)) / "m.toml"
@@ -182,7 +182,7 @@ def test_parameter_at_a_pole_is_an_error(tmp_path: object, capsys: pytest.Captur
 
 @pytest.mark.parametrize("dt", [0.1, True])
 def test_api_refuses_a_discrete_controller_on_a_continuous_plant(dt: object) -> None:
-    """Item 5: python-control itself refuses to connect these; so does gfrf."""
+    """python-control itself refuses to connect these; so does gfrf."""
     import control
 
     import gfrf
@@ -203,7 +203,7 @@ def test_api_refuses_a_discrete_controller_on_a_continuous_plant(dt: object) -> 
     ("sample_time = 0.1\n", "sample_time = 0.2\n", ["dt = 0.2 s", "dt = 0.1 s"])])
 def test_model_file_refuses_mixed_timebases(tmp_path: object, capsys: pytest.CaptureFixture[str],
                                             top: str, controller: str, words: list[str]) -> None:
-    """Item 5 in model files: a [controller] sample_time that differs from the plant's
+    """In model files: a [controller] sample_time that differs from the plant's
     (``sample_time = 0`` marks a continuous controller; without it, the plant's timebase)."""
     from pathlib import Path
 
@@ -219,7 +219,7 @@ def test_model_file_refuses_mixed_timebases(tmp_path: object, capsys: pytest.Cap
 
 def test_sweep_with_no_successful_point_exits_1(tmp_path: object,
                                                 capsys: pytest.CaptureFixture[str]) -> None:
-    """Item 7: every grid point fails (log of a negative parameter): exit 1, the cause named
+    """every grid point fails (log of a negative parameter): exit 1, the cause named
     (not 'invalid model' for every failure)."""
     from pathlib import Path
 
@@ -236,7 +236,7 @@ def test_sweep_with_no_successful_point_exits_1(tmp_path: object,
 
 def test_norm_of_unstable_linear_part_says_l_infinity(capsys: pytest.CaptureFixture[str]
                                                        ) -> None:
-    """Item 7: A = s^2 - 0.2 s + 1 is unstable; the bracket is of the L-infinity norm."""
+    """A = s^2 - 0.2 s + 1 is unstable; the bracket is of the L-infinity norm."""
     code, out, _ = run(capsys, "norm", "D(y,2) - 0.2*D(y) + y + 0.5*y**3 = u", "--order", "3")
     bracket = next(line for line in out.splitlines() if "||H3|| in" in line)
     assert code == 1 and "L-infinity" in bracket and "not H-infinity" in bracket
@@ -258,7 +258,7 @@ def _loop_file(tmp_path: object, k: float) -> str:
 def test_theorem2_prints_the_loop_and_its_upper_bound(tmp_path: object, k: float,
                                                       capsys: pytest.CaptureFixture[str]
                                                       ) -> None:
-    """Item 6: the loop u = C(r - y) in the header; the loop's proven upper radius in units
+    """the loop u = C(r - y) in the header; the loop's proven upper radius in units
     of r is the fold of (1 + k) y + y^3/2 = k r: |r| = 2 sqrt(2) (1 + k)^1.5 / (3 sqrt(3) k),
     and r* (units of r) lies below it; the plant's 0.544 is labelled the plant's."""
     if k == 0.001:  # the text once
@@ -277,7 +277,7 @@ def test_theorem2_prints_the_loop_and_its_upper_bound(tmp_path: object, k: float
 
 
 def test_theorem2_plot_log_axis_labelled_legend_off_data(tmp_path: object) -> None:
-    """Item 6: Verdict.plot for Theorem 2: log amplitude axis, every line labelled with
+    """Verdict.plot for Theorem 2: log amplitude axis, every line labelled with
     its units, legends outside the axes."""
     import gfrf
 
@@ -296,7 +296,7 @@ def test_theorem2_plot_log_axis_labelled_legend_off_data(tmp_path: object) -> No
 
 
 def test_resonance_is_the_exact_peak_of_h1() -> None:
-    """Item 8: eq (2), rho = 0.8: A = s^2 + 0.05 s + 2.45 peaks at sqrt(2.45 - 0.05^2 / 2)
+    """eq (2), rho = 0.8: A = s^2 + 0.05 s + 2.45 peaks at sqrt(2.45 - 0.05^2 / 2)
     = 1.564848 rad/s, not at the grid point 1.563148 the reports called the resonance."""
     import gfrf
     from gfrf.sim.validation import resonance, resonance_label
@@ -313,7 +313,7 @@ def test_resonance_is_the_exact_peak_of_h1() -> None:
 
 @pytest.mark.parametrize("s", [1e-20, 1e14, 1e100])
 def test_upper_and_estimate_scale_too(s: float, capsys: pytest.CaptureFixture[str]) -> None:
-    """Item 1: radius_upper (the static fold of y + c3 y^3 = u: |u| = (2/3) / sqrt(3 c3))
+    """radius_upper (the static fold of y + c3 y^3 = u: |u| = (2/3) / sqrt(3 c3))
     and the estimate follow r*(c3 s^2) = r*(c3) / s; no overflow warning."""
     import warnings
 
@@ -352,7 +352,7 @@ def _loop_closed_form(lam: float, c3: float) -> float:
 
 
 def test_loop_radius_scales_exactly(tmp_path: object) -> None:
-    """Item 1 for Theorem 2: under y -> s y (u, r alike) the loop's r* is r*(c3) / s too
+    """For Theorem 2: under y -> s y (u, r alike) the loop's r* is r*(c3) / s too
     (the 5e27 loop gave 1.29e-14, 37x below 4.81e-13, before the loop was rescaled)."""
     from pathlib import Path
 

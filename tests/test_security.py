@@ -29,7 +29,7 @@ from gfrf.model.signals import parse_input
 from gfrf.model.template import model_template
 
 PACKAGE = Path(__file__).resolve().parent.parent / "gfrf"
-#: Seconds any refusal may take (the issue's bound is 5 s on this 2-core machine).
+#: Seconds any refusal may take (at most 5 s on a 2-core machine).
 BOUND = 5.0
 BASE = "D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"
 
@@ -309,7 +309,7 @@ def test_fuzz_random_strings(text: str) -> None:
     assert time.perf_counter() - start < BOUND
 
 
-# -- findings of the hostile audit of the parser -----------------------------------------
+# -- hostile inputs to the parser --------------------------------------------------------
 
 def test_sweep_template_never_puts_user_names_in_code(sentinel: Path) -> None:
     evil = f"x=__import__('os').system('touch {sentinel}')"

@@ -191,10 +191,10 @@ def _h1_rows(model: Model, beta1: float) -> tuple[list[list[object]], list[str]]
              + ("installed: control.norm uses its AB13DD routine."
                 if slycot else "NOT installed on this machine, so control.norm uses its "
                 "own bisection (tolerance 1e-6); the slycot timing is not measured here."),
-             (f"gfrf's h1_norm still calls control.norm itself on every call, as a cross-check "
+             (f"gfrf's h1_norm calls control.norm itself on every call, as a cross-check "
               f"(gfrf/bounds/norms.py, kept in Bound.reference): about {t_pc * 1e3:.2g} ms (the "
               f"control.norm row) of its {t_ours * 1e3:.2g} ms is that cross-check."
               if ours.reference is not None else
-              "gfrf's h1_norm no longer runs a python-control cross-check on its hot path "
+              "gfrf's h1_norm runs no python-control cross-check on its hot path "
               "(Bound.reference is empty).")]
     return rows, notes

@@ -128,6 +128,13 @@ class Bound(Result):
         ball arithmetic (``"float"`` if that ball is too wide, see ``notes``).
     boxes : int
         Boxes the branch-and-bound evaluated (0 when it did not run): the work spent.
+    tol : float
+        The relative gap the bracket was asked to reach (``kernel_norm``'s ``tol``).
+    converged : bool
+        Derived (in ``to_dict`` too): the bracket is certified (``proof`` is not
+        ``"none"``) and its relative ``gap`` is at most ``tol``; an exact value (a zero
+        kernel, a proven infinite norm) has gap 0.  ``gfrf norm`` exits 1 unless it holds
+        and the linear part is stable.
     """
 
     _order = ("order", "lower", "upper", "gap", "argmax")
@@ -146,6 +153,12 @@ class Bound(Result):
     upper_proof: str = ""
     lower_proof: str = ""
     boxes: int = 0
+    tol: float = DEFAULT_TOL
+
+    @property
+    def converged(self) -> bool:
+        """Certified and closed to ``tol``: ``proof != "none"`` and ``gap <= tol``."""
+        return self.certified and self.proof != "none" and self.gap <= self.tol
 
     @property
     def gap(self) -> float:
@@ -167,7 +180,8 @@ class Bound(Result):
                                 self.upper_proof or self.proof)])
 
     def _computed(self) -> dict[str, Any]:
-        return {"gap": self.gap, "upper_proof": self.upper_proof or self.proof,
+        return {"gap": self.gap, "converged": self.converged,
+                "upper_proof": self.upper_proof or self.proof,
                 "lower_proof": self.lower_proof or self.proof}
 
 
@@ -374,7 +388,8 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = DEFAU
                      stable=b.stable,
                      notes=b.notes,
                      reference=b.reference,
-                     proof=b.proof)
+                     proof=b.proof,
+                     tol=tol)
     stable, _ = linear_stability(model)
     notes = [] if stable else ["linear part not asymptotically stable: L-infinity norm on the "
                                "frequency axis"]
@@ -387,7 +402,7 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = DEFAU
                      order=n,
                      symmetric=symmetric,
                      stable=stable,
-                     notes=tuple(notes), proof="interval")
+                     notes=tuple(notes), proof="interval", tol=tol)
     maj = majorant(model, proof)
     upper = maj.proven_upper(n) if proof == "interval" else float(maj.coefficients(n)[n, 0])
     upper_proof = proof
@@ -405,7 +420,8 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = DEFAU
                      symmetric=symmetric,
                      stable=stable,
                      notes=(*notes, "||H_n|| = inf: H_n = -P_n / A(j(w_1+..+w_n)) with A(j w0) = 0 "
-                      "and P_n bounded away from 0 near the hyperplane w_1+..+w_n = w0"))
+                      "and P_n bounded away from 0 near the hyperplane w_1+..+w_n = w0"),
+                     tol=tol)
     found = local_search(k, model, n, symmetric, upper, tol, proof,
                          kernel_operations(model, n, symmetric), searches)
     lower, argmax = found.value, found.argmax
@@ -471,7 +487,8 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = DEFAU
                  proof=weakest,
                  upper_proof=upper_proof,
                  lower_proof=lower_proof,
-                 boxes=boxes)
+                 boxes=boxes,
+                 tol=tol)
 
 
 #: Range of the majorant within which the double-precision box enclosures of the

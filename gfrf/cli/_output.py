@@ -8,11 +8,11 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from gfrf._results import dumps, json_ready
+from gfrf._results import dumps
 from gfrf.errors import ArgumentError
 from gfrf.model.safetext import printable
 
-__all__ = ["add_json_flag", "emit", "emit_refusal", "to_jsonable", "check_plot_path",
+__all__ = ["add_json_flag", "emit", "emit_refusal", "check_plot_path",
            "check_output_file", "check_output_folder", "terminal_text", "PLOT_SUFFIXES"]
 
 #: Figure formats of ``--plot`` (chosen by the file suffix; all written by matplotlib's
@@ -104,18 +104,6 @@ def add_json_flag(parser: argparse.ArgumentParser) -> None:
         The subcommand parser that gets ``--json``.
     """
     parser.add_argument("--json", action="store_true", help="print one JSON object instead of text")
-
-
-def to_jsonable(value: Any) -> Any:
-    """JSON-safe values (:func:`gfrf._results.json_ready`: infinity is ``"inf"``, NaN
-    ``null``).
-
-    Parameters
-    ----------
-    value : object
-        A payload.
-    """
-    return json_ready(value)
 
 
 def emit(args: argparse.Namespace, payload: dict[str, Any], text: str) -> None:

@@ -12,9 +12,11 @@ stability proven; 1: not proven or unstable; 2: bad input.
 
 ``gfrf norm MODEL --order N [--tol T] [--asymmetric] [--proof LEVEL] [--json]`` prints
 the bracket [lower, upper] of ||H_N||_inf (symmetric kernel unless ``--asymmetric``),
-its relative gap and how each end is established.  Infinite norms print as ``inf``
-(JSON ``"inf"``).  Exit code 1 when the linear part is not asymptotically stable: the
-bracket is then of the L-infinity norm on the axis, which the line says.
+its relative gap, whether it converged and how each end is established.  Infinite norms
+print as ``inf`` (JSON ``"inf"``).  Exit code 0 when the bracket converged
+(``Bound.converged``: certified, relative gap <= ``--tol``) and the linear part is
+asymptotically stable; 1 otherwise (an open bracket, estimates, or the L-infinity norm on
+the axis of an unstable linear part, which the line says).
 
 ``--proof none|float|interval`` (default ``interval``: it costs about as much as the
 float path, see ``gfrf bench``, section "Proof levels") chooses the level of proof;
@@ -90,7 +92,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     n = subparsers.add_parser(
         "norm", help="bracket [lower, upper] of the H-infinity norm of H_n",
         description="Bracket ||H_n||_inf = sup over R^n of |H_n(j w_1, .., j w_n)| (rad/s): "
-                    "certified upper bound, best-found lower bound.")
+                    "certified upper bound, best-found lower bound. Exit code 0: the "
+                    "bracket converged (certified, relative gap <= --tol) and the linear "
+                    "part is stable; 1: not converged, estimates, or an unstable linear "
+                    "part; 2: bad input.")
     add_model_argument(n)
     n.add_argument("--order", type=int, required=True, help="kernel order n >= 1")
     n.add_argument("--tol", type=float, default=1e-3, help="target relative gap (default 1e-3)")
@@ -158,15 +163,29 @@ def _norm(args: argparse.Namespace) -> int:
                     max_boxes=args.max_boxes,
                     proof=args.proof, cross_check=args.cross_check, progress=None)
     kind = "symmetric" if not args.asymmetric else "asymmetric"
-    lines = [f"{mf.name}: {kind} kernel, angular frequencies in rad/s, proof level "
-             f"{args.proof}", _bound_line(b),
+    lines = [f"{mf.name}: {kind} kernel, angular frequencies in rad/s, proof level asked "
+             f"{args.proof}, reached {_reached(b)}", _bound_line(b), _converged_line(b),
              f"  attained at w = ({', '.join(f'{w:.8g}' for w in b.argmax)}) rad/s",
              f"  method: {b.method}"]
     if b.reference is not None:
         lines.append(f"  python-control norm(sys, 'inf'): {b.reference:.10g}")
     lines += [f"  note: {note}" for note in b.notes]
     emit(args, {"model": mf.name, "proof_level": args.proof, **b.to_dict()}, "\n".join(lines))
-    return 0 if b.stable else 1  # an L-infinity value is no H-infinity norm: as verdict
+    return 0 if b.stable and b.converged else 1
+
+
+def _reached(b: Bound) -> str:
+    """The proof level reached: the weaker end's, with each end's when they differ."""
+    upper, lower = b.upper_proof or b.proof, b.lower_proof or b.proof
+    return b.proof if upper == lower else f"{b.proof} (upper end {upper}, lower end {lower})"
+
+
+def _converged_line(b: Bound) -> str:
+    if not b.certified:
+        return "  not converged: an estimate (proof level none) is never converged"
+    gap = "inf" if math.isinf(b.gap) else f"{b.gap:.3g}"
+    return (f"  converged: gap {gap} <= tol {b.tol:g}" if b.converged
+            else f"  not converged: gap {gap} > tol {b.tol:g}")
 
 
 def _mark(passed: bool | None) -> str:

@@ -7,19 +7,19 @@ bounded input the falsifier found (the witness: a switching input or a sum of to
 escape time, what escape meant, and whether its escape is proven) and the answer in
 words; a progress bar on stderr when it is a terminal.  ``--json`` prints the JSON
 contract (``lower`` is the string ``"inf"`` for a global certificate, as everywhere in
-the CLI's JSON).  Exit code 0: both sides closed (a global certificate, or a witness);
-1: no escape found up to the search cap and no global certificate (unknown above
-``lower``); 2: bad input.  ``--certificate-out FILE`` writes the certificate behind
-``lower`` (sum-of-squares, NARX invariant box or paving) as exact rationals;
-``gfrf certificate check MODEL FILE`` re-verifies it (exit 0 holds, 1 refused, 2 a
-malformed file or one for another model).
+the CLI's JSON).  Exit code 0: both sides closed (``Threshold.answered``: a proven
+``lower > 0`` that is global or met by a witness, or an exactly decided unstable
+equilibrium); 1: nothing proven below (``lower = 0``), or no escape found up to the
+search cap and no global certificate (unknown above ``lower``); 2: bad input.
+``--certificate-out FILE`` writes the certificate behind ``lower`` (sum-of-squares,
+NARX invariant box or paving) as exact rationals; ``gfrf certificate check MODEL FILE``
+re-verifies it (exit 0 holds, 1 refused, 2 a malformed file or one for another model).
 """
 
 from __future__ import annotations
 
 import argparse
 import json
-import math
 import sys
 from collections.abc import Callable
 from typing import Any
@@ -47,7 +47,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "switching input u = +-U or a sum of tones, switched on at t = 0, whose "
                     "response from rest escapes: a witness, proven when its Arb enclosure "
                     "enters the escape region), unknown in between. Exit code 0: both sides "
-                    "closed; 1: no escape found up to the search cap; 2: bad input.")
+                    "closed (a proven lower > 0, global or met by a witness; or an "
+                    "unstable equilibrium); 1: nothing proven below, or no escape found "
+                    "up to the search cap; 2: bad input.")
     add_model_argument(p)
     p.add_argument("--order", type=int, default=5,
                    help="order of the verdict behind r* (default 5)")
@@ -124,5 +126,4 @@ def _threshold(args: argparse.Namespace) -> int:
         else:
             atomic_write_text(args.certificate_out,
                               json.dumps(result.certificate_file, indent=1) + "\n")
-    closed = math.isinf(result.lower) or result.upper is not None
-    return 0 if closed else 1
+    return 0 if result.answered else 1

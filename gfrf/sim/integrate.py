@@ -150,7 +150,8 @@ class SimulationResult:
     """Output of :func:`simulate`.
 
     ``to_dict`` stays written out: it summarises the samples (final time and value, peak)
-    and adds them only on request (``arrays=True``).
+    and adds them only on request (``arrays=True``); the state trajectory ``states`` is
+    left out.
 
     Attributes
     ----------

@@ -404,7 +404,7 @@ def sweep(data: Mapping[str, Any], axes: Sequence[Axis], *, what: str = "verdict
     amplitude : float
         Input amplitude r of the verdict and of the simulations.
     order : int
-        Highest order of the majorant columns (``norm``).
+        Highest order of the majorant columns (``norm``), 2..MAX_KERNEL_ORDER.
     t_end : float
         Simulated time in s (``bounded``).
     scheduler : str or Executor
@@ -428,8 +428,10 @@ def sweep(data: Mapping[str, Any], axes: Sequence[Axis], *, what: str = "verdict
         raise ArgumentError(f"what must be one of {', '.join(WHAT)}, got {what!r}")
     if not (math.isfinite(amplitude) and amplitude > 0):
         raise ArgumentError(f"amplitude must be a positive finite number, got {amplitude!r}")
-    if isinstance(order, bool) or not isinstance(order, int) or order < 2:
-        raise ArgumentError(f"order must be an integer >= 2, got {order!r}")
+    from gfrf.kernels.recursion import check_order
+
+    if check_order(order, "order") < 2:  # the first majorant column is M2
+        raise ArgumentError(f"order must be at least 2, got {order!r}")
     if not axes:
         raise ArgumentError("a sweep needs at least one --param NAME=START:STOP:N")
     for name, value in (("chunk size", chunk_size), ("workers", workers)):

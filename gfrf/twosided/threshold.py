@@ -62,7 +62,9 @@ class Threshold:
 
     ``to_dict`` stays written out: the contract is mostly derived values (the regions'
     ends, the answer, the proof words), a summary of the falsification search and the
-    certificates with their proof levels mapped to the contract's, not the fields.
+    certificates with their proof levels mapped to the contract's, not the fields.  Left
+    out: ``sos`` (summarised in ``certificates``) and ``certificate_file`` (what
+    ``--certificate-out`` writes).
 
     Attributes
     ----------
@@ -168,10 +170,22 @@ class Threshold:
             else "estimate"
 
     @property
+    def answered(self) -> bool:
+        """Both sides closed (``gfrf threshold`` exits 0 exactly then): an exactly decided
+        unstable equilibrium, or a proven lower side (``lower > 0`` with ``lower_proof``
+        ``"interval"`` or ``"float"``) that is global (``lower`` infinite) or met by a
+        witness (``upper``, proven or simulated: ``upper_proof`` says which).  Nothing
+        proven below (``lower = 0``) is never an answer, whatever the witness."""
+        if self.unstable is not None:
+            return True
+        proven = self.lower > 0 and self.lower_proof in ("interval", "float")
+        return proven and (math.isinf(self.lower) or self.upper is not None)
+
+    @property
     def upper_proof_words(self) -> str:
         """How the witness's escape was shown, in words."""
         if self.upper_proof == "interval":
-            return "proven"
+            return proof_word("interval")
         if self.falsification is not None and self.falsification.discrete:
             return "witnessed by the NARX recursion"
         return "witnessed"
@@ -228,7 +242,8 @@ class Threshold:
             "certificates": [{**{k: v for k, v in c.to_dict().items() if k != "detail"},
                               "proof": _LOWER_PROOF.get(c.proof, c.proof)}
                              for c in self.certificates],
-            "answer": self.answer, "model": self.name, "theorem": self.theorem,
+            "answer": self.answer, "answered": self.answered, "model": self.name,
+            "theorem": self.theorem,
             "upper_proof": self.upper_proof,
             "static_bound": self.static_bound,
             "search": None if f is None else {

@@ -18,7 +18,7 @@ def test_quick_bench_section():
     ours = [r for r in exact if str(r[1]).startswith("gfrf")]
     assert len(ours) == 3
     assert all(float(r[4]) < 1e-10 for r in ours)
-    # issue 15: the exact transition value is at least level with brentq + solve_ivp RK45
+    # the exact transition value is at least level with brentq + solve_ivp RK45
     # (rtol 1e-10, atol 1e-12) in time, at no worse accuracy (measured in the same run;
     # the margin today is about 30x)
     value = [r for r in exact if str(r[0]).startswith("exact transition value")]

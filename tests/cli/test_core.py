@@ -59,7 +59,7 @@ def test_bad_input_exit_code_2_and_one_line(capsys, argv, fragment):
     assert fragment in err and err.count("\n") == 1 and "Traceback" not in err
 
 
-# --- issue 12: cheap start, --version, negative values, one-line warnings ---------------------
+# --- cheap start, --version, negative values, one-line warnings ------------------------------
 
 HEAVY = ("control", "matplotlib", "sympy", "numba", "dask", "distributed", "scipy", "numpy")
 

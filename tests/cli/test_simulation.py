@@ -59,7 +59,7 @@ def test_predict_linear_json(capsys):
 
 
 def test_predict_refuses_beyond_radius_exit_1(capsys):
-    # the repro printed an amplitude of 1020.9 with exit 0
+    # a reported run printed an amplitude of 1020.9 with exit 0
     argv = ["predict", "models/hanging_pendulum.toml", "--input", "0.5*sin(1.565*t)",
             "--order", "3"]
     assert main(argv) == 1

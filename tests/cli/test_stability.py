@@ -145,7 +145,7 @@ def test_library_verdict_checks_order_first(monkeypatch: pytest.MonkeyPatch) -> 
         criteria.verdict(parse_model(STABLE), MAX_KERNEL_ORDER + 1)
 
 
-# -- levels of proof (issue 13 s4) ------------------------------------------------------
+# -- levels of proof ---------------------------------------------------------------------
 BETA = 1.0 / math.sqrt(2.0 - 0.25)  # ||H1|| of D(y,2) + D(y) + 2*y: 1/(b sqrt(c - b^2/4))
 
 
@@ -155,7 +155,8 @@ BETA = 1.0 / math.sqrt(2.0 - 0.25)  # ||H1|| of D(y,2) + D(y) + 2*y: 1/(b sqrt(c
 def test_norm_proof_levels_text_and_json(capsys: pytest.CaptureFixture[str], level: str,
                                          label: str) -> None:
     code, out, _ = run(capsys, "norm", STABLE, "--order", "1", "--proof", level)
-    assert code == 0 and out.splitlines()[1].endswith(label)
+    # estimates are never a converged bracket: exit 1 at --proof none
+    assert code == (1 if level == "none" else 0) and out.splitlines()[1].endswith(label)
     assert ("proven" in out) is (level == "interval")
     code, out, _ = run(capsys, "norm", STABLE, "--order", "1", "--proof", level, "--json")
     data = json.loads(out)
@@ -170,6 +171,36 @@ def test_norm_proof_levels_text_and_json(capsys: pytest.CaptureFixture[str], lev
         with mp.workdps(50):
             exact = 1 / (mp.mpf(1) * mp.sqrt(mp.mpf(2) - mp.mpf(1) / 4))
         assert Fraction(data["lower"]) <= Fraction(mp.nstr(exact, 45)) <= Fraction(data["upper"])
+
+
+@pytest.mark.parametrize("tol", ["0.001", "0.9"])
+def test_norm_exit_code_says_whether_the_bracket_closed_to_tol(
+        capsys: pytest.CaptureFixture[str], tol: str) -> None:
+    """The pendulum's ||H5|| left at the majorant (no branch-and-bound) is open: exit 1 at
+    the default tol, 0 at a tol above its gap; the gap is recomputed from the two ends."""
+    code, out, _ = run(capsys, "norm", "models/hanging_pendulum.toml", "--order", "5",
+                       "--max-boxes", "0", "--tol", tol, "--json")
+    data = json.loads(out)
+    gap = (data["upper"] - data["lower"]) / data["upper"]
+    assert 0.1 < gap < 0.9 and data["tol"] == float(tol) and data["stable"] is True
+    assert data["converged"] is (gap <= float(tol)) and code == (0 if gap <= float(tol) else 1)
+    code, out, _ = run(capsys, "norm", "models/hanging_pendulum.toml", "--order", "5",
+                       "--max-boxes", "0", "--tol", tol)
+    verdict = "  converged: gap" if gap <= float(tol) else "  not converged: gap"
+    assert out.splitlines()[2].startswith(verdict) and f"tol {float(tol):g}" in out
+
+
+def test_norm_header_names_the_level_asked_and_reached(capsys: pytest.CaptureFixture[str]
+                                                       ) -> None:
+    code, out, _ = run(capsys, "norm", STABLE, "--order", "1", "--proof", "float")
+    assert out.splitlines()[0].endswith("proof level asked float, reached float")
+    from gfrf.bounds.norms import Bound
+    from gfrf.cli.stability import _reached
+
+    # an upper end lowered by the float branch-and-bound, a witness proven in balls
+    mixed = Bound(lower=1.0, upper=1.0005, argmax=(0.0, 0.0), certified=True, method="m",
+                  order=2, proof="float", upper_proof="float", lower_proof="interval")
+    assert _reached(mixed) == "float (upper end float, lower end interval)"
 
 
 def test_norm_order3_proof_per_end(capsys: pytest.CaptureFixture[str]) -> None:

@@ -1,5 +1,4 @@
-"""Tests of gfrf.model.equation: parsing, truncation and the bad-input catalogue of the
-core issue."""
+"""Tests of gfrf.model.equation: parsing, truncation and the bad-input catalogue."""
 
 import math
 

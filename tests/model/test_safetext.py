@@ -75,19 +75,19 @@ def test_printable_and_markdown_text() -> None:
 
 def test_reports_escape_user_text(tmp_path: Path) -> None:
     from gfrf.report._format import header
-    from gfrf.report.analysis import analyse
+    from gfrf.report.model_facts import compute
     from gfrf.report.model_page import _model_section
 
     path = _model(tmp_path, "<img src=x onerror=alert(1)>\n# Injected",
                   description="<script>alert(2)</script>", source="[x](javascript:alert(3))")
     path.write_text(path.read_text(encoding="utf-8").replace(
         UNSTABLE, "D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"), encoding="utf-8")
-    a = analyse(str(path), True)
-    text = "\n".join(_model_section(a))
+    facts = compute(str(path), tmp_path / "report", True)
+    text = "\n".join(_model_section(facts))
     assert "<script" not in text and "](javascript" not in text
     assert "&lt;script&gt;" in text
-    # the page's title is the escaped name (model_page.page: header(markdown_text(name)))
-    title = header(markdown_text(a.model_file.name), ["a", "b", "c"], "x")
+    # the page's title is the escaped name (model_page.render: header(markdown_text(name)))
+    title = header(markdown_text(facts.name), ["a", "b", "c"], "x")
     assert "\n# Injected" not in title and "<img" not in title
 
 

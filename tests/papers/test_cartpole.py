@@ -88,7 +88,7 @@ def _loop_poly(k: dict[str, Fraction], sign: int, den_c: list[Fraction],
                     [sign * k["k"] * x for x in (k["a"], k["b"], cc)])
 
 
-# --- section 3 of issue 11: the cart-pole loop ------------------------------------------
+# --- the cart-pole loop ------------------------------------------------------------------
 
 def test_ideal_loop_is_stable_only_by_reversing_the_inertia() -> None:
     k = _constants(REDUCED)

@@ -124,7 +124,7 @@ def test_multitone_amplitude_is_the_sum_of_tone_amplitudes():
 
 
 def test_pendulum_far_beyond_radius_refused():
-    # the case: 0.5 N m at 1.565 rad/s predicted 1020.9 rad (simulated peak 1.75)
+    # a reported case: 0.5 N m at 1.565 rad/s predicted 1020.9 rad (simulated peak 1.75)
     with pytest.raises(BeyondRadiusError):
         predict(PENDULUM, [(0.5, 1.565, -math.pi / 2)], 3)
 

@@ -76,7 +76,7 @@ def test_pendulum_upper_bound_closed_form_and_estimate_inside() -> None:
     v = verdict(mf, order=3)
     assert v.radius_upper == pytest.approx(_pendulum_upper(), rel=1e-14)
     assert v.radius <= v.radius_estimate <= v.radius_upper
-    # issue 11: the two-term ratio said 0.983, more terms "about 0.9 or less".
+    # the two-term ratio said 0.983, more terms "about 0.9 or less".
     assert v.radius_estimate <= 0.92
     # an amplitude between r* and the estimate is never called stable
     between = 0.5 * (v.radius + v.radius_estimate)
@@ -158,16 +158,14 @@ def test_tail_fit_recovers_closed_form_radius_of_the_static_series(path: str,
 
 
 def test_page_headline_never_says_stable_on_an_estimate() -> None:
-    from types import SimpleNamespace
-
-    from gfrf.report.model_page import summary_lines
+    from gfrf.report.model_facts import VerdictFacts
+    from gfrf.report.model_page import headline
 
     model = parse_model("D(y,2) + D(y) + 2*y + y**3 = u")
     for level, stable_headline in (("interval", True), ("none", False)):
         v = verdict(model, order=1, amplitude=0.1, with_norms=False, proof=level)
         assert v.radius > 0
-        analysis = SimpleNamespace(verdict=v, validation=None, trial_scale_certified=False)
-        first = summary_lines(analysis)[0]  # type: ignore[arg-type]
+        first = headline(VerdictFacts.of(v))
         assert ("stable (L2)" in first) is stable_headline
         assert ("proven lower bound" in first) is stable_headline
     assert "stable" not in verdict(model, 1, 0.1, False, "none").verdict

@@ -2,9 +2,9 @@
 
 The checks are independent of the code under test: the energy certificate's dV/dt is
 recomputed with sympy from V and the ODE; the witness is re-simulated with a
-hand-written right-hand side and scipy's solve_ivp (escape = |theta| > 10 from rest, the
-issue's own scan); the measured tone threshold A = 1.34 of the damped pendulum comes from
-the issue's independent scan.
+hand-written right-hand side and scipy's solve_ivp (escape = |theta| > 10 from
+rest); the measured tone threshold A = 1.34 of the damped pendulum comes from an
+independent scan.
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ from gfrf.stability.energy import energy_certificate
 
 ROOT = Path(__file__).resolve().parents[2]
 MODELS = ROOT / "models"
-#: The issue's independent scan: smallest escaping tone of hanging_pendulum_damped.
+#: An independent scan: smallest escaping tone of hanging_pendulum_damped.
 TONE_THRESHOLD = 1.34
 CONTRACT = {"lower", "lower_method", "lower_proof", "upper", "upper_method", "witness",
             "certificates"}
@@ -202,7 +202,12 @@ def test_every_bundled_model_lower_at_least_r_star_and_below_upper(capsys, name:
     assert data["lower_class"].startswith("every")
     if data["upper"] is not None:
         assert data["lower"] <= data["upper"]
-        assert code == 0
+    # exit 0 exactly when both sides are closed: a proven lower > 0 met by a witness or
+    # global, or an unstable equilibrium
+    proven = data["lower"] > 0 and data["lower_proof"] != "none"
+    closed = data["unstable"] is not None or (
+        proven and (data["lower"] == math.inf or data["upper"] is not None))
+    assert data["answered"] is closed and code == (0 if closed else 1)
 
 
 def test_verdict_threshold_block_closes_the_gap(capsys) -> None:
@@ -265,3 +270,24 @@ def test_a_linear_model_with_an_unstable_pole_is_unstable_at_every_amplitude(cap
     sol = solve_ivp(lambda t, y: [y[0] + 1e-6 * math.cos(t)], (0, 30), [0.0],
                     method="DOP853", rtol=1e-10, atol=1e-14)
     assert abs(sol.y[0, -1]) > 1e3
+
+
+@pytest.mark.parametrize(("lower", "lower_proof", "upper", "unstable", "answered"), [
+    (0.0, "none", 0.79, None, False),        # a witness, nothing proven below
+    (0.0, "none", None, None, False),        # nothing on either side
+    (0.4, "interval", 1.3, None, True),      # proven below, a witness above
+    (0.4, "float", 1.3, None, True),
+    (0.4, "interval", None, None, False),    # no escape found up to the cap
+    (math.inf, "interval", None, None, True),  # a global certificate
+    (0.0, "none", 0.0, "pole s = 1", True),  # an exactly decided unstable equilibrium
+])
+def test_threshold_is_answered_only_with_a_proven_lower_side(
+        lower: float, lower_proof: str, upper: float | None, unstable: str | None,
+        answered: bool) -> None:
+    """The rule behind the exit code of ``gfrf threshold`` (0 exactly when answered)."""
+    from gfrf.twosided.threshold import Threshold
+
+    t = Threshold(name="m", lower=lower, lower_method="m", lower_proof=lower_proof,
+                  upper=upper, upper_method=None if upper is None else "w", certificates=(),
+                  unstable=unstable)
+    assert t.answered is answered and t.to_dict()["answered"] is answered
