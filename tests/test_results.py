@@ -29,7 +29,8 @@ DROPPED: dict[str, dict[str, str]] = {
         "states": "the state trajectory: array data (y and u are summarised)"},
     "gfrf.twosided.threshold.Threshold": {
         "sos": "the SOS search object behind the sos certificate, which is in the lower side",
-        "certificate_file": "the headline certificate's file, written by --certificate-out"},
+        "certificate_file": "the headline certificate's file, written by --certificate-out",
+        "d_witness": "an improper loop's escaping plant-input signal: given as the witness"},
 }
 
 

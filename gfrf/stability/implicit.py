@@ -97,7 +97,20 @@ class ImplicitLoop:
         return pscale(self.D, Fraction(self.sign))
 
     def field(self, x: list[float], d: float) -> list[float]:
-        """f(x, d) in floats (an estimate, for simulation)."""
+        """f(x, d) in floats (an estimate, for simulation).
+
+        Parameters
+        ----------
+        x : list of float
+            The state (y, y', ..., y^(m-1)).
+        d : float
+            The plant-input signal.
+
+        Returns
+        -------
+        list of float
+            dx/dt.
+        """
         import numpy as np
 
         from gfrf.stability.polysys import peval

@@ -261,7 +261,18 @@ def _check(form: ImplicitLoop, cert: dict[str, Any]) -> str:
 
 
 def bound(cert: dict[str, Any]) -> tuple[float, float]:
-    """(max |y|, max |y'|) over the polygon (floats, rounded outward)."""
+    """(max |y|, max |y'|) over the polygon (floats, rounded outward).
+
+    Parameters
+    ----------
+    cert : dict
+        A ``gfrf-implicit-region`` certificate (its ``vertices``, rationals as text).
+
+    Returns
+    -------
+    tuple of float
+        The largest |y| and |y'| of its vertices.
+    """
     ys = [abs(_q(p[0])) for p in cert["vertices"]]
     vs = [abs(_q(p[1])) for p in cert["vertices"]]
     return float(max(ys)), float(max(vs))

@@ -64,15 +64,45 @@ class LoopField:
         self.r1 = [(k, float(c)) for k, c in r1.items()]
 
     def qf(self, y: float) -> float:
-        """q(y) = s D(y) (positive near the equilibrium) at the output value ``y``."""
+        """q(y) = s D(y) (positive near the equilibrium) at the output value ``y``.
+
+        Parameters
+        ----------
+        y : float
+            The output value.
+
+        Returns
+        -------
+        float
+        """
         return sum(c * y**i for i, c in self.q)
 
     def g0(self, y: float, v: float) -> float:
-        """-s R(y, v, 0) at the state (y, v = y')."""
+        """-s R(y, v, 0) at the state (y, v = y').
+
+        Parameters
+        ----------
+        y, v : float
+            The state: output and its derivative.
+
+        Returns
+        -------
+        float
+        """
         return sum(c * y**i * v**j for (i, j), c in self.r0)
 
     def g1(self, y: float, v: float) -> float:
-        """The coefficient of d in -s R at the state (y, v = y')."""
+        """The coefficient of d in -s R at the state (y, v = y').
+
+        Parameters
+        ----------
+        y, v : float
+            The state: output and its derivative.
+
+        Returns
+        -------
+        float
+        """
         return sum(c * y**i * v**j for (i, j), c in self.r1)
 
     def singular(self) -> tuple[float, float]:
@@ -93,7 +123,22 @@ class LoopField:
         return out[0], out[1]
 
     def equilibrium(self, U: float, sgn: int, edge: float) -> float | None:
-        """The first root of g0 + sgn U g1 on the axis v = 0 from 0 towards ``edge``."""
+        """The first root of g0 + sgn U g1 on the axis v = 0 from 0 towards ``edge``.
+
+        Parameters
+        ----------
+        U : float
+            The input bound.
+        sgn : int
+            The sign of the constant input d = sgn U.
+        edge : float
+            Where to stop looking (a zero of q, or +-inf).
+
+        Returns
+        -------
+        float or None
+            The root, or None when there is none before ``edge``.
+        """
         f = [self.g0(0, 0) + sgn * U * self.g1(0, 0)]
         if not math.isfinite(edge):
             return None

@@ -77,7 +77,17 @@ class ImplicitWitness:
                 "t_escape": self.t_escape}
 
     def text(self, name: str) -> str:
-        """The witness in words."""
+        """The witness in words.
+
+        Parameters
+        ----------
+        name : str
+            The signal's name in the text (``"d"``).
+
+        Returns
+        -------
+        str
+        """
         sign = "+" if self.first_sign > 0 else "-"
         if not self.switch_times:
             return f"{name} = {sign}{self.amplitude:.6g} constant"

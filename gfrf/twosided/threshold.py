@@ -63,8 +63,8 @@ class Threshold:
     ``to_dict`` stays written out: the contract is mostly derived values (the regions'
     ends, the answer, the proof words), a summary of the falsification search and the
     certificates with their proof levels mapped to the contract's, not the fields.  Left
-    out: ``sos`` (summarised in ``certificates``) and ``certificate_file`` (what
-    ``--certificate-out`` writes).
+    out: ``sos`` (summarised in ``certificates``), ``certificate_file`` (what
+    ``--certificate-out`` writes) and ``d_witness`` (given as ``witness``).
 
     Attributes
     ----------
@@ -97,6 +97,9 @@ class Threshold:
         The re-checkable file of the certificate behind ``lower`` (sum-of-squares, NARX
         invariant box or paving; exact rationals), written by ``--certificate-out``;
         None when ``lower``'s method has none (energy, Theorem 1/2).
+    d_witness : ImplicitWitness or None
+        For a loop with an improper controller: the escaping plant-input signal d = C r
+        (its ``witness()`` is the JSON ``witness``), or None.
     """
 
     name: str
