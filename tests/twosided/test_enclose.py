@@ -190,6 +190,7 @@ sys.exit(main(["threshold", "D(y,2) + 0.2*D(y) + y - 0.3*y**3 = u"]))
             proc.wait()
 
 
+@pytest.mark.slow
 def test_enclosure_holds_the_50_digit_taylor_solution_under_a_chirp() -> None:
     """y'' + 0.2y' + 2y - 0.3y^3 = u, u = 0.5 cos(1.4 t + k t^2), k = (0.7 - 1.4)/(2*3):
     the chirp's phase states (c, s, tau) ride along; the input is the exact chirp of the
