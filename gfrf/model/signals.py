@@ -263,6 +263,42 @@ class InputSignal(Result):
         rates = [r for r in rates if r > 0]
         return 1.0 / max(rates) if rates else None
 
+    def unresolved_parts(self, t_end: float) -> list[str]:
+        """Parts of u whose smoothness over [0, t_end] :meth:`time_scale` cannot judge.
+
+        A smooth function of an argument that is not a polynomial in t
+        (``atan(1/(t - 1))``, which jumps at t = 1; ``tanh(tan(t))``), and a negative or
+        fractional power of a polynomial with a real zero in (0, t_end] (a pole).
+
+        Parameters
+        ----------
+        t_end : float
+            End of the time range in seconds.
+
+        Returns
+        -------
+        list of str
+            The parts as text; empty when every part is judged (or for an input without
+            expression: a CSV spline or a sum of many tones, smooth by construction).
+
+        Examples
+        --------
+        >>> parse_input("0.02*atan(1/(t - 1))").unresolved_parts(3.0)
+        ['1/(t - 1)', 'atan(1/(t - 1))']
+        >>> parse_input("sin(2*t)/(1 + t)").unresolved_parts(3.0)
+        []
+        """
+        if self.expr is None:
+            return []
+        parts = [f for f in self.expr.atoms(sp.Function)
+                 if isinstance(f, _SMOOTH) and not f.args[0].is_polynomial(T)]
+        for p in self.expr.atoms(sp.Pow):
+            integer = p.exp.is_number and float(p.exp).is_integer() and float(p.exp) >= 0
+            if T in p.base.free_symbols and not integer and (
+                    not p.base.is_polynomial(T) or _has_zero(p.base, t_end)):
+                parts.append(p)
+        return sorted(str(part) for part in parts)
+
     def _computed(self) -> dict[str, Any]:
         """The expression as text."""
         return {"expression": None if self.expr is None else str(self.expr)}
@@ -534,3 +570,10 @@ def _largest_slope(argument: sp.Expr, t_end: float) -> float:
                        .nroots(n=15) if abs(sp.im(r)) < 1e-12 and 0 <= sp.re(r) <= t_end]
     values = np.abs(np.polyval([float(c) for c in slope.all_coeffs()], candidates))
     return float(np.max(values))
+
+
+def _has_zero(argument: sp.Expr, t_end: float) -> bool:
+    """True when the polynomial ``argument`` has a real zero in (0, t_end] (or unknown;
+    a zero at t = 0 is the start, whose values are checked where the run begins)."""
+    zeros = _zeros(argument, t_end)
+    return zeros is None or bool(np.any((zeros > 0) & (zeros <= t_end)))

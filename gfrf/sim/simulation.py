@@ -344,6 +344,15 @@ def _check_steepness(signal: InputSignal, t_end: float, system: OdeSystem) -> No
     """Refuse a smooth input so steep (``tanh((t-1)/1e-9)``) that the derivatives the
     state form reads spike beyond what a double-precision integrator resolves: its time
     scale below :data:`STEEPNESS_LIMIT` times the system's fastest time scale."""
+    unresolved = signal.unresolved_parts(t_end)
+    if unresolved:
+        raise ArgumentError(
+            f"{_loop_reads(system)}, and the smoothness of the input {quote(signal.text)} "
+            f"over [0, {t_end:g}] s cannot be judged from {', '.join(unresolved[:3])} (a "
+            f"function of an argument that is not a polynomial in t, or a power with a "
+            f"pole): it may jump, and the impulse of its derivative would be lost; write "
+            f"the input with polynomial arguments, e.g. 0.5*(1 + tanh((t-1)/0.01)) for a "
+            f"smoothed jump")
     scale = signal.time_scale(t_end)
     rates = np.abs(np.asarray(system.linear_eigenvalues, dtype=complex))
     if scale is None or not rates.size or not np.max(rates) > 0:

@@ -159,3 +159,12 @@ def test_improper_loop_refuses_a_reference_too_steep_to_integrate_and_runs_a_smo
     res = simulate(mf, "0.3*(1 + tanh((t - 1)/0.05))", t_end=6.0, t_eval=t,
                    closed_loop=True, method="dop853", rtol=1e-10, atol=1e-12)
     assert np.max(np.abs(res.y - expected)) < 1e-5
+
+
+def test_improper_loop_refuses_a_reference_whose_jump_hides_in_a_pole():
+    # atan(1/(t - 1)) jumps by -pi at t = 1: the impulse of r' there would be lost
+    mf = _loop(PLANT2, [0.3, 1.0, 2.0], [1.0])
+    for text in ("0.02*atan(1/(t - 1))", "0.02*tanh(tan(t))"):
+        with pytest.raises(ArgumentError, match=r"improper controller.*cannot be judged"):
+            simulate(mf, text, t_end=3.0, closed_loop=True)
+    assert simulate(mf, "0.02*sin(2*t)**3/(1 + t)", t_end=3.0, closed_loop=True).status == "ok"

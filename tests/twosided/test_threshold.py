@@ -21,6 +21,7 @@ from scipy.integrate import solve_ivp
 from gfrf.cli import main
 from gfrf.model.equation import parse_model
 from gfrf.stability.energy import energy_certificate
+from gfrf.twosided.lower import IMPROPER_LOWER_CLASS
 
 ROOT = Path(__file__).resolve().parents[2]
 MODELS = ROOT / "models"
@@ -59,7 +60,10 @@ def _check_contract(data: dict) -> None:
             assert all(len(t) == 3 for t in w["tones"])
             assert math.isclose(sum(t[0] for t in w["tones"]), data["upper"])
         else:
-            assert set(w) == {"kind", "amplitude", "first_sign", "switch_times", "t_escape"}
+            # a loop with an improper controller names the signal switched (d = C r)
+            extra = {"signal"} if data["lower_class"] == IMPROPER_LOWER_CLASS else set()
+            assert set(w) == {"kind", "amplitude", "first_sign", "switch_times", "t_escape",
+                              *extra}
             assert w["amplitude"] == data["upper"] and w["first_sign"] in (1, -1)
             assert w["switch_times"] == sorted(w["switch_times"])
     for c in data["certificates"]:
