@@ -12,6 +12,8 @@ from pathlib import Path
 
 import mpmath as mp
 import pytest
+from enclosure_helpers import contains as _contains
+from enclosure_helpers import witness as _witness
 
 from gfrf import parse_model
 from gfrf.cli import main
@@ -22,21 +24,6 @@ from gfrf.twosided.falsify import Falsification, falsify
 from gfrf.twosided.witness import Chirp
 
 MODELS = Path(__file__).resolve().parents[2] / "models"
-#: mpmath's own error at 50 digits (odefun's tolerance), added to every ball's radius.
-MP_SLACK = mp.mpf("1e-44")
-
-
-def _witness(kind: str, amplitude: float, t_end: float, **kw: object) -> Falsification:
-    # the enclosure runs to 1.5 * t_escape: t_escape = t_end / 1.5
-    return Falsification(amplitude, kw.pop("tones", []), t_end / 1.5, amplitude,  # type: ignore[arg-type]
-                         cap=10.0, t_end=t_end, runs=0, escape="", kind=kind,
-                         levels=[1e6, 1e6, 1e6], **kw)  # type: ignore[arg-type]
-
-
-def _contains(ball: object, value: mp.mpf) -> bool:
-    mid = mp.mpf(ball.mid().str(60, radius=False))  # type: ignore[attr-defined]
-    rad = mp.mpf(ball.rad().str(20, radius=False))  # type: ignore[attr-defined]
-    return abs(value - mid) <= rad + MP_SLACK
 
 
 @pytest.mark.slow

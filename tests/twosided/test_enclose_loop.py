@@ -13,6 +13,8 @@ from pathlib import Path
 
 import mpmath as mp
 import pytest
+from enclosure_helpers import contains as _contains
+from enclosure_helpers import witness as _witness
 
 from gfrf.cli import main
 from gfrf.model.modelfile import load_model, model_from_dict
@@ -24,21 +26,6 @@ PLANT = "D(y,2) + 0.2*D(y) + y - 0.3*y**3 = u"
 #: C = 0.5 + 0.2/s (PI) and C = (2s + 1)/(s + 2) = 2 - 3/(s + 2) (lead-lag).
 PI = {"equation": PLANT, "controller": {"num": [0.5, 0.2], "den": [1.0, 0.0]}}
 LEAD = {"equation": PLANT, "controller": {"num": [2.0, 1.0], "den": [1.0, 2.0]}}
-#: mpmath's own error at 50 digits (odefun's tolerance), added to every ball's radius.
-MP_SLACK = mp.mpf("1e-44")
-
-
-def _witness(kind: str, amplitude: float, t_end: float, **kw: object) -> Falsification:
-    # the enclosure runs to 1.5 * t_escape: t_escape = t_end / 1.5
-    return Falsification(amplitude, kw.pop("tones", []), t_end / 1.5, amplitude,  # type: ignore[arg-type]
-                         cap=10.0, t_end=t_end, runs=0, escape="", kind=kind,
-                         levels=[1e6, 1e6, 1e6], **kw)  # type: ignore[arg-type]
-
-
-def _contains(ball: object, value: mp.mpf) -> bool:
-    mid = mp.mpf(ball.mid().str(60, radius=False))  # type: ignore[attr-defined]
-    rad = mp.mpf(ball.rad().str(20, radius=False))  # type: ignore[attr-defined]
-    return abs(value - mid) <= rad + MP_SLACK
 
 
 def _plant(y: mp.mpf, v: mp.mpf, u: mp.mpf) -> mp.mpf:
