@@ -79,8 +79,8 @@ def q(text: Any) -> Fraction:
     """A rational from its text ``"p/q"`` (or an int); refuses floats and anything else."""
     if isinstance(text, bool) or not isinstance(text, str | int):
         raise ValueError(f"a rational must be written as a string 'p/q', got {text!r}")
-    if isinstance(text, str) and (len(text) > MAX_RATIONAL_CHARS or not text.replace("/", "", 1)
-                                  .lstrip("-").isdigit()):
+    if isinstance(text, str) and (len(text) > MAX_RATIONAL_CHARS or not text.isascii()
+                                  or not text.replace("/", "", 1).lstrip("-").isdigit()):
         raise ValueError(f"not a rational 'p/q': {str(text)[:40]!r}")
     return Fraction(text)
 

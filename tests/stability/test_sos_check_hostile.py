@@ -8,6 +8,7 @@ import itertools
 import json
 import random
 import time
+from fractions import Fraction
 from pathlib import Path
 
 import pytest
@@ -90,3 +91,14 @@ def test_refusal_of_a_long_rational_stays_one_short_line(
     assert main(["certificate", "check", CUBIC_DAMPING, str(path)]) == 1
     out = capsys.readouterr().out
     assert len(out.splitlines()) == 1 and "identity fails" in out and len(out) < 300
+
+
+def test_rationals_are_ascii_digits_only() -> None:
+    from gfrf.stability.implicit_check import _q
+    from gfrf.stability.sos_check import q
+
+    for parse in (q, _q):
+        assert parse("-3/4") == Fraction(-3, 4)
+        for text in ("２２０", "٣/4", "1.5", "1e3", True, 0.5):
+            with pytest.raises(ValueError):
+                parse(text)
