@@ -148,7 +148,7 @@ class Threshold:
         if math.isinf(self.lower):
             return f"bounded for every bounded input ({proof}: {self.lower_method})"
         low = (f"stable for {what} below {self.lower:.6g} ({proof}: {self.lower_method})"
-               if self.lower > 0 else f"stability is proven for {what} at no amplitude")
+               if self.lower > 0 else "stability is not proven at any amplitude")
         if self.tone_radius > self.lower:
             low += (f"; for sums of tones (L1 spectrum norm, Theorem {self.theorem}'s class "
                     f"only) below {self.tone_radius:.6g}")
