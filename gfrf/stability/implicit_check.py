@@ -46,13 +46,16 @@ TPoly = list[Fraction]  # coefficients in t, lowest first
 
 
 def _q(text: Any) -> Fraction:
-    """:func:`gfrf.stability.sos_check.q` with this format's shorter length cap."""
-    from gfrf.stability.sos_check import q
-
-    if isinstance(text, str) and len(text) > MAX_RATIONAL_CHARS:
+    """A rational from its text ``"p/q"`` (ASCII digits, at most :data:`MAX_RATIONAL_CHARS`
+    characters) or an int, as :func:`gfrf.stability.sos_check.q` reads them (that module
+    imports this one, so the rule is written here again with this format's shorter cap)."""
+    if isinstance(text, bool) or not isinstance(text, str | int):
+        raise ValueError(f"a rational must be written as a string 'p/q', got {str(text)[:40]!r}")
+    if isinstance(text, str) and (len(text) > MAX_RATIONAL_CHARS or not text.isascii()
+                                  or not text.replace("/", "", 1).lstrip("-").isdigit()):
         raise ValueError(f"not a rational 'p/q' of at most {MAX_RATIONAL_CHARS} characters: "
-                         f"{text[:40]!r}")
-    return q(text)
+                         f"{str(text)[:40]!r}")
+    return Fraction(text)
 
 
 def _tmul(a: TPoly, b: TPoly) -> TPoly:
