@@ -40,10 +40,15 @@ from gfrf.stability.polysys import (
     pscale,
 )
 
-__all__ = ["ImplicitLoop", "implicit_form", "D_INPUT"]
+__all__ = ["ImplicitLoop", "implicit_form", "D_INPUT", "SINGULAR_LEVEL"]
 
 #: What the input d of a loop with an improper polynomial controller is.
 D_INPUT = "d = C r (the reference through the controller, a plant-input signal)"
+#: The loop's breakdown level: |D(x)| <= SINGULAR_LEVEL |D(0)|, where y^(m) = -R / D (and
+#: the controller's output with it) is 1 / SINGULAR_LEVEL times its scale.  Below the
+#: input that drives the state onto D = 0 itself, a bounded input only brings |D|
+#: arbitrarily close to 0, so the two sides of the threshold speak of this level.
+SINGULAR_LEVEL = Fraction(1, 10**6)
 
 
 @dataclass(frozen=True)

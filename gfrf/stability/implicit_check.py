@@ -9,8 +9,9 @@ exact rationals, clockwise) and a bound U.  It holds when, in rational arithmeti
    chain of strictly increasing y and a lower chain of strictly decreasing y, each
    vertex strictly on its side of the other chain (an x-monotone polygon, clockwise);
 2. the rest state (0, 0) is strictly inside P;
-3. q(y) > 0 for every y in [y_min, y_max] of P (so the loop's y'' = -R / D is defined
-   and locally Lipschitz on P, and the field f = g / q has the direction of g);
+3. q(y) > level q(0) for every y in [y_min, y_max] of P (so the loop's y'' = -R / D is
+   defined and locally Lipschitz on P, the field f = g / q has the direction of g, and
+   |D| stays above the stated ``level`` of |D(0)|; level 0 when the file states none);
 4. on every closed edge [a, b] with outward normal n = (-(b - a)_v, (b - a)_y):
    n . g(x, d) < 0 for every |d| <= U, i.e. A(t) + U |B(t)| < 0 on t in [0, 1] where
    n . g = A + d B along x = a + t (b - a): both A + U B and A - U B are negative,
@@ -205,8 +206,8 @@ def check_region(form: ImplicitLoop, cert: dict[str, Any]) -> str:
     form : ImplicitLoop
         The model's own implicit form (never taken from the certificate).
     cert : dict
-        The certificate: ``format``, ``kind``, ``states``, ``U`` and ``vertices``
-        (``[["p/q", "p/q"], ...]``, clockwise).
+        The certificate: ``format``, ``kind``, ``states``, ``U``, ``vertices``
+        (``[["p/q", "p/q"], ...]``, clockwise) and optionally ``level`` (``"p/q"``).
 
     Returns
     -------
@@ -243,9 +244,14 @@ def _check(form: ImplicitLoop, cert: dict[str, Any]) -> str:
     budget = _Budget()
     ymin = min(p[0] for p in P)
     ymax = max(p[0] for p in P)
+    level = _q(cert.get("level", 0))
+    if not 0 <= level < 1:
+        return "level must be in [0, 1)"
     qline = _on_line(q, [ymin, ymax - ymin], [Fraction(0)])
+    qline[0] -= level * q.get((0, 0), Fraction(0))
     if not _negative([-c for c in qline], budget):
-        return "the coefficient of the highest derivative is not bounded away from 0 on the polygon"
+        return ("the coefficient of the highest derivative is not bounded away from "
+                + (f"{level} of its value at rest" if level else "0") + " on the polygon")
     n = len(P)
     for i in range(n):
         (y0, v0), (y1, v1) = P[i], P[(i + 1) % n]

@@ -7,16 +7,25 @@ For the loop D(y) y'' + R(y, y', d) = 0 (:mod:`gfrf.stability.implicit`) and a b
   the axis y' = 0 (bisection between 0 and the nearest zero y_D of D);
 * the upper chain is a trajectory, in the rescaled time of g = (q v, -s R) (polynomial,
   no singularity), of the *outward-biased worst field*: the d = +-U that maximises v'
-  at each point, its direction turned outward by a small angle and lifted by a constant
-  that moves its equilibrium beyond y_+; it starts at (y_L, eta) left of y_- and stops
-  where it reaches v = 0 right of y_+; the lower chain is the mirror construction from
-  (y_R, -eta) right of y_+ with the d that minimises v';
-* the two chains, sampled by arc length, are the polygon.  A true solution under any
-  |d| <= U crosses a biased trajectory only inward; the bias pays for the chords.
+  at each point, its direction turned outward by a small angle (scaled down where q is
+  below ``TURN_FLOOR`` q(0), so that the chain cannot cross the singular line, which is
+  invariant for g) and lifted by a constant that moves its equilibrium beyond y_+; it
+  starts at (y_L, eta) left of y_- and stops where it reaches v = 0 right of y_+; the
+  lower chain is the mirror construction from (y_R, -eta) right of y_+ with the d that
+  minimises v';
+* y_L and y_R start half-way between y_-+ and the singular set and move outward, to
+  ``GAMMA`` of the distance to the singular set at which the opposite chain ended, until
+  each chain ends inside the other's start (at most ``ROUNDS`` rounds): near the singular
+  set the loop is fast and a swing from y_L reaches nearly as far on the other side;
+* the two chains, sampled by arc length and turning angle, are the polygon.  A true
+  solution under any |d| <= U crosses a biased trajectory only inward; the bias pays
+  for the chords.
 
-The largest U is found by bisection between a proven value and ``U_hi`` (a witness's
-amplitude) on a fixed grid of bias parameters.  The work is bounded by counts
-(bisection steps, parameter sets, vertices, the integrator's step cap), never by time.
+A polygon is kept only when |D| >= ``level`` |D(0)| on it (the level the falsifier's
+escape is defined by), so that the lower and the upper side speak of one property.
+The largest U is found by bisection between a proven value and ``U_hi`` on a fixed
+grid of bias parameters.  The work is bounded by counts (bisection steps, parameter
+sets, rounds, vertices, the integrator's step cap), never by time.
 """
 
 from __future__ import annotations
@@ -28,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from gfrf.stability.implicit import ImplicitLoop
+from gfrf.stability.implicit import SINGULAR_LEVEL, ImplicitLoop
 from gfrf.stability.implicit_check import FORMAT, KIND, check_region, polygon_parts
 
 __all__ = ["region_certificate", "certificate_at", "LoopField", "VERTICES", "BISECTIONS",
@@ -38,9 +47,13 @@ __all__ = ["region_certificate", "certificate_at", "LoopField", "VERTICES", "BIS
 VERTICES = 500
 #: Bisection steps on U.
 BISECTIONS = 9
-#: (turn angle, where right of y_+ the corner lies as a fraction of (y_D - y_+), where
-#: the biased equilibrium lies as a fraction of that, eta as a fraction of max |v|).
-PARAMETERS = tuple(itertools.product((1e-4,), (0.97, 0.6, 0.3), (0.5,), (1e-3,)))
+#: (turn angle, where the biased equilibrium lies as a fraction of (y_R - y_+), eta as a
+#: fraction of max |v|).
+PARAMETERS = tuple(itertools.product((1e-4,), (0.4, 0.2), (1e-3,)))
+#: Rounds of moving y_L, y_R outward, and how far beyond a chain's end they move.
+ROUNDS, GAMMA = 8, 0.5
+#: Below this fraction of q(0) the turn angle shrinks with q.
+TURN_FLOOR = 1e-3
 #: Steps of the chain integration at most.
 MAX_STEPS = 200_000
 _ROUND = 2**44
@@ -162,13 +175,15 @@ def _chain(fl: LoopField, U: float, start: tuple[float, float], sgn: int, angle:
     from scipy.integrate import solve_ivp
 
     Y, V = scale
-    ca, sa = math.cos(angle), math.sin(angle)
+    q0 = fl.qf(0.0)
 
     def rhs(_t: float, x: np.ndarray) -> list[float]:
         y, v = float(x[0]), float(x[1])
-        g1 = fl.qf(y) * v
+        qy = fl.qf(y)
+        turn = angle * min(1.0, qy / (TURN_FLOOR * q0))
+        ca, sa = math.cos(turn), math.sin(turn)
         g2 = fl.g0(y, v) + sgn * U * abs(fl.g1(y, v))
-        a, b = g1 / Y, g2 / V
+        a, b = qy * v / Y, g2 / V
         return [(ca * a - sa * b) * Y, (sa * a + ca * b) * V + sgn * lift]
 
     def cross(_t: float, x: np.ndarray) -> float:
@@ -183,8 +198,13 @@ def _chain(fl: LoopField, U: float, start: tuple[float, float], sgn: int, angle:
         return None
     tt = np.linspace(sol.t[0], sol.t[-1], 40 * VERTICES + 1)
     X = sol.sol(tt).T
-    seg = np.linalg.norm(np.diff(X / np.array([Y, V]), axis=0), axis=1)
-    arc = np.concatenate(([0.0], np.cumsum(seg)))
+    # vertices equally spaced in arc length plus turning angle (the chords' error)
+    dX = np.diff(X / np.array([Y, V]), axis=0)
+    seg = np.linalg.norm(dX, axis=1)
+    turn_k = np.abs(np.diff(np.unwrap(np.arctan2(dX[:, 1], dX[:, 0])), prepend=0.0))
+    turn_k[0] = 0.0
+    measure = seg + turn_k * seg.sum() / max(float(turn_k.sum()), 1e-300)
+    arc = np.concatenate(([0.0], np.cumsum(measure)))
     idx = np.unique(np.clip(np.searchsorted(arc, np.linspace(0, arc[-1], VERTICES)), 0,
                             len(X) - 1))
     pts = X[idx]
@@ -195,32 +215,42 @@ def _chain(fl: LoopField, U: float, start: tuple[float, float], sgn: int, angle:
 
 def _polygon(fl: LoopField, U: float, sing: tuple[float, float], params: tuple[float, ...]
              ) -> list[tuple[float, float]] | None:
-    angle, frac, mfrac, eta = params
+    angle, mfrac, eta = params
     yp = fl.equilibrium(U, 1, sing[1])
     ym = fl.equilibrium(U, -1, sing[0])
     if yp is None or ym is None or not yp > 0 > ym:
         return None
-    yL, yR = ym + (sing[0] - ym) * frac, yp + (sing[1] - yp) * frac
-    ys_r, ys_l = yp + (yR - yp) * mfrac, ym + (yL - ym) * mfrac
-    lift_u = -(fl.g0(ys_r, 0) + U * abs(fl.g1(ys_r, 0)))
-    lift_l = fl.g0(ys_l, 0) - U * abs(fl.g1(ys_l, 0))
-    if not (lift_u > 0 and lift_l > 0):
-        return None
-    Y = max(abs(yL), abs(yR))
-    first = _chain(fl, U, (yL, 1e-3), 1, 0.0, lift_u, (Y, 1.0))
-    if first is None:
-        return None
-    V = float(np.max(np.abs(first[:, 1])))
-    up = _chain(fl, U, (yL, eta * V), 1, angle, lift_u, (Y, V))
-    lo = _chain(fl, U, (yR, -eta * V), -1, angle, lift_l, (Y, V))
-    if up is None or lo is None or not (up[-1, 0] < yR and lo[-1, 0] > yL):
-        return None
-    return [(float(a), float(b)) for a, b in np.concatenate((up, lo))]
+    yL, yR = (ym + sing[0]) / 2, (yp + sing[1]) / 2
+    for _ in range(ROUNDS):
+        ys_r, ys_l = yp + (yR - yp) * mfrac, ym + (yL - ym) * mfrac
+        lift_u = -(fl.g0(ys_r, 0) + U * abs(fl.g1(ys_r, 0)))
+        lift_l = fl.g0(ys_l, 0) - U * abs(fl.g1(ys_l, 0))
+        if not (lift_u > 0 and lift_l > 0):
+            return None
+        Y = max(abs(yL), abs(yR))
+        first = _chain(fl, U, (yL, 1e-3), 1, 0.0, lift_u, (Y, 1.0))
+        if first is None:
+            return None
+        V = float(np.max(np.abs(first[:, 1])))
+        up = _chain(fl, U, (yL, eta * V), 1, angle, lift_u, (Y, V))
+        lo = _chain(fl, U, (yR, -eta * V), -1, angle, lift_l, (Y, V))
+        if up is None or lo is None or not (sing[0] < lo[-1, 0] and up[-1, 0] < sing[1]):
+            return None
+        if up[-1, 0] < yR and lo[-1, 0] > yL:
+            return [(float(a), float(b)) for a, b in np.concatenate((up, lo))]
+        yR = max(yR, sing[1] - (sing[1] - up[-1, 0]) * GAMMA)
+        yL = min(yL, sing[0] + (lo[-1, 0] - sing[0]) * GAMMA)
+    return None
 
 
 def _sampled_ok(fl: LoopField, U: float, P: list[tuple[float, float]]) -> bool:
-    """The edge condition on 5 points per edge (floats: a filter before the exact check)."""
+    """The level and the edge condition on 5 points per edge (floats: a filter before the
+    exact check)."""
     A = np.array(P)
+    q0 = fl.qf(0.0)
+    if min(fl.qf(float(y)) for y in np.linspace(A[:, 0].min(), A[:, 0].max(), 201)) \
+            <= 1.01 * float(SINGULAR_LEVEL) * q0:
+        return False
     B = np.roll(A, -1, axis=0)
     for t in np.linspace(0, 1, 5):
         X = A + t * (B - A)
@@ -238,7 +268,8 @@ def _exact(form: ImplicitLoop, U: float, P: list[tuple[float, float]]
     verts = [[str(Fraction(round(y * _ROUND), _ROUND)), str(Fraction(round(v * _ROUND), _ROUND))]
              for y, v in P]
     cert = {"format": FORMAT, "version": 1, "kind": KIND, "states": list(form.states),
-            "input": form.input_name, "U": str(Ur), "vertices": verts}
+            "input": form.input_name, "U": str(Ur), "level": str(SINGULAR_LEVEL),
+            "vertices": verts}
     return cert if check_region(form, cert) == "" else None
 
 
