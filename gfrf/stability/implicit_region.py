@@ -46,7 +46,7 @@ __all__ = ["region_certificate", "certificate_at", "LoopField", "VERTICES", "BIS
 #: Vertices per chain.
 VERTICES = 500
 #: Bisection steps on U.
-BISECTIONS = 9
+BISECTIONS = 8
 #: (turn angle, where the biased equilibrium lies as a fraction of (y_R - y_+), eta as a
 #: fraction of max |v|).
 PARAMETERS = tuple(itertools.product((1e-4,), (0.4, 0.2), (1e-3,)))
@@ -329,9 +329,9 @@ def region_certificate(form: ImplicitLoop, U_hi: float
     best: dict[str, Any] | None = None
     work = 0
     lo, hi = 0.0, float(U_hi)
-    U = hi / 64
-    # halve from U_hi / 64 until one passes, then bisect between it and U_hi
-    for _ in range(12):
+    U = hi / 2
+    # halve from U_hi / 2 until one passes, then bisect between it and the last failure
+    for _ in range(14):
         cert, k = _try(form, fl, U, sing)
         work += k
         if cert is not None:
@@ -340,7 +340,6 @@ def region_certificate(form: ImplicitLoop, U_hi: float
         hi, U = U, U / 2
     if best is None:
         return None, work
-    hi = float(U_hi)
     for _ in range(BISECTIONS):
         U = (lo + hi) / 2
         cert, k = _try(form, fl, U, sing)

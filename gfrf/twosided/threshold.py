@@ -52,8 +52,8 @@ UPPER_METHOD = {
     "tones": "falsifier: sum of tones switched on at t = 0 from rest escapes "
              "(amplitude = sum of tone amplitudes)",
     "implicit": "falsifier: switching plant-input signal d = +-U (sup|d| = U; d = C r) from "
-                "rest reaches the singular set D(y) = 0 of the loop, where y'' = -R/D is "
-                "unbounded"}
+                "rest reaches the loop's breakdown level |D(y)| <= 1e-6 |D(0)|, where "
+                "y'' = -R/D is 1e6 times its scale"}
 
 
 @dataclass(frozen=True)
@@ -266,10 +266,13 @@ class Threshold:
         lines.append(self.answer)
         if self.d_witness is not None and self.upper is not None:
             w = self.d_witness
+            e = self.enclosure
+            how = (f"proven: {e.method}, to t <= {e.t_proven:.6g} s, where the enclosure "
+                   f"has {e.reason}" if self.upper_proof == "interval" else
+                   "simulation, estimate-grade; DOP853 at two tolerances agree")
             lines.append(f"witness (switching, the plant-input signal d = C r of the loop): "
-                         f"{w.text('d')}, from rest at t = 0, reaches the singular set "
-                         f"D(y) = 0 at t = {w.t_escape:.6g} s (simulation, estimate-grade; "
-                         "DOP853 at two tolerances agree)")
+                         f"{w.text('d')}, from rest at t = 0, reaches the loop's breakdown "
+                         f"level |D(y)| <= 1e-6 |D(0)| at t = {w.t_escape:.6g} s ({how})")
         if f is not None and self.upper is not None:
             where = (f"enters the escape region {f.region.text()}" if f.region is not None
                      else "leaves the escape levels")
@@ -357,6 +360,12 @@ def threshold(model: ModelFile | Model, *, order: int = 5, prove: bool = True,
 
         d_witness = implicit_witness(side.implicit, lower) if lower > 0 else None
         upper = d_witness.amplitude if d_witness is not None else None
+        if d_witness is not None and prove:
+            from gfrf.twosided.implicit_enclose import enclose_implicit_witness
+
+            enclosure = enclose_implicit_witness(
+                side.implicit, d_witness.amplitude, d_witness.first_sign,
+                d_witness.switch_times, d_witness.t_escape)
     elif not math.isinf(lower) and side.unstable is None:
         # the cap from the finite scales only (a linear model's radii are infinite)
         ref = max((x for x in (static_bound, float(v.radius))

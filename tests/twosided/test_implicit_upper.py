@@ -42,7 +42,7 @@ def test_cartpole_threshold_in_the_plant_input_class(tmp_path, cli):
     w = data["witness"]
     assert w["kind"] == "switching" and w["signal"] == "d"
     assert data["upper"] == w["amplitude"] > data["lower"]
-    assert data["upper_proof"] == "estimate"
+    assert data["upper_proof"] == "interval" and data["enclosure"]["proven"] is True
     # replayed on the hand-written loop: the witness reaches D = 0, 0.5 x it stays clear
     assert not w["switch_times"]
     assert _max_theta(w["first_sign"] * w["amplitude"], 1.5 * w["t_escape"]) > THETA_D - 1e-5
