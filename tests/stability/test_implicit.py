@@ -95,6 +95,8 @@ def test_the_exact_check_refuses_a_perturbed_polygon(cartpole, certificate):
     i = len(moved) // 4
     moved[i] = [moved[i][0], str(Fraction(moved[i][1]) * 2)]
     assert check_region(cartpole, dict(certificate, vertices=moved)) != ""
+    # a stated breakdown level the polygon does not keep (|D| down to 1/2 |D(0)|) is refused
+    assert "not bounded away from 1/2" in check_region(cartpole, dict(certificate, level="1/2"))
     past = [list(v) for v in certificate["vertices"]]
     right = max(range(len(past)), key=lambda j: Fraction(past[j][0]))
     past[right] = ["3/2", past[right][1]]  # beyond the zero of D at |theta| = 1.41269

@@ -56,3 +56,100 @@ def test_cartpole_threshold_in_the_plant_input_class(tmp_path, cli):
     code, stdout, _ = cli("certificate", "check", str(MODELS / "cartpole.toml"), str(out),
                           "--json")
     assert code == 1 and json.loads(stdout)["valid"] is False
+
+
+def _D(th: float) -> float:
+    """The coefficient of theta'' in the loop, by hand (1 + 0.1475 th^2 - A k)."""
+    return 1 + 0.1475 * th**2 - A * (39.3185 - 19.66 * th**2)
+
+
+def _level_run(d, t_end: float, rtol: float, max_step: float = np.inf):
+    """DOP853 from rest with the breakdown level |D| <= 1e-6 |D(0)| as a located event:
+    (reached, time, smallest |D| / |D(0)|)."""
+    def rhs(t: float, x: np.ndarray) -> list[float]:
+        return _rhs(d(t, x))(t, x)
+
+    def level(_t: float, x: np.ndarray) -> float:
+        return abs(_D(x[0])) - 1e-6 * abs(_D(0.0))
+
+    level.terminal = True
+    sol = solve_ivp(rhs, (0, t_end), [0.0, 0.0], method="DOP853", rtol=rtol, atol=rtol * 1e-3,
+                    events=level, max_step=max_step)
+    ratio = float(np.min(np.abs(_D(sol.y[0])))) / abs(_D(0.0))
+    return sol.status == 1, float(sol.t[-1]), ratio
+
+
+@pytest.fixture(scope="module")
+def witness():
+    from gfrf.model.modelfile import load_model
+    from gfrf.stability.implicit import implicit_form
+    from gfrf.twosided.implicit_upper import implicit_witness
+
+    form = implicit_form(load_model(MODELS / "cartpole.toml"))
+    w = implicit_witness(form, 300.0)
+    assert w is not None
+    return form, w
+
+
+def test_the_witness_reaches_the_breakdown_level_in_a_replay_and_not_at_0_9(witness):
+    _, w = witness
+    signs = [w.first_sign * (-1) ** k for k in range(len(w.switch_times) + 1)]
+
+    def d_of(scale: float):
+        def d(t: float, _x: np.ndarray) -> float:
+            k = int(np.searchsorted(w.switch_times, t, side="right"))
+            return scale * w.amplitude * signs[k]
+        return d
+
+    runs = [_level_run(d_of(1.0), 3 * w.t_escape, rtol) for rtol in (1e-10, 1e-12)]
+    assert all(r[0] for r in runs)
+    assert runs[0][1] == pytest.approx(runs[1][1], rel=1e-4)
+    assert runs[1][1] == pytest.approx(w.t_escape, rel=1e-3)
+    below = _level_run(d_of(0.9), 20.0, 1e-11)
+    assert not below[0] and below[2] > 2e-6
+
+
+def test_bounded_inputs_below_the_proven_lower_stay_above_the_breakdown_level():
+    from fractions import Fraction
+
+    from gfrf.model.modelfile import load_model
+    from gfrf.stability.implicit import implicit_form
+    from gfrf.stability.implicit_region import certificate_at
+
+    form = implicit_form(load_model(MODELS / "cartpole.toml"))
+    cert = certificate_at(form, 340.0)
+    assert cert is not None and cert["level"] == "1/1000000"
+    U = 0.999 * float(Fraction(cert["U"]))
+    ymax = max(abs(float(Fraction(v[0]))) for v in cert["vertices"])
+    rng = np.random.default_rng(11)
+    inputs = [lambda t, x: U, lambda t, x: -U,
+              lambda t, x: -U if t < 3.0 else U,  # bang-bang: the widest swing
+              lambda t, x: U * np.sign(np.sin(0.8 * t)), lambda t, x: U * np.sign(np.sin(6 * t))]
+    for _ in range(3):
+        a = rng.uniform(0, 1, 3)
+        a = a / a.sum()
+        w = rng.uniform(0.05, 30, 3)
+        inputs.append(lambda t, x, a=a, w=w: U * float(np.sum(a * np.cos(w * t))))
+    for d in inputs:
+        sol = solve_ivp(lambda t, x, d=d: _rhs(d(t, x))(t, x), (0, 8), [0.0, 0.0],
+                        method="DOP853", rtol=1e-9, atol=1e-12, max_step=0.02)
+        assert sol.status == 0
+        assert np.max(np.abs(sol.y[0])) <= ymax
+        assert float(np.min(np.abs(_D(sol.y[0])))) > 1e-6 * abs(_D(0.0))
+
+
+@pytest.mark.slow
+def test_the_enclosure_proves_the_witness_and_not_the_witness_at_0_9(witness):
+    from gfrf.twosided.implicit_enclose import enclose_implicit_witness
+
+    form, w = witness
+    e = enclose_implicit_witness(form, w.amplitude, w.first_sign, w.switch_times, w.t_escape)
+    assert e is not None and e.proven
+    reached, t_hit, _ = _level_run(lambda t, x: w.first_sign * w.amplitude, 3 * w.t_escape,
+                                   1e-12)
+    # the enclosure passes the level when the replay does (the enclosed time is an upper
+    # end of the step's time ball)
+    assert reached and t_hit <= e.t_proven <= t_hit + 0.05
+    low = enclose_implicit_witness(form, 0.9 * w.amplitude, w.first_sign, w.switch_times,
+                                   w.t_escape)
+    assert low is not None and not low.proven
