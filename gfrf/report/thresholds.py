@@ -55,7 +55,11 @@ def rows(results: dict[str, Threshold]) -> list[list[object]]:
         second = t.certificates[1:]
         tones = t.witness_tones
         f = t.falsification
-        witness = ("-" if t.upper is None or f is None else
+        dw = t.d_witness
+        witness = (f"d = {'+' if dw.first_sign > 0 else '-'}{t.upper:.4g} switching "
+                   f"({len(dw.switch_times)} switches, to |D| <= 1e-6 |D(0)|, "
+                   f"{t.upper_proof})" if dw is not None and t.upper is not None else
+                   "-" if t.upper is None or f is None else
                    f"+-{t.upper:.4g} switching ({len(f.switch_times)} switches, "
                    f"{t.upper_proof})" if f.kind == "switching" else
                    " + ".join(f"{a:.4g} cos({w:.4g} t{'' if p == 0 else f' + {p:.3g}'})"
