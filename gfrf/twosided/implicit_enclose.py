@@ -108,10 +108,12 @@ def enclose_implicit_witness(form: ImplicitLoop, amplitude: float, first_sign: i
         return None
     y_level = max(finite)
     k = Fraction(1) / (q0 * SCALE)
-    rows = [[(c * k, (i, 1, 0, 0)) for (i, _), c in q.items()],
-            [(c * k, (i, j, 0, 0)) for (i, j), c in r0.items()]
-            + [(c * k, (i, j, 0, 1)) for (i, j), c in r1.items()],
-            [(c * k, (i, 0, 0, 0)) for (i, _), c in q.items()]]
+    Row = list[tuple[Fraction, tuple[int, ...]]]
+    row_y: Row = [(c * k, (i, 1, 0, 0)) for (i, _), c in q.items()]
+    row_v: Row = [(c * k, (i, j, 0, 0)) for (i, j), c in r0.items()]
+    row_v += [(c * k, (i, j, 0, 1)) for (i, j), c in r1.items()]
+    row_t: Row = [(c * k, (i, 0, 0, 0)) for (i, _), c in q.items()]
+    rows = [row_y, row_v, row_t]
     horizon = 1.5 * _rescaled_time(form, amplitude * first_sign, t_escape)
     old = ctx.prec, ctx.cap
     ctx.prec, ctx.cap = BITS, ORDER + 1
