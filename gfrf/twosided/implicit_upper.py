@@ -6,15 +6,16 @@ controller), sup|d| <= U.
 (:data:`gfrf.stability.implicit.SINGULAR_LEVEL`), where y'' = -R / D and the controller's
 output are 1e6 times their scale, or a non-finite state.  It is a stated level: below
 the constant input whose equilibrium reaches D = 0 itself, a bounded input brings |D|
-arbitrarily close to 0 without reaching it (near D = 0 the loop decelerates y like
-exp(-c v) in the distance to D = 0), so the lower side's polygon is kept above the
-same level.
+arbitrarily close to 0 without reaching it (near D = 0, while y' falls by v, the
+distance to D = 0 shrinks by a factor exp(-c v): y turns back before D = 0), so the
+lower side's polygon is kept above the same level.
 
 Candidates: d = +U and d = -U held constant from rest (the issue's switching witness
 form with no switch).  Switching inputs were measured on the cart-pole loops and
 reach the level no sooner: with its overdamped loop every swing ends as close to
 D = 0 as the constant's (d = U sign(y') and one switch after settling at d = -U, at
-U = 150 to 400, agree with the constant to 3 digits in log10 |D|).  The smallest
+U = 150 to 400, come as close as the constant to within 0.003 in log10 of the
+distance to D = 0).  The smallest
 escaping U is found by doubling from the proven lower side, then bisection (counts,
 never time); the witness is that edge times 1.02 and must escape under DOP853 at
 rtol 1e-9 and 1e-11, escape times within 1 %.  :func:`gfrf.twosided.implicit_enclose.
@@ -54,7 +55,7 @@ class ImplicitWitness:
     switch_times : tuple of float
         Switch times (s); empty for a constant input.
     t_escape : float
-        When the run reached the singular set (s), at rtol 1e-11.
+        When the run reached the breakdown level (s), at rtol 1e-11.
     edge : float
         The smallest escaping amplitude found by bisection (the witness is 1.02 x it).
     runs : int
