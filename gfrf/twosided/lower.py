@@ -231,7 +231,8 @@ def _implicit_lower(mf: ModelFile, theorem_certificate: Certificate) -> LowerSid
     detail = (f"D(x) y'' + R(x, d) = 0 with x = ({', '.join(form.states)}), d = "
               f"{form.input_name}; a polygon of {len(cert['vertices'])} vertices with "
               f"|y| <= {ymax:.6g}, |y'| <= {vmax:.6g} is invariant for every |d| <= {cert['U']}"
-              f" and D stays away from 0 on it ({work} polygons built; edges, simplicity "
+              f" and |D| stays above {cert.get('level', 0)} |D(0)| on it ({work} polygons "
+              "built; edges, simplicity "
               "and D re-checked in exact rational arithmetic)")
     c = Certificate(REGION_METHOD, radius, "exact", linf, detail,
                     "bounded: every solution from rest stays in the invariant polygon "
