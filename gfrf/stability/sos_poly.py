@@ -49,6 +49,8 @@ STEPS = 3
 GAP = Fraction(1, 200)
 #: The multiplier step's first U, relative to the V step's optimum.
 _BACKOFF = 0.995
+#: The quartic part SEED V^2 added to the quadratic start (see :func:`_seed`); 0: none.
+SEED = Fraction(1, 4)
 #: Degree of the improved storage function.
 DEGREE = 4
 #: Radial unboundedness margin g (V - g|x|^2 SOS) and strictness eps, with c = 1.
@@ -180,6 +182,50 @@ def _m_step(system: PolySystem, sh: _Shape, V: Poly, U: Fraction
     return cert, lam, mu
 
 
+def _rounds(system: PolySystem, sh: _Shape, V: Poly, U_best: Fraction
+            ) -> tuple[list[dict[str, Any]], int]:
+    """The V-lambda rounds from V (level 1, verified at U_best): the proposals (rounded,
+    not yet checked) and the number of SDPs solved."""
+    start = _m_step(system, sh, V, U_best)
+    solves = 1
+    if start is None:
+        return [], solves
+    _, lam, mu = start
+    found: list[dict[str, Any]] = []
+    for _ in range(ROUNDS):
+        step = _v_step(system, sh, lam, mu)
+        solves += 1
+        if step is None or step[1] <= float(U_best) ** 2:
+            break
+        V, t = step
+        top = float(np.sqrt(t))
+        lo, hi = float(U_best), top
+        gained = Fraction(0)
+        for k in range(STEPS):
+            # just inside the V step's optimum first: its boundary would not survive rounding
+            U = _r(top * _BACKOFF if k == 0 else (lo + hi) / 2)
+            found_k = _m_step(system, sh, V, U)
+            solves += 1
+            if found_k is not None:
+                found.append(found_k[0])
+                gained = U / U_best - 1
+                U_best, lam, mu = U, found_k[1], found_k[2]
+                break
+            hi = float(U)
+        if gained < GAP:
+            break
+    return found, solves
+
+
+def _seed(V: Poly) -> Poly:
+    """(V + SEED V^2) / (1 + SEED): the same set {V <= 1} (the map is increasing), with
+    quartic terms, so the multipliers found for it leave the V step room to reshape them
+    (from a quadratic V alone, lambda's quadratic part may be indefinite, and no quartic
+    term of V is then feasible): the second start, when the first made no proposal."""
+    W = pscale(padd(V, pscale(pmul(V, V), SEED)), 1 / (1 + SEED))
+    return {k: _r(float(c)) for k, c in W.items() if _r(float(c))}
+
+
 def improve(system: PolySystem, certificate: dict[str, Any]
             ) -> tuple[dict[str, Any] | None, int]:
     """A verified certificate with a larger U than ``certificate``'s, or None.
@@ -203,34 +249,14 @@ def improve(system: PolySystem, certificate: dict[str, Any]
     nv = sh.nv
     c0 = Fraction(certificate["c"])
     V = {k: x / c0 for k, x in poly_from(certificate["V"], nv).items()}
-    U_best = Fraction(certificate["U"])
-    start = _m_step(system, sh, V, U_best)
-    solves = 1
-    if start is None:
-        return None, solves
-    _, lam, mu = start
+    U0 = Fraction(certificate["U"])
     found: list[dict[str, Any]] = []  # proposals
-    for _ in range(ROUNDS):
-        step = _v_step(system, sh, lam, mu)
-        solves += 1
-        if step is None or step[1] <= float(U_best) ** 2:
-            break
-        V, t = step
-        top = float(np.sqrt(t))
-        lo, hi = float(U_best), top
-        gained = Fraction(0)
-        for k in range(STEPS):
-            # just inside the V step's optimum first: its boundary would not survive rounding
-            U = _r(top * _BACKOFF if k == 0 else (lo + hi) / 2)
-            found_k = _m_step(system, sh, V, U)
-            solves += 1
-            if found_k is not None:
-                found.append(found_k[0])
-                gained = U / U_best - 1
-                U_best, lam, mu = U, found_k[1], found_k[2]
-                break
-            hi = float(U)
-        if gained < GAP:
+    solves = 0
+    for start in (V, _seed(V)) if SEED else (V,):
+        props, k = _rounds(system, sh, start, U0)
+        found += props
+        solves += k
+        if props:
             break
     for cert in sorted(found, key=lambda c: -Fraction(c["U"])):  # the largest U first
         if check_dict(system, cert) == "":
