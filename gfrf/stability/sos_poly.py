@@ -13,6 +13,12 @@ iteration):
   it when infeasible): lambda free, mu SOS, the same identity at level 1 (a feasibility
   problem: its interior solution survives the rounding to rationals).
 
+Where the full monomial bases would exceed :data:`MAX_GRAM` (a third-order plant under
+a PI controller: four states, a Gram matrix of side 50), V's terms above degree 2 are
+restricted to products with the states that enter the system nonlinearly (structured
+bases of :class:`_Shape`: side 30).  When the rounds from the quadratic V make no
+proposal, they are started again from V + V^2/4 (:func:`_seed`).
+
 The previous V stays feasible in the next V step, so the proposed U never decreases.
 The rounds stop after :data:`ROUNDS` or when U grew by less than :data:`GAP` (relative).
 Each multiplier step's solution is rounded to rationals and made exact
@@ -67,9 +73,16 @@ def _xmono(n: int, nv: int, i: int) -> tuple[int, ...]:
 
 
 class _Shape:
-    """Monomial bases of one system at one degree of V."""
+    """Monomial bases of one system at one degree of V.
 
-    def __init__(self, system: PolySystem, dV: int):
+    ``structured``: V's terms above degree 2 are products of the states that enter f
+    nonlinearly with the others (V = x^T P x + sum over such states x_k of x_k x^T Q_k x
+    + ...: V's Gram basis is x and x_k x), lambda a polynomial in x of degree <= 2, mu
+    quadratic, and the identity's Gram basis 1, x, v, x_i x_j, v x_i and x_k x_i x_j:
+    smaller semidefinite programs for systems whose full bases are too large.
+    """
+
+    def __init__(self, system: PolySystem, dV: int, structured: bool = False):
         n = system.n
         nv = n + 1
         self.n, self.nv, self.dV = n, nv, dV
@@ -81,6 +94,20 @@ class _Shape:
         self.lam_basis = _monomials(nv, range(self.D - dV + 1), 2)
         self.mu_basis = _monomials(nv, range(self.D // 2), 0, xonly=True)
         self.sig_basis = _monomials(nv, range(self.D // 2 + 1), 1)
+        if structured and dV == 4 and self.D == 6:
+            bent = {i for p in system.f for k in p if sum(k[:n]) >= 2
+                    for i in range(n) if k[i]}
+            lin = _monomials(nv, range(1, 2), 0, xonly=True)
+            quad = _monomials(nv, range(2, 3), 0, xonly=True)
+            self.vq_basis = lin + [q for q in quad if any(q[i] for i in bent)]
+            self.v_basis = sorted({tuple(a + b for a, b in zip(p, q, strict=True))
+                                   for p in self.vq_basis for q in self.vq_basis},
+                                  key=lambda k: (sum(k), k))
+            self.lam_basis = _monomials(nv, range(3), 0, xonly=True)
+            self.mu_basis = _monomials(nv, range(2), 0, xonly=True)
+            self.sig_basis = (_monomials(nv, range(3), 1)
+                              + [k for k in _monomials(nv, range(3, 4), 0, xonly=True)
+                                 if any(k[i] for i in bent)])
         zero = (0,) * nv
         self.zero = zero
         self.norm2: Poly = {_xmono(n, nv, i): Fraction(1) for i in range(n)}
@@ -244,6 +271,8 @@ def improve(system: PolySystem, certificate: dict[str, Any]
         and the number of SDPs solved.
     """
     sh = _Shape(system, DEGREE)
+    if sh.size() > MAX_GRAM:
+        sh = _Shape(system, DEGREE, structured=True)
     if system.discrete or sh.size() > MAX_GRAM:
         return None, 0
     nv = sh.nv
