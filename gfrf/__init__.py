@@ -88,7 +88,7 @@ _LAZY = {
     "ofrf": "gfrf.sim.ofrf", "OFRF": "gfrf.sim.ofrf",
     "from_tf": "gfrf.model.from_control", "from_nlsys": "gfrf.model.from_control",
     "check_certificate": "gfrf.stability.sos_check",
-    "threshold": "gfrf.twosided.threshold", "Threshold": "gfrf.twosided.threshold",
+    "threshold": "gfrf._api", "Threshold": "gfrf.twosided.threshold",
     "FrequencyResponseCurve": "gfrf.harmonic.curve",
 }
 #: Functions of a plant model re-exported so that they also take a ModelFile.

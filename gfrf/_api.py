@@ -4,7 +4,8 @@ Every function of the package API that analyses a plant accepts either a
 :class:`gfrf.model.equation.Model` or what :func:`gfrf.load_model` returns (a
 :class:`gfrf.model.modelfile.ModelFile`, whose plant is then used); python-control
 interoperates both ways: :func:`linear_part` gives H1 as a
-``control.TransferFunction`` and :func:`verdict` takes a python-control controller.
+``control.TransferFunction``, and :func:`verdict` and :func:`threshold` take a
+python-control controller.
 """
 
 from __future__ import annotations
@@ -23,8 +24,9 @@ if TYPE_CHECKING:
     from gfrf.model.equation import Model
     from gfrf.model.modelfile import ModelFile
     from gfrf.stability.verdicts import Verdict
+    from gfrf.twosided.threshold import Threshold
 
-__all__ = ["plant_function", "linear_part", "verdict"]
+__all__ = ["plant_function", "linear_part", "verdict", "threshold"]
 
 
 def plant_function(module: str, name: str) -> Callable[..., Any]:
@@ -153,3 +155,54 @@ def verdict(model: Model | ModelFile, order: int = 5, amplitude: float = 1.0,
     elif not isinstance(model, Model):
         model = resolve_model(model)
     return criteria_verdict(model, order, amplitude, with_norms, proof, norms=norms)
+
+
+def threshold(model: Model | ModelFile, *, controller: Any = None, feedback: int = -1,
+              order: int = 5, prove: bool = True,
+              progress: Callable[[int, int], None] | None = None) -> Threshold:
+    """Stable below ``lower`` (proven), unstable at ``upper`` (a witness), unknown between;
+    in closed loop with the file's controller or ``controller``.
+
+    :func:`gfrf.twosided.threshold.threshold` with a python-control controller: the loop
+    ``u = C(r + feedback*y)`` is the one a model file with that ``[controller]`` (``num``,
+    ``den``, ``feedback``) describes, and gives the same numbers.
+
+    Parameters
+    ----------
+    model : Model or ModelFile
+        The plant, or a loaded model file (plant and optional controller).
+    controller : control.TransferFunction or control.StateSpace, optional
+        A linear SISO controller C(s) of the plant's timebase; it replaces the model
+        file's controller. Amplitudes are then those of the reference r.
+    feedback : {-1, 1}
+        Sign of the feedback of ``controller`` (default negative: ``u = C(r - y)``).
+    order : int
+        Order of the norms of the verdict behind Theorem 1's (2's) r*.
+    prove : bool
+        Enclose the witness's escape in ball arithmetic (``upper_proof`` ``"interval"``
+        when it succeeds).
+    progress : callable, optional
+        ``progress(done, total)`` during the falsifier's search.
+
+    Returns
+    -------
+    Threshold
+
+    Examples
+    --------
+    >>> import control, gfrf
+    >>> plant = gfrf.parse_model("D(y) + y + y**3 = u")
+    >>> gfrf.threshold(plant, controller=control.tf([2], [1])).lower
+    inf
+    >>> gfrf.threshold(plant, controller=control.tf([2], [1]), feedback=1).upper
+    0.0
+    """
+    from dataclasses import replace
+
+    from gfrf.model.modelfile import resolve_model
+    from gfrf.twosided.threshold import threshold as twosided_threshold
+
+    if controller is not None:
+        base = resolve_model(model)
+        model = replace(base, controller=_controller(controller, feedback, base.plant))
+    return twosided_threshold(model, order=order, prove=prove, progress=progress)

@@ -317,3 +317,38 @@ def test_bound_markdown_shows_the_bracket_and_its_proof() -> None:
     exact = 1.0 / (0.2 * (1.0 - 0.01) ** 0.5)  # 1/(c sqrt(k - c^2/4))
     assert text.count("\n") == 2 and "interval" in text
     assert f"{exact:.6g}"[:6] in text
+
+
+def _threshold_routes(plant_text: str, num: list[float], den: list[float], feedback: int = -1,
+                      **kwargs: object) -> tuple[gfrf.Threshold, gfrf.Threshold]:
+    """The threshold of one loop given by a python-control controller and by a model
+    file's [controller] table."""
+    plant = gfrf.parse_model(plant_text)
+    with_tf = gfrf.threshold(plant, controller=control.tf(num, den), feedback=feedback,
+                             **kwargs)
+    from_file = gfrf.threshold(model_from_dict(
+        {"equation": plant_text,
+         "controller": {"num": num, "den": den, "feedback": feedback}}), **kwargs)
+    return with_tf, from_file
+
+
+def test_threshold_with_a_python_control_controller() -> None:
+    plant = "D(y) + y + y**3 = u"
+    with_tf, from_file = _threshold_routes(plant, [2], [1])
+    assert with_tf.to_dict() == from_file.to_dict()
+    assert with_tf.lower == math.inf  # y' = -3y - y^3 + 2r: bounded for every bounded r
+    # positive feedback: y' = y - y^3 + 2r, the pole s = 1 (python-control's loop agrees)
+    pos_tf, pos_file = _threshold_routes(plant, [2], [1], feedback=1)
+    loop = control.feedback(control.tf([2], [1]) * control.tf([1], [1, 1]), sign=1)
+    assert max(p.real for p in loop.poles()) > 0
+    assert pos_tf.to_dict() == pos_file.to_dict()
+    assert pos_tf.lower == pos_tf.upper == 0
+    with pytest.raises(gfrf.ArgumentError, match="TransferFunction"):
+        gfrf.threshold(gfrf.parse_model(plant), controller=[2, 1])
+
+
+@pytest.mark.slow
+def test_threshold_of_a_pi_loop_is_the_model_files() -> None:
+    with_tf, from_file = _threshold_routes("D(y) + y - 0.5*y**3 = u", [1, 0.5], [1, 0])
+    assert with_tf.to_dict() == from_file.to_dict()
+    assert 0 < with_tf.lower < with_tf.upper < math.inf

@@ -39,6 +39,11 @@ def _cases(quick: bool) -> list[tuple[str, object]]:
         cases += [("nonlinear damping", parse_model(
             "D(y,2) + 0.4*D(y) + 2*y + 0.5*y**2*D(y) + 0.8*y**3 = u")),
             ("hanging_pendulum_damped", bundled_model("hanging_pendulum_damped.toml"))]
+        third = "D(y,3) + 1.2*D(y,2) + 3*D(y) + y + 0.6*y**2 + y**3 = 2*u"
+        cases += [(f"third-order plant + {name} (four states)",
+                   ModelFile(parse_model(third), controller=Controller(num=num, den=den)))
+                  for name, num, den in (("PI", (0.5, 0.2), (1.0, 0.0)),
+                                         ("lead-lag", (1.0, 0.5), (1.0, 2.0)))]
     cases.append(("narx_example", bundled_model("narx_example.toml")))
     if not quick:
         cases += [("identified_example", bundled_model("identified_example.toml")),

@@ -13,6 +13,12 @@ iteration):
   it when infeasible): lambda free, mu SOS, the same identity at level 1 (a feasibility
   problem: its interior solution survives the rounding to rationals).
 
+Where the full monomial bases would exceed :data:`MAX_GRAM` (a third-order plant under
+a PI controller: four states, a Gram matrix of side 50), V's terms above degree 2 are
+restricted to products with the states that enter the system nonlinearly (structured
+bases of :class:`_Shape`: side 30).  When the rounds from the quadratic V make no
+proposal, they are started again from V + V^2/4 (:func:`_seed`).
+
 The previous V stays feasible in the next V step, so the proposed U never decreases.
 The rounds stop after :data:`ROUNDS` or when U grew by less than :data:`GAP` (relative).
 Each multiplier step's solution is rounded to rationals and made exact
@@ -49,6 +55,8 @@ STEPS = 3
 GAP = Fraction(1, 200)
 #: The multiplier step's first U, relative to the V step's optimum.
 _BACKOFF = 0.995
+#: The quartic part SEED V^2 added to the quadratic start (see :func:`_seed`); 0: none.
+SEED = Fraction(1, 4)
 #: Degree of the improved storage function.
 DEGREE = 4
 #: Radial unboundedness margin g (V - g|x|^2 SOS) and strictness eps, with c = 1.
@@ -65,9 +73,16 @@ def _xmono(n: int, nv: int, i: int) -> tuple[int, ...]:
 
 
 class _Shape:
-    """Monomial bases of one system at one degree of V."""
+    """Monomial bases of one system at one degree of V.
 
-    def __init__(self, system: PolySystem, dV: int):
+    ``structured``: V's terms above degree 2 are products of the states that enter f
+    nonlinearly with the others (V = x^T P x + sum over such states x_k of x_k x^T Q_k x
+    + ...: V's Gram basis is x and x_k x), lambda a polynomial in x of degree <= 2, mu
+    quadratic, and the identity's Gram basis 1, x, v, x_i x_j, v x_i and x_k x_i x_j:
+    smaller semidefinite programs for systems whose full bases are too large.
+    """
+
+    def __init__(self, system: PolySystem, dV: int, structured: bool = False):
         n = system.n
         nv = n + 1
         self.n, self.nv, self.dV = n, nv, dV
@@ -79,6 +94,20 @@ class _Shape:
         self.lam_basis = _monomials(nv, range(self.D - dV + 1), 2)
         self.mu_basis = _monomials(nv, range(self.D // 2), 0, xonly=True)
         self.sig_basis = _monomials(nv, range(self.D // 2 + 1), 1)
+        if structured and dV == 4 and self.D == 6:
+            bent = {i for p in system.f for k in p if sum(k[:n]) >= 2
+                    for i in range(n) if k[i]}
+            lin = _monomials(nv, range(1, 2), 0, xonly=True)
+            quad = _monomials(nv, range(2, 3), 0, xonly=True)
+            self.vq_basis = lin + [q for q in quad if any(q[i] for i in bent)]
+            self.v_basis = sorted({tuple(a + b for a, b in zip(p, q, strict=True))
+                                   for p in self.vq_basis for q in self.vq_basis},
+                                  key=lambda k: (sum(k), k))
+            self.lam_basis = _monomials(nv, range(3), 0, xonly=True)
+            self.mu_basis = _monomials(nv, range(2), 0, xonly=True)
+            self.sig_basis = (_monomials(nv, range(3), 1)
+                              + [k for k in _monomials(nv, range(3, 4), 0, xonly=True)
+                                 if any(k[i] for i in bent)])
         zero = (0,) * nv
         self.zero = zero
         self.norm2: Poly = {_xmono(n, nv, i): Fraction(1) for i in range(n)}
@@ -180,36 +209,16 @@ def _m_step(system: PolySystem, sh: _Shape, V: Poly, U: Fraction
     return cert, lam, mu
 
 
-def improve(system: PolySystem, certificate: dict[str, Any]
-            ) -> tuple[dict[str, Any] | None, int]:
-    """A verified certificate with a larger U than ``certificate``'s, or None.
-
-    Parameters
-    ----------
-    system : PolySystem
-        A continuous-time system.
-    certificate : dict
-        A verified ``local-continuous`` certificate with a quadratic V (the start).
-
-    Returns
-    -------
-    (dict or None, int)
-        The best exactly re-checked certificate found with a larger U (None if none),
-        and the number of SDPs solved.
-    """
-    sh = _Shape(system, DEGREE)
-    if system.discrete or sh.size() > MAX_GRAM:
-        return None, 0
-    nv = sh.nv
-    c0 = Fraction(certificate["c"])
-    V = {k: x / c0 for k, x in poly_from(certificate["V"], nv).items()}
-    U_best = Fraction(certificate["U"])
+def _rounds(system: PolySystem, sh: _Shape, V: Poly, U_best: Fraction
+            ) -> tuple[list[dict[str, Any]], int]:
+    """The V-lambda rounds from V (level 1, verified at U_best): the proposals (rounded,
+    not yet checked) and the number of SDPs solved."""
     start = _m_step(system, sh, V, U_best)
     solves = 1
     if start is None:
-        return None, solves
+        return [], solves
     _, lam, mu = start
-    found: list[dict[str, Any]] = []  # proposals
+    found: list[dict[str, Any]] = []
     for _ in range(ROUNDS):
         step = _v_step(system, sh, lam, mu)
         solves += 1
@@ -231,6 +240,52 @@ def improve(system: PolySystem, certificate: dict[str, Any]
                 break
             hi = float(U)
         if gained < GAP:
+            break
+    return found, solves
+
+
+def _seed(V: Poly) -> Poly:
+    """(V + SEED V^2) / (1 + SEED): the same set {V <= 1} (the map is increasing), with
+    quartic terms, so the multipliers found for it leave the V step room to reshape them
+    (from a quadratic V alone, lambda's quadratic part may be indefinite, and no quartic
+    term of V is then feasible): the second start, when the first made no proposal."""
+    W = pscale(padd(V, pscale(pmul(V, V), SEED)), 1 / (1 + SEED))
+    return {k: _r(float(c)) for k, c in W.items() if _r(float(c))}
+
+
+def improve(system: PolySystem, certificate: dict[str, Any]
+            ) -> tuple[dict[str, Any] | None, int]:
+    """A verified certificate with a larger U than ``certificate``'s, or None.
+
+    Parameters
+    ----------
+    system : PolySystem
+        A continuous-time system.
+    certificate : dict
+        A verified ``local-continuous`` certificate with a quadratic V (the start).
+
+    Returns
+    -------
+    (dict or None, int)
+        The best exactly re-checked certificate found with a larger U (None if none),
+        and the number of SDPs solved.
+    """
+    sh = _Shape(system, DEGREE)
+    if sh.size() > MAX_GRAM:
+        sh = _Shape(system, DEGREE, structured=True)
+    if system.discrete or sh.size() > MAX_GRAM:
+        return None, 0
+    nv = sh.nv
+    c0 = Fraction(certificate["c"])
+    V = {k: x / c0 for k, x in poly_from(certificate["V"], nv).items()}
+    U0 = Fraction(certificate["U"])
+    found: list[dict[str, Any]] = []  # proposals
+    solves = 0
+    for start in (V, _seed(V)) if SEED else (V,):
+        props, k = _rounds(system, sh, start, U0)
+        found += props
+        solves += k
+        if props:
             break
     for cert in sorted(found, key=lambda c: -Fraction(c["U"])):  # the largest U first
         if check_dict(system, cert) == "":

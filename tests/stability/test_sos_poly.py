@@ -171,3 +171,88 @@ def test_pi_loop_references_below_lower_stay_in_the_set() -> None:
 
     _run_stays_in(V, rhs, (bang, lambda t, s: R * math.copysign(1.0, math.sin(0.6 * t)),
                            lambda t, s: R * math.copysign(1.0, math.sin(2.0 * t))), 3, 60)
+
+
+THIRD_ORDER_PI = {"equation": "D(y,3) + 1.2*D(y,2) + 3*D(y) + y + 0.6*y**2 + y**3 = 2*u",
+                  "controller": {"num": [0.5, 0.2], "den": [1.0, 0.0]}}
+
+
+@pytest.fixture(scope="module")
+def third_order_pi() -> tuple:
+    """The third-order plant under u = 0.5(r - y) + 0.2 int(r - y): four states, so the
+    quartic V has the structured bases (the full ones exceed MAX_GRAM)."""
+    from gfrf.model.modelfile import model_from_dict
+
+    system = state_form(model_from_dict(THIRD_ORDER_PI))
+    res, _ = sos_certificate(system)
+    assert res is not None
+    return system, res
+
+
+def _third_order_loop(r):
+    """The loop written by hand: states y, y', y'', z = int(r - y)."""
+    def f(t, s):
+        e = r(t, s) - s[0]
+        u = 0.5 * e + 0.2 * s[3]
+        return [s[1], s[2], -1.2 * s[2] - 3 * s[1] - s[0] - 0.6 * s[0] ** 2 - s[0] ** 3 + 2 * u,
+                e]
+    return f
+
+
+@pytest.mark.slow
+def test_third_order_pi_loop_references_below_lower_stay_in_the_set(third_order_pi) -> None:
+    """A quartic V (exactly re-checked) whose radius is more than half of a square wave
+    that escapes (DOP853); random tone sums, square waves and bang-bang references on the
+    sign of dV/dr with sup|r| <= lower keep V <= 1."""
+    system, res = third_order_pi
+    cert = res.certificate
+    assert check_dict(system, cert) == ""
+    assert max(sum(k) for k, _ in cert["V"]) == 4 and cert["c"] == "1"
+    V = poly_from(cert["V"], 5)
+    R = res.radius
+    assert 0 < R < math.inf
+    gw, gz = pdiff(V, 2), pdiff(V, 3)
+
+    def bang(t, s):  # r enters y''' (2 * 0.5) and z' (1)
+        p = np.array([[*s, 0.0]])
+        return R * math.copysign(1.0, float(peval(gw, p)[0]) + float(peval(gz, p)[0]))
+
+    rng = np.random.default_rng(3)
+    tones = []
+    for _ in range(3):
+        w = rng.uniform(0.2, 3.0, size=3)
+        ph = rng.uniform(0, 2 * math.pi, size=3)
+        a = rng.dirichlet(np.ones(3)) * R  # sum of amplitudes = R: sup|r| <= R
+        tones.append(lambda t, s, a=a, w=w, ph=ph: float(np.sum(a * np.cos(w * t + ph))))
+    squares = [lambda t, s, w=w: R * math.copysign(1.0, math.sin(w * t)) for w in (0.4, 1.1)]
+    _run_stays_in(V, _third_order_loop, (bang, *squares, *tones), 4, 60)
+
+    def big(t, s):
+        return abs(s[0]) - 1e3
+
+    big.terminal = True  # type: ignore[attr-defined]
+    A = 2 * R
+    sol = solve_ivp(_third_order_loop(lambda t, s: A * math.copysign(1.0, math.sin(1.6 * t))),
+                    (0, 200), np.zeros(4), method="DOP853", rtol=1e-9, atol=1e-12, events=big)
+    assert sol.status == 1
+
+
+@pytest.mark.slow
+def test_third_order_pi_loop_perturbed_certificate_file_is_refused(third_order_pi, tmp_path,
+                                                                   cli) -> None:
+    import json
+
+    _, res = third_order_pi
+    model = tmp_path / "loop.toml"
+    model.write_text('equation = "D(y,3) + 1.2*D(y,2) + 3*D(y) + y + 0.6*y**2 + y**3 = 2*u"\n'
+                     "[controller]\nnum = [0.5, 0.2]\nden = [1.0, 0.0]\n", encoding="utf-8")
+    good = tmp_path / "good.json"
+    good.write_text(json.dumps(res.certificate), encoding="utf-8")
+    assert cli("certificate", "check", str(model), str(good))[0] == 0
+    for block in ("sigma", "mu", "sigma_V"):
+        bad = copy.deepcopy(res.certificate)
+        Q = bad["multipliers"][block]["Q"]
+        Q[0][0] = str(Fraction(Q[0][0]) + Fraction(1, 10**9))
+        path = tmp_path / f"bad_{block}.json"
+        path.write_text(json.dumps(bad), encoding="utf-8")
+        assert cli("certificate", "check", str(model), str(path))[0] == 1, block

@@ -61,7 +61,7 @@ def test_enclosure_holds_the_50_digit_taylor_solution_under_a_tone_third_order()
     f = _witness("tones", 0.3, 1.5, tones=[(0.3, 1.3, 0.4)])
     trace: list = []
     enclose_witness(model, f, trace=trace)
-    assert len(trace) >= 12
+    assert len(trace) >= 6  # steps of at most 1/4 s
     with mp.workdps(50):
         a, w, p = mp.mpf(0.3), mp.mpf(1.3), mp.mpf(0.4)
         sol = mp.odefun(lambda t, y: [y[1], y[2], -2 * y[2] - 2 * y[1] - y[0]
@@ -187,7 +187,7 @@ def test_enclosure_holds_the_50_digit_taylor_solution_under_a_chirp() -> None:
     f = _witness("chirp", 0.5, 2.0, chirp=chirp)
     trace: list = []
     enclose_witness(model, f, trace=trace)
-    assert len(trace) >= 16 and float(trace[-1][0].mid()) == pytest.approx(2.0)  # 1.5 t_escape
+    assert len(trace) >= 8 and float(trace[-1][0].mid()) == pytest.approx(2.0)  # 1.5 t_escape
     with mp.workdps(50):
         a, w0 = mp.mpf(0.5), mp.mpf(1.4)
         k = (mp.mpf(0.7) - w0) / (2 * mp.mpf(3.0))

@@ -40,7 +40,7 @@ def test_pi_loop_enclosure_holds_the_50_digit_taylor_solution_under_a_switching_
     trace: list = []
     proof = enclose_witness(model_from_dict(PI), f, trace=trace)
     assert proof is not None and not proof.proven
-    assert len(trace) >= 16 and float(trace[-1][0].mid()) == pytest.approx(2.4)
+    assert len(trace) >= 10 and float(trace[-1][0].mid()) == pytest.approx(2.4)
     with mp.workdps(50):
         edges, z, sign, checked = [0, 1.0, 2.4], [mp.mpf(0)] * 3, 1, 0
         for a, b in zip(edges[:-1], edges[1:], strict=True):
@@ -68,7 +68,7 @@ def test_lead_lag_loop_enclosure_holds_the_50_digit_taylor_solution_under_a_tone
     f = _witness("tones", 1.2, 1.5, tones=[(1.2, 0.9, 0.3)])
     trace: list = []
     enclose_witness(model_from_dict(LEAD), f, trace=trace)
-    assert len(trace) >= 12
+    assert len(trace) >= 6
     with mp.workdps(50):
         a, w, p = mp.mpf(1.2), mp.mpf(0.9), mp.mpf(0.3)
 
