@@ -268,6 +268,7 @@ def _resonance_start(point: Callable[..., Any], poles: np.ndarray, n: int) -> np
     starts = start_points({0.0, *(float(abs(p.imag)) for p in poles)}, n)
     with np.errstate(all="ignore"):
         values = np.abs(np.asarray(point(*starts.T), dtype=complex))
+    values = np.broadcast_to(values, starts.shape[:1]).copy()  # a constant kernel: a scalar
     values[~np.isfinite(values)] = 0.0
     return starts[int(np.argmax(values))]
 
