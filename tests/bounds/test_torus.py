@@ -215,3 +215,17 @@ def test_coarse_torus_boxes_are_halved_along_a_longest_side() -> None:
     # coarse boxes: a longest side, the preferred one where it is longest; fine boxes keep
     # the preferred axis
     assert _longest(side, preferred, 0.2).tolist() == [1, 2, 1, 0]
+
+
+def test_narx_h3_bracket_contains_the_closed_form_norm_at_the_torus_corner() -> None:
+    # y[k] = a y[k-1] + u[k-1] + c y[k-1]^3 with a < 0: H1(q) = q / (1 - a q) and
+    # H3 = c q1 q2 q3 H1(q1) H1(q2) H1(q3) / (1 - a q1 q2 q3); every factor's modulus
+    # peaks at q = -1 (w = pi / T), and q1 = q2 = q3 = -1 gives q1 q2 q3 = -1 too, so
+    # ||H3|| = |c| / (1 - |a|)^4, attained at the corner (pi/T, pi/T, pi/T) of the torus
+    a, c, t = -0.6, 0.2, 0.1
+    model = resolve_model(f"y[k] = {a}*y[k-1] + u[k-1] + {c}*y[k-1]**3",
+                          sample_time=t).plant
+    exact = abs(c) / (1 - abs(a)) ** 4
+    b = kernel_norm(model, 3)
+    assert b.lower <= exact * (1 + 1e-12) and exact <= b.upper * (1 + 1e-12)
+    assert b.gap <= 1e-3
