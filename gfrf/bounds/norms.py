@@ -342,8 +342,8 @@ def kernel_norm(model: Model, n: int, symmetric: bool = True, tol: float = DEFAU
         closes to ``tol = 1e-3`` within the default budget (the hanging pendulum in about
         55,000 boxes, the cart-pole plant in about 26,000; the counts may differ between
         CPUs in the last bits of floating point); of the NARX models ||H3|| closes (about
-        1,300 boxes), the identified examples' ||H5|| stays open (gap about 0.59 after
-        20,466 boxes; 0.043 with ``max_boxes=120_000``).
+        1,300 boxes), the identified examples' ||H5|| stays open (gap about 0.49 after
+        20,466 boxes; 0.035 with ``max_boxes=120_000``).
     proof : {"interval", "float", "none"}
         ``"interval"`` (default): the majorant's upper end in ball arithmetic on proven
         sups (``upper_proof = "interval"``) and the witness |H_n(argmax)| in ball

@@ -232,7 +232,9 @@ def test_a_long_search_keeps_no_box_batch_alive() -> None:
 
     from gfrf.bounds import enclosure
 
-    m = load_model("models/hanging_pendulum.toml").plant
+    # a NARX H3 to 1e-12: its boxes never close the gap, so the budget is spent (the
+    # pendulum's H3 reaches its attained majorant within a hundred boxes)
+    m = load_model("models/identified_example.toml").plant
     branch_and_bound(m, 3, tol=1e-12, max_boxes=200)  # imports and caches first
     gc.collect()
     gc.disable()
@@ -246,3 +248,9 @@ def test_a_long_search_keeps_no_box_batch_alive() -> None:
         gc.enable()
     assert r.boxes >= 3000 and alive == 0
     assert retained < 2_000_000, retained
+
+
+def test_a_kernel_that_is_identically_zero_is_bracketed_at_zero() -> None:
+    # the pendulum's restoring force is odd: its H2 vanishes everywhere
+    r = branch_and_bound(load_model("models/hanging_pendulum.toml").plant, 2)
+    assert r.lower == 0.0 and r.upper == 0.0

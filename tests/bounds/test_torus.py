@@ -16,7 +16,7 @@ import pytest
 import sympy as sp
 from scipy.optimize import minimize
 
-from gfrf.bounds.branch_bound import box_bounds
+from gfrf.bounds.branch_bound import _longest, box_bounds, branch_and_bound
 from gfrf.bounds.majorant import linear_polynomials, majorant
 from gfrf.bounds.norms import kernel_norm
 from gfrf.bounds.torus import InverseTrig
@@ -189,3 +189,43 @@ def test_h5_box_bound_is_tight_around_the_peak(h5_peak) -> None:
     inside = max(value, float(numeric(*rng.uniform(peak - half, peak + half, (2000, 5)).T)
                               .max()))
     assert inside <= bound[0] <= 1.02 * inside
+
+
+def test_h5_bracket_of_a_short_search_contains_the_random_search_sup(h5_peak) -> None:
+    """A budget-limited H5 search (open gap) still brackets the sup that dense random
+    sampling polished by scipy's Nelder-Mead finds on the explicit form."""
+    model, numeric, peak, value = h5_peak
+    r = branch_and_bound(model, 5, tol=1e-3, max_boxes=1500)
+    assert r.lower <= value * (1 + 1e-9) and value <= r.upper * (1 + 1e-12)
+    assert numeric(*np.array(r.argmax)[:, None])[0] == pytest.approx(r.lower, rel=1e-9)
+
+
+def test_upper_end_never_rises_with_more_boxes() -> None:
+    """A child's bound is at most its parent's, so a longer search (which passes through
+    the shorter one's state) ends with an upper end no higher."""
+    model = load_model("models/identified_example_true.toml").plant
+    uppers = [branch_and_bound(model, 3, tol=1e-12, max_boxes=b).upper
+              for b in (200, 600, 1800)]
+    assert uppers[0] >= uppers[1] >= uppers[2]
+
+
+def test_coarse_torus_boxes_are_halved_along_a_longest_side() -> None:
+    side = np.array([[0.4, 0.8, 0.8], [0.4, 0.8, 0.8], [0.1, 0.05, 0.05], [0.3, 0.1, 0.1]])
+    preferred = np.array([0, 2, 1, 1])
+    # coarse boxes: a longest side, the preferred one where it is longest; fine boxes keep
+    # the preferred axis
+    assert _longest(side, preferred, 0.2).tolist() == [1, 2, 1, 0]
+
+
+def test_narx_h3_bracket_contains_the_closed_form_norm_at_the_torus_corner() -> None:
+    # y[k] = a y[k-1] + u[k-1] + c y[k-1]^3 with a < 0: H1(q) = q / (1 - a q) and
+    # H3 = c q1 q2 q3 H1(q1) H1(q2) H1(q3) / (1 - a q1 q2 q3); every factor's modulus
+    # peaks at q = -1 (w = pi / T), and q1 = q2 = q3 = -1 gives q1 q2 q3 = -1 too, so
+    # ||H3|| = |c| / (1 - |a|)^4, attained at the corner (pi/T, pi/T, pi/T) of the torus
+    a, c, t = -0.6, 0.2, 0.1
+    model = resolve_model(f"y[k] = {a}*y[k-1] + u[k-1] + {c}*y[k-1]**3",
+                          sample_time=t).plant
+    exact = abs(c) / (1 - abs(a)) ** 4
+    b = kernel_norm(model, 3)
+    assert b.lower <= exact * (1 + 1e-12) and exact <= b.upper * (1 + 1e-12)
+    assert b.gap <= 1e-3
