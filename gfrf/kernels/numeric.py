@@ -120,25 +120,9 @@ def _slice(gen: Recursion, steps: Callable[[int], Callable[..., Any]],
                 lower = [value(tuple(block[j] for j in b)) for b in plan.blocks]
                 numerator = steps(m)(*sub, *lower)
                 combined = math.prod(sub) if discrete else sum(sub)
-                memo[block] = numerator / _negated_polynomial(denominator, combined)
+                memo[block] = -numerator / np.polyval(denominator, combined)
         return memo[block]
 
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         result = value(tuple(range(n)))
     return np.broadcast_to(np.asarray(result, dtype=np.complex128), shape).copy()
-
-
-def _negated_polynomial(coefficients: np.ndarray, x: Any) -> Any:
-    """``-numpy.polyval(coefficients, x)`` with the same bits (negation is exact), by
-    Horner's rule in place: one array instead of one per operation."""
-    if coefficients.size == 1:
-        return np.full(np.shape(x), -coefficients[0], dtype=np.complex128)
-    y = -coefficients[0] * x - coefficients[1]
-    for c in coefficients[2:]:
-        if np.ndim(y):
-            y *= x
-            y -= c
-        else:
-            y = y * x - c
-    return y
-
