@@ -121,7 +121,8 @@ def check_output_path(option: str, path: str | os.PathLike[str] | None) -> None:
 
 @contextlib.contextmanager
 def atomic_open(path: str | os.PathLike[str], mode: str = "w",
-                encoding: str | None = "utf-8", newline: str | None = None) -> Iterator[IO[Any]]:
+                encoding: str | None = "utf-8", newline: str | None = None, *,
+                permissions: int | None = None) -> Iterator[IO[Any]]:
     """Open ``path`` once for writing; on success the content replaces it atomically.
 
     The temporary file lives in the folder of the file replaced (so the final
@@ -140,6 +141,9 @@ def atomic_open(path: str | os.PathLike[str], mode: str = "w",
         Encoding of a text file (ignored for ``"wb"``).
     newline : str or None
         As for :func:`open` (ignored for ``"wb"``).
+    permissions : int or None, optional
+        The replacing file's permission bits (``0o600`` for a private cache); None keeps
+        those of the file it replaces, or ``0o666 & ~umask`` for a new one.
 
     Yields
     ------
@@ -173,7 +177,9 @@ def atomic_open(path: str | os.PathLike[str], mode: str = "w",
             yield fh
             fh.flush()
             os.fsync(fh.fileno())
-        os.chmod(tmp, stat.S_IMODE(st.st_mode) if st is not None else 0o666 & ~_umask())
+        if permissions is None:
+            permissions = stat.S_IMODE(st.st_mode) if st is not None else 0o666 & ~_umask()
+        os.chmod(tmp, permissions)
         os.replace(tmp, target)
     except BaseException as exc:
         with contextlib.suppress(OSError):
@@ -230,7 +236,8 @@ def atomic_write_text(path: str | os.PathLike[str], text: str,
     return Path(path)
 
 
-def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
+def atomic_write_bytes(path: str | os.PathLike[str], data: bytes, *,
+                       permissions: int | None = None) -> Path:
     """Write ``data`` to ``path`` atomically (see :func:`atomic_open`); return the path.
 
     Parameters
@@ -239,13 +246,15 @@ def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
         The final file.
     data : bytes
         Its content.
+    permissions : int or None, optional
+        The file's permission bits (see :func:`atomic_open`).
 
     Returns
     -------
     pathlib.Path
         ``path``.
     """
-    with atomic_open(path, "wb") as fh:
+    with atomic_open(path, "wb", permissions=permissions) as fh:
         fh.write(data)
     return Path(path)
 

@@ -230,7 +230,10 @@ def load_generated(kind: str, name: str, make_source: Callable[[bool], str]) -> 
     types.ModuleType
         The module, registered in :data:`sys.modules` (numba's cache refers to it by
         name).  Its code is always compiled from ``make_source``'s string; the anchor
-        file only gives numba's cache a place (see the module docstring).
+        file only gives numba's cache a place (see the module docstring).  When running
+        it with the cache fails (a truncated or damaged ``.nbi``/``.nbc`` file: numba
+        raises on the pickle), the module's cache files are deleted and it runs once
+        more, compiling afresh.
     """
     folder = private_folder(kind)
     path: Path | None = None
@@ -251,17 +254,32 @@ def load_generated(kind: str, name: str, make_source: Callable[[bool], str]) -> 
                           f"{exc.filename or folder}): compiling in memory, uncached",
                           UserWarning, stacklevel=2)
             source = make_source(False)
+    filename = str(path) if path else f"<gfrf {name}>"
+    code = compile(source, filename, "exec")
+    try:
+        module = _run(name, filename, code)
+    except Exception:  # a damaged cache file (a truncated pickle): discarded, run again
+        if path is None or machine_code is None:
+            raise
+        for stale in machine_code.glob(f"{name}.*"):
+            with contextlib.suppress(OSError):
+                stale.unlink()
+        module = _run(name, filename, code)
+    if path is not None and machine_code is not None:
+        _keep_in(module, machine_code)
+    return module
+
+
+def _run(name: str, filename: str, code: types.CodeType) -> types.ModuleType:
+    """A new module ``name`` (registered in :data:`sys.modules`) running ``code``."""
     module = types.ModuleType(name)
-    module.__file__ = str(path) if path else f"<gfrf {name}>"
-    code = compile(source, module.__file__, "exec")
+    module.__file__ = filename
     sys.modules[name] = module
     try:
         exec(code, module.__dict__)
     except BaseException:
         del sys.modules[name]
         raise
-    if path is not None and machine_code is not None:
-        _keep_in(module, machine_code)
     return module
 
 

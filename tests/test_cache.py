@@ -253,3 +253,19 @@ def test_numba_cache_dir_is_honoured_when_private(tmp_path: Path, canary: Path) 
     _ok(third)
     assert third.stdout.strip() == "True" and not canary.exists()
     assert "writable by group or others" in third.stderr and "NUMBA_CACHE_DIR" in third.stderr
+
+
+@pytest.mark.parametrize("kind", ["nbc", "nbi"])
+def test_a_truncated_numba_cache_file_is_compiled_again(tmp_path: Path, warm: Path,
+                                                         kind: str) -> None:
+    """A truncated machine-code (``.nbc``) or index (``.nbi``) pickle of a kernel: numba
+    raises on it; the kernel's cache files are deleted and it is compiled afresh."""
+    cache = _copy(warm, tmp_path)
+    files = sorted((cache / "kernels").rglob(f"gfrf_kernel_*.{kind}"))
+    assert files
+    for path in files:
+        path.write_bytes(path.read_bytes()[: path.stat().st_size // 2])
+    done = _kernel(cache)
+    _ok(done)
+    assert done.stdout.strip() == "True"
+    assert all(p.stat().st_size > 0 for p in (cache / "kernels").rglob("gfrf_kernel_*.nb?"))

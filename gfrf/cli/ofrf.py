@@ -53,7 +53,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     cmd.add_argument("--omega", required=True, type=float, metavar="W",
                      help="output frequency in rad/s (a harmonic or intermodulation "
                           "frequency of the input)")
-    cmd.add_argument("--order", type=int, default=5, help="truncation order N (default 5)")
+    cmd.add_argument("--order", type=int, default=5, help="truncation order N (default 5; up to "
+                     "MAX_OFRF_ORDER = 64 as MAX_OFRF_WORK allows)")
     add_json_flag(cmd)
     cmd.set_defaults(func=_ofrf)
 
@@ -74,12 +75,11 @@ def _truncation_line(o: Any, size: float) -> str:
 
 
 def _ofrf(args: argparse.Namespace) -> int:
-    from gfrf.kernels.recursion import check_order
     from gfrf.model.modelfile import looks_like_path, read_table
     from gfrf.model.signals import parse_input
-    from gfrf.sim.ofrf import ofrf
+    from gfrf.sim.ofrf import check_ofrf_order, ofrf
 
-    check_order(args.order, "--order")
+    check_ofrf_order(args.order, "--order")
     name, eq, text = args.param.partition("=")
     name = name.strip()
     value = None

@@ -16,13 +16,23 @@ and linked in memory by LLVM (llvmlite's MCJIT, the same machine code) when load
 about 0.05 s more than opening a library, and still no numba.  On another system, or
 when any step fails, the caller uses numba's cache
 (:func:`gfrf.kernels.compiled.numba_ufunc`).
+
+Each library or object file has a record beside it (``<file>.json``: the layout, its
+size in bytes and its SHA-256), both written by :func:`gfrf._atomic.atomic_write_bytes`
+once the build is complete.  A file is loaded only when its size and hash match the
+record: a truncated or altered file (dynamic loading of a truncated library crashes the
+process, with a bus error or a segmentation fault) or a missing or unreadable record is
+a cache miss, silently, like an absent file: both are deleted and the kernel is built
+again.  The object file is linked from the very bytes that were checked.
 """
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
 import hashlib
 import importlib.metadata
+import json
 import math
 import os
 import platform
@@ -37,6 +47,7 @@ from typing import Any
 
 import numpy as np
 
+from gfrf._atomic import atomic_write_bytes
 from gfrf.kernels.realcode import FASTMATH
 
 __all__ = ["NativeKernel", "native_kernel"]
@@ -45,6 +56,8 @@ __all__ = ["NativeKernel", "native_kernel"]
 SYMBOL = "gfrf_kernel_loop"
 #: Layout of the library and of its calling convention (part of the hash).
 FORMAT = "1"
+#: Largest record file read (bytes); a longer one is not gfrf's and is a cache miss.
+_MAX_RECORD = 4096
 
 
 class NativeKernel:
@@ -53,12 +66,15 @@ class NativeKernel:
     Parameters
     ----------
     path : pathlib.Path
-        The shared library.
+        The shared library (``.so``) or object file (``.o``).
     n : int
         The number of arguments (the kernel's order).
+    data : bytes
+        The file's content, checked against its record (an object file is linked from
+        these bytes, a library opened by its path).
     """
 
-    def __init__(self, path: Path, n: int) -> None:
+    def __init__(self, path: Path, n: int, data: bytes) -> None:
         self.n = n
         if path.suffix == ".o":  # no linker here: the object linked in memory by LLVM
             import llvmlite.binding as llvm
@@ -67,7 +83,7 @@ class NativeKernel:
             llvm.initialize_native_asmprinter()
             machine = llvm.Target.from_default_triple().create_target_machine()
             self.library = llvm.create_mcjit_compiler(llvm.parse_assembly(""), machine)
-            self.library.add_object_file(str(path))
+            self.library.add_object_file(llvm.ObjectFileRef.from_data(data))
             self.library.finalize_object()
             address = self.library.get_function_address(SYMBOL)
             if not address:
@@ -123,9 +139,43 @@ def _host() -> str:
     return f"{llvm.get_host_cpu_name()} {llvm.get_host_cpu_features().flatten()}"
 
 
-def _build(source: str, target: Path) -> None:
+def _record(path: Path) -> Path:
+    """The record file of the library or object file ``path``."""
+    return path.with_name(path.name + ".json")
+
+
+def _describe(data: bytes) -> bytes:
+    """The record of a file holding ``data``: layout, size and SHA-256, as JSON."""
+    return json.dumps({"format": FORMAT, "size": len(data),
+                       "sha256": hashlib.sha256(data).hexdigest()}).encode()
+
+
+def _checked(path: Path) -> bytes | None:
+    """The content of ``path`` when its size and SHA-256 match its record; None when
+    either file is absent, unreadable or does not match (a cache miss)."""
+    try:
+        with open(_record(path), "rb") as f:
+            record = f.read(_MAX_RECORD + 1)
+        size = json.loads(record).get("size") if len(record) <= _MAX_RECORD else None
+        if not isinstance(size, int) or os.stat(path).st_size != size:
+            return None
+        data = path.read_bytes()
+    except (OSError, ValueError, AttributeError):  # absent, unreadable, not a JSON object
+        return None
+    return data if _describe(data) == record else None
+
+
+def _discard(path: Path) -> None:
+    """Delete ``path`` and its record (a failed check: the kernel is built again)."""
+    for stale in (path, _record(path)):
+        with contextlib.suppress(OSError):
+            stale.unlink()
+
+
+def _build(source: str, target: Path) -> bytes:
     """Compile ``source``'s loop with numba, emit it alone as a PIC object, and link
-    ``target`` (a ``.so``) with ``cc``, or keep the object itself (``target`` a ``.o``)."""
+    ``target`` (a ``.so``) with ``cc``, or keep the object itself (``target`` a ``.o``);
+    write ``target`` and then its record atomically and return ``target``'s content."""
     import llvmlite.binding as llvm
 
     module = types.ModuleType("gfrf_native_build")
@@ -161,8 +211,10 @@ def _build(source: str, target: Path) -> None:
         else:
             subprocess.run([shutil.which("cc") or "cc", "-shared", "-o", str(lib), str(obj),
                             "-lm"], check=True, capture_output=True, timeout=600)
-        os.chmod(lib, 0o700)
-        os.replace(lib, target)
+        data = lib.read_bytes()
+    atomic_write_bytes(target, data, permissions=0o700)
+    atomic_write_bytes(_record(target), _describe(data), permissions=0o600)
+    return data
 
 
 def native_kernel(parts: tuple[str, str], n: int) -> NativeKernel | None:
@@ -201,9 +253,11 @@ def native_kernel(parts: tuple[str, str], n: int) -> NativeKernel | None:
     suffix = ".o" if shutil.which("cc") is None else ".so"
     path = folder / f"gfrf_native_{hashlib.sha256(key.encode()).hexdigest()[:24]}{suffix}"
     try:
-        if not path.exists():
-            _build(source, path)
-        return NativeKernel(path, n)
+        data = _checked(path)
+        if data is None:  # absent, or failed its check: built again
+            _discard(path)
+            data = _build(source, path)
+        return NativeKernel(path, n, data)
     except (OSError, subprocess.SubprocessError, AttributeError, TypeError, ValueError,
             RuntimeError):  # llvmlite or the linker could not: numba's cache instead
         return None

@@ -68,8 +68,6 @@ import numpy as np
 
 from gfrf._results import Result, short_repr
 from gfrf.errors import ArgumentError
-from gfrf.kernels.combinatorics import compositions
-from gfrf.kernels.recursion import check_order
 from gfrf.model.equation import Model
 from gfrf.model.modelfile import (
     MODEL_TYPES,
@@ -81,11 +79,16 @@ from gfrf.model.modelfile import (
 from gfrf.model.template import parameter_names
 from gfrf.sim.volterra import _check_tones, _steady_state_problem, series_radius
 
-__all__ = ["OFRF", "ofrf", "MAX_OFRF_WORK"]
+__all__ = ["OFRF", "ofrf", "check_ofrf_order", "MAX_OFRF_WORK", "MAX_OFRF_ORDER"]
 
 #: Largest a-priori number of component products (pairs of frequency components
-#: multiplied over all terms, orders and compositions) :func:`ofrf` accepts.
-MAX_OFRF_WORK = 2_000_000
+#: multiplied over all terms and orders, :func:`_work`) :func:`ofrf` accepts: about 2-7 s
+#: CPU at the limit (2.5 us per product for one tone, 6.5 us for two).
+MAX_OFRF_WORK = 1_000_000
+#: Highest truncation order of :func:`ofrf`.  The recursion runs on the input's spectra,
+#: not on the kernels, so it goes beyond the kernels' MAX_KERNEL_ORDER wherever
+#: :data:`MAX_OFRF_WORK` allows (one tone and a cubic term: order 51).
+MAX_OFRF_ORDER = 64
 
 #: Relative tolerance under which two output frequencies are the same (commensurate tones).
 _FREQ_TOL = 1e-9
@@ -328,21 +331,51 @@ def _operator(model: Model, omega: float, order: int) -> complex:
 
 
 def _work(n_tones: int, order: int, model: Model) -> int:
-    """A-priori count of component products: sizes of the order-m spectra are at most
-    C(2K + m - 1, m) (multisets of signed tones)."""
-    size = {m: math.comb(2 * n_tones + m - 1, m) for m in range(1, order + 1)}
+    """A-priori count of component products of :func:`_recursion`: sizes of the order-m
+    spectra are at most C(2K + m - 1, m) (multisets of signed tones)."""
+    size = {m: math.comb(2 * n_tones + m - 1, m) for m in range(order + 1)}
     total = sum(size[m - 1] * 2 * n_tones for m in range(2, order + 1))  # the powers U_m
     for t in model.terms:
         p, q = len(t.y_orders), len(t.u_orders)
         if p + q < 2:
             continue
-        for n in range(max(2, p + q), order + 1):
-            if p == 0:
-                total += (2 * n_tones) ** q if n == q else 0
-                continue
-            for comp in compositions(n - q, p):
-                total += math.prod(size[m] for m in comp) * (2 * n_tones) ** q
+        if p == 0:
+            total += (2 * n_tones) ** q if q <= order else 0
+            continue
+        for j in range(2, p + 1):  # the chains Q_j[s] of the output factors
+            total += sum(size[s - m] * size[m] for s in range(j, order - q + 1)
+                         for m in range(1, s - j + 2))
+        if q:  # the input factors times Q_p[n - q]
+            total += sum(size[n - q] for n in range(p + q, order + 1)) * (2 * n_tones) ** q
     return total
+
+
+def check_ofrf_order(order: object, name: str = "order") -> int:
+    """The check of an OFRF truncation order, before any work: an integer in
+    ``1..MAX_OFRF_ORDER`` (the work it implies is checked by :func:`ofrf`).
+
+    Parameters
+    ----------
+    order : int
+        The order to check.
+    name : str
+        How the caller names it in the message (``"--order"``).
+
+    Returns
+    -------
+    int
+        ``order`` as a Python int.
+
+    Raises
+    ------
+    ArgumentError
+        ``order`` is not an integer (bool included) or is outside ``1..MAX_OFRF_ORDER``.
+    """
+    if isinstance(order, bool) or not isinstance(order, (int, np.integer)) \
+            or not 1 <= order <= MAX_OFRF_ORDER:
+        raise ArgumentError(f"{name} must be an integer between 1 and MAX_OFRF_ORDER = "
+                            f"{MAX_OFRF_ORDER} (gfrf.sim.ofrf), got {order!r}")
+    return int(order)
 
 
 def _table(data: Any, path: str) -> tuple[Mapping[str, Any], str]:
@@ -383,7 +416,7 @@ def ofrf(data: Mapping[str, Any] | str | Path | ModelFile, parameter: str,
     omega : float
         Output frequency W >= 0 in rad/s (a harmonic or intermodulation frequency).
     order : int
-        Truncation order N of the Volterra series.
+        Truncation order N of the Volterra series, 1..:data:`MAX_OFRF_ORDER`.
     path : str
         The file, for messages.
 
@@ -399,7 +432,7 @@ def ofrf(data: Mapping[str, Any] | str | Path | ModelFile, parameter: str,
     """
     data, path = _table(data, path)
     tones = _check_tones(tones)
-    check_order(order)
+    order = check_ofrf_order(order)
     omega = float(omega)
     if not math.isfinite(omega) or omega < 0:
         raise ArgumentError(f"omega must be a finite frequency >= 0 in rad/s, got {omega!r}")
@@ -487,9 +520,20 @@ def _derivative(model: Model, spectrum: Spectrum, order: int, freqs: Sequence[fl
     return {k: p * _operator(model, _frequency(k, freqs), order) for k, p in spectrum.items()}
 
 
+def _accumulate(out: Spectrum, spectrum: Spectrum) -> None:
+    """``out += spectrum`` (component-wise polynomial sums)."""
+    for key, poly in spectrum.items():
+        out[key] = _add(out[key], poly) if key in out else poly
+
+
 def _recursion(model: Model, polys: Mapping[tuple, np.ndarray], tones: Sequence[Any],
                order: int) -> tuple[dict[int, Spectrum], dict[int, Spectrum]]:
-    """Order-n output spectra Y_n and input-power spectra U_n, n = 1..order."""
+    """Order-n output spectra Y_n and input-power spectra U_n, n = 1..order.
+
+    A term's output factors are summed over the compositions of the order as a chain of
+    series products, ``Q_j[s] = sum_m Q_{j-1}[s - m] * D^{l_j} Y_m`` (the order-s part
+    of the product of its first j factors), each kept once: per order O(order) spectrum
+    products per factor instead of one per composition."""
     size = 2 * len(tones)
     freqs = [s * w for _, w, _ in tones for s in (1, -1)]
     u: Spectrum = {}
@@ -506,34 +550,46 @@ def _recursion(model: Model, polys: Mapping[tuple, np.ndarray], tones: Sequence[
               if not (len(orders[0]) == 1 and not orders[1]) and np.any(poly)]
     ys: dict[int, Spectrum] = {}
     derived: dict[tuple[int, int], Spectrum] = {}
+    chains: dict[tuple[int, int, int], Spectrum] = {}
 
     def dy(m: int, lag: int) -> Spectrum:
         if (m, lag) not in derived:
             derived[m, lag] = _derivative(model, ys[m], lag, freqs)
         return derived[m, lag]
 
+    def chain(term: int, j: int, s: int) -> Spectrum:
+        """Q_j[s] of term ``term``'s output factors (needs Y_m for m <= s - j + 1)."""
+        if (term, j, s) not in chains:
+            lags = others[term][0][0]
+            if j == 1:
+                chains[term, j, s] = dy(s, lags[0]) if s >= 1 else {}
+            else:
+                out: Spectrum = {}
+                for m in range(1, s - j + 2):
+                    head, factor = chain(term, j - 1, s - m), dy(m, lags[j - 1])
+                    if head and factor:
+                        _accumulate(out, _multiply(head, factor))
+                chains[term, j, s] = out
+        return chains[term, j, s]
+
+    inputs: list[Spectrum | None] = []
+    for (_, u_orders), _ in others:
+        product: Spectrum | None = None
+        for k in u_orders:
+            factor = _derivative(model, u, k, freqs)
+            product = factor if product is None else _multiply(product, factor)
+        inputs.append(product)
     for n in range(1, order + 1):
         rhs: Spectrum = {}
-        for (y_orders, u_orders), coef in others:
+        for index, ((y_orders, u_orders), coef) in enumerate(others):
             p, q = len(y_orders), len(u_orders)
             if n < p + q or (p == 0 and n != q):
                 continue
-            inputs: Spectrum | None = None
-            for k in u_orders:
-                factor = _derivative(model, u, k, freqs)
-                inputs = factor if inputs is None else _multiply(inputs, factor)
-            blocks = [()] if p == 0 else compositions(n - q, p)
-            for comp in blocks:
-                prod = inputs
-                for m, lag in zip(comp, y_orders, strict=True):
-                    if m not in ys or not ys[m]:
-                        prod = {}
-                        break
-                    factor = dy(m, lag)
-                    prod = factor if prod is None else _multiply(prod, factor)
-                for key, poly in (prod or {}).items():
-                    term = np.convolve(coef, poly)
-                    rhs[key] = _add(rhs[key], term) if key in rhs else term
+            prod = inputs[index]
+            if p:
+                outputs = chain(index, p, n - q)
+                prod = outputs if prod is None or not outputs else _multiply(prod, outputs)
+            _accumulate(rhs, {key: np.convolve(coef, poly) for key, poly in (prod or {}).items()})
         ys[n] = {k: -p / sum(a * _operator(model, _frequency(k, freqs), lag)
                               for lag, a in linear.items())
                  for k, p in rhs.items() if np.any(p)}

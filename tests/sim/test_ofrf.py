@@ -151,26 +151,65 @@ def test_truncation_bound_contains_the_simulated_error(k3: float) -> None:
         assert error <= o.truncation_bound <= 100 * error
 
 
-@pytest.mark.parametrize("c", [0.1, 0.2])
-def test_narx_truncation_bound_contains_the_simulated_error(c: float) -> None:
-    """The recurrence iterated here to steady state (200 periods of 32 samples), its
-    harmonic by a DFT over the last 50: the error of the order-3 and -5 OFRF is below the
-    stated bound, which is within 20x of it."""
+NARX = "y[k] = 0.5*y[k-1] - c*y[k-1]**2*u[k-2] + u[k-1]"
+
+
+@functools.cache
+def _narx_harmonic(c: float, amplitude: float) -> tuple[float, complex]:
+    """(omega, complex amplitude at omega) of the NARX model's steady state: the recurrence
+    iterated here (200 periods of 32 samples of 0.1 s), a DFT over the last 50."""
     sample_time, samples = 0.1, 32
-    omega, amplitude = 2 * np.pi / (sample_time * samples), 0.3
+    omega = 2 * np.pi / (sample_time * samples)
     k = np.arange(200 * samples)
     u = amplitude * np.cos(omega * sample_time * k)
     y = np.zeros(k.size)
     for i in range(2, k.size):
         y[i] = 0.5 * y[i - 1] - c * y[i - 1] ** 2 * u[i - 2] + u[i - 1]
     last = k[-50 * samples:]
-    simulated = 2 * np.mean(y[last] * np.exp(-1j * omega * sample_time * last))
-    data = {"equation": "y[k] = 0.5*y[k-1] - c*y[k-1]**2*u[k-2] + u[k-1]",
-            "sample_time": sample_time, "parameters": {"c": c}}
+    return omega, complex(2 * np.mean(y[last] * np.exp(-1j * omega * sample_time * last)))
+
+
+@pytest.mark.parametrize("c", [0.1, 0.2])
+def test_narx_truncation_bound_contains_the_simulated_error(c: float) -> None:
+    """The error of the order-3 and -5 OFRF against the iterated recurrence is below the
+    stated bound, which is within 20x of it."""
+    omega, simulated = _narx_harmonic(c, 0.3)
+    data = {"equation": NARX, "sample_time": 0.1, "parameters": {"c": c}}
     for order in (3, 5):
-        o = ofrf(data, "c", [(amplitude, omega, 0.0)], omega, order)
+        o = ofrf(data, "c", [(0.3, omega, 0.0)], omega, order)
         error = abs(o(c) - simulated)
         assert error <= o.truncation_bound <= 20 * error
+
+
+@pytest.mark.parametrize(("model", "amplitude"), [
+    ("duffing", 0.015), ("duffing", 0.025), ("narx", 0.2), ("narx", 0.3), ("narx", 0.4)])
+def test_orders_beyond_the_kernels_limit_keep_the_bound_and_lower_the_error(
+        model: str, amplitude: float) -> None:
+    """Orders 5, 13 and 21 (the GFRF kernels stop at 12) against simulation at amplitudes
+    up to 0.73 r*: the stated bound contains the error at each order, and order 21 has a
+    smaller bound and error than order 5 (down to simulation's own accuracy)."""
+    if model == "duffing":
+        value, omega, simulated = 1.0, 1.0, _harmonic(1.0, amplitude, 1.0)
+        data, name = {**DUFFING, "parameters": {"k3": 1.0}}, "k3"
+    else:
+        value, (omega, simulated) = 0.2, _narx_harmonic(0.2, amplitude)
+        data, name = {"equation": NARX, "sample_time": 0.1, "parameters": {"c": 0.2}}, "c"
+    bounds, errors = [], []
+    for order in (5, 13, 21):
+        o = ofrf(data, name, [(amplitude, omega, 0.0)], omega, order)
+        assert o.truncation_proof == "interval" and amplitude < 0.75 * o.radius
+        bounds.append(o.truncation_bound)
+        errors.append(abs(o(value) - simulated))
+        assert errors[-1] <= bounds[-1]
+    assert bounds[2] < 0.01 * bounds[0]
+    assert errors[2] < max(0.01 * errors[0], 1e-11)
+
+
+def test_the_order_is_checked_against_its_own_limit() -> None:
+    with pytest.raises(ArgumentError, match="MAX_OFRF_ORDER = 64"):
+        ofrf(DUFFING, "k3", [(0.01, 1.0, 0.0)], 1.0, ofrf_module.MAX_OFRF_ORDER + 1)
+    with pytest.raises(ArgumentError, match="MAX_OFRF_WORK"):  # eight tones: the work
+        ofrf(DUFFING, "k3", [(0.01, float(k), 0.0) for k in range(1, 9)], 1.0, 30)
 
 
 def test_truncation_bound_is_inf_beyond_the_radius(capsys) -> None:
