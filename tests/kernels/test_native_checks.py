@@ -63,7 +63,8 @@ def delete_the_record(path: Path) -> None:
 
 
 @pytest.mark.parametrize(("suffix", "damages"), [
-    (".so", (truncate, flip_a_byte, delete_the_record)), (".o", (truncate,))])
+    (".so", (truncate, flip_a_byte, delete_the_record)),
+    pytest.param(".o", (truncate,), marks=pytest.mark.slow)])
 def test_a_damaged_cached_kernel_is_rebuilt_not_loaded(
         tmp_path: Path, suffix: str, damages: tuple[Callable[[Path], None], ...]) -> None:
     cc = suffix == ".so"
