@@ -317,11 +317,57 @@ def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
             y, u, sample_time, ylag=lag, ulag=lag, degree=top, **options), criterion)
 
 
-def _identify(y: Any, u: Any, sample_time: float, *, ylag: int | None,
-              ulag: int | None, degree: int | None, criterion: str, max_terms: int,
-              holdout: float, output: str, input: str, noise: bool | None,
-              prune: bool, radius_draws: int | None) -> Identification:
-    """:func:`identify`, with BLAS as the caller set it."""
+def _identify(y: Any, u: Any, sample_time: float, **options: Any) -> Identification:
+    """:func:`identify` with the given lags, with BLAS as the caller set it.
+
+    A model about an operating point that fails validation without a constant term is
+    identified again with the constant kept (:func:`_with_constant`), and that model is
+    taken when it passes: the first fit's equilibrium is the operating point, and on a
+    nearly integrating system with an even nonlinearity (the mean output is not the
+    equilibrium) it is off, and a term with a non-zero mean, ``u[k-1]**2``, then stands
+    in for the missing constant as a structural error the correlation tests see.
+    """
+    first, without = _identify_once(y, u, sample_time, constant=False, **options)
+    if not without or first.validation is None or first.validation.adequate:
+        return first
+    retry, _ = _identify_once(y, u, sample_time, constant=True, **options)
+    if retry.validation is None or not retry.validation.adequate:
+        return first
+    return replace(retry, notes=(*retry.notes, "without a constant term about the first "
+                                 "fit's operating point the model failed validation; with "
+                                 "the constant kept (its operating point refitted) it "
+                                 "passed"))
+
+
+def _with_constant(theta: dict[Key, float], noise_terms: tuple[float, ...], kind: str,
+                   y: np.ndarray, u: np.ndarray, lag: int, order: int
+                   ) -> tuple[dict[Key, float], tuple[float, ...]]:
+    """``theta`` with a constant term: refitted by the estimator of ``kind``; with noise
+    terms (extended least squares) the constant is the mean equation error of the
+    process terms, the others kept (estimated with them, the constant trades with the
+    mean of the lagged residuals and is not determined)."""
+    one: Key = ((), ())
+    if one in theta:
+        return theta, noise_terms
+    keys = [*theta, one]
+    if kind == "output error":
+        return refine({**theta, one: 0.0}, y, u, lag), noise_terms
+    if kind == "narmax":
+        keys = list(theta)
+        error = y[lag:] - regressors(keys, y, u, lag) @ np.array([theta[k] for k in keys])
+        return {**theta, one: float(np.mean(error))}, noise_terms
+    values = np.linalg.lstsq(regressors(keys, y, u, lag), y[lag:], rcond=None)[0]
+    return {k: float(v) for k, v in zip(keys, values, strict=True)}, noise_terms
+
+
+def _identify_once(y: Any, u: Any, sample_time: float, *, ylag: int | None,
+                   ulag: int | None, degree: int | None, criterion: str, max_terms: int,
+                   holdout: float, output: str, input: str, noise: bool | None,
+                   prune: bool, radius_draws: int | None, constant: bool
+                   ) -> tuple[Identification, bool]:
+    """:func:`_identify` once; ``constant``: keep a constant term in the model about an
+    operating point (refitted with it before pruning, which never removes it).  Also
+    returns whether the model is about an operating point without a constant term."""
     y = _check_signal("y", y)
     u = _check_signal("u", u)
     if y.size != u.size:
@@ -377,6 +423,9 @@ def _identify(y: Any, u: Any, sample_time: float, *, ylag: int | None,
             notes.append(f"the criterion's {chosen} terms did not "
                          f"reproduce the held-out data: all {max_terms} terms fitted, "
                          f"then pruned")
+    if constant and cy:
+        theta, noise_terms = _with_constant(theta, noise_terms, kind, y[:n_fit] - cy,
+                                            u[:n_fit] - cu, lag, ylag)
     full_theta = theta
     pruning = None
     if prune:  # free runs from measured outputs before the held-out part (warm-up)
@@ -446,7 +495,8 @@ def _identify(y: Any, u: Any, sample_time: float, *, ylag: int | None,
         for k, t, e_ in zip(fit.keys, fit.theta, fit.err, strict=True))
     settings = {"ylag": ylag, "ulag": ulag, "degree": degree, "criterion": criterion,
                 "max_terms": max_terms, "holdout": float(holdout)}
-    return Identification(
+    without = bool(cy) and ((), ()) not in theta
+    return (Identification(
         model=model, settings=settings, n_samples=int(y.size), n_train=n_train,
         candidates=candidates, regressors=regressor_rows, free_run_error=free,
         one_step_error=one_step, blowup=blowup, notes=tuple(notes),
@@ -455,7 +505,7 @@ def _identify(y: Any, u: Any, sample_time: float, *, ylag: int | None,
         noise=noise_terms, validation=validation, structure=structure, n_fit=n_fit,
         noise_model=kind, pruning=pruning, radius=spread,
         full_model=None if pruning is None or not pruning.removed else
-        _about(full_theta, mean_y - cy, sample_time, output, input)[0])
+        _about(full_theta, mean_y - cy, sample_time, output, input)[0]), without)
 
 
 def _about(theta: dict[Key, float], near: float, sample_time: float, output: str,

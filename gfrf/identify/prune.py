@@ -49,7 +49,7 @@ from gfrf.identify.output_error import recurse
 
 __all__ = ["Pruning", "prune", "free_run_residual", "t_statistics", "covariance",
            "refitter", "carried", "prune_and_refit", "WINDOW", "MAX_REFITS", "MAX_WORK",
-           "MAX_TERMS", "SIGNIFICANT", "BLOCKS", "Z", "TOLERANCE", "CAP"]
+           "MAX_TERMS", "SIGNIFICANT", "BLOCKS", "Z", "TOLERANCE", "CAP", "TRIAL_ROWS"]
 
 Key = tuple[tuple[int, ...], tuple[int, ...]]
 #: Held-out samples each trial free run simulates (the first ones).
@@ -346,6 +346,8 @@ def prune(theta: dict[Key, float], refit: Callable[[list[Key]], dict[Key, float]
 
 #: Iterations of extended least squares in a trial refit.
 TRIAL_ELS_ITERATIONS = 30
+#: Training rows of a trial refit (the first ones); the pruned model is refitted on all.
+TRIAL_ROWS = 20_000
 #: Training samples of an output-error trial refit, and its evaluations per coefficient.
 TRIAL_OE_WINDOW = 2000
 TRIAL_OE_EVALUATIONS = 2
@@ -454,7 +456,9 @@ def prune_and_refit(theta: dict[Key, float], noise: tuple[float, ...], kind: str
     size = len(theta) + 1
     refit_work = (TRIAL_OE_EVALUATIONS * size * min(TRIAL_OE_WINDOW, y_train.size)
                   if kind == "output error" else 0)
-    pruned, pruning = prune(theta, refitter(kind, y_train, u_train, lag, order, theta),
+    rows = TRIAL_ROWS + lag  # trial refits on the first rows; the pruned model on all
+    pruned, pruning = prune(theta, refitter(kind, y_train[:rows], u_train[:rows], lag, order,
+                                            theta),
                             y_train, u_train, y_test, u_test, lag, refit_work,
                             SIGNIFICANT if noisy else math.inf, warm,
                             score if noisy else None)

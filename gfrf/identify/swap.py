@@ -12,7 +12,9 @@ other candidates of its group (:func:`gfrf.identify.prune._group`: same input fa
 same degree in the output) in its place, each refitted with the model's estimator to
 convergence, and keeps the one with the smallest training free-run error when it is
 clearly smaller (beyond twice the standard error of a mean square, the margin of
-:mod:`gfrf.identify.grow`).  At most :data:`MAX_SWAPS` refits.
+:mod:`gfrf.identify.grow`).  At most :data:`MAX_SWAPS` refits, each on the first
+:data:`~gfrf.identify.prune.TRIAL_ROWS` training rows; a swapped model is refitted on
+all of them.
 """
 
 from __future__ import annotations
@@ -24,7 +26,7 @@ import numpy as np
 from gfrf.identify.grow import _training_error
 from gfrf.identify.noise import extended_least_squares, regressors
 from gfrf.identify.output_error import refine
-from gfrf.identify.prune import _group, _name, carried
+from gfrf.identify.prune import TRIAL_ROWS, _group, _name, carried
 
 __all__ = ["swap_lags", "MAX_SWAPS"]
 
@@ -65,6 +67,8 @@ def swap_lags(theta: dict[Key, float], noise: tuple[float, ...], kind: str, y: n
         values = np.linalg.lstsq(regressors(keys, y, u, lag), y[lag:], rcond=None)[0]
         return {k: float(v) for k, v in zip(keys, values, strict=True)}, ()
 
+    every = (y, u)
+    y, u = y[:TRIAL_ROWS + lag], u[:TRIAL_ROWS + lag]
     margin = 2.0 * math.sqrt(2.0 / max(1, y.size - lag))
     error = _training_error(theta, y, u, lag)
     swaps: list[tuple[str, str]] = []
@@ -86,4 +90,7 @@ def swap_lags(theta: dict[Key, float], noise: tuple[float, ...], kind: str, y: n
         if best is not None:
             error, theta, noise = best[0], best[1], best[2]
             swaps.append((_name(term), _name(best[3])))
+    if swaps and every[0].size > y.size:
+        y, u = every
+        theta, noise = refit(list(theta), theta)
     return theta, noise, swaps
