@@ -39,10 +39,12 @@ def test_asymmetric_oscillator_with_offset_off_the_mean_output(fixed, tmp_path):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("system", ["hardening", "narx"])
-@pytest.mark.parametrize("noise, offset", [(0.0, 0.5), (0.05, 0.5)])
+@pytest.mark.parametrize(("system", "noise", "offset"), [
+    ("hardening", 0.0, 0.5), ("narx", 0.0, 0.5), ("narx", 0.05, 0.5)])
 def test_searched_structure_meets_the_targets(system, noise, offset, tmp_path):
-    """``gfrf identify DATA.csv --json`` with its defaults (lags and degree searched)."""
+    """``gfrf identify DATA.csv --json`` with its defaults (lags and degree searched);
+    the hardening oscillator at 5 % + offset (about 90 CPU s) is in the bench harness,
+    :mod:`gfrf.bench.identify_sets`."""
     ds = DataSet(system=system, noise=noise, offset=offset, seed=31)
     row = run_set(ds, tmp_path, true_radius(system), fixed=False)
     assert met(row), row
