@@ -64,7 +64,7 @@ def resonances(kernel: Kernel) -> list[tuple[float, float]]:
     out = []
     for s in linear_poles(kernel.model):
         if s.imag <= 0 and math.isfinite(s.real):  # one of each conjugate pair
-            out.append((abs(s.imag), max(abs(s.real), 1e-12)))
+            out.append((float(abs(s.imag)), float(max(abs(s.real), 1e-12))))
     return sorted(out)
 
 

@@ -34,3 +34,13 @@ def test_narx_poles_map_z_poles_by_the_logarithm():
 
 def test_a_constant_linear_part_has_no_poles():
     assert linear_poles(parse_model("y + y**3 = u")).size == 0
+
+
+def test_a_negative_real_narx_pole_is_a_resonance_at_the_nyquist_frequency():
+    # y[k] = -0.5 y[k-1] + u[k-1]: z = -0.5, |H1| peaks at w = pi / T; half-width ln 2 / T
+    from gfrf.kernels.plot import resonances
+    from gfrf.kernels.recursion import kernel
+
+    model = parse_model("y[k] = -0.5*y[k-1] + u[k-1]", sample_time=0.1)
+    (w, half), = resonances(kernel(model, 1))
+    assert np.isclose(w, np.pi / 0.1, rtol=1e-12) and np.isclose(half, np.log(2) / 0.1)
