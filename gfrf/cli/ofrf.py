@@ -75,7 +75,7 @@ def _truncation_line(o: Any, size: float) -> str:
 
 def _ofrf(args: argparse.Namespace) -> int:
     from gfrf.kernels.recursion import check_order
-    from gfrf.model.modelfile import bundled_or_path, looks_like_path, read_table
+    from gfrf.model.modelfile import looks_like_path, read_table
     from gfrf.model.signals import parse_input
     from gfrf.sim.ofrf import ofrf
 
@@ -91,6 +91,8 @@ def _ofrf(args: argparse.Namespace) -> int:
                                 f"number") from None
     args.param = name
     if looks_like_path(args.model):
+        from gfrf.model.modelfile import bundled_or_path
+
         args.model = bundled_or_path(args.model)
         data = dict(read_table(args.model))
         if value is not None:
