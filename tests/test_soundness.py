@@ -1,6 +1,6 @@
 """Soundness: every certified number is right or refused.
 
-Each case of the audit is checked against an independent reference computed here:
+Each case is checked against an independent reference computed here:
 closed forms evaluated with mpmath at 50 digits on the exact binary values of the
 model's float coefficients, mpmath root finding at 60 digits, or exact rationals.
 A proven enclosure must contain the reference; a float-certified value must match it

@@ -25,6 +25,7 @@ from typing import Any
 
 from tqdm import tqdm
 
+from gfrf import _data
 from gfrf._atomic import atomic_write_text
 from gfrf._data import MODELS_DIR
 
@@ -32,12 +33,10 @@ __all__ = ["BenchSection", "SECTION_MODULES", "MODELS_DIR", "best_of", "bundled_
            "figure_dir", "load_note", "machine_description", "run_all", "write_report",
            "gfrf_command"]
 
-#: The bundled model files, found next to the package (a source checkout or an editable
-#: install), so ``gfrf bench`` runs from any directory.
-
-
 def bundled_model(name: str) -> str:
-    """Absolute path of the bundled model file ``name`` (e.g. ``"cartpole.toml"``).
+    """Absolute path of the bundled model file ``name`` (e.g. ``"cartpole.toml"``), as
+    text for a command line (:func:`gfrf._data.bundled_model`: package data, so
+    ``gfrf bench`` runs from any directory of an installed copy).
 
     Parameters
     ----------
@@ -49,7 +48,7 @@ def bundled_model(name: str) -> str:
     str
         The absolute path.
     """
-    return str(MODELS_DIR / name)
+    return str(_data.bundled_model(name))
 
 #: Modules that each define ``run(quick: bool) -> BenchSection``.
 SECTION_MODULES: tuple[str, ...] = (

@@ -70,6 +70,7 @@ from gfrf.bounds.simplex import nelder_mead
 from gfrf.bounds.starts import start_points
 from gfrf.bounds.tail import tail_bound
 from gfrf.errors import ArgumentError
+from gfrf.kernels.poles import linear_poles
 from gfrf.kernels.recursion import generator
 from gfrf.model.equation import Model
 
@@ -311,13 +312,12 @@ def branch_and_bound(model: Model, n: int, symmetric: bool = True, lower: float 
     gen = generator(model)
     fused_start = max_boxes >= COMPILED_BUDGET or n >= COMPILED_ORDER
     taylor, point = _compiled(gen, n, symmetric)
-    _, den = linear_polynomials(model)
     inverse = _model_inverse(model)
+    poles = linear_poles(model)
     if model.is_discrete:  # the poles' frequencies |arg q| / T, as points j w
-        roots = np.roots(den[::-1]) if np.count_nonzero(den[1:]) else np.zeros(1)
-        poles = 1j * np.abs(np.angle(roots)) / model.sample_time  # type: ignore[operator]
-    else:
-        poles = np.roots(den) if den.size > 1 else np.zeros(1)
+        poles = 1j * np.abs(poles.imag)
+    elif poles.size == 0:
+        poles = np.zeros(1)
     best_x = (_resonance_start(point, poles, n) if argmax is None
               else np.array(argmax, dtype=float))
     best = max(lower, _modulus(point, best_x))

@@ -24,6 +24,7 @@ from gfrf.bounds.majorant import linear_polynomials
 from gfrf.bounds.rational import discrete_rational_sup, rational_sup
 from gfrf.bounds.simplex import nelder_mead
 from gfrf.bounds.starts import start_points
+from gfrf.kernels.poles import linear_poles
 from gfrf.model.equation import Model
 
 __all__ = ["SEARCH_WORK", "SearchResult", "frequencies", "local_search"]
@@ -77,7 +78,7 @@ def frequencies(model: Model, proof: str) -> tuple[list[float], float]:
                  discrete_rational_sup(np.ones(1), den, model.sample_time, proof).omega]  # type: ignore[arg-type]
         return sorted({0.0, *(abs(p) for p in peaks if math.isfinite(p))}), \
             0.01 * math.pi / model.sample_time  # type: ignore[operator]
-    poles = np.roots(den) if den.size > 1 else np.zeros(0)
+    poles = linear_poles(model)
     freqs = {0.0, *(float(abs(p.imag)) for p in poles)}
     for res in (rational_sup(num, den, proof), rational_sup(np.ones(1), den, proof)):
         if math.isfinite(res.omega):

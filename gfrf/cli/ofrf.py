@@ -91,6 +91,9 @@ def _ofrf(args: argparse.Namespace) -> int:
                                 f"number") from None
     args.param = name
     if looks_like_path(args.model):
+        from gfrf.model.modelfile import bundled_or_path
+
+        args.model = bundled_or_path(args.model)
         data = dict(read_table(args.model))
         if value is not None:
             data["parameters"] = {**(data.get("parameters") or {}), name: value}

@@ -76,8 +76,8 @@ def _transition(args: argparse.Namespace) -> int:
     from gfrf.periodic.equation import check_paper_range
 
     check_paper_range(args.eps)
-    r = method_transition(args.method, args.eps, args.amplitude, args.branch, args.order,
-                          args.side, int(args.equation))
+    r = method_transition(args.method, args.eps, args.amplitude, branch=args.branch,
+                          order=args.order, side=args.side, equation=int(args.equation))
     if math.isnan(r.delta):
         raise ArgumentError(f"{args.method}: no transition value for eps={args.eps}, "
                             f"amplitude={args.amplitude} (eq (48) has no real root)")
@@ -97,8 +97,9 @@ def _periodic(args: argparse.Namespace) -> int:
     from gfrf.periodic.equation import check_paper_range
 
     check_paper_range(args.eps, args.delta)
-    r = compare_periodic(args.method, args.eps, args.amplitude, args.branch, args.order,
-                         args.delta, args.side, int(args.equation))
+    r = compare_periodic(args.method, args.eps, args.amplitude, branch=args.branch,
+                         order=args.order, delta=args.delta, side=args.side,
+                         equation=int(args.equation))
     if math.isnan(r.max_error):
         raise ArgumentError(f"{args.method}: no periodic orbit for eps={args.eps} "
                             f"(its transition equation has no real root)")

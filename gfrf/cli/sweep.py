@@ -42,7 +42,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description="Evaluate the verdict and certified radius r* (or norms, or simulated "
                     "boundedness) at every point of a grid over model-file parameters, "
                     "in-process or on a dask cluster; write the table and a stability map.")
-    p.add_argument("model", metavar="MODEL", help="a model file (models/*.toml)")
+    p.add_argument("model", metavar="MODEL",
+                   help="a model file (models/*.toml; a bundled model by its name)")
     p.add_argument("--param", action="append", required=True, metavar="NAME=START:STOP:N",
                    help="a swept parameter of [parameters] or controller.parameters, N values "
                         "from START to STOP inclusive; repeat for a grid")
@@ -107,8 +108,9 @@ def _sweep(args: argparse.Namespace) -> int:
         check_output(args.out)
     check_plot_path(args.plot)
     check_scheduler(args.scheduler)
-    from gfrf.model.modelfile import load_model, read_table
+    from gfrf.model.modelfile import bundled_or_path, load_model, read_table
 
+    args.model = bundled_or_path(args.model)
     mf = load_model(args.model)  # validates the file and gives its errors their names
     data = read_table(args.model)
     result = sweep(data, axes, what=args.what, amplitude=args.amplitude, order=args.order,

@@ -28,6 +28,7 @@ import numpy as np
 
 from gfrf._results import new_figure
 from gfrf.errors import ArgumentError
+from gfrf.kernels.poles import linear_poles
 from gfrf.model.safetext import plot_text
 
 #: A :class:`gfrf.kernels.recursion.Kernel` (not imported: recursion imports this module).
@@ -47,8 +48,8 @@ MAX_AXIS_POINTS = 1001
 
 
 def resonances(kernel: Kernel) -> list[tuple[float, float]]:
-    """(w_r, half-width) in rad/s of the poles s of the linear part with Im s >= 0: the
-    roots of A(s), or for NARX the roots q of A(q) mapped by q = exp(-s T).
+    """(w_r, half-width) = (|Im s|, |Re s|) in rad/s of the poles s of the linear part
+    (:func:`gfrf.kernels.poles.linear_poles`), one per conjugate pair.
 
     Parameters
     ----------
@@ -60,22 +61,10 @@ def resonances(kernel: Kernel) -> list[tuple[float, float]]:
     list of tuple of float
         One ``(w_r, half-width)`` per pole.
     """
-    model = kernel.model
-    linear = model.linear_output
-    coeffs = [linear.get(k, 0.0) for k in range(max(linear), -1, -1)]
-    if len(coeffs) < 2:
-        return []
-    roots = np.roots(coeffs)
     out = []
-    for r in roots:
-        if model.is_discrete:
-            if r == 0:
-                continue
-            s = np.log(1 / complex(r)) / model.sample_time
-        else:
-            s = complex(r)
-        if s.imag >= 0 and math.isfinite(s.real):
-            out.append((abs(s.imag), max(abs(s.real), 1e-12)))
+    for s in linear_poles(kernel.model):
+        if s.imag <= 0 and math.isfinite(s.real):  # one of each conjugate pair
+            out.append((float(abs(s.imag)), float(max(abs(s.real), 1e-12))))
     return sorted(out)
 
 

@@ -42,6 +42,7 @@ from typing import Any
 
 import sympy as sp
 
+from gfrf._data import MODELS_DIR
 from gfrf._results import Result
 from gfrf.errors import ModelError
 from gfrf.model.equation import Model, parse_model
@@ -50,7 +51,7 @@ from gfrf.model.limits import quote
 
 __all__ = ["Controller", "ModelFile", "load_model", "model_from_dict", "read_table",
            "MAX_FILE_BYTES", "MAX_PARAMETERS", "MAX_CONTROLLER_COEFFICIENTS", "parse_number",
-           "as_plant", "resolve_model", "looks_like_path", "MODEL_TYPES"]
+           "as_plant", "resolve_model", "looks_like_path", "bundled_or_path", "MODEL_TYPES"]
 
 #: Largest model file accepted, in bytes (checked before reading it).
 MAX_FILE_BYTES = 256 * 1024
@@ -455,6 +456,48 @@ def _is_file(text: str) -> bool:
         return False
 
 
+def bundled_or_path(path: str) -> str:
+    """``path``, or the bundled model file it names when no file ``path`` exists.
+
+    A bundled model (:data:`gfrf._data.MODELS_DIR`, installed with the package) is named
+    by its file name with or without ``.toml``, alone or under ``models/``: ``duffing``,
+    ``duffing.toml`` and ``models/duffing.toml`` work from any directory.  A file that
+    exists is always the one read.
+
+    Parameters
+    ----------
+    path : str
+        A model file path as the user wrote it.
+
+    Returns
+    -------
+    str
+        ``path`` itself, or the bundled file's absolute path.
+
+    Examples
+    --------
+    >>> bundled_or_path("duffing") == str(MODELS_DIR / "duffing.toml")
+    True
+    >>> bundled_or_path("models/duffing.tom")
+    'models/duffing.tom'
+    """
+    if _exists(path):
+        return path
+    given = Path(path)
+    if given.parent not in (Path("."), Path("models")):
+        return path
+    name = given.name if given.suffix == ".toml" else f"{given.name}.toml"
+    bundled = MODELS_DIR / name
+    return str(bundled) if bundled.is_file() else path
+
+
+def _exists(text: str) -> bool:
+    try:
+        return Path(text).exists()
+    except (OSError, ValueError):  # too long for a file name, or a NUL character
+        return False
+
+
 def resolve_model(model: str | os.PathLike[str] | Model | ModelFile, *,
                   sample_time: float | None = None) -> ModelFile:
     """The :class:`ModelFile` of any model argument: the one rule of every function that
@@ -463,8 +506,9 @@ def resolve_model(model: str | os.PathLike[str] | Model | ModelFile, *,
     Parameters
     ----------
     model : str, Path, Model or ModelFile
-        A model file path; an equation string (an inline model named ``"inline model"``;
-        text that looks like a file name, see :func:`looks_like_path`, is a path); a
+        A model file path (or a bundled model's name, :func:`bundled_or_path`); an
+        equation string (an inline model named ``"inline model"``; text that looks like
+        a file name, see :func:`looks_like_path`, is a path); a
         :class:`~gfrf.model.equation.Model` (wrapped); or a ModelFile (returned as is).
     sample_time : float, optional
         Sample time in s of an inline discrete (NARX) equation (a model file sets its own).
@@ -499,7 +543,7 @@ def resolve_model(model: str | os.PathLike[str] | Model | ModelFile, *,
         if sample_time is not None:
             raise ModelError("sample_time (--sample-time) is for inline equations; a model "
                              "file sets sample_time itself")
-        return load_model(os.fspath(model))
+        return load_model(bundled_or_path(os.fspath(model)))
     if not isinstance(model, str):
         raise TypeError(f"a model is {MODEL_TYPES}, not {type(model).__name__}")
     data: dict[str, object] = {"equation": model, "name": "inline model"}

@@ -100,9 +100,10 @@ class InputSignal(Result):
     #: as a function of t_end; None: unknown.
     _breaks: Callable[[float], np.ndarray] | None = field(default=None, repr=False,
                                                           compare=False)
-    #: The last :meth:`breakpoints` answer, by t_end (a prepared signal runs many times).
-    _memo: dict[float, np.ndarray | None] = field(default_factory=dict, init=False,
-                                                  repr=False, compare=False)
+    #: The answers of :meth:`breakpoints`, :meth:`time_scale` and :meth:`unresolved_parts`
+    #: for the last t_end asked, by (method, t_end): a prepared signal runs many times.
+    _memo: dict[tuple[str, float], Any] = field(default_factory=dict, init=False,
+                                                repr=False, compare=False)
 
     def __call__(self, t: Any) -> np.ndarray:
         """Value of u at time(s) ``t`` in seconds."""
@@ -167,11 +168,16 @@ class InputSignal(Result):
         >>> parse_input("step(t - sin(t) - 1)").breakpoints(10.0) is None
         True
         """
-        if t_end not in self._memo:
-            self._memo.clear()
-            self._memo[t_end] = self._breakpoints(t_end)
-        times = self._memo[t_end]
+        times = self._remembered("breakpoints", t_end, self._breakpoints)
         return None if times is None else times.copy()
+
+    def _remembered(self, method: str, t_end: float, compute: Callable[[float], Any]) -> Any:
+        """``compute(t_end)``, computed once per method for the last ``t_end`` asked."""
+        if any(end != t_end for _, end in self._memo):
+            self._memo.clear()
+        if (method, t_end) not in self._memo:
+            self._memo[method, t_end] = compute(t_end)
+        return self._memo[method, t_end]
 
     def _breakpoints(self, t_end: float) -> np.ndarray | None:
         if self._breaks is not None:
@@ -255,6 +261,9 @@ class InputSignal(Result):
         >>> parse_input("step(t - 1)").time_scale(5.0) is None
         True
         """
+        return self._remembered("time_scale", t_end, self._time_scale)
+
+    def _time_scale(self, t_end: float) -> float | None:
         if self.expr is None:
             return None
         rates = [_largest_slope(f.args[0], t_end) for f in self.expr.atoms(sp.Function)
@@ -288,6 +297,9 @@ class InputSignal(Result):
         >>> parse_input("sin(2*t)/(1 + t)").unresolved_parts(3.0)
         []
         """
+        return list(self._remembered("unresolved_parts", t_end, self._unresolved_parts))
+
+    def _unresolved_parts(self, t_end: float) -> list[str]:
         if self.expr is None:
             return []
         parts = [f for f in self.expr.atoms(sp.Function)

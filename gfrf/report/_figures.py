@@ -15,6 +15,7 @@ import numpy as np
 from matplotlib.colors import LogNorm
 
 from gfrf._results import subplots
+from gfrf.kernels.poles import linear_poles
 from gfrf.kernels.recursion import kernel
 from gfrf.model.equation import Model
 from gfrf.report._format import save_figure
@@ -38,10 +39,7 @@ def frequency_scale(model: Model) -> float:
     """
     if model.is_discrete:
         return math.pi / float(model.sample_time)  # type: ignore[arg-type]
-    a = model.linear_output
-    den = np.array([a.get(k, 0.0) for k in range(max(a), -1, -1)])
-    poles = np.roots(den) if den.size > 1 else np.zeros(0)
-    return float(max(np.abs(poles), default=1.0)) or 1.0
+    return float(max(np.abs(linear_poles(model)), default=1.0)) or 1.0
 
 
 def _phase_deg(h: np.ndarray) -> np.ndarray:

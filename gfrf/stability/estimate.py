@@ -115,18 +115,13 @@ def _frequencies(model: Model) -> list[float]:
     """Resonances of the linear part (peaks, |Im p|, |p|; angles for NARX) and their
     halves and thirds (rad/s)."""
     from gfrf.bounds.local_search import frequencies as resonances
-    from gfrf.bounds.majorant import linear_polynomials
+    from gfrf.kernels.poles import linear_poles
 
     base, _ = resonances(model, "float")
-    _, den = linear_polynomials(model)
-    found = set(base)
-    if den.size > 1:
-        roots = np.roots(den[::-1] if model.is_discrete else den)
-        if model.is_discrete:
-            found |= {abs(float(np.angle(1 / p))) / model.sample_time  # type: ignore[operator]
-                      for p in roots if p != 0}
-        else:
-            found |= {abs(float(p.imag)) for p in roots} | {float(abs(p)) for p in roots}
+    poles = linear_poles(model)
+    found = set(base) | {float(abs(p.imag)) for p in poles}
+    if not model.is_discrete:
+        found |= {float(abs(p)) for p in poles}
     out = {0.0}
     for f in found:
         if math.isfinite(f):

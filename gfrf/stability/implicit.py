@@ -97,10 +97,6 @@ class ImplicitLoop:
         return PolySystem(tuple(f), False, self.states,
                           f"{self.input_name}; time rescaled by {'-' if s < 0 else ''}D(x)")
 
-    def positive_denominator(self) -> Poly:
-        """sign * D, positive near the equilibrium (as a polynomial in (x, d))."""
-        return pscale(self.D, Fraction(self.sign))
-
     def field(self, x: list[float], d: float) -> list[float]:
         """f(x, d) in floats (an estimate, for simulation).
 

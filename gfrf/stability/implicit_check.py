@@ -28,6 +28,7 @@ from fractions import Fraction
 from math import comb
 from typing import Any
 
+from gfrf.stability._rational import read_rational
 from gfrf.stability.implicit import ImplicitLoop
 
 __all__ = ["FORMAT", "KIND", "check_region", "polygon_parts", "bound", "MAX_VERTICES",
@@ -47,16 +48,9 @@ TPoly = list[Fraction]  # coefficients in t, lowest first
 
 
 def _q(text: Any) -> Fraction:
-    """A rational from its text ``"p/q"`` (ASCII digits, at most :data:`MAX_RATIONAL_CHARS`
-    characters) or an int, as :func:`gfrf.stability.sos_check.q` reads them (that module
-    imports this one, so the rule is written here again with this format's shorter cap)."""
-    if isinstance(text, bool) or not isinstance(text, str | int):
-        raise ValueError(f"a rational must be written as a string 'p/q', got {str(text)[:40]!r}")
-    if isinstance(text, str) and (len(text) > MAX_RATIONAL_CHARS or not text.isascii()
-                                  or not text.replace("/", "", 1).lstrip("-").isdigit()):
-        raise ValueError(f"not a rational 'p/q' of at most {MAX_RATIONAL_CHARS} characters: "
-                         f"{str(text)[:40]!r}")
-    return Fraction(text)
+    """A rational from its text ``"p/q"`` (or an int), at most :data:`MAX_RATIONAL_CHARS`
+    characters (:func:`gfrf.stability._rational.read_rational`)."""
+    return read_rational(text, MAX_RATIONAL_CHARS)
 
 
 def _tmul(a: TPoly, b: TPoly) -> TPoly:

@@ -39,6 +39,7 @@ from pathlib import Path
 from typing import Any
 
 from gfrf._results import Result
+from gfrf.stability._rational import read_rational
 from gfrf.stability.polysys import (
     Poly,
     PolySystem,
@@ -55,6 +56,8 @@ __all__ = ["CheckResult", "CertificateCheck", "check_certificate", "check_dict",
 #: The ``format`` value of a certificate file.
 FORMAT = "gfrf-sos-certificate"
 KINDS = ("local-continuous", "local-discrete", "global-continuous")
+#: The ``version`` of every certificate format gfrf writes; a check refuses any other.
+CERTIFICATE_VERSION = 1
 #: Largest Gram matrix size a check accepts.
 MAX_GRAM = 120
 #: Longest text of one rational (or JSON integer) in a certificate.
@@ -76,13 +79,9 @@ class CheckResult(str):
 
 
 def q(text: Any) -> Fraction:
-    """A rational from its text ``"p/q"`` (or an int); refuses floats and anything else."""
-    if isinstance(text, bool) or not isinstance(text, str | int):
-        raise ValueError(f"a rational must be written as a string 'p/q', got {text!r}")
-    if isinstance(text, str) and (len(text) > MAX_RATIONAL_CHARS or not text.isascii()
-                                  or not text.replace("/", "", 1).lstrip("-").isdigit()):
-        raise ValueError(f"not a rational 'p/q': {str(text)[:40]!r}")
-    return Fraction(text)
+    """A rational from its text ``"p/q"`` (or an int), at most :data:`MAX_RATIONAL_CHARS`
+    characters (:func:`gfrf.stability._rational.read_rational`)."""
+    return read_rational(text, MAX_RATIONAL_CHARS)
 
 
 def qtext(x: Fraction) -> str:
@@ -511,8 +510,8 @@ def check_certificate(model: Any, certificate: dict[str, Any] | str | Path) -> C
     Raises
     ------
     ArgumentError
-        The file is missing, too large, not JSON, malformed above a stated limit, or (a
-        NARX file) recorded for another model.
+        The file is missing, too large, not JSON, of an unknown ``version``, malformed
+        above a stated limit, or (a NARX file) recorded for another model.
     """
     import json
 
@@ -534,6 +533,10 @@ def check_certificate(model: Any, certificate: dict[str, Any] | str | Path) -> C
             raise ArgumentError("certificate file is not JSON: nested too deeply") from None
         if not isinstance(certificate, dict):
             raise ArgumentError("certificate file must hold a JSON object")
+    version = certificate.get("version")
+    if type(version) is not int or version != CERTIFICATE_VERSION:
+        raise ArgumentError(f"certificate version {str(version)[:40]!r} is unknown: this gfrf "
+                            f"reads version {CERTIFICATE_VERSION}")
     from gfrf.stability.implicit_check import FORMAT as IMPLICIT_FORMAT
 
     if certificate.get("format") == IMPLICIT_FORMAT:

@@ -1,17 +1,16 @@
-"""Adversarial audit of the box enclosures, the branch-and-bound and the tail bound.
+"""Adversarial cases of the box enclosures, the branch-and-bound and the tail bound.
 
-Attacks on gfrf.bounds.enclosure / gfrf.bounds.branch_bound (cf3945e, 76fb66a, 6cd8311) and
-gfrf.bounds.tail
-(1013b9c): lightly damped and clustered poles, unstable linear parts, relative degree 0
+Attacks on gfrf.bounds.enclosure / gfrf.bounds.branch_bound and gfrf.bounds.tail:
+lightly damped and clustered poles, unstable linear parts, relative degree 0
 factors, input terms, asymmetric kernels, tiny boxes, boxes far out, poles on the axis,
 and the ``gfrf norm --max-boxes`` command line.  References are independent: |H_n| in
 closed form evaluated by mpmath at 50 digits (models A(D) y + a2 y^2 + a3 y^3 = u), or
 dense samples of :func:`gfrf.kernels.recursion.kernel` away from ill-conditioned points.
 
-The defects it found are fixed and their reproducers kept as tests: block sums of box
-centres rounded without widening the interval of sigma, centre values trusted beyond
-their error bound, the split coordinate of boxes without centre values, and the
-regression of the modulus factors on lightly damped kernels.
+Among them, the cases that guard: block sums of box centres rounded without widening
+the interval of sigma, centre values trusted beyond their error bound, the split
+coordinate of boxes without centre values, and the modulus factors on lightly damped
+kernels.
 """
 
 from __future__ import annotations
@@ -139,14 +138,14 @@ def test_boxes_holding_a_pole_on_the_axis_are_unbounded_not_nan() -> None:
 
 
 def test_identically_zero_kernel_has_zero_bounds() -> None:
-    # H2 of a model without quadratic terms is 0: the enclosure got the float 0.0 back
-    # from the generated code and raised AttributeError in 76fb66a
+    # H2 of a model without quadratic terms is 0: the enclosure gets the float 0.0 back
+    # from the generated code (not an interval) and must still bound it
     m = parse_model("D(y,2) + 0.05*D(y) + y + 0.3*y**3 = u")
     bound, _, _ = box_bounds(m, 2, np.array([[0.1, 0.2]]), np.array([[0.3, 0.4]]))
     assert bound[0] == 0.0
 
 
-# -- tail bound (1013b9c) ----------------------------------------------------------------
+# -- tail bound -------------------------------------------------------------------------
 @pytest.mark.parametrize(("text", "n", "symmetric"), [
     ("D(y,2) + 0.1*D(y) + y + 0.3*u**3 + 0.2*y**2 = u", 3, True),  # tail nearly attained
     ("D(y,2) + 0.1*D(y) + y + u*y**2 + 0.5*u**2*y + 0.3*y*D(y,2) = u", 3, False),
@@ -195,8 +194,8 @@ def test_lightly_damped_bracket_of_order_two_closes() -> None:
 
 
 def test_lightly_damped_bracket_of_order_three_closes() -> None:
-    # 6cd8311 (moduli of the common factors only) left gap 0.13 here at 20k boxes; the
-    # enclosure now keeps the smaller of the complex and the modulus bounds per box
+    # moduli of the common factors alone leave gap 0.13 here at 20k boxes; the
+    # enclosure keeps the smaller of the complex and the modulus bounds per box
     b = kernel_norm(parse_model(_cubic(3e-7)), 3, tol=1e-6, max_boxes=20_000)
     assert b.gap <= 1e-6
 

@@ -174,7 +174,7 @@ def test_certificate_check_refuses_a_costly_global_certificate_quickly(
 
     model = "D(y,4) + 2*D(y,3) + 3*D(y,2) + 2*D(y) + y + 0.1*y**3 = u"
     V, basis = padded_square()
-    cert = {"format": "gfrf-sos-certificate", "kind": "global-continuous",
+    cert = {"format": "gfrf-sos-certificate", "version": 1, "kind": "global-continuous",
             "states": ["y", "D(y,1)", "D(y,2)", "D(y,3)"],
             "V": [[list(k), str(c)] for k, c in V.items()], "gamma": "1", "alpha": "1",
             "multipliers": {"sigma": {"basis": [[0] * 5], "Q": [["1"]]},
@@ -206,3 +206,17 @@ def test_estimate_refuses_data_whose_spectra_leave_the_float_range(
                  "--json"]) == 2
     out, err = capsys.readouterr()
     assert out == "" and len(err.strip().splitlines()) == 1 and words in err
+
+
+@pytest.mark.parametrize("version", [2, 0, "1", True, None, 1.0])
+def test_certificate_check_refuses_an_unknown_version(
+        version: object, tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    cert: dict[str, object] = {"format": "gfrf-sos-certificate", "kind": "local-continuous",
+                               "states": ["y", "D(y,1)"]}
+    if version is not None:
+        cert["version"] = version
+    path = tmp_path / "cert.json"
+    path.write_text(json.dumps(cert))
+    assert main(["certificate", "check", CUBIC_DAMPING, str(path)]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and len(err.strip().splitlines()) == 1 and "version" in err

@@ -15,7 +15,7 @@ from gfrf.model.modelfile import looks_like_path, resolve_model
 DUFFING = "D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"
 
 
-@pytest.mark.parametrize("text", ["models/duffing.tom", "duffing", "models/duffing",
+@pytest.mark.parametrize("text", ["models/duffing.tom", "duffin", "models/duffin",
                                   "no-such_file.txt", "~/model.toml"])
 def test_a_missing_file_name_is_no_such_file_not_a_parse_error(text: str, tmp_path: Path,
                                                                 monkeypatch) -> None:
@@ -24,7 +24,7 @@ def test_a_missing_file_name_is_no_such_file_not_a_parse_error(text: str, tmp_pa
         resolve_model(text)
 
 
-@pytest.mark.parametrize("text", ["models/duffing.tom", "duffing"])
+@pytest.mark.parametrize("text", ["models/duffing.tom", "duffin"])
 def test_the_cli_says_no_such_file(text: str, capsys, tmp_path: Path, monkeypatch) -> None:
     monkeypatch.chdir(tmp_path)
     code, _, err = run(capsys, "verdict", text)
@@ -72,3 +72,16 @@ def test_the_public_functions_take_what_load_model_returns(tmp_path: Path) -> No
     # an equation string: H1 of 1/(s^2 + 0.2 s + 1) at w = 1 is -5j (closed form)
     assert gfrf.kernel(DUFFING, 1)(1.0) == pytest.approx(-5j, rel=1e-12)
     assert gfrf.threshold(DUFFING, order=3).lower == float("inf")
+
+
+def test_a_bundled_model_is_found_by_its_name_from_any_directory(tmp_path, monkeypatch):
+    from gfrf._data import MODELS_DIR
+
+    monkeypatch.chdir(tmp_path)
+    for name in ("duffing", "duffing.toml", "models/duffing.toml"):
+        assert resolve_model(name).path == str(MODELS_DIR / "duffing.toml")
+    with pytest.raises(ModelError, match="no such file"):
+        resolve_model("duffing.tom")
+    (tmp_path / "duffing.toml").write_text(
+        'name = "mine"\nequation = "D(y) + y + y**3 = u"\n')  # a file that exists wins
+    assert resolve_model("duffing.toml").name == "mine"

@@ -97,3 +97,28 @@ def test_breakpoints_repeated_calls_are_independent():
     assert u.breakpoints(10.0).tolist() == [1.0, 5.0]
     assert u.breakpoints(3.0).tolist() == [1.0]
     assert u.breakpoints(10.0).tolist() == [1.0, 5.0]
+
+
+def test_time_scale_and_unresolved_parts_are_computed_once_per_end_time(monkeypatch):
+    """The simulator asks both for every run of a prepared signal: the sympy walk is
+    done once for a given t_end (and again for another one)."""
+    from gfrf.model.signals import InputSignal, parse_input
+
+    calls: list[str] = []
+    for method in ("_time_scale", "_unresolved_parts"):
+        original = getattr(InputSignal, method)
+
+        def counted(self, t_end, _original=original, _name=method):
+            calls.append(_name)
+            return _original(self, t_end)
+
+        monkeypatch.setattr(InputSignal, method, counted)
+    signal = parse_input("0.5*(1 + tanh((t - 1)/0.01)) + 0.02*atan(1/(t - 1))")
+    for _ in range(3):
+        assert signal.time_scale(5.0) == pytest.approx(0.01)
+        parts = signal.unresolved_parts(5.0)
+        assert parts == ["1/(t - 1)", "atan(1/(t - 1))"]
+        parts.append("changed by the caller")
+    assert sorted(calls) == ["_time_scale", "_unresolved_parts"]
+    signal.time_scale(6.0)
+    assert calls.count("_time_scale") == 2

@@ -1,4 +1,4 @@
-"""Adversarial audit of the default simulation path (generated fused rhs, stepped solvers).
+"""Adversarial cases of the default simulation path (generated fused rhs, stepped solvers).
 
 References are independent: ``scipy.integrate.solve_ivp`` on hand-written right-hand
 sides of the bundled models (same method and tolerances), closed forms, a hand-written
@@ -152,7 +152,7 @@ def test_fused_input_agrees_with_numpy_input(text):
 
 def _write(tmp_path, physical: str) -> Path:
     path = tmp_path / "m.toml"
-    path.write_text(f'name = "audit"\noutput = "y"\nequation = "D(y,2) + D(y) + y = u"\n'
+    path.write_text(f'name = "generated"\noutput = "y"\nequation = "D(y,2) + D(y) + y = u"\n'
                     f'physical_equation = "{physical}"\n')
     return path
 

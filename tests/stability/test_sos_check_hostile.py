@@ -49,7 +49,7 @@ def test_gram_matrix_with_long_common_denominator_is_refused_by_its_size(
             d = rng.randrange(10**999, 10**1000)
             Q[i][j] = Q[j][i] = f"{d + 10 if i == j else 1}/{d}"
     basis = [[a, b, 0] for a in range(4) for b in range(4) if a + b <= 3][:n]
-    cert = {"format": "gfrf-sos-certificate", "kind": "local-continuous",
+    cert = {"format": "gfrf-sos-certificate", "version": 1, "kind": "local-continuous",
             "states": ["y", "D(y,1)"], "V": [[[2, 0, 0], "1"], [[0, 2, 0], "1"]],
             "c": "1", "U": "1/100", "epsilon": "1/100",
             "multipliers": {"sigma": {"basis": basis, "Q": Q},
@@ -66,7 +66,7 @@ def test_local_certificate_with_a_huge_lambda_is_refused_by_a_count(
     V, basis = padded_square()
     lam = [[list(m), "1"] for m in itertools.islice(itertools.product(range(13), repeat=5),
                                                     400)]
-    cert = {"format": "gfrf-sos-certificate", "kind": "local-continuous",
+    cert = {"format": "gfrf-sos-certificate", "version": 1, "kind": "local-continuous",
             "states": ["y", "D(y,1)", "D(y,2)", "D(y,3)"], "c": "1000", "U": "1",
             "epsilon": "1", "V": [[list(k), str(c)] for k, c in V.items()], "gamma": "1",
             "multipliers": {"sigma": {"basis": [[0] * 5], "Q": [["1"]]},
@@ -80,7 +80,7 @@ def test_refusal_of_a_long_rational_stays_one_short_line(
         tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
     """A lambda coefficient of 3,990 digits makes the failing identity's difference a
     number of thousands of digits: the refusal names the monomial and cuts the number."""
-    cert = {"format": "gfrf-sos-certificate", "kind": "local-continuous",
+    cert = {"format": "gfrf-sos-certificate", "version": 1, "kind": "local-continuous",
             "states": ["y", "D(y,1)"], "V": [[[2, 0, 0], "1"], [[0, 2, 0], "1"]],
             "c": "1", "U": "1/100", "epsilon": "1/100",
             "multipliers": {"sigma": {"basis": [[0, 0, 0]], "Q": [["1"]]},
