@@ -24,8 +24,8 @@ def add_model_argument(parser: argparse.ArgumentParser) -> None:
         The subcommand parser that gets the arguments.
     """
     parser.add_argument("model", metavar="MODEL",
-                        help="a model file (models/*.toml; a bundled model by its name, e.g. "
-                             "duffing) or an equation in quotes, "
+                        help="a model file (models/*.toml; a bundled model by its file name, "
+                             "e.g. duffing.toml) or an equation in quotes, "
                              "e.g. 'D(y,2) + 0.05*D(y) + 2.45*y - 0.41*y**3 = u'")
     parser.add_argument("--sample-time", type=float, default=None, metavar="T",
                         help="sample time in s when MODEL is an inline discrete (NARX) equation")

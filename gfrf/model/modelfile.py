@@ -207,7 +207,12 @@ def _read_regular(p: Path) -> bytes:
     try:
         st = os.stat(p)
     except FileNotFoundError:
-        raise ModelError(f"model file {quote(str(p))} does not exist (no such file)") from None
+        hint = ""
+        if p.suffix != ".toml" and p.parent in (Path("."), Path("models")) and (
+                MODELS_DIR / f"{p.name}.toml").is_file():
+            hint = f"; the bundled model is models/{p.name}.toml"
+        raise ModelError(f"model file {quote(str(p))} does not exist (no such file){hint}"
+                         ) from None
     except OSError as exc:
         raise ModelError(f"model file {quote(str(p))}: {exc.strerror}") from None
     if not stat.S_ISREG(st.st_mode):
@@ -460,9 +465,10 @@ def bundled_or_path(path: str) -> str:
     """``path``, or the bundled model file it names when no file ``path`` exists.
 
     A bundled model (:data:`gfrf._data.MODELS_DIR`, installed with the package) is named
-    by its file name with or without ``.toml``, alone or under ``models/``: ``duffing``,
-    ``duffing.toml`` and ``models/duffing.toml`` work from any directory.  A file that
-    exists is always the one read.
+    by its file name, alone or under ``models/``: ``duffing.toml`` and
+    ``models/duffing.toml`` work from any directory.  A file that exists is always the
+    one read; a name without ``.toml`` (``duffing``) names no file (the message of a
+    missing file points to the bundled one, :func:`load_model`).
 
     Parameters
     ----------
@@ -476,18 +482,19 @@ def bundled_or_path(path: str) -> str:
 
     Examples
     --------
-    >>> bundled_or_path("duffing") == str(MODELS_DIR / "duffing.toml")
+    >>> bundled_or_path("duffing.toml") == str(MODELS_DIR / "duffing.toml")
     True
+    >>> bundled_or_path("duffing")
+    'duffing'
     >>> bundled_or_path("models/duffing.tom")
     'models/duffing.tom'
     """
     if _exists(path):
         return path
     given = Path(path)
-    if given.parent not in (Path("."), Path("models")):
+    if given.parent not in (Path("."), Path("models")) or given.suffix != ".toml":
         return path
-    name = given.name if given.suffix == ".toml" else f"{given.name}.toml"
-    bundled = MODELS_DIR / name
+    bundled = MODELS_DIR / given.name
     return str(bundled) if bundled.is_file() else path
 
 

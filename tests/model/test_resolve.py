@@ -15,7 +15,7 @@ from gfrf.model.modelfile import looks_like_path, resolve_model
 DUFFING = "D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"
 
 
-@pytest.mark.parametrize("text", ["models/duffing.tom", "duffin", "models/duffin",
+@pytest.mark.parametrize("text", ["models/duffing.tom", "duffing", "models/duffing",
                                   "no-such_file.txt", "~/model.toml"])
 def test_a_missing_file_name_is_no_such_file_not_a_parse_error(text: str, tmp_path: Path,
                                                                 monkeypatch) -> None:
@@ -24,7 +24,7 @@ def test_a_missing_file_name_is_no_such_file_not_a_parse_error(text: str, tmp_pa
         resolve_model(text)
 
 
-@pytest.mark.parametrize("text", ["models/duffing.tom", "duffin"])
+@pytest.mark.parametrize("text", ["models/duffing.tom", "duffing"])
 def test_the_cli_says_no_such_file(text: str, capsys, tmp_path: Path, monkeypatch) -> None:
     monkeypatch.chdir(tmp_path)
     code, _, err = run(capsys, "verdict", text)
@@ -78,10 +78,12 @@ def test_a_bundled_model_is_found_by_its_name_from_any_directory(tmp_path, monke
     from gfrf._data import MODELS_DIR
 
     monkeypatch.chdir(tmp_path)
-    for name in ("duffing", "duffing.toml", "models/duffing.toml"):
+    for name in ("duffing.toml", "models/duffing.toml"):
         assert resolve_model(name).path == str(MODELS_DIR / "duffing.toml")
     with pytest.raises(ModelError, match="no such file"):
         resolve_model("duffing.tom")
+    with pytest.raises(ModelError, match=r"no such file\); the bundled model is models/duffing.toml"):
+        resolve_model("duffing")
     (tmp_path / "duffing.toml").write_text(
         'name = "mine"\nequation = "D(y) + y + y**3 = u"\n')  # a file that exists wins
     assert resolve_model("duffing.toml").name == "mine"
