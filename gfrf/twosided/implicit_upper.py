@@ -10,7 +10,7 @@ arbitrarily close to 0 without reaching it (near D = 0, while y' falls by v, the
 distance to D = 0 shrinks by a factor exp(-c v): y turns back before D = 0), so the
 lower side's polygon is kept above the same level.
 
-Candidates: d = +U and d = -U held constant from rest (the issue's switching witness
+Candidates: d = +U and d = -U held constant from rest (the switching witness
 form with no switch).  Switching inputs were measured on the cart-pole loops and
 reach the level no sooner: with its overdamped loop every swing ends as close to
 D = 0 as the constant's (d = U sign(y') and one switch after settling at d = -U, at
@@ -70,7 +70,7 @@ class ImplicitWitness:
     runs: int
 
     def witness(self) -> dict[str, Any]:
-        """The issue's switching witness JSON (the input is d)."""
+        """The switching witness JSON (the input is d)."""
         return {"kind": "switching", "signal": "d", "amplitude": self.amplitude,
                 "first_sign": self.first_sign, "switch_times": list(self.switch_times),
                 "t_escape": self.t_escape,

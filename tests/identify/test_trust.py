@@ -66,7 +66,7 @@ def _run(args, capsys) -> tuple[int, dict]:
 
 
 def _check_target(u, y, sample_time, r_true, capsys, tmp_path) -> dict:
-    """The issue's targets on one data set, through the CLI: adequate, pruned r* within
+    """The identification targets on one data set, through the CLI: adequate, pruned r* within
     15 % of the truth, the verdict at 0.7 r*_true stable with verdict.radius."""
     t = np.arange(u.size) * sample_time
     csv = _write(tmp_path / "d.csv", {"t": t, "u": u, "y": y})
@@ -125,7 +125,7 @@ def test_the_free_run_is_judged_above_the_noise_floor():
     assert judge(0.1, 0.1, e, u, noise_floor=0.09).to_dict()["noise_floor"] == 0.09
 
 
-# --------------------------------------------------- the issue's targets, fast ones
+# --------------------------------------------------- the identification targets, fast ones
 
 def test_narx_adequate_pruned_radius_and_stable_verdict(capsys, tmp_path):
     r_true = _true_radius(NARX, T)

@@ -287,7 +287,7 @@ def test_lags_and_degree_chosen_by_the_criterion_when_not_given(tmp_path, capsys
 
 
 def test_coefficients_are_rounded_so_ulps_do_not_change_the_file():
-    """The 1-ulp BLAS difference of the issue gives the same written coefficient."""
+    """A 1-ulp BLAS difference gives the same written coefficient."""
     a, b = -0.4995686297675639, -0.49956862976756367
     assert a != b and round_significant(a) == round_significant(b) == -0.4995686298
     u, y, _ = _data(n=1200)
@@ -356,7 +356,7 @@ def test_the_criterion_takes_its_global_minimum(tmp_path, capsys):
 
 @pytest.mark.slow  # a full identification from data: tens of seconds
 def test_noise_free_data_of_a_continuous_system_are_adequate(tmp_path, capsys):
-    """The issue's clean case: a NARX fit of y'' + 0.2y' + y + 0.5y^3 = u reproduces held-out
+    """The clean case: a NARX fit of y'' + 0.2y' + y + 0.5y^3 = u reproduces held-out
     data to 1e-3; its residual is the fit's own structural error, so the correlation tests
     fail, and the model is still adequate (PRECISE_FIT), with norms near the true model's."""
     from scipy.integrate import solve_ivp
