@@ -348,7 +348,8 @@ def _identify(y: Any, u: Any, sample_time: float, **options: Any) -> Identificat
 
 
 def _with_constant(theta: dict[Key, float], noise_terms: tuple[float, ...], kind: str,
-                   y: np.ndarray, u: np.ndarray, lag: int, order: int, window: int
+                   y: np.ndarray, u: np.ndarray, lag: int, order: int,
+                   window: int = OE_WINDOW
                    ) -> tuple[dict[Key, float], tuple[float, ...]]:
     """``theta`` with a constant term: refitted by the estimator of ``kind``; with noise
     terms (extended least squares) the constant is the mean equation error of the
