@@ -41,7 +41,14 @@ from gfrf.identify.grow import grow_output_error, held_out_rrse
 from gfrf.identify.narx import _lead, narx_model
 from gfrf.identify.noise import extended_least_squares, regressors, residuals
 from gfrf.identify.operating import equilibrium, round_significant, shift
-from gfrf.identify.output_error import output_error_covariance, recurse, refine, warm_up
+from gfrf.identify.output_error import WINDOW as OE_WINDOW
+from gfrf.identify.output_error import (
+    output_error_covariance,
+    recurse,
+    refine,
+    warm_up,
+    window_for,
+)
 from gfrf.identify.prune import WINDOW, Pruning, covariance, prune_and_refit
 from gfrf.identify.result import Identification
 from gfrf.identify.spread import DRAWS, RadiusSpread, radius, radius_spread
@@ -212,14 +219,15 @@ def _choose_structure(y: np.ndarray, u: np.ndarray, given: tuple[int | None, ...
 
 
 def _estimate(y: np.ndarray, u: np.ndarray, ylag: int, ulag: int, degree: int,
-              criterion: str, max_terms: int, noise: bool | None, forced: bool = False
+              criterion: str, max_terms: int, noise: bool | None, forced: bool = False,
+              window: int = OE_WINDOW
               ) -> tuple[Selection, dict[Key, float], tuple[float, ...], list[str], str]:
     """FROLS, then a noise model when asked or when the residuals are coloured.
 
     Returns the fit, the process coefficients, the noise coefficients, notes and the
     kind of noise model: ``"none"``, ``"narmax"`` (extended least squares) or
     ``"output error"`` (when extended least squares cannot whiten the residuals:
-    :mod:`gfrf.identify.output_error`).
+    :mod:`gfrf.identify.output_error`, fitted on the first ``window`` samples).
     """
     lag = max(ylag, ulag)
     fit = _fit_structure(y, u, ylag, ulag, degree, criterion, max_terms, forced)
@@ -243,7 +251,7 @@ def _estimate(y: np.ndarray, u: np.ndarray, ylag: int, ulag: int, degree: int,
         return fit, theta, (), notes, "none"
     notes.append("extended least squares could not whiten the coloured training residuals: "
                  "output-error estimate (free-run error minimised on the training part)")
-    return fit, refine(theta, y, u, lag), (), notes, "output error"
+    return fit, refine(theta, y, u, lag, window=window), (), notes, "output error"
 
 
 def identify(y: Any, u: Any, sample_time: float, *, ylag: int | None = 2,
@@ -340,7 +348,8 @@ def _identify(y: Any, u: Any, sample_time: float, **options: Any) -> Identificat
 
 
 def _with_constant(theta: dict[Key, float], noise_terms: tuple[float, ...], kind: str,
-                   y: np.ndarray, u: np.ndarray, lag: int, order: int
+                   y: np.ndarray, u: np.ndarray, lag: int, order: int,
+                   window: int = OE_WINDOW
                    ) -> tuple[dict[Key, float], tuple[float, ...]]:
     """``theta`` with a constant term: refitted by the estimator of ``kind``; with noise
     terms (extended least squares) the constant is the mean equation error of the
@@ -351,7 +360,7 @@ def _with_constant(theta: dict[Key, float], noise_terms: tuple[float, ...], kind
         return theta, noise_terms
     keys = [*theta, one]
     if kind == "output error":
-        return refine({**theta, one: 0.0}, y, u, lag), noise_terms
+        return refine({**theta, one: 0.0}, y, u, lag, window=window), noise_terms
     if kind == "narmax":
         keys = list(theta)
         error = y[lag:] - regressors(keys, y, u, lag) @ np.array([theta[k] for k in keys])
@@ -395,26 +404,29 @@ def _identify_once(y: Any, u: Any, sample_time: float, *, ylag: int | None,
     assert ylag is not None and ulag is not None and degree is not None
     max_terms = min(max_terms, candidates)
     lag = max(ylag, ulag)
+    oe_window = window_for(n_train)  # output-error fits: fewer samples on a long record
     fit, theta, noise_terms, notes, kind = _estimate(y[:n_fit], u[:n_fit] - cu, ylag, ulag,
-                                               degree, criterion, max_terms, noise)
+                                                     degree, criterion, max_terms, noise,
+                                                     window=oe_window)
     first_constant = constant = theta.get(((), ()))
     y0c = 0.0 if constant is None else equilibrium(theta, 0.0, mean_y)
     if offset and y0c != 0.0:  # the second fit, about the first one's equilibrium
         cy = y0c
         fit, theta, noise_terms, notes, kind = _estimate(y[:n_fit] - cy, u[:n_fit] - cu,
-                                                         ylag,
-                                                   ulag, degree, criterion, max_terms, noise)
+                                                         ylag, ulag, degree, criterion,
+                                                         max_terms, noise, window=oe_window)
     yc, uc = y - cy, u - cu
     floor, floor_method = noise_floor(yc, uc, n_train, lag, candidate_keys(ylag, ulag, degree),
                                       fit.keys, ylag)
     if prune and len(fit.keys) < max_terms and not model_error(
             held_out_rrse(theta, yc, uc, n_train, lag), floor) < FREE_RUN_LIMIT:
         grown = _estimate(y[:n_fit] - cy, u[:n_fit] - cu, ylag, ulag, degree, criterion,
-                          max_terms, noise, forced=True)
+                          max_terms, noise, forced=True, window=oe_window)
         if kind == grown[4] == "output error":  # least squares on noisy data is biased
             grown = (grown[0], grow_output_error(theta, grown[1], y[:n_fit] - cy,
                                                  u[:n_fit] - cu, lag,
-                                                 candidate_keys(ylag, ulag, degree)),
+                                                 candidate_keys(ylag, ulag, degree),
+                                                 oe_window),
                      *grown[2:])
         if held_out_rrse(grown[1], yc, uc, n_train, lag) < held_out_rrse(
                 theta, yc, uc, n_train, lag):
@@ -425,7 +437,7 @@ def _identify_once(y: Any, u: Any, sample_time: float, *, ylag: int | None,
                          f"then pruned")
     if constant and cy:
         theta, noise_terms = _with_constant(theta, noise_terms, kind, y[:n_fit] - cy,
-                                            u[:n_fit] - cu, lag, ylag)
+                                            u[:n_fit] - cu, lag, ylag, oe_window)
     full_theta = theta
     pruning = None
     if prune:  # free runs from measured outputs before the held-out part (warm-up)
@@ -433,11 +445,12 @@ def _identify_once(y: Any, u: Any, sample_time: float, *, ylag: int | None,
         theta, noise_terms, pruning = prune_and_refit(
             theta, noise_terms, kind, y[:n_fit] - cy, u[:n_fit] - cu, yc[n_train - w:],
             uc[n_train - w:], lag, ylag, floor >= PRECISE_FIT, w,
-            lambda th: _score(th, mean_y - cy, sample_time, output, input))
+            lambda th: _score(th, mean_y - cy, sample_time, output, input), oe_window)
         if floor >= PRECISE_FIT:  # FROLS ranked the lags on noisy outputs
             theta, noise_terms, swaps = swap_lags(theta, noise_terms, kind, y[:n_fit] - cy,
                                                   u[:n_fit] - cu, lag, ylag,
-                                                  candidate_keys(ylag, ulag, degree))
+                                                  candidate_keys(ylag, ulag, degree),
+                                                  oe_window)
             if swaps:
                 end = n_train + lag + WINDOW  # the pruning's window
                 pruning = replace(pruning, removed=pruning.removed + tuple(a for a, _ in swaps),

@@ -24,7 +24,7 @@ import numpy as np
 
 from gfrf.identify.noise import regressors
 from gfrf.identify.ols import error_reduction_ratio
-from gfrf.identify.output_error import recurse, refine, warm_up
+from gfrf.identify.output_error import WINDOW, recurse, refine, warm_up
 from gfrf.identify.prune import free_run_residual
 
 __all__ = ["held_out_rrse", "grow_output_error"]
@@ -75,7 +75,8 @@ def _simulated_ranking(theta: dict[Key, float], y: np.ndarray, u: np.ndarray, la
 
 
 def grow_output_error(small: dict[Key, float], grown: dict[Key, float], y: np.ndarray,
-                      u: np.ndarray, lag: int, candidates: list[Key]) -> dict[Key, float]:
+                      u: np.ndarray, lag: int, candidates: list[Key],
+                      window: int = WINDOW) -> dict[Key, float]:
     """The larger output-error model with the smallest training free-run error.
 
     Parameters
@@ -90,19 +91,21 @@ def grow_output_error(small: dict[Key, float], grown: dict[Key, float], y: np.nd
         Largest lag.
     candidates : list
         The candidate monomials of the structure.
+    window : int, optional
+        Samples each refinement fits (:func:`gfrf.identify.output_error.window_for`).
 
     Returns
     -------
     dict
         The chosen model's coefficients.
     """
-    options = [grown, refine({k: small.get(k, 0.0) for k in grown}, y, u, lag)]
+    options = [grown, refine({k: small.get(k, 0.0) for k in grown}, y, u, lag, window=window)]
     errors = [_training_error(theta, y, u, lag) for theta in options]
     best = int(np.argmin(errors))
     ranked = _simulated_ranking(small, y, u, lag, candidates, len(grown))
     if ranked is None or set(ranked) == set(grown):
         return options[best]
-    other = refine({k: small.get(k, 0.0) for k in ranked}, y, u, lag)
+    other = refine({k: small.get(k, 0.0) for k in ranked}, y, u, lag, window=window)
     # other terms only for a clear gain: beyond twice the relative standard error
     # sqrt(2/N) of a mean square of N samples (noise alone moves it that much)
     margin = 2.0 * math.sqrt(2.0 / max(1, y.size - lag))

@@ -7,7 +7,9 @@ its noise model invertible.  The output-error estimate of the same terms minimis
 instead the free-run (simulation) error ``sum (y - y_sim(theta))**2`` over the training
 samples, which white output noise does not bias.  :func:`refine` starts from the
 least-squares coefficients and runs scipy's Levenberg-Marquardt for a bounded number
-of evaluations, on at most :data:`WINDOW` samples; :func:`simulate` is the free run.
+of evaluations, on at most :data:`WINDOW` samples (:data:`LONG_WINDOW` on a record of
+more than :data:`LONG_RECORD` training samples, :func:`window_for`: a bound on the work of
+a pure-Python free run); :func:`simulate` is the free run.
 
 Models are dicts ``{(output lags, input lags): theta}`` of ``y[k] = sum theta*m`` (the
 key ``((), ())`` is a constant).
@@ -20,17 +22,34 @@ import math
 import numpy as np
 
 __all__ = ["refine", "simulate", "recurse", "output_error_covariance", "warm_up", "WINDOW",
-           "MAX_EVALUATIONS", "SETTLE"]
+           "MAX_EVALUATIONS", "SETTLE", "LONG_RECORD", "LONG_WINDOW", "window_for"]
 
 Key = tuple[tuple[int, ...], tuple[int, ...]]
 #: Training samples the refinement simulates (the first ones): bounds its work.
 WINDOW = 20000
+#: Training samples beyond which a record is long: its refinements fit fewer samples.
+LONG_RECORD = 40_000
+#: Training samples the refinement simulates on a long record.
+LONG_WINDOW = 5000
 #: Most residual evaluations of the refinement (work, never time, bounds it).
 MAX_EVALUATIONS = 400
 #: A simulation stops when |y| exceeds this multiple of the data's largest |y|.
 _BLOWUP = 1e3
 #: A free run is scored once its linear part's slowest mode has decayed to this fraction.
 SETTLE = 1e-3
+
+
+def window_for(n_train: int) -> int:
+    """Samples an output-error refinement fits on a record of ``n_train`` training samples:
+    :data:`WINDOW`, or :data:`LONG_WINDOW` beyond :data:`LONG_RECORD` (the many
+    refinements of an identification stay within a bounded work on a long record).
+
+    Parameters
+    ----------
+    n_train : int
+        Training samples of the record.
+    """
+    return WINDOW if n_train <= LONG_RECORD else LONG_WINDOW
 
 
 def warm_up(theta: dict[Key, float], lag: int, most: int) -> int:

@@ -420,7 +420,8 @@ def carried(start: dict[Key, float], keys: list[Key]) -> dict[Key, float]:
 def prune_and_refit(theta: dict[Key, float], noise: tuple[float, ...], kind: str,
                     y_train: np.ndarray, u_train: np.ndarray, y_test: np.ndarray,
                     u_test: np.ndarray, lag: int, order: int, noisy: bool, warm: int = 0,
-                    score: Callable[[dict[Key, float]], float] | None = None
+                    score: Callable[[dict[Key, float]], float] | None = None,
+                    window: int | None = None
                     ) -> tuple[dict[Key, float], tuple[float, ...], Pruning]:
     """:func:`prune` with the estimator of ``kind`` (:func:`refitter`), then the pruned
     terms refitted with that estimator's full work (extended least squares to
@@ -449,8 +450,12 @@ def prune_and_refit(theta: dict[Key, float], noise: tuple[float, ...], kind: str
         Samples at the start of ``y_test`` the free runs go through unscored.
     score : callable, optional
         ``score(theta)`` of :func:`prune` (r* of the model); used on ``noisy`` data only.
+    window : int, optional
+        Samples the output-error refit of the pruned terms fits (default
+        :data:`gfrf.identify.output_error.WINDOW`).
     """
     from gfrf.identify.noise import extended_least_squares
+    from gfrf.identify.output_error import WINDOW as OE_WINDOW
     from gfrf.identify.output_error import refine
 
     size = len(theta) + 1
@@ -468,5 +473,5 @@ def prune_and_refit(theta: dict[Key, float], noise: tuple[float, ...], kind: str
     if kind == "narmax":
         pruned, noise = extended_least_squares(keys, y_train, u_train, lag, order)
     elif kind == "output error":
-        pruned = refine(pruned, y_train, u_train, lag)
+        pruned = refine(pruned, y_train, u_train, lag, window=window or OE_WINDOW)
     return pruned, noise if kind == "narmax" else (), pruning

@@ -14,7 +14,11 @@ convergence, and keeps the one with the smallest training free-run error when it
 clearly smaller (beyond twice the standard error of a mean square, the margin of
 :mod:`gfrf.identify.grow`).  At most :data:`MAX_SWAPS` refits, each on the first
 :data:`~gfrf.identify.prune.TRIAL_ROWS` training rows; a swapped model is refitted on
-all of them.
+all of them.  On a long record (an output-error ``window`` below
+:data:`~gfrf.identify.output_error.WINDOW`, :func:`~gfrf.identify.output_error.window_for`)
+an output-error trial fits the first :data:`~gfrf.identify.prune.TRIAL_OE_WINDOW` of them
+(its training free-run error is still scored on all of them), and the swapped model the
+first ``window``.
 """
 
 from __future__ import annotations
@@ -25,8 +29,8 @@ import numpy as np
 
 from gfrf.identify.grow import _training_error
 from gfrf.identify.noise import extended_least_squares, regressors
-from gfrf.identify.output_error import refine
-from gfrf.identify.prune import TRIAL_ROWS, _group, _name, carried
+from gfrf.identify.output_error import WINDOW, refine
+from gfrf.identify.prune import TRIAL_OE_WINDOW, TRIAL_ROWS, _group, _name, carried
 
 __all__ = ["swap_lags", "MAX_SWAPS"]
 
@@ -36,7 +40,8 @@ MAX_SWAPS = 24
 
 
 def swap_lags(theta: dict[Key, float], noise: tuple[float, ...], kind: str, y: np.ndarray,
-              u: np.ndarray, lag: int, order: int, candidates: list[Key]
+              u: np.ndarray, lag: int, order: int, candidates: list[Key],
+              window: int = WINDOW
               ) -> tuple[dict[Key, float], tuple[float, ...], list[tuple[str, str]]]:
     """One pass of swaps within collinear groups; returns the coefficients, the noise
     terms and the swaps made as ``(removed, added)`` names.
@@ -57,11 +62,16 @@ def swap_lags(theta: dict[Key, float], noise: tuple[float, ...], kind: str, y: n
         Noise terms of extended least squares.
     candidates : list
         The candidate monomials of the structure.
+    window : int, optional
+        Samples an output-error refit of the swapped model fits
+        (:func:`gfrf.identify.output_error.window_for`).
     """
-    def refit(keys: list[Key], start: dict[Key, float]
+    trial_window = window if window >= WINDOW else TRIAL_OE_WINDOW
+
+    def refit(keys: list[Key], start: dict[Key, float], fitted: int = trial_window
               ) -> tuple[dict[Key, float], tuple[float, ...]]:
         if kind == "output error":
-            return refine(carried(start, keys), y, u, lag), ()
+            return refine(carried(start, keys), y, u, lag, window=fitted), ()
         if kind == "narmax":
             return extended_least_squares(keys, y, u, lag, order)
         values = np.linalg.lstsq(regressors(keys, y, u, lag), y[lag:], rcond=None)[0]
@@ -90,7 +100,7 @@ def swap_lags(theta: dict[Key, float], noise: tuple[float, ...], kind: str, y: n
         if best is not None:
             error, theta, noise = best[0], best[1], best[2]
             swaps.append((_name(term), _name(best[3])))
-    if swaps and every[0].size > y.size:
+    if swaps and (every[0].size > y.size or trial_window < window):
         y, u = every
-        theta, noise = refit(list(theta), theta)
+        theta, noise = refit(list(theta), theta, window)
     return theta, noise, swaps

@@ -47,3 +47,38 @@ def test_the_right_lags_are_kept():
     theta, _, swaps = swap_lags(dict(TRUE), (), "output error", y, u, 2, 2,
                                 candidate_keys(2, 2, 3))
     assert swaps == [] and set(theta) == set(TRUE)
+
+
+def test_a_long_record_swaps_on_the_trial_window_as_the_full_refits_do(monkeypatch):
+    """On a long record (an output-error window below WINDOW) the trial refits fit the
+    first TRIAL_OE_WINDOW samples and the swapped model the long-record window; the swap
+    and its coefficients agree with those of full-window trials.  Records of at most
+    27,000 samples (any holdout) keep the full window."""
+    from gfrf.identify import output_error, swap
+    from gfrf.identify.prune import TRIAL_OE_WINDOW
+
+    assert output_error.window_for(27_000) == output_error.WINDOW
+    assert output_error.window_for(output_error.LONG_RECORD + 1) == output_error.LONG_WINDOW
+    rng = np.random.default_rng(7)
+    u = 3 * rng.uniform(-1, 1, 6000)
+    x = _simulate(u)
+    y = x + 0.01 * np.std(x) * rng.standard_normal(x.size)
+    wrong = {((2, 2) if k[0] == (1, 1) else k[0], k[1]): v for k, v in TRUE.items()}
+    keys = [k for k in candidate_keys(2, 2, 3) if len(k[0]) == 2 and not k[1]]
+    full, _, full_swaps = swap_lags(wrong, (), "output error", y, u, 2, 2, keys)
+    windows: list[int] = []
+
+    def recording(*args, window=output_error.WINDOW, **kw):
+        windows.append(window)
+        return output_error.refine(*args, window=window, **kw)
+
+    monkeypatch.setattr(swap, "refine", recording)
+    theta, _, swaps = swap_lags(wrong, (), "output error", y, u, 2, 2, keys,
+                                output_error.LONG_WINDOW)
+    assert windows[:-1] and set(windows[:-1]) == {TRIAL_OE_WINDOW}
+    assert windows[-1] == output_error.LONG_WINDOW
+    assert swaps == full_swaps == [("y[k-2]*y[k-2]", "y[k-1]*y[k-1]")]
+    assert set(theta) == set(full) == set(TRUE)
+    for k in TRUE:  # both near the system's coefficients, within their noise
+        assert abs(theta[k] - full[k]) < 0.1 * abs(TRUE[k]), k
+    assert abs(theta[((1, 1), ())] + 0.004) < 4e-4
