@@ -374,10 +374,10 @@ def _search(taylor: Callable[..., Any], point: Callable[..., Any], inverse: Any,
             bar.set_postfix_str(f"gap {1 - best / upper if upper > 0 else 0.0:.2e}", refresh=False)
             if not bound.size:
                 break
-            if boxes >= max_boxes or bound.size + min(bound.size, BATCH) > MAX_OPEN:
-                stop = "budget" if boxes >= max_boxes else "open boxes"
+            if boxes + 2 > max_boxes or bound.size + min(bound.size, BATCH) > MAX_OPEN:
+                stop = "budget" if boxes + 2 > max_boxes else "open boxes"
                 break
-            take = np.argsort(bound)[::-1][:min(BATCH, (max_boxes - boxes + 1) // 2)]
+            take = np.argsort(bound)[::-1][:min(BATCH, (max_boxes - boxes) // 2)]
             rest = np.ones(bound.size, bool)
             rest[take] = False
             p_lo, p_hi, p_split = lo[take], hi[take], split[take]
