@@ -157,8 +157,11 @@ def run_set(ds: DataSet, folder: Path, r_true: float, fixed: bool,
     path = folder / f"{ds.system}_{ds.seed}_{ds.noise:g}_{ds.offset:g}.csv"
     if not path.exists():
         u, y, step = simulate(ds)
-        np.savetxt(path, np.c_[step * np.arange(u.size), u, y], fmt="%.10g", delimiter=",",
-                   header="t,u,y", comments="")
+        from gfrf._atomic import atomic_open
+
+        with atomic_open(path) as fh:
+            np.savetxt(fh, np.c_[step * np.arange(u.size), u, y], fmt="%.10g",
+                       delimiter=",", header="t,u,y", comments="")
     args = [str(path), "--amplitude", repr(0.7 * r_true), *extra, "--json"]
     if fixed:
         args += FIXED

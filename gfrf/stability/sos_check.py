@@ -583,14 +583,18 @@ def _check_implicit(model: Any, certificate: dict[str, Any]) -> CertificateCheck
     reason = check_region(form, certificate)
     if reason.startswith("malformed certificate"):
         raise ArgumentError(reason)
-    radius = 0.0
+    radius, level = 0.0, ""
     if not reason:
         U = q(certificate["U"])
         radius = float(U) if Fraction(float(U)) <= U else math.nextafter(float(U), 0.0)
+        if certificate.get("level") is not None:
+            level = (f" and keeps |D(x)| > {q(certificate['level'])} |D(0)| (the stated "
+                     f"breakdown level)")
     return CertificateCheck(valid=not reason, reason=reason, kind=str(certificate["kind"]),
                             radius=radius,
                             property="" if reason else (
                                 "bounded: every solution from rest under every input with "
-                                f"sup|v| <= U (v = {form.input_name}) stays in the polygon"),
+                                f"sup|v| <= U (v = {form.input_name}) stays in the polygon"
+                                f"{level}"),
                             state_map=f"D(x) y'' + R(x, v) = 0, x = ({', '.join(form.states)})"
                                       f", v = {form.input_name}")

@@ -137,7 +137,7 @@ def enclose_implicit_witness(form: ImplicitLoop, amplitude: float, first_sign: i
             if abs(X[0]) > ylev:
                 return Enclosure(proven=True, t_proven=float(X[2].upper()), steps=steps,
                                  precision=BITS, width=max(float(x.rad()) for x in X),
-                                 reason=f"|y| > {float(y_level):.9g} (|D(y)| <= "
+                                 reason=f"|y| > {abs(float(y_level))!r} (|D(y)| <= "
                                         f"{float(SINGULAR_LEVEL):g} |D(0)| there)",
                                  method=METHOD)
             if not all(math.isfinite(float(x.rad())) and x.rad() < 1e-3 for x in X):

@@ -56,6 +56,16 @@ UPPER_METHOD = {
                 "y'' = -R/D is 1e6 times its scale"}
 
 
+def _upper_method(kind: str | None, closed: bool) -> str | None:
+    """:data:`UPPER_METHOD` of a witness kind; in a closed loop the input is the
+    reference r."""
+    method = UPPER_METHOD.get(kind or "")
+    if method is not None and closed:
+        method = method.replace("input u = +-U (sup|u| = U)", "reference r = +-U (sup|r| = U)"
+                                ).replace("(sup|u| = A)", "(sup|r| = A)")
+    return method
+
+
 @dataclass(frozen=True)
 class Threshold:
     """Result of :func:`threshold` (the ``--json`` of ``gfrf threshold``: :meth:`to_dict`).
@@ -154,9 +164,12 @@ class Threshold:
                     f"only) below {self.tone_radius:.6g}")
         if self.upper is None:
             return f"{low}; unknown above (no escaping input found)"
+        if self.d_witness is not None:
+            return (f"{low}; breaks down at {self.upper:.6g} (sup|d| = sup|C r|: a witness "
+                    f"reaches the loop's breakdown level |D(y)| <= 1e-6 |D(0)|, "
+                    f"{self.upper_proof_words}); unknown in between")
         measure = (("sup|r|" if self.lower_class == LOOP_LOWER_CLASS else "sup|u|")
                    if self.falsification and self.falsification.kind in ("switching", "chirp")
-                   else "sup|d| = sup|C r|" if self.d_witness is not None
                    else "sum of tone amplitudes")
         return (f"{low}; unstable at {self.upper:.6g} ({measure}: a witness escapes, "
                 f"{self.upper_proof_words}); unknown in between")
@@ -389,7 +402,7 @@ def threshold(model: ModelFile | Model, *, order: int = 5, prove: bool = True,
                       else "unstable equilibrium (exact pole location)"
                       if side.unstable is not None
                       else UPPER_METHOD["implicit"] if d_witness is not None
-                      else UPPER_METHOD.get(falsification.kind or "")
+                      else _upper_method(falsification.kind, closed)
                       if falsification is not None else None),
         certificates=tuple(certs), falsification=falsification, enclosure=enclosure,
         static_bound=static_bound, theorem=v.theorem,
