@@ -39,6 +39,7 @@ def _bits(r: object) -> tuple[str, ...]:
     return tuple(x.hex() if isinstance(x, float) else repr(x) for x in vars(r).values())
 
 
+@pytest.mark.slow
 def test_budget_limited_bracket_identical_under_load() -> None:
     # ||H5|| of the hanging pendulum: the budget runs out before the gap closes, so
     # where the search stops decides the bracket.

@@ -261,6 +261,7 @@ def test_cancellation_is_reported_not_nan(capsys: pytest.CaptureFixture[str]) ->
 
 
 # -- property: random stable models x random scales ----------------------------------------
+@pytest.mark.slow
 @settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(a1=st.floats(1e-3, 3.0), a0=st.floats(0.1, 10.0),
        c3=st.floats(0.05, 2.0) | st.floats(-2.0, -0.05), b=st.floats(0.1, 3.0),

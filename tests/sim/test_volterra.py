@@ -78,6 +78,7 @@ def test_incommensurate_rejected():
         base_frequency([(1.0, 1.0, 0.0), (1.0, math.sqrt(2), 0.0)])
 
 
+@pytest.mark.slow
 def test_select_order_verified_by_simulation():
     A, tol = 0.004, 2e-5
     choice = select_order(PENDULUM, A, tol, max_order=5)

@@ -54,6 +54,7 @@ def test_enclosure_holds_the_50_digit_taylor_solution_under_a_switching_input() 
         assert checked == len(trace)
 
 
+@pytest.mark.slow
 def test_enclosure_holds_the_50_digit_taylor_solution_under_a_tone_third_order() -> None:
     """y''' + 2y'' + 2y' + y - 0.5 y^3 = u, u = 0.3 cos(1.3 t + 0.4) (the tone's exact
     oscillator states ride along in the enclosure)."""

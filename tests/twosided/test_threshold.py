@@ -130,6 +130,7 @@ def test_duffing_lower_is_proven_infinite_upper_null(capsys) -> None:
     assert 0 < theorem["radius"] < 0.1  # r* = 0.048: the second certificate is not Theorem 1
 
 
+@pytest.mark.slow
 def test_pendulum_upper_and_an_independent_witness_run(capsys) -> None:
     code, data = _json(capsys, str(MODELS / "hanging_pendulum_damped.toml"))
     _check_contract(data)
