@@ -244,10 +244,10 @@ class Kernel:
         return self._gen.ufunc(self.order, self.symmetric)
 
 
-def check_order(order: object, name: str = "order") -> int:
-    """The one check of a kernel order, before any work: an integer in
-    ``1..MAX_KERNEL_ORDER`` (every function and command that takes an order calls it, so
-    all say the same).
+def check_order(order: object, name: str = "order",
+                limit: tuple[str, int] = ("MAX_KERNEL_ORDER", MAX_KERNEL_ORDER)) -> int:
+    """The one check of an order, before any work: an integer in ``1..MAX_KERNEL_ORDER``
+    (every function and command that takes an order calls it, so all say the same).
 
     Parameters
     ----------
@@ -255,6 +255,9 @@ def check_order(order: object, name: str = "order") -> int:
         The order to check.
     name : str
         How the caller names it in the message (``"--order"``, ``"kernel order"``).
+    limit : (str, int)
+        The largest order and the name of its constant, for the message (the OFRF has
+        its own, ``("MAX_OFRF_ORDER", 64)``).
 
     Returns
     -------
@@ -264,17 +267,18 @@ def check_order(order: object, name: str = "order") -> int:
     Raises
     ------
     ArgumentError
-        ``order`` is not an integer (bool included) or is outside ``1..MAX_KERNEL_ORDER``.
+        ``order`` is not an integer (bool included) or is outside ``1..limit``.
 
     >>> check_order(13, "--order")
     Traceback (most recent call last):
     ...
     gfrf.errors.ArgumentError: --order must be an integer between 1 and ... = 12, got 13
     """
+    label, top = limit
     if isinstance(order, bool) or not isinstance(order, (int, np.integer)) \
-            or not 1 <= order <= MAX_KERNEL_ORDER:
-        raise ArgumentError(f"{name} must be an integer between 1 and MAX_KERNEL_ORDER = "
-                            f"{MAX_KERNEL_ORDER}, got {order!r}")
+            or not 1 <= order <= top:
+        raise ArgumentError(f"{name} must be an integer between 1 and {label} = {top}, "
+                            f"got {order!r}")
     return int(order)
 
 

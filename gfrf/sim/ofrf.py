@@ -352,7 +352,8 @@ def _work(n_tones: int, order: int, model: Model) -> int:
 
 def check_ofrf_order(order: object, name: str = "order") -> int:
     """The check of an OFRF truncation order, before any work: an integer in
-    ``1..MAX_OFRF_ORDER`` (the work it implies is checked by :func:`ofrf`).
+    ``1..MAX_OFRF_ORDER`` (:func:`gfrf.kernels.recursion.check_order` with this limit;
+    the work it implies is checked by :func:`ofrf`).
 
     Parameters
     ----------
@@ -371,11 +372,9 @@ def check_ofrf_order(order: object, name: str = "order") -> int:
     ArgumentError
         ``order`` is not an integer (bool included) or is outside ``1..MAX_OFRF_ORDER``.
     """
-    if isinstance(order, bool) or not isinstance(order, (int, np.integer)) \
-            or not 1 <= order <= MAX_OFRF_ORDER:
-        raise ArgumentError(f"{name} must be an integer between 1 and MAX_OFRF_ORDER = "
-                            f"{MAX_OFRF_ORDER} (gfrf.sim.ofrf), got {order!r}")
-    return int(order)
+    from gfrf.kernels.recursion import check_order
+
+    return check_order(order, name, ("MAX_OFRF_ORDER", MAX_OFRF_ORDER))
 
 
 def _table(data: Any, path: str) -> tuple[Mapping[str, Any], str]:
