@@ -60,8 +60,10 @@ def _check_contract(data: dict) -> None:
             assert all(len(t) == 3 for t in w["tones"])
             assert math.isclose(sum(t[0] for t in w["tones"]), data["upper"])
         else:
-            # a loop with an improper controller names the signal switched (d = C r)
-            extra = {"signal"} if data["lower_class"] == IMPROPER_LOWER_CLASS else set()
+            # a loop with an improper controller names the signal switched (d = C r) and
+            # the stated breakdown level its escape reaches
+            extra = ({"signal", "escape"} if data["lower_class"] == IMPROPER_LOWER_CLASS
+                     else set())
             assert set(w) == {"kind", "amplitude", "first_sign", "switch_times", "t_escape",
                               *extra}
             assert w["amplitude"] == data["upper"] and w["first_sign"] in (1, -1)
