@@ -33,6 +33,7 @@ import functools
 import math
 import time
 import warnings
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -229,9 +230,8 @@ def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | N
     else:
         result = integrate_scipy(system, signal, z0, t_end, t_eval, method, rtol, atol,
                                  blowup, max_evaluations)
-    result.wall_time = time.perf_counter() - start - result.compile_time
-    result.notes = notes + result.notes
-    return result
+    return replace(result, wall_time=time.perf_counter() - start - result.compile_time,
+                   notes=notes + result.notes)
 
 
 def _check_work(system: OdeSystem, signal: InputSignal, t_end: float,

@@ -82,7 +82,7 @@ _RUNS = 100
 _STEPS = 120
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class PavingResult:
     """A verified invariant paving.
 

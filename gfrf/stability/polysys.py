@@ -383,7 +383,7 @@ def state_form(model: ModelFile | Model) -> PolySystem:
     StateFormError
         The model has no such state form (the message says why).
     """
-    mf = model if isinstance(model, ModelFile) else ModelFile(model)
+    mf = model if isinstance(model, ModelFile) else ModelFile(plant=model)
     plant = mf.plant
     if plant.is_discrete:
         if mf.controller is not None:

@@ -74,14 +74,14 @@ def _proper_condition(model: Model, maj: Majorant, what: str) -> Condition:
     """Condition 1: bounded kernels.  Improper H1 fails; an infinite majorant is undecided."""
     a, b = model.linear_output, model.linear_input
     if b and max(b) > max(a):
-        return Condition(f"{what}: proper rational kernels", False, math.inf,
-                         f"H1 improper: input derivative order {max(b)} > output order "
+        return Condition(name=f"{what}: proper rational kernels", passed=False, value=math.inf,
+                         detail=f"H1 improper: input derivative order {max(b)} > output order "
                          f"{max(a)}")
     if not maj.finite:
-        return Condition(f"{what}: proper rational kernels", None, math.inf,
-                         "not established: " + "; ".join(maj.reasons))
-    return Condition(f"{what}: proper rational kernels", True, None,
-                     "every H_n bounded by the finite certified majorant (hence proper on "
+        return Condition(name=f"{what}: proper rational kernels", passed=None, value=math.inf,
+                         detail="not established: " + "; ".join(maj.reasons))
+    return Condition(name=f"{what}: proper rational kernels", passed=True, value=None,
+                     detail="every H_n bounded by the finite certified majorant (hence proper on "
                      "the frequency axis)")
 
 
@@ -91,8 +91,8 @@ def _stability_condition(model: Model) -> tuple[Condition, str]:
     kind = "|z| < 1" if model.is_discrete else "Re s < 0"
     values = [complex(p) for p in report.roots]
     if report.stable:
-        return Condition("linear part A_1 stable", True, values,
-                         f"all poles have {kind} (exact test on the given coefficients)"), ""
+        return Condition(name="linear part A_1 stable", passed=True, value=values,
+                         detail=f"all poles have {kind} (exact test on the given coefficients)"), ""
     if report.outside:
         detail = ("pole outside the stability region (exact test): the equilibrium is "
                   "unstable (Lyapunov's indirect method); Theorem 1 is inapplicable")
@@ -100,7 +100,7 @@ def _stability_condition(model: Model) -> tuple[Condition, str]:
         detail = ("pole on the stability boundary at "
                   + format_roots(report.boundary, "z" if model.is_discrete else "s")
                   + " (exact test): Theorem 1 is inapplicable")
-    return Condition("linear part A_1 stable", False, values, detail), \
+    return Condition(name="linear part A_1 stable", passed=False, value=values, detail=detail), \
         "unstable" if report.outside else "inconclusive"
 
 
@@ -295,15 +295,15 @@ def _series_condition(name: str, rad: Radius, amplitude: float, exact: bool,
                       est: str = "") -> Condition:
     label = _label(rad.proof) if exact else "not certified"
     if amplitude < rad.certified_below:
-        return Condition(name, True if exact else None, rad.value,
-                         f"majorant converges for r < r* = {rad.value:.6g} ({label}); "
+        return Condition(name=name, passed=True if exact else None, value=rad.value,
+                         detail=f"majorant converges for r < r* = {rad.value:.6g} ({label}); "
                          f"r = {amplitude:g} is inside{est}")
     if rad.value == 0.0:  # an infinite majorant entry: nothing certified, nothing refuted
-        return Condition(name, None, rad.value,
-                         f"not established: the majorant certifies no amplitude r > 0 "
+        return Condition(name=name, passed=None, value=rad.value,
+                         detail=f"not established: the majorant certifies no amplitude r > 0 "
                          f"(r* = 0: it has an infinite entry, see the H_n condition){est}")
-    return Condition(name, None, rad.value,
-                     f"not established: the majorant diverges for r >= r* = {rad.value:.6g} "
+    return Condition(name=name, passed=None, value=rad.value,
+                     detail=f"not established: the majorant diverges for r >= r* = {rad.value:.6g} "
                      f"({label}) and r = {amplitude:g} is outside{est}")
 
 

@@ -31,7 +31,7 @@ from gfrf.bounds.norms import Bound
 __all__ = ["Condition", "Verdict"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Condition(Result):
     """One hypothesis of a theorem: ``passed`` True, False, or None (not established)."""
 
@@ -41,7 +41,7 @@ class Condition(Result):
     detail: str
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Verdict(Result):
     """Outcome of Theorem 1 or 2 for one model and input amplitude.
 

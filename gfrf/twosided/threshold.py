@@ -349,13 +349,13 @@ def threshold(model: ModelFile | Model, *, order: int = 5, prove: bool = True,
     # part, proper kernels, ...): a failed or open one leaves radius 0
     other = [c for c in v.conditions if c.name not in _SERIES_CONDITIONS]
     holds = all(c.passed is True for c in other)
-    theorem_cert = Certificate(f"theorem {v.theorem} (norm series radius r*)",
-                               float(v.radius) if holds else 0.0,
-                               v.radius_proof if v.radius_certified else "none",
-                               THEOREM_CLASS[v.theorem],
-                               "" if holds else "not applicable: " + "; ".join(
+    theorem_cert = Certificate(method=f"theorem {v.theorem} (norm series radius r*)",
+                               radius=float(v.radius) if holds else 0.0,
+                               proof=v.radius_proof if v.radius_certified else "none",
+                               input_class=THEOREM_CLASS[v.theorem],
+                               detail="" if holds else "not applicable: " + "; ".join(
                                    c.name for c in other if c.passed is not True),
-                               "the Volterra series converges (bounded, returns to the "
+                               property="the Volterra series converges (bounded, returns to the "
                                "equilibrium with the input)")
     side = lower_side(mf, theorem_cert)
     certs = list(side.certificates)
