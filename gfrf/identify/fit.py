@@ -417,7 +417,7 @@ def _identify_once(y: Any, u: Any, sample_time: float, *, ylag: int | None,
                                                          max_terms, noise, window=oe_window)
     yc, uc = y - cy, u - cu
     floor, floor_method = noise_floor(yc, uc, n_train, lag, candidate_keys(ylag, ulag, degree),
-                                      fit.keys, ylag)
+                                      fit.keys)
     if prune and len(fit.keys) < max_terms and not model_error(
             held_out_rrse(theta, yc, uc, n_train, lag), floor) < FREE_RUN_LIMIT:
         grown = _estimate(y[:n_fit] - cy, u[:n_fit] - cu, ylag, ulag, degree, criterion,

@@ -28,7 +28,7 @@ from fractions import Fraction
 import numpy as np
 
 from gfrf.model.equation import Model
-from gfrf.model.modelfile import ModelFile
+from gfrf.model.modelfile import ModelFile, resolve_model
 
 __all__ = ["Poly", "PolySystem", "state_form", "padd", "pmul", "pscale", "pdiff", "pcompose",
            "peval", "pdegree", "linear_poly"]
@@ -383,7 +383,7 @@ def state_form(model: ModelFile | Model) -> PolySystem:
     StateFormError
         The model has no such state form (the message says why).
     """
-    mf = model if isinstance(model, ModelFile) else ModelFile(plant=model)
+    mf = resolve_model(model)
     plant = mf.plant
     if plant.is_discrete:
         if mf.controller is not None:

@@ -37,6 +37,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+from gfrf._results import proof_word
 from gfrf.bounds.branch_bound import DEFAULT_WORK, MAX_ORDER, box_work
 from gfrf.bounds.exact import format_roots
 from gfrf.bounds.majorant import Majorant, Radius, majorant, plant_radius
@@ -45,7 +46,7 @@ from gfrf.bounds.rational import check_proof
 from gfrf.errors import ArgumentError
 from gfrf.kernels.recursion import check_order
 from gfrf.model.equation import Model
-from gfrf.stability.verdicts import Condition, Verdict, _label
+from gfrf.stability.verdicts import Condition, Verdict
 
 __all__ = ["theorem1", "NORM_LEVELS", "DEFAULT_NORMS"]
 
@@ -293,7 +294,7 @@ def theorem1(model: Model, order: int = 5, amplitude: float = 1.0,
 
 def _series_condition(name: str, rad: Radius, amplitude: float, exact: bool,
                       est: str = "") -> Condition:
-    label = _label(rad.proof) if exact else "not certified"
+    label = proof_word(rad.proof) if exact else "not certified"
     if amplitude < rad.certified_below:
         return Condition(name=name, passed=True if exact else None, value=rad.value,
                          detail=f"majorant converges for r < r* = {rad.value:.6g} ({label}); "
@@ -311,7 +312,7 @@ def _summary(result: str, theorem: int, rad: Radius, amplitude: float,
              conditions: tuple[Condition, ...], certified: bool) -> str:
     failed = [c.name for c in conditions if c.passed is False]
     open_ = [c.name for c in conditions if c.passed is None]
-    kind = _label(rad.proof) if certified else "estimated (not certified)"
+    kind = proof_word(rad.proof) if certified else "estimated (not certified)"
     text = (f"Theorem {theorem}: {result}. The {kind} norm series converges for every "
             f"input amplitude r < r* = {rad.value:.6g}; r = {amplitude:g} is "
             f"{'inside' if amplitude < rad.certified_below else 'outside'}.")
