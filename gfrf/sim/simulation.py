@@ -228,8 +228,9 @@ def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | N
         result = simulate_fast(system, signal, z0, t_end, t_eval, blowup=blowup, dt=dt,
                                rtol=rtol, atol=atol, max_evaluations=max_evaluations)
     else:
-        result = integrate_scipy(system, signal, z0, t_end, t_eval, method, rtol, atol,
-                                 blowup, max_evaluations)
+        result = integrate_scipy(system, signal, z0=z0, t_end=t_end, t_eval=t_eval, method=method,
+                                 rtol=rtol, atol=atol, blowup=blowup,
+                                 max_evaluations=max_evaluations)
     return replace(result, wall_time=time.perf_counter() - start - result.compile_time,
                    notes=notes + result.notes)
 

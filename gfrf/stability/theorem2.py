@@ -348,7 +348,8 @@ def _loop_radius(maj: Majorant, lam: float, rho1: float,
         proof = "none"
     elif levels == {"interval"} and rad.solution is not None and 0 < rad.certified_below < math.inf:
         for z in _slack_candidates(step, rad.solution, rad.certified_below):
-            if _loop_proves(work, lam, rho1, cmaj, z, rad.certified_below, factor):
+            if _loop_proves(work, lam, rho1=rho1, cmaj=cmaj, z=z, r=rad.certified_below,
+                            factor=factor):
                 proof = "interval"
                 break
     solution = None
