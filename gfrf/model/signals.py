@@ -386,10 +386,9 @@ def parse_input(text: str, *, max_derivative: int = 0) -> InputSignal:
     except ModelError as exc:  # the tokenizer's refusal, worded as the general parser's
         raise ArgumentError(f"cannot parse the input: {exc}") from None
     if terms is not None and len(terms) > FAST_TONES:
+        sums = tuple(tone_sum_function(terms, k) for k in range(max_derivative + 1))
         return InputSignal(text=stripped, expr=None, max_derivative=max_derivative,
-                           tones=_float_tones(terms),
-                           _funcs=tuple(tone_sum_function(terms, k)
-                                        for k in range(max_derivative + 1)),
+                           tones=_float_tones(terms), _funcs=sums,
                            _breaks=lambda t_end: np.zeros(0))
     expr = _parse_expression(stripped)
     funcs = [sp.lambdify(T, expr, modules=_NUMPY_MODULES)]
@@ -519,8 +518,7 @@ def _csv_input(path_text: str, max_derivative: int) -> InputSignal:
         return f
 
     return InputSignal(text=f"csv:{path_text}", expr=None, max_derivative=max_derivative,
-                       tones=None,
-                       _funcs=tuple(make(k) for k in range(max_derivative + 1)),
+                       tones=None, _funcs=tuple(make(k) for k in range(max_derivative + 1)),
                        _breaks=lambda t_end: t)
 
 

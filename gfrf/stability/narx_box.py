@@ -380,16 +380,7 @@ def check_box(system: PolySystem, cert: dict[str, Any]) -> str:
 def coordinates_error(T: list[Poly], X: list[Poly], n: int) -> str:
     """Why the certificate coordinates s = T(x), x = X(s) of an ``n``-state form are not
     usable (``""`` when they are): they depend on the input, X does not invert T exactly,
-    or T does not map rest to 0.
-
-    Parameters
-    ----------
-    T, X : list of Poly
-        The coordinates s = T(x) and their claimed inverse x = X(s), exact polynomials
-        in the ``n`` states and the input (the last variable).
-    n : int
-        Number of states.
-    """
+    or T does not map rest to 0."""
     nv = n + 1
     if any(k[n] for p in T + X for k in p):
         return "the coordinates must not depend on the input v"
