@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from gfrf.kernels.compiled import Recursion, step_text
-from gfrf.kernels.subsets import evaluate_subsets
+from gfrf.kernels.subsets import evaluate_subsets, real_on_the_axis
 
 __all__ = ["SLICE", "step_function", "evaluate"]
 
@@ -102,17 +102,17 @@ def _slice(gen: Recursion, steps: Callable[[int], Callable[..., Any]],
            denominator: np.ndarray, n: int, omegas: list[np.ndarray], symmetric: bool,
            shape: tuple[int, ...]) -> np.ndarray:
     """:func:`evaluate` on one slice (``shape``: the broadcast shape)."""
+    if symmetric and all(np.isrealobj(w) for w in omegas) and real_on_the_axis(gen, n):
+        variables = [np.ravel(v) for v in np.broadcast_arrays(*omegas)]
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            result = evaluate_subsets(gen, n, variables)  # real arrays throughout
+        return np.array(np.broadcast_to(result, (math.prod(shape),)),
+                        dtype=np.complex128).reshape(shape)
     discrete = gen.model.is_discrete
     if discrete:
         sample_time = float(gen.model.sample_time or 0.0)
         xs = [np.exp(-1j * w * sample_time) for w in omegas]
-    if symmetric:  # harmonic probing bottom-up (continuous: on the real w_i themselves)
-        variables = [np.ravel(v) for v in np.broadcast_arrays(*(xs if discrete else omegas))]
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            result = evaluate_subsets(gen, n, variables)
-        return np.array(np.broadcast_to(result, (math.prod(shape),)),
-                        dtype=np.complex128).reshape(shape)
-    if not discrete:
+    else:
         xs = [1j * w for w in omegas]
     memo: dict[tuple[int, ...], np.ndarray] = {}
 

@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["SubsetPlan", "subset_plan", "evaluate_subsets"]
+__all__ = ["SubsetPlan", "subset_plan", "evaluate_subsets", "real_on_the_axis"]
 
 #: A value ``c * j**p * array`` (``array`` None: the constant 1).
 _Value = tuple[float, int, Any]
@@ -144,6 +144,36 @@ def subset_plan(gen: Any, n: int) -> SubsetPlan:
     return SubsetPlan(order=n, nodes=nodes, work=tuple(work), products=products)
 
 
+@lru_cache(maxsize=64)
+def real_on_the_axis(gen: Any, n: int) -> bool:
+    """Whether H_n of a continuous model is real at real frequencies, structurally.
+
+    True when every value of :func:`evaluate_subsets` is a real array times a real
+    constant (A(j*w) has only even powers of s, and every term's derivatives pair up,
+    as in the cart-pole): decided by the kinds of the values, which do not depend on the
+    points (one evaluation at one point).  Then this module's path runs on real arrays
+    and is the numpy path of the symmetric kernel (about 0.4x the recursion's time for the
+    cart-pole's H7 at 10^5 points); with complex values its products cost more than the
+    recursion's operations (1.0-1.6x measured on the bundled models), so the recursion runs.
+
+    Parameters
+    ----------
+    gen : gfrf.kernels.generator.GFRFGenerator
+        The model's generator.
+    n : int
+        The kernel's order, >= 1 and structurally nonzero.
+
+    Returns
+    -------
+    bool
+    """
+    if gen.model.is_discrete:
+        return False
+    with np.errstate(all="ignore"):
+        value = evaluate_subsets(gen, n, [np.ones(1)] * n)
+    return value.dtype.kind == "f"
+
+
 def _submasks(mask: int) -> list[int]:
     """The nonempty submasks of ``mask``, in decreasing order."""
     out = []
@@ -186,8 +216,8 @@ def _sum_products(products: list[tuple[_Value, _Value]]) -> _Value | None:
     owned = False  # total's array is a fresh array of this sum (not a stored value)
     for a, b in products:
         product = _mul(a, b)
-        if owned and total is not None and product[1] == total[1] and abs(product[0]) == abs(total[0]) \
-                and isinstance(product[2], np.ndarray) \
+        if owned and total is not None and product[1] == total[1] \
+                and abs(product[0]) == abs(total[0]) and isinstance(product[2], np.ndarray) \
                 and (total[2].dtype.kind == "c" or product[2].dtype.kind != "c") \
                 and product[2].shape == total[2].shape:
             if product[0] == total[0]:
@@ -295,5 +325,7 @@ def evaluate_subsets(gen: Any, n: int, xs: list[Any]) -> np.ndarray:
     if full not in y:
         return np.zeros(np.broadcast_shapes(*(np.shape(v) for v in xs)), dtype=np.complex128)
     c, p, array = y[full]
-    scale = c / math.factorial(n)
-    return scale * array if p == 0 else (1j * scale) * array
+    scale = c / math.factorial(n) * (1j if p else 1.0)
+    if array is None:  # a constant kernel (no frequency in it)
+        return np.full(np.broadcast_shapes(*(np.shape(v) for v in xs)), scale)
+    return scale * array

@@ -9,6 +9,7 @@ import sympy as sp
 
 from gfrf.kernels.probing import probe_kernel
 from gfrf.kernels.recursion import kernel
+from gfrf.kernels.subsets import evaluate_subsets, real_on_the_axis
 from gfrf.model.equation import parse_model
 from gfrf.model.modelfile import load_model
 from tests.conftest import MODELS
@@ -67,6 +68,32 @@ def test_general_models_agree_with_probing_and_the_explicit_form(text: str) -> N
             assert _relative(complex(values[j]), exact) <= 1e-12 or abs(exact) < 1e-300
             assert _relative(complex(values[j]), complex(np.broadcast_to(explicit, (3,))[j])) \
                 <= 1e-11 or abs(exact) < 1e-300
+
+
+@pytest.mark.parametrize("text", OTHERS)
+def test_subset_convolution_agrees_with_probing_on_complex_kernels_too(text: str) -> None:
+    model = parse_model(text, sample_time=0.1 if "[k]" in text else None)
+    gen = kernel(model, 1)._gen
+    w = np.random.default_rng(12).uniform(-2.0, 2.0, (5, 3))
+    for n in range(1, 6):
+        if not gen.structurally_nonzero(n):
+            continue
+        xs = [np.exp(-0.1j * wi) for wi in w[:n]] if model.is_discrete else list(w[:n])
+        values = evaluate_subsets(gen, n, xs)
+        for j in range(3):
+            exact = probe_kernel(model, list(w[:n, j]))
+            assert _relative(complex(values[j]), exact) <= 1e-12
+
+
+def test_the_real_path_is_taken_exactly_where_the_kernel_is_real() -> None:
+    # A(j w) = 67.578 + w^2 and every term's derivatives in pairs: real kernels
+    cartpole = kernel(_model("cartpole.toml"), 5)
+    assert real_on_the_axis(cartpole._gen, 5)
+    w = np.random.default_rng(13).uniform(-20.0, 20.0, (5, 50))
+    assert np.all(cartpole(*w).imag == 0.0)
+    damped = kernel(parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"), 3)
+    assert not real_on_the_axis(damped._gen, 3)
+    assert not real_on_the_axis(kernel(parse_model(OTHERS[2], sample_time=0.1), 3)._gen, 3)
 
 
 def test_values_at_complex_s_agree_with_probing_at_those_s() -> None:
