@@ -19,13 +19,16 @@ import numpy as np
 from gfrf.kernels.compiled import Recursion, step_text
 from gfrf.kernels.subsets import evaluate_subsets, real_on_the_axis
 
-__all__ = ["SLICE", "step_function", "evaluate"]
+__all__ = ["SLICE", "SUBSET_SLICE", "step_function", "evaluate"]
 
 #: Points per slice of a numeric evaluation: the recursion's temporaries (a few per term,
 #: 64 kB each) then stay in cache instead of each being a fresh multi-megabyte allocation
 #: (4-5x the rate at 10^6 points for the cart-pole's H3 and H5; the cart-pole's H7 at
 #: 10^5 points takes 1.39 s CPU in slices of 4,096 points, 1.94 s in slices of 16,384).
 SLICE = 4_096
+#: Points per slice of the subset convolution on real arrays (32-64 MB of them for the
+#: cart-pole's H7; fewer slices, less of Python's bookkeeping per point).
+SUBSET_SLICE = 8_192
 
 
 def step_function(gen: Recursion, m: int, symmetric: bool) -> Callable[..., Any]:
@@ -87,22 +90,25 @@ def evaluate(gen: Recursion, steps: Callable[[int], Callable[..., Any]],
     """
     shape = np.broadcast_shapes(*(np.shape(w) for w in omegas))
     size = math.prod(shape)
-    if size <= SLICE:
-        return _slice(gen, steps, denominator, n, omegas, symmetric, shape)
+    subsets = symmetric and all(np.isrealobj(w) for w in omegas) and real_on_the_axis(gen, n)
+    step = SUBSET_SLICE if subsets else SLICE
+    if size <= step:
+        return _slice(gen, steps, denominator, n, omegas, symmetric, shape, subsets)
     flat = [np.broadcast_to(w, shape).reshape(-1) for w in omegas]
     out = np.empty(size, dtype=np.complex128)
-    for start in range(0, size, SLICE):
-        part = [w[start:start + SLICE] for w in flat]
-        out[start:start + SLICE] = _slice(gen, steps, denominator, n, part, symmetric,
-                                          part[0].shape)
+    for start in range(0, size, step):
+        part = [w[start:start + step] for w in flat]
+        out[start:start + step] = _slice(gen, steps, denominator, n, part, symmetric,
+                                         part[0].shape, subsets)
     return out.reshape(shape)
 
 
 def _slice(gen: Recursion, steps: Callable[[int], Callable[..., Any]],
            denominator: np.ndarray, n: int, omegas: list[np.ndarray], symmetric: bool,
-           shape: tuple[int, ...]) -> np.ndarray:
-    """:func:`evaluate` on one slice (``shape``: the broadcast shape)."""
-    if symmetric and all(np.isrealobj(w) for w in omegas) and real_on_the_axis(gen, n):
+           shape: tuple[int, ...], subsets: bool) -> np.ndarray:
+    """:func:`evaluate` on one slice (``shape``: the broadcast shape; ``subsets``: by
+    :func:`gfrf.kernels.subsets.evaluate_subsets`)."""
+    if subsets:
         variables = [np.ravel(v) for v in np.broadcast_arrays(*omegas)]
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             result = evaluate_subsets(gen, n, variables)  # real arrays throughout
