@@ -1,11 +1,16 @@
-"""Numeric evaluation of a GFRF on arrays: the recursion bottom-up over blocks, in numpy.
+"""Numeric evaluation of a GFRF on arrays, in numpy.
 
-Each order's recursion step is the common-subexpression-eliminated text of
-:func:`gfrf.kernels.compiled.step_text` (the same code the compiled kernel runs, small
-powers written as products) made once into a plain Python function of numpy arrays; the
-kernel on the whole set of frequencies calls it once per block of every lower order,
-memoised per call, so no symbolic object is touched per point.  Points are evaluated in
-slices of :data:`SLICE`, which keeps every temporary array in the processor's cache.
+A symmetric kernel that is real at real frequencies (the cart-pole's:
+:func:`gfrf.kernels.subsets.real_on_the_axis`) is computed by subset convolution on real arrays
+(:mod:`gfrf.kernels.subsets`) in slices of :data:`SUBSET_SLICE` points.  Otherwise the
+recursion runs bottom-up over blocks: each order's recursion step is the
+common-subexpression-eliminated text of :func:`gfrf.kernels.compiled.step_text` (the same
+code the compiled kernel runs, small powers written as products) made once into a plain
+Python function of numpy arrays; the kernel on the whole set of frequencies calls it once
+per block of every lower order, memoised per call, so no symbolic object is touched per
+point.  Points are evaluated in slices of :data:`SLICE`, which keeps every temporary array
+in the processor's cache.  The path depends on the model, the order and the kind of the
+arguments only, never on the cache.
 """
 
 from __future__ import annotations

@@ -12,14 +12,19 @@ convolution (f * g)(S) = sum over nonempty proper B of S of f(B) * g(S \\ B), co
 and associative.  Terms sharing their first factors share those convolutions (the terms'
 factor lists form a trie, and a convolution is linear in its second argument), and every
 convolution of every subset is computed once for all the subsets that contain it: the
-cart-pole's H7 needs 1,575 products of arrays, the recursion 7,350 operations per point.
+cart-pole's H7 needs 1,781 products of arrays where the recursion
+(:mod:`gfrf.kernels.numeric`) runs 7,474 complex operations per point.
 
 Each value is kept as ``c * j**p * array`` (c a float, p 0 or 1): the frequencies of a
 continuous model are j*w, so sums, powers and the kernels of a model whose A(j*w) and
-derivative weights are real stay real arrays (half the memory and a quarter of the
-multiplications of complex ones), and constant factors are folded into ``c`` instead of
-being multiplied into arrays.  Sizes that no chain of terms reaches (even orders of an
-odd nonlinearity) are skipped.
+derivative weights are real stay real arrays, and constant factors are folded into ``c``
+instead of being multiplied into arrays.  Sizes that no chain of terms reaches (even
+orders of an odd nonlinearity) are skipped.  The numpy path of a symmetric kernel runs
+here where the kernel is real on the axis (:func:`real_on_the_axis`: the cart-pole's H7 at
+10^5 points in 0.39x the recursion's CPU time); with complex values the products cost
+more than the recursion's grouped, CSE'd steps, which then run instead.  Every value is
+elementwise arithmetic in a fixed order, so a point's value does not depend on the other
+points of its call, on the slicing, or on any cache.
 """
 
 from __future__ import annotations
