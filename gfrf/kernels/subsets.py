@@ -11,7 +11,8 @@ D^k is s_i^k on a single frequency {i} (zero on larger sets), and ``*`` is the s
 convolution (f * g)(S) = sum over nonempty proper B of S of f(B) * g(S \\ B), commutative
 and associative.  Terms sharing their first factors share those convolutions (the terms'
 factor lists form a trie, and a convolution is linear in its second argument), and every
-convolution of every subset is computed once for all the subsets that contain it: the
+convolution of every subset is computed once for all the subsets that contain it (a
+square f * (c*f) over the half of the pairs whose first block holds the lowest element): the
 cart-pole's H7 needs 1,508 products of arrays where the recursion
 (:mod:`gfrf.kernels.numeric`) runs 7,474 complex operations per point.
 
