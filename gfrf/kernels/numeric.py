@@ -9,8 +9,8 @@ code the compiled kernel runs, small powers written as products) made once into 
 Python function of numpy arrays; the kernel on the whole set of frequencies calls it once
 per block of every lower order, memoised per call, so no symbolic object is touched per
 point.  Points are evaluated in slices of :data:`SLICE`, which keeps every temporary array
-in the processor's cache.  The path depends on the model, the order and the kind of the
-arguments only, never on the cache.
+in the processor's cache.  The path depends on the model and the order only, never on the
+points or the cache.
 """
 
 from __future__ import annotations
@@ -95,7 +95,7 @@ def evaluate(gen: Recursion, steps: Callable[[int], Callable[..., Any]],
     """
     shape = np.broadcast_shapes(*(np.shape(w) for w in omegas))
     size = math.prod(shape)
-    subsets = symmetric and all(np.isrealobj(w) for w in omegas) and real_on_the_axis(gen, n)
+    subsets = symmetric and real_on_the_axis(gen, n)
     step = SUBSET_SLICE if subsets else SLICE
     if size <= step:
         return _slice(gen, steps, denominator, n, omegas, symmetric, shape, subsets)
@@ -116,7 +116,7 @@ def _slice(gen: Recursion, steps: Callable[[int], Callable[..., Any]],
     if subsets:
         variables = [np.ravel(v) for v in np.broadcast_arrays(*omegas)]
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            result = evaluate_subsets(gen, n, variables)  # real arrays throughout
+            result = evaluate_subsets(gen, n, variables)  # real arrays at real w
         return np.array(np.broadcast_to(result, (math.prod(shape),)),
                         dtype=np.complex128).reshape(shape)
     discrete = gen.model.is_discrete

@@ -96,12 +96,19 @@ def test_the_real_path_is_taken_exactly_where_the_kernel_is_real() -> None:
     assert not real_on_the_axis(kernel(parse_model(OTHERS[2], sample_time=0.1), 3)._gen, 3)
 
 
-def test_values_at_complex_s_agree_with_probing_at_those_s() -> None:
-    model = parse_model(OTHERS[0])
+@pytest.mark.parametrize("model", [parse_model(OTHERS[0]), _model("cartpole.toml")])
+def test_values_at_complex_s_agree_with_probing_at_those_s(model: object) -> None:
     s = np.array([0.3 + 1.1j, -0.2 - 0.7j, 0.1 + 0.4j])
     value = complex(kernel(model, 3).at_s(*s))
     # probing at s = j*omega with complex omega = -j*s
     assert _relative(value, probe_kernel(model, list(-1j * s))) <= 1e-12
+
+
+def test_values_at_imaginary_s_are_the_values_at_real_frequencies() -> None:
+    k = kernel(_model("cartpole.toml"), 5)
+    w = np.random.default_rng(14).uniform(-20.0, 20.0, (5, 20))
+    at_s, at_w = k.at_s(*(1j * w)), k(*w)  # complex division rounds as 1/b times a
+    assert np.max(np.abs(at_s - at_w) / np.abs(at_w)) <= 1e-14
 
 
 def test_every_point_is_bit_identical_alone_in_a_call_and_across_calls() -> None:
