@@ -157,7 +157,9 @@ class Kernel:
 
         Notes
         -----
-        The evaluation path is chosen by the work: the vectorised numpy recursion, or,
+        The evaluation path is chosen by the work: the vectorised numpy recursion (a
+        symmetric kernel that is real on the axis: subset convolution on real arrays,
+        :mod:`gfrf.kernels.subsets`), or,
         for a call of millions of points where compiling pays back within the call
         (:func:`gfrf.kernels.compiled.compile_pays`, a decision on counts of points and
         operations only), the numba ufunc of :meth:`compiled`.  Both agree to rounding.
