@@ -37,6 +37,7 @@ import stat
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
+from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
@@ -46,6 +47,7 @@ from gfrf._data import MODELS_DIR
 from gfrf._results import Result
 from gfrf.errors import ModelError
 from gfrf.model.equation import Model, parse_model
+from gfrf.model.exact import as_fraction, float_as_written
 from gfrf.model.expr import UnknownNames, check_name, parse_expression
 from gfrf.model.limits import quote
 
@@ -80,12 +82,15 @@ class Controller(Result):
         -1 for negative feedback ``u = C(r - y)`` (default), +1 for ``u = C(r + y)``.
     name, source, description : str
         Free text.
+    written : tuple, optional
+        ``(num, den, exact num, exact den)``: the doubles and the exact values written in
+        the model file (see :meth:`exact_tf`).
 
     :meth:`to_dict` gives ``model`` as its ``equation`` and leaves out ``description``
     (free prose).
     """
 
-    _exclude = ("model", "description")
+    _exclude = ("model", "description", "written")
     _order = ("name", "source", "feedback", "num", "den", "equation")
 
     num: tuple[float, ...] | None = None
@@ -95,11 +100,30 @@ class Controller(Result):
     name: str = ""
     source: str = ""
     description: str = ""
+    written: tuple[tuple[float, ...], tuple[float, ...], tuple[Fraction | None, ...],
+                   tuple[Fraction | None, ...]] | None = field(default=None, repr=False,
+                                                               compare=False)
 
     @property
     def is_linear(self) -> bool:
         """True for a transfer-function controller."""
         return self.model is None
+
+    def exact_tf(self) -> tuple[tuple[Fraction | None, ...], tuple[Fraction | None, ...]]:
+        """``num`` and ``den`` as the exact rationals written in the model file (None for
+        an irrational entry); the doubles' own values when they were not written as text
+        or were changed since (a python-control controller: its doubles are the model).
+
+        Returns
+        -------
+        tuple
+            ``(num, den)``, highest power first.
+        """
+        num, den = self.num or (), self.den or ()
+        w = self.written
+        if w is None or (w[0], w[1]) != (num, den):
+            return tuple(Fraction(c) for c in num), tuple(Fraction(c) for c in den)
+        return w[2], w[3]
 
     def _computed(self) -> dict[str, Any]:
         return {"num": list(self.num) if self.num else None,
@@ -290,7 +314,9 @@ def parse_number(value: Any, key: str, parameters: Mapping[str, float]) -> float
     return result
 
 
-def _parameters(table: Any, where: str) -> dict[str, float]:
+def _parameters(table: Any, where: str, exact: dict[str, sp.Expr]) -> dict[str, float]:
+    """The values of a parameter table; their exact values as written go into ``exact``
+    (which may hold the names the table's expressions can use already)."""
     if table is None:
         return {}
     if not isinstance(table, dict):
@@ -302,7 +328,36 @@ def _parameters(table: Any, where: str) -> dict[str, float]:
     for name, value in table.items():
         check_name(name, f"{where}: parameter name")
         values[name] = parse_number(value, f"{where}.{name}", values)
+        exact[name] = exact_number(value, exact)
     return values
+
+
+def exact_number(value: Any, parameters: Mapping[str, sp.Expr]) -> sp.Expr:
+    """The exact value of a TOML number or expression text already accepted by
+    :func:`parse_number`: an int is itself, a float its shortest decimal
+    (:func:`gfrf.model.exact.float_as_written`), a text is read with its decimals as
+    rationals (``"2.45/6"`` is 49/120).
+
+    Parameters
+    ----------
+    value : object
+        The TOML value.
+    parameters : mapping of str to sympy.Expr
+        The exact values of the names the text may use.
+
+    Returns
+    -------
+    sympy.Expr
+        An exact sympy number (rational, or irrational such as ``sqrt(2)``); a sympy
+        Float (no rational value: the proofs refuse it) when the exact reading exceeds a
+        limit of the parser.
+    """
+    if isinstance(value, (int, float)):
+        return sp.Rational(float_as_written(value))
+    try:
+        return parse_expression(value, names=dict(parameters), exact=True).expr
+    except ModelError:
+        return sp.Float(parse_number(value, "", {k: float(v) for k, v in parameters.items()}))
 
 
 def _text(data: dict[str, Any], key: str, where: str = "") -> str:
@@ -339,19 +394,22 @@ def model_from_dict(data: dict[str, Any], path: str = "") -> ModelFile:
         raise ModelError(f"kind must be 'ode' or 'parametric', got {kind!r}")
     if "equation" not in data:
         raise ModelError("missing key 'equation'")
-    parameters = _parameters(data.get("parameters"), "parameters")
+    exact: dict[str, sp.Expr] = {}
+    parameters = _parameters(data.get("parameters"), "parameters", exact)
     sample_time = data.get("sample_time")
     if sample_time is not None:
         sample_time = parse_number(sample_time, "sample_time", parameters)
     common = {"truncation": data.get("truncation"), "parameters": parameters,
               "output": data.get("output", "y"), "input": data.get("input", "u")}
-    plant = parse_model(_text(data, "equation"), sample_time=sample_time, **common)
+    plant = parse_model(_text(data, "equation"), sample_time=sample_time,
+                        exact_parameters=exact, **common)
     if "physical_equation" in data:
         # Only the untruncated expression is kept; the truncation merely validates it.
         physical = parse_model(_text(data, "physical_equation"), sample_time=sample_time,
+                               exact=False,
                                **{**common, "truncation": common["truncation"] or 3})
         plant = replace(plant, physical=physical.physical)
-    controller = _controller(data.get("controller"), parameters, plant)
+    controller = _controller(data.get("controller"), parameters, plant, exact)
     paper = data.get("paper", {})
     if not isinstance(paper, dict):
         raise ModelError("paper must be a table")
@@ -360,7 +418,8 @@ def model_from_dict(data: dict[str, Any], path: str = "") -> ModelFile:
                      path=path, parameters=parameters, controller=controller, paper=paper)
 
 
-def _controller(table: Any, parameters: dict[str, float], plant: Model) -> Controller | None:
+def _controller(table: Any, parameters: dict[str, float], plant: Model,
+                exact: dict[str, sp.Expr]) -> Controller | None:
     if table is None:
         return None
     if not isinstance(table, dict):
@@ -369,7 +428,9 @@ def _controller(table: Any, parameters: dict[str, float], plant: Model) -> Contr
     if unknown:
         raise ModelError(f"unknown controller key(s) {', '.join(map(repr, unknown))}; "
                          f"allowed: {', '.join(sorted(_CONTROLLER_KEYS))}")
-    values = {**parameters, **_parameters(table.get("parameters"), "controller.parameters")}
+    exact = dict(exact)
+    values = {**parameters, **_parameters(table.get("parameters"), "controller.parameters",
+                                          exact)}
     _check_timebase(table, values, plant)
     feedback = table.get("feedback", -1)
     if feedback not in (-1, 1) or isinstance(feedback, bool):
@@ -380,7 +441,7 @@ def _controller(table: Any, parameters: dict[str, float], plant: Model) -> Contr
         raise ModelError("controller needs either num/den (a transfer function) or an "
                          "equation, not both and not neither")
     if has_tf:
-        coefficients = {}
+        coefficients, written = {}, {}
         for key in ("num", "den"):
             entries = table.get(key, [1])
             if not isinstance(entries, list) or not entries:
@@ -391,12 +452,14 @@ def _controller(table: Any, parameters: dict[str, float], plant: Model) -> Contr
                                  f"{MAX_CONTROLLER_COEFFICIENTS}")
             coefficients[key] = tuple(parse_number(v, f"controller.{key}", values)
                                       for v in entries)
+            written[key] = tuple(as_fraction(exact_number(v, exact)) for v in entries)
         if not any(coefficients["den"]):
             raise ModelError("controller.den is zero")
         return Controller(num=coefficients["num"], den=coefficients["den"], feedback=feedback,
-                          **text)
+                          written=(coefficients["num"], coefficients["den"], written["num"],
+                                   written["den"]), **text)
     model = parse_model(table["equation"], sample_time=plant.sample_time, parameters=values,
-                        output=plant.input, input=plant.output)
+                        output=plant.input, input=plant.output, exact_parameters=exact)
     return Controller(model=model, feedback=feedback, **text)
 
 

@@ -103,7 +103,10 @@ Monomials = list[tuple[Fraction, tuple[int, ...]]]
 def flow(model: Model) -> tuple[int, Monomials] | None:
     """(n, monomials of y^(n)) with exponents over (y, ..., y^(n-1), u, u', ...), or None.
 
-    None: a discrete model, or y^(n) not in one linear term with a constant coefficient.
+    None: a discrete model, y^(n) not in one linear term with a constant coefficient, or
+    a coefficient as written that is irrational.  The coefficients are the exact values
+    written in the model text (``0.2`` is 1/5, :attr:`gfrf.model.equation.Term.exact`),
+    so an enclosure built on them contains the solution of the model as written.
 
     Parameters
     ----------
@@ -124,18 +127,21 @@ def flow(model: Model) -> tuple[int, Monomials] | None:
     top = [t for t in model.terms if n in t.y_orders]
     if len(top) != 1 or top[0].y_orders != (n,) or top[0].u_orders:
         return None
-    a_n = Fraction(top[0].coefficient)
+    exact = [t.exact for t in model.terms]
+    a_n = top[0].exact
+    if a_n is None or a_n == 0 or any(q is None for q in exact):
+        return None
     nu = 1 + max((max(t.u_orders, default=0) for t in model.terms), default=0)
     out: Monomials = []
-    for t in model.terms:
-        if t is top[0]:
+    for t, q in zip(model.terms, exact, strict=True):
+        if t is top[0] or not q:
             continue
         e = [0] * (n + nu)
         for o in t.y_orders:
             e[o] += 1
         for o in t.u_orders:
             e[n + o] += 1
-        out.append((-Fraction(t.coefficient) / a_n, tuple(e)))
+        out.append((-q / a_n, tuple(e)))
     return n, out
 
 
@@ -466,11 +472,13 @@ def _narx(model: Model, f: Any) -> Enclosure | None:
     top = [t for t in model.terms if 0 in t.y_orders]
     if len(top) != 1 or top[0].y_orders != (0,) or top[0].u_orders:
         return None
-    a0 = Fraction(top[0].coefficient)
+    a0 = top[0].exact
+    if not a0 or any(t.exact is None for t in model.terms):
+        return None  # an irrational coefficient as written (or a0 zero as written)
     terms: list[tuple[Any, tuple[int, ...], tuple[int, ...]]] = []
     for t in model.terms:
         if t is not top[0]:
-            q = -Fraction(t.coefficient) / a0
+            q = -t.exact / a0  # type: ignore[operator]
             terms.append((arb(fmpq(q.numerator, q.denominator)), t.y_orders, t.u_orders))
     T = float(model.sample_time)  # type: ignore[arg-type]
     level = f.levels[0] if f.levels else math.inf

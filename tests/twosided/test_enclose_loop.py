@@ -29,13 +29,14 @@ LEAD = {"equation": PLANT, "controller": {"num": [2.0, 1.0], "den": [1.0, 2.0]}}
 
 
 def _plant(y: mp.mpf, v: mp.mpf, u: mp.mpf) -> mp.mpf:
-    """y'' of the plant, with its coefficients as the model's doubles hold them."""
-    return -mp.mpf(0.2) * v - y + mp.mpf(0.3) * y ** 3 + u
+    """y'' of the plant as written (0.2 is 1/5 and 0.3 is 3/10, not the doubles)."""
+    return -mp.mpf("0.2") * v - y + mp.mpf("0.3") * y ** 3 + u
 
 
 def test_pi_loop_enclosure_holds_the_50_digit_taylor_solution_under_a_switching_reference(
         ) -> None:
-    """r = +-0.3 switching at 1 s; the PI state z' = e = r - y, u = 0.5 e + 0.2 z."""
+    """r = +-0.3 switching at 1 s; the PI state z' = e = r - y, u = 0.5 e + 0.2 z (the
+    controller's 0.2 as written, 1/5; the reference the witness's double 0.3)."""
     f = _witness("switching", 0.3, 2.4, first_sign=1, switch_times=[1.0])
     trace: list = []
     proof = enclose_witness(model_from_dict(PI), f, trace=trace)
@@ -48,7 +49,7 @@ def test_pi_loop_enclosure_holds_the_50_digit_taylor_solution_under_a_switching_
 
             def rhs(t: mp.mpf, x: list, r: mp.mpf = r) -> list:
                 e = r - x[0]
-                return [x[1], _plant(x[0], x[1], mp.mpf(0.5) * e + mp.mpf(0.2) * x[2]), e]
+                return [x[1], _plant(x[0], x[1], mp.mpf(0.5) * e + mp.mpf("0.2") * x[2]), e]
 
             sol = mp.odefun(rhs, mp.mpf(a), z)
             for t, boxes in trace:
