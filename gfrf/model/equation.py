@@ -528,8 +528,9 @@ def _with_written(terms: tuple[Term, ...], text: str, exact_parameters: dict[str
         if not math.isfinite(double) or double == 0.0:
             raise ModelError(f"the coefficient {value} of the equation {quote(text)} as "
                              f"written has no double")
-        out.append(Term(y_orders, u_orders, double, output, input_, discrete,
-                        Written(double, as_fraction(value))))
+        out.append(Term(y_orders=y_orders, u_orders=u_orders, coefficient=double,
+                        output=output, input=input_, discrete=discrete,
+                        written=Written(double, as_fraction(value))))
     return tuple(sorted(out))
 
 

@@ -35,7 +35,6 @@ import os
 import re
 import stat
 import tomllib
-from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from pathlib import Path
@@ -47,9 +46,10 @@ from gfrf._data import MODELS_DIR
 from gfrf._results import Result
 from gfrf.errors import ModelError
 from gfrf.model.equation import Model, parse_model
-from gfrf.model.exact import as_fraction, float_as_written
-from gfrf.model.expr import UnknownNames, check_name, parse_expression
+from gfrf.model.exact import as_fraction
 from gfrf.model.limits import quote
+from gfrf.model.numbers import MAX_PARAMETERS, exact_number, parse_number
+from gfrf.model.numbers import parameter_table as _parameters
 
 __all__ = ["Controller", "ModelFile", "load_model", "model_from_dict", "read_table",
            "MAX_FILE_BYTES", "MAX_PARAMETERS", "MAX_CONTROLLER_COEFFICIENTS", "parse_number",
@@ -57,8 +57,6 @@ __all__ = ["Controller", "ModelFile", "load_model", "model_from_dict", "read_tab
 
 #: Largest model file accepted, in bytes (checked before reading it).
 MAX_FILE_BYTES = 256 * 1024
-#: Most entries of a ``[parameters]`` table.
-MAX_PARAMETERS = 500
 #: Most entries of a controller's ``num`` or ``den``.
 MAX_CONTROLLER_COEFFICIENTS = 64
 
@@ -258,106 +256,6 @@ def _read_regular(p: Path) -> bytes:
     if len(data) > MAX_FILE_BYTES:
         raise ModelError(f"{p}: more than the limit MAX_FILE_BYTES = {MAX_FILE_BYTES} bytes")
     return data
-
-
-def parse_number(value: Any, key: str, parameters: Mapping[str, float]) -> float:
-    """A finite number from a TOML value: a number, or an expression text such as
-    ``"1/(m*L**2)"`` in the named ``parameters`` (parsed by :mod:`gfrf.model.expr`, never
-    evaluated as code).
-
-    Parameters
-    ----------
-    value : object
-        The TOML value: an int, a float or an expression text.
-    key : str
-        The key it was read from, for the message.
-    parameters : mapping of str to float
-        The names an expression may use, with their values.
-
-    Returns
-    -------
-    float
-        The finite value.
-
-    Raises
-    ------
-    ModelError
-        Not a number, unknown names, a non-real or non-finite value; the message names
-        ``key``.
-    """
-    if isinstance(value, bool):
-        raise ModelError(f"{key}: expected a number, got {value!r}")
-    if isinstance(value, (int, float)):
-        try:
-            result = float(value)
-        except OverflowError:
-            raise ModelError(f"{key}: the integer is too large for a float") from None
-    elif isinstance(value, str):
-        names = {k: sp.Float(v) for k, v in parameters.items()}
-        try:
-            expr = parse_expression(value, names=names).expr
-        except UnknownNames as exc:
-            raise ModelError(f"{key}: {quote(value)} uses unknown symbol(s) "
-                             f"{', '.join(exc.names)}") from None
-        except ModelError as exc:
-            raise ModelError(f"{key}: {exc}") from None
-        if not expr.is_number or not expr.is_real:
-            raise ModelError(f"{key}: {quote(value)} is not a real number")
-        try:
-            result = float(expr)
-        except OverflowError:
-            result = math.inf
-    else:
-        raise ModelError(f"{key}: expected a number or an expression, got {value!r}")
-    if not math.isfinite(result):
-        raise ModelError(f"{key}: {quote(str(value))} is not finite")
-    return result
-
-
-def _parameters(table: Any, where: str, exact: dict[str, sp.Expr]) -> dict[str, float]:
-    """The values of a parameter table; their exact values as written go into ``exact``
-    (which may hold the names the table's expressions can use already)."""
-    if table is None:
-        return {}
-    if not isinstance(table, dict):
-        raise ModelError(f"{where} must be a table of name = number")
-    if len(table) > MAX_PARAMETERS:
-        raise ModelError(f"{where} has {len(table)} entries, more than the limit "
-                         f"MAX_PARAMETERS = {MAX_PARAMETERS}")
-    values: dict[str, float] = {}
-    for name, value in table.items():
-        check_name(name, f"{where}: parameter name")
-        values[name] = parse_number(value, f"{where}.{name}", values)
-        exact[name] = exact_number(value, exact)
-    return values
-
-
-def exact_number(value: Any, parameters: Mapping[str, sp.Expr]) -> sp.Expr:
-    """The exact value of a TOML number or expression text already accepted by
-    :func:`parse_number`: an int is itself, a float its shortest decimal
-    (:func:`gfrf.model.exact.float_as_written`), a text is read with its decimals as
-    rationals (``"2.45/6"`` is 49/120).
-
-    Parameters
-    ----------
-    value : object
-        The TOML value.
-    parameters : mapping of str to sympy.Expr
-        The exact values of the names the text may use.
-
-    Returns
-    -------
-    sympy.Expr
-        An exact sympy number (rational, or irrational such as ``sqrt(2)``); a sympy
-        Float (no rational value: the proofs refuse it) when the exact reading exceeds a
-        limit of the parser.
-    """
-    if isinstance(value, (int, float)):
-        return sp.Rational(float_as_written(value))
-    try:
-        return parse_expression(value, names=dict(parameters), exact=True).expr
-    except ModelError:
-        return sp.Float(parse_number(value, "", {k: float(v) for k, v in parameters.items()}))
 
 
 def _text(data: dict[str, Any], key: str, where: str = "") -> str:
