@@ -59,7 +59,6 @@ def scale_of(model: Model) -> float:
     return math.ldexp(1.0, exponent - 1)
 
 
-@lru_cache(maxsize=256)
 def normalized(model: Model) -> Model:
     """``model`` with every coefficient divided by :func:`scale_of` (exactly).
 
@@ -72,6 +71,12 @@ def normalized(model: Model) -> Model:
     Model
         The same object when the scale is 1.
     """
+    # memoised per model and its written values (terms compare by their doubles only)
+    return _normalized(model, tuple(t.written for t in model.terms))
+
+
+@lru_cache(maxsize=256)
+def _normalized(model: Model, written: tuple[Written | None, ...]) -> Model:
     scale = scale_of(model)
     if scale == 1.0:
         return model

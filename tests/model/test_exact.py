@@ -85,6 +85,11 @@ def test_a_changed_double_falls_back_to_itself_and_a_power_of_two_scaling_is_exa
     assert moved.exact == Fraction(1, 4)  # the written 1/5 belongs to another double
     assert _exact(normalized(m), (1,)) == Fraction(1, 20)  # divided by 4 exactly
     assert _exact(amplitude_scaled(m, 3), (0, 0, 0)) == Fraction(-3, 10) * 2 ** 6
+    # the same doubles without written values (equal as models) keep their own values
+    doubles = dataclasses.replace(m, terms=tuple(dataclasses.replace(t, written=None)
+                                                 for t in m.terms))
+    assert doubles == m
+    assert _exact(normalized(doubles), (1,)) == Fraction(0.2) / 4
 
 
 def test_a_monomial_that_cancels_in_doubles_but_not_as_written_is_kept() -> None:
