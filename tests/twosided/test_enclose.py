@@ -225,3 +225,21 @@ def test_chirp_witness_escape_is_proven_and_not_at_090() -> None:
     assert proof is not None and proof.proven and proof.t_proven <= 1.01 * t_escape
     weaker = enclose_witness(model, witness(replace(chirp, amplitude=0.9 * chirp.amplitude)))
     assert weaker is not None and not weaker.proven
+
+
+def test_an_irrational_coefficient_is_enclosed_by_its_widened_double() -> None:
+    """y'' + (pi/10) y' + y - 0.3 y^3 = u, u = 0.6: pi has no rational value; the
+    enclosure, built on the double of pi/10 widened by a relative 2^-50, holds the
+    50-digit solution with pi itself."""
+    model = parse_model("D(y,2) + pi/10*D(y) + y - 0.3*y**3 = u")
+    f = _witness("switching", 0.6, 1.0, first_sign=1, switch_times=[])
+    trace: list = []
+    enclose_witness(model, f, trace=trace)
+    assert len(trace) >= 3
+    with mp.workdps(50):
+        sol = mp.odefun(lambda t, y: [y[1], -mp.pi / 10 * y[1] - y[0]
+                                      + mp.mpf("0.3") * y[0] ** 3 + mp.mpf(0.6)],
+                        0, [mp.mpf(0)] * 2)
+        for t, boxes in trace:
+            ref = sol(mp.mpf(t.mid().str(60, radius=False)))
+            assert all(_contains(x, r) for x, r in zip(boxes[:2], ref, strict=True))
