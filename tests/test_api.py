@@ -275,7 +275,8 @@ def test_markdown_of_the_results_shows_the_key_numbers() -> None:
 
     from gfrf.stability.criteria import Margin
 
-    margin = Margin("rho", 0.25, "above", 1.0, 0.8, 1e-6)._repr_markdown_()
+    margin = Margin(parameter="rho", value=0.25, direction="above", amplitude=1.0, current=0.8,
+                    tolerance=1e-6)._repr_markdown_()
     assert "| rho | 0.25 | above the boundary | 0.8 | 1 |" in margin
 
 

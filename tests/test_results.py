@@ -4,7 +4,9 @@ Every dataclass of the package with a ``to_dict`` (the source of ``--json``) eit
 derives it from the fields (:class:`gfrf._results.Result`: a field is left out only when
 it is in the class's ``_exclude`` and its docstring says why), or, where the hand-written
 view is a documented contract not yet derived, reads every field (``self.<field>`` in the
-method's source) but those listed in :data:`DROPPED` with the reason.
+method's source) but those listed in :data:`DROPPED` with the reason.  Every result
+class (a :class:`~gfrf._results.Result` or a dataclass named ``*Result``) is frozen and
+built by keyword.
 """
 
 from __future__ import annotations
@@ -114,3 +116,22 @@ def test_derived_to_dict_keeps_contract_names_and_order() -> None:
     d = Bracket(low=1.0, upper=3.0, where=2 + 1j, scratch=(4.0,), _memo={"x": 1.0}).to_dict()
     assert list(d) == ["gap", "lower", "upper", "where"]
     assert d == {"gap": 2.0, "lower": 1.0, "upper": 3.0, "where": [2.0, 1.0]}
+
+
+def _result_dataclasses() -> list[type]:
+    """Every dataclass of the package that is a :class:`Result` or is named ``*Result``."""
+    found = []
+    for info in pkgutil.walk_packages(gfrf.__path__, "gfrf."):
+        for obj in vars(importlib.import_module(info.name)).values():
+            if (inspect.isclass(obj) and obj.__module__ == info.name
+                    and dataclasses.is_dataclass(obj)
+                    and (issubclass(obj, Result) or obj.__name__.endswith("Result"))):
+                found.append(obj)
+    return found
+
+
+@pytest.mark.parametrize("cls", _result_dataclasses(), ids=_name)
+def test_result_classes_are_frozen_and_built_by_keyword(cls: type) -> None:
+    assert cls.__dataclass_params__.frozen, f"{_name(cls)} is not frozen"  # type: ignore[attr-defined]
+    positional = [f.name for f in dataclasses.fields(cls) if f.init and not f.kw_only]
+    assert not positional, f"{_name(cls)}: fields passed by position {positional}"

@@ -34,7 +34,7 @@ def _cases(quick: bool) -> list[tuple[str, object]]:
 
     cases: list[tuple[str, object]] = [
         ("third-order plant", from_tf(control.tf([2], [1, 1.2, 3, 1]), {2: 0.3, 3: 0.5})),
-        ("PI loop", ModelFile(parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"),
+        ("PI loop", ModelFile(plant=parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"),
                               controller=Controller(num=(0.5, 0.2), den=(1.0, 0.0)))),
         ("cubic damping", parse_model("D(y,2) + 0.2*D(y) + y - 0.3*D(y)**3 = u")),
     ]
@@ -44,7 +44,7 @@ def _cases(quick: bool) -> list[tuple[str, object]]:
             ("hanging_pendulum_damped", bundled_model("hanging_pendulum_damped.toml"))]
         third = "D(y,3) + 1.2*D(y,2) + 3*D(y) + y + 0.6*y**2 + y**3 = 2*u"
         cases += [(f"third-order plant + {name} (four states)",
-                   ModelFile(parse_model(third), controller=Controller(num=num, den=den)))
+                   ModelFile(plant=parse_model(third), controller=Controller(num=num, den=den)))
                   for name, num, den in (("PI", (0.5, 0.2), (1.0, 0.0)),
                                          ("lead-lag", (1.0, 0.5), (1.0, 2.0)))]
     cases.append(("cartpole_reduced (input d = C r; whole threshold)",

@@ -87,7 +87,8 @@ def _transition_rows(quick: bool) -> tuple[list[list[object]], list[str]]:
     """gfrf's exact transition values and curve against brentq + solve_ivp, same accuracy."""
     eps_set = (0.2, 0.5) if quick else (0.1, 0.2, 0.3, 0.4, 0.5)
     cases = [(e, b) for b in ("0", "1/4") for e in eps_set]
-    ref = np.array([_brentq_delta(e, AMPLITUDE, b, "DOP853", 1e-13, 1e-15, 1e-15)
+    ref = np.array([_brentq_delta(e, AMPLITUDE, branch=b, method="DOP853", rtol=1e-13, atol=1e-15,
+                                  xtol=1e-15)
                     for e, b in cases])
     baselines = (("brentq + solve_ivp RK45, rtol 1e-10, atol 1e-12", "RK45", 1e-10, 1e-12),
                  ("brentq + solve_ivp DOP853, rtol 1e-10, atol 1e-12", "DOP853", 1e-10, 1e-12),

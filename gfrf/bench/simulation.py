@@ -109,7 +109,8 @@ def _paired(calls: dict[str, Any], repeat: int) -> dict[str, tuple[float, Any]]:
 
 def _default_vs_rk45(rtols: list[float], repeat: int) -> dict[str, dict[str, Curve]]:
     """Per model of :data:`_MODELS`: curves of gfrf's default path and plain RK45."""
-    return {label: _model_curves(file, loop, f, text, y0, t_end, rtols, repeat)
+    return {label: _model_curves(file, loop, f=f, text=text, y0=y0, t_end=t_end, rtols=rtols,
+                                 repeat=repeat)
             for label, file, loop, f, text, y0, t_end in _MODELS}
 
 

@@ -42,7 +42,7 @@ __all__ = ["SupResult", "PROOF_LEVELS", "check_proof", "rational_sup",
            "discrete_rational_sup"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class SupResult:
     """Result of a sup of |N/D| over real angular frequencies.
 

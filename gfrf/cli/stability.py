@@ -20,8 +20,9 @@ the axis of an unstable linear part, which the line says).
 
 ``--proof none|float|interval`` (default ``interval``: it costs about as much as the
 float path, see ``gfrf bench``, section "Proof levels") chooses the level of proof;
-the text says "proven" only for interval results, the JSON has ``"proof"`` beside
-every bound (and ``"upper_proof"``, ``"lower_proof"``) and ``"radius_proof"``.
+the text says "proven" only for interval results; the JSON has ``"proof_level"`` (the
+level asked: ``--proof`` echoed) and the levels reached: ``"proof"`` beside every bound
+(and ``"upper_proof"``, ``"lower_proof"``) and ``"radius_proof"`` beside r*.
 """
 
 from __future__ import annotations
@@ -42,11 +43,13 @@ if TYPE_CHECKING:  # imported where used: building the parser stays cheap
 
 __all__ = ["register"]
 
-_PROOF_HELP = ("level of proof: 'interval' (default; proven enclosures in exact rational and "
-               "Arb ball arithmetic, measured at about the cost of the float path), 'float' "
-               "(the same sound method in double precision, rounding not accounted for) or "
-               "'none' (estimates; never a 'stable' verdict); stability of the linear part "
-               "is decided exactly at every level")
+_PROOF_HELP = ("level of proof asked, echoed as 'proof_level' in --json (the level reached is "
+               "'proof', per end 'upper_proof' / 'lower_proof', for r* 'radius_proof': weaker "
+               "or stronger than asked): 'interval' (default; proven enclosures in exact "
+               "rational and Arb ball arithmetic, measured at about the cost of the float "
+               "path), 'float' (the same sound method in double precision, rounding not "
+               "accounted for) or 'none' (estimates; never a 'stable' verdict); stability of "
+               "the linear part is decided exactly at every level")
 
 
 def _add_proof(parser: argparse.ArgumentParser) -> None:

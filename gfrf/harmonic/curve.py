@@ -435,8 +435,8 @@ def frc(model: Model, amplitude: float | tuple[float, float],
                             f"pi/T = {math.pi / model.sample_time:.6g} rad/s of the "
                             f"discrete model")
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-        return _trace(model, balance, vary, lo, hi, fixed_omega, forcing, step, max_points,
-                      backbone)
+        return _trace(model, balance, vary=vary, lo=lo, hi=hi, fixed_omega=fixed_omega,
+                      forcing=forcing, step=step, max_points=max_points, backbone=backbone)
 
 
 def _trace(model: Model, balance: Balance, vary: str, lo: float, hi: float,

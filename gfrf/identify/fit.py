@@ -177,7 +177,8 @@ def _fit_structure(y: np.ndarray, u: np.ndarray, ylag: int, ulag: int, degree: i
     keys = candidate_keys(ylag, ulag, degree)
     rows = min(y.size, 20000 + lag)
     check_rank(regressors(keys, y[:rows], u[:rows], lag), [_key_name(k) for k in keys])
-    return frols(y, u, ylag, ulag, degree, criterion, max_terms, forced, estimate)
+    return frols(y, u, ylag=ylag, ulag=ulag, degree=degree, criterion=criterion,
+                 max_terms=max_terms, forced=forced, estimate=estimate)
 
 
 def _choose_structure(y: np.ndarray, u: np.ndarray, given: tuple[int | None, ...],
@@ -200,8 +201,9 @@ def _choose_structure(y: np.ndarray, u: np.ndarray, given: tuple[int | None, ...
     table = []
     for ylag, ulag, degree, candidates, _, _ in valid:
         try:
-            fit = _fit_structure(y[:window], u[:window], ylag, ulag, degree, criterion,
-                                 min(max_terms, candidates), estimate=False)
+            fit = _fit_structure(y[:window], u[:window], ylag=ylag, ulag=ulag, degree=degree,
+                                 criterion=criterion, max_terms=min(max_terms, candidates),
+                                 estimate=False)
         except ArgumentError as exc:  # dependent candidates: this degree is not excited
             first_error = first_error or exc
             continue
@@ -230,7 +232,8 @@ def _estimate(y: np.ndarray, u: np.ndarray, ylag: int, ulag: int, degree: int,
     :mod:`gfrf.identify.output_error`, fitted on the first ``window`` samples).
     """
     lag = max(ylag, ulag)
-    fit = _fit_structure(y, u, ylag, ulag, degree, criterion, max_terms, forced)
+    fit = _fit_structure(y, u, ylag=ylag, ulag=ulag, degree=degree, criterion=criterion,
+                         max_terms=max_terms, forced=forced)
     theta = dict(zip(fit.keys, (float(v) for v in fit.theta), strict=True))
     notes: list[str] = []
     floor = ROUNDING_FLOOR * float(np.std(y))
@@ -399,34 +402,38 @@ def _identify_once(y: Any, u: Any, sample_time: float, *, ylag: int | None,
     if search:
         (ylag, ulag, degree), structure = _choose_structure(y - cy, u - cu, given, criterion,
                                                             max_terms, holdout)
-        candidates, n_train, n_fit = _check_settings(y.size, ylag, ulag, degree, criterion,
-                                                     max_terms, holdout)
+        candidates, n_train, n_fit = _check_settings(y.size, ylag, ulag=ulag, degree=degree,
+                                                     criterion=criterion, max_terms=max_terms,
+                                                     holdout=holdout)
     assert ylag is not None and ulag is not None and degree is not None
     max_terms = min(max_terms, candidates)
     lag = max(ylag, ulag)
     oe_window = window_for(n_train)  # output-error fits: fewer samples on a long record
-    fit, theta, noise_terms, notes, kind = _estimate(y[:n_fit], u[:n_fit] - cu, ylag, ulag,
-                                                     degree, criterion, max_terms, noise,
+    fit, theta, noise_terms, notes, kind = _estimate(y[:n_fit], u[:n_fit] - cu, ylag=ylag,
+                                                     ulag=ulag, degree=degree, criterion=criterion,
+                                                     max_terms=max_terms, noise=noise,
                                                      window=oe_window)
     first_constant = constant = theta.get(((), ()))
     y0c = 0.0 if constant is None else equilibrium(theta, 0.0, mean_y)
     if offset and y0c != 0.0:  # the second fit, about the first one's equilibrium
         cy = y0c
-        fit, theta, noise_terms, notes, kind = _estimate(y[:n_fit] - cy, u[:n_fit] - cu,
-                                                         ylag, ulag, degree, criterion,
-                                                         max_terms, noise, window=oe_window)
+        fit, theta, noise_terms, notes, kind = _estimate(y[:n_fit] - cy, u[:n_fit] - cu, ylag=ylag,
+                                                         ulag=ulag, degree=degree,
+                                                         criterion=criterion, max_terms=max_terms,
+                                                         noise=noise, window=oe_window)
     yc, uc = y - cy, u - cu
     floor, floor_method = noise_floor(yc, uc, n_train, lag, candidate_keys(ylag, ulag, degree),
-                                      fit.keys, ylag)
+                                      fit.keys)
     if prune and len(fit.keys) < max_terms and not model_error(
             held_out_rrse(theta, yc, uc, n_train, lag), floor) < FREE_RUN_LIMIT:
-        grown = _estimate(y[:n_fit] - cy, u[:n_fit] - cu, ylag, ulag, degree, criterion,
-                          max_terms, noise, forced=True, window=oe_window)
+        grown = _estimate(y[:n_fit] - cy, u[:n_fit] - cu, ylag=ylag, ulag=ulag, degree=degree,
+                          criterion=criterion, max_terms=max_terms, noise=noise, forced=True,
+                          window=oe_window)
         if kind == grown[4] == "output error":  # least squares on noisy data is biased
-            grown = (grown[0], grow_output_error(theta, grown[1], y[:n_fit] - cy,
-                                                 u[:n_fit] - cu, lag,
-                                                 candidate_keys(ylag, ulag, degree),
-                                                 oe_window),
+            grown = (grown[0], grow_output_error(theta, grown[1], y=y[:n_fit] - cy,
+                                                 u=u[:n_fit] - cu, lag=lag,
+                                                 candidates=candidate_keys(ylag, ulag, degree),
+                                                 window=oe_window),
                      *grown[2:])
         if held_out_rrse(grown[1], yc, uc, n_train, lag) < held_out_rrse(
                 theta, yc, uc, n_train, lag):
@@ -436,21 +443,23 @@ def _identify_once(y: Any, u: Any, sample_time: float, *, ylag: int | None,
                          f"reproduce the held-out data: all {max_terms} terms fitted, "
                          f"then pruned")
     if constant and cy:
-        theta, noise_terms = _with_constant(theta, noise_terms, kind, y[:n_fit] - cy,
-                                            u[:n_fit] - cu, lag, ylag, oe_window)
+        theta, noise_terms = _with_constant(theta, noise_terms, kind=kind, y=y[:n_fit] - cy,
+                                            u=u[:n_fit] - cu, lag=lag, order=ylag, window=oe_window)
     full_theta = theta
     pruning = None
     if prune:  # free runs from measured outputs before the held-out part (warm-up)
         w = warm_up(theta, lag, n_train - lag)
         theta, noise_terms, pruning = prune_and_refit(
-            theta, noise_terms, kind, y[:n_fit] - cy, u[:n_fit] - cu, yc[n_train - w:],
-            uc[n_train - w:], lag, ylag, floor >= PRECISE_FIT, w,
-            lambda th: _score(th, mean_y - cy, sample_time, output, input), oe_window)
+            theta, noise_terms, kind=kind, y_train=y[:n_fit] - cy, u_train=u[:n_fit] - cu,
+            y_test=yc[n_train - w:], u_test=uc[n_train - w:], lag=lag, order=ylag,
+            noisy=floor >= PRECISE_FIT, warm=w,
+            score=lambda th: _score(th, mean_y - cy, sample_time, output, input),
+            window=oe_window)
         if floor >= PRECISE_FIT:  # FROLS ranked the lags on noisy outputs
-            theta, noise_terms, swaps = swap_lags(theta, noise_terms, kind, y[:n_fit] - cy,
-                                                  u[:n_fit] - cu, lag, ylag,
-                                                  candidate_keys(ylag, ulag, degree),
-                                                  oe_window)
+            theta, noise_terms, swaps = swap_lags(theta, noise_terms, kind=kind, y=y[:n_fit] - cy,
+                                                  u=u[:n_fit] - cu, lag=lag, order=ylag,
+                                                  candidates=candidate_keys(ylag, ulag, degree),
+                                                  window=oe_window)
             if swaps:
                 end = n_train + lag + WINDOW  # the pruning's window
                 pruning = replace(pruning, removed=pruning.removed + tuple(a for a, _ in swaps),
@@ -487,10 +496,11 @@ def _identify_once(y: Any, u: Any, sample_time: float, *, ylag: int | None,
     spread = None
     if radius_draws is not None and blowup is None:
         try:
-            spread = _spread(model, theta, full_theta, pruning, noise_terms, kind,
-                             y[:n_fit] - cy, u[:n_fit] - cu, lag,
-                             lambda th: _about(th, mean_y - cy, sample_time, output, input)[0],
-                             radius_draws)
+            spread = _spread(
+                model, theta, full_theta=full_theta, pruning=pruning, noise_terms=noise_terms,
+                kind=kind, y=y[:n_fit] - cy, u=u[:n_fit] - cu, lag=lag,
+                build=lambda th: _about(th, mean_y - cy, sample_time, output, input)[0],
+                draws=radius_draws)
         except GfrfError as exc:  # e.g. a linear part that is not stable: no r*
             notes.append(f"no r* for the identified model: {exc}")
     if n_fit < n_train:
@@ -558,7 +568,7 @@ def _spread(model: Model, theta: dict[Key, float], full_theta: dict[Key, float],
             full = radius(build(full_theta))
         except GfrfError:
             full = None
-    return radius_spread(model, keys, values, cov, build, full, draws)
+    return radius_spread(model, keys, theta=values, cov=cov, build=build, full=full, draws=draws)
 
 
 def _model(theta: dict[Key, float], sample_time: float, output: str, input_: str) -> Model:

@@ -84,8 +84,7 @@ def _periodic(y: np.ndarray, period: int) -> float:
 
 
 def noise_floor(y: np.ndarray, u: np.ndarray, n_train: int, lag: int,
-                candidates: list[Key], selected: list[Key], noise_order: int
-                ) -> tuple[float, str]:
+                candidates: list[Key], selected: list[Key]) -> tuple[float, str]:
     """The noise floor of the held-out part ``y[n_train:]`` as an RRSE, and its method.
 
     Parameters
@@ -99,8 +98,6 @@ def noise_floor(y: np.ndarray, u: np.ndarray, n_train: int, lag: int,
     candidates, selected : list
         Every candidate monomial of the structure (the constant included) and the
         selected ones.
-    noise_order : int
-        Moving-average noise terms of the rich model.
 
     Returns
     -------

@@ -159,7 +159,8 @@ def read_periodic(path: str | Path, period: int, skip_periods: int = 0) -> Perio
         starts = np.array([0])
     if starts.size > MAX_REALISATIONS:
         raise ArgumentError(f"{p}: more than {MAX_REALISATIONS} realisations")
-    return periodic(col["t"], col["u"], col["y"], starts, period, skip_periods, str(p))
+    return periodic(col["t"], col["u"], y=col["y"], starts=starts, period=period,
+                    skip_periods=skip_periods, where=str(p))
 
 
 def _step(t: np.ndarray, where: str) -> float:

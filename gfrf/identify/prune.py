@@ -307,8 +307,8 @@ def prune(theta: dict[Key, float], refit: Callable[[list[Key]], dict[Key, float]
 
     budget = [refits, work]
     if score is not None:
-        current, best = _merge(current, best, score, budget, merge_trial, removed,
-                               n + refit_work)
+        current, best = _merge(current, best, score=score, budget=budget, trial=merge_trial,
+                               removed=removed, unit=n + refit_work)
     refits, work = budget
     while True:
         keys = [k for k in current if k != ((), ())]
@@ -464,9 +464,10 @@ def prune_and_refit(theta: dict[Key, float], noise: tuple[float, ...], kind: str
     rows = TRIAL_ROWS + lag  # trial refits on the first rows; the pruned model on all
     pruned, pruning = prune(theta, refitter(kind, y_train[:rows], u_train[:rows], lag, order,
                                             theta),
-                            y_train, u_train, y_test, u_test, lag, refit_work,
-                            SIGNIFICANT if noisy else math.inf, warm,
-                            score if noisy else None)
+                            y_train=y_train, u_train=u_train, y_test=y_test, u_test=u_test,
+                            lag=lag, refit_work=refit_work,
+                            significant=SIGNIFICANT if noisy else math.inf, warm=warm,
+                            score=score if noisy else None)
     if not pruning.removed:
         return theta, noise, pruning
     keys = list(pruned)

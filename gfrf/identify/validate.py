@@ -91,7 +91,7 @@ def allowed_outside(count: int, level: float = 0.05) -> int:
     return count
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class CorrelationTest(Result):
     """One Billings-Voon correlation test.
 
@@ -172,8 +172,9 @@ def correlation_tests(e: np.ndarray, u: np.ndarray, lags: int = LAGS, floor: flo
     band = 1.96 / math.sqrt(n)
     if math.sqrt(float(np.mean(e**2))) <= floor:
         zero = {"phi_ee": 1, "phi_ue": 0, "phi_u2e": 0, "phi_u2e2": 0, "phi_e_eu": 0}
-        return tuple(CorrelationTest(name, first, (0.0,) * (lags + 1 - first), band, 0,
-                                     allowed_outside(lags + 1 - first))
+        return tuple(CorrelationTest(name=name, first_lag=first,
+                                     values=(0.0,) * (lags + 1 - first), band=band, outside=0,
+                                     allowed=allowed_outside(lags + 1 - first))
                      for name, first in zero.items())
     u2 = u**2
     e2 = e**2
@@ -184,12 +185,12 @@ def correlation_tests(e: np.ndarray, u: np.ndarray, lags: int = LAGS, floor: flo
     for name, (a, b, first) in series.items():
         values = _corr(a, b, range(first, lags + 1))
         outside = sum(1 for v in values if not abs(v) <= band)
-        tests.append(CorrelationTest(name, first, tuple(values), band, outside,
-                                     allowed_outside(len(values))))
+        tests.append(CorrelationTest(name=name, first_lag=first, values=tuple(values), band=band,
+                                     outside=outside, allowed=allowed_outside(len(values))))
     return tuple(tests)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Validation(Result):
     """The verdict on a model's adequacy, from held-out data.
 

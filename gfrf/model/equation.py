@@ -132,7 +132,7 @@ class Term:
         return f"{c:.12g}*{self.monomial()}"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Model(Result):
     """An immutable polynomial input-output model ``sum(terms) = 0``.
 

@@ -66,7 +66,7 @@ _CONTROLLER_KEYS = {"num", "den", "equation", "feedback", "name", "source", "des
                     "parameters", "sample_time"}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Controller(Result):
     """A controller from a model file: linear transfer function or polynomial model.
 
@@ -129,7 +129,7 @@ class Controller(Result):
                 "equation": self.model.equation() if self.model else None}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class ModelFile(Result):
     """The contents of a model file: the plant, its controller and metadata.
 
@@ -506,7 +506,7 @@ def resolve_model(model: str | os.PathLike[str] | Model | ModelFile, *,
     if isinstance(model, ModelFile):
         return model
     if isinstance(model, Model):
-        return ModelFile(model)
+        return ModelFile(plant=model)
     if isinstance(model, os.PathLike) or (isinstance(model, str) and looks_like_path(model)):
         if sample_time is not None:
             raise ModelError("sample_time (--sample-time) is for inline equations; a model "

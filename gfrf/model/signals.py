@@ -76,7 +76,7 @@ _NON_SMOOTH = (sp.Heaviside, sp.sign, sp.Abs, sp.DiracDelta)
 Tone = tuple[float, float, float]
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, kw_only=True, repr=False)
 class InputSignal(Result):
     """A scalar input u(t), t in seconds, with derivatives up to :attr:`max_derivative`.
 
@@ -332,7 +332,7 @@ def zero_input(max_derivative: int = 0) -> InputSignal:
     zero = sp.Integer(0)
     funcs = tuple(sp.lambdify(T, zero, modules=_NUMPY_MODULES)
                   for _ in range(max_derivative + 1))
-    return InputSignal("0", zero, max_derivative, (), funcs)
+    return InputSignal(text="0", expr=zero, max_derivative=max_derivative, tones=(), _funcs=funcs)
 
 
 def tones_input(tones: list[Tone] | tuple[Tone, ...], max_derivative: int = 0) -> InputSignal:
@@ -386,16 +386,18 @@ def parse_input(text: str, *, max_derivative: int = 0) -> InputSignal:
     except ModelError as exc:  # the tokenizer's refusal, worded as the general parser's
         raise ArgumentError(f"cannot parse the input: {exc}") from None
     if terms is not None and len(terms) > FAST_TONES:
-        return InputSignal(stripped, None, max_derivative, _float_tones(terms),
-                           tuple(tone_sum_function(terms, k) for k in range(max_derivative + 1)),
-                           lambda t_end: np.zeros(0))
+        sums = tuple(tone_sum_function(terms, k) for k in range(max_derivative + 1))
+        return InputSignal(text=stripped, expr=None, max_derivative=max_derivative,
+                           tones=_float_tones(terms), _funcs=sums,
+                           _breaks=lambda t_end: np.zeros(0))
     expr = _parse_expression(stripped)
     funcs = [sp.lambdify(T, expr, modules=_NUMPY_MODULES)]
     current = expr
     for _ in range(max_derivative):  # no derivative beyond the last one asked for
         current = sp.diff(current, T)
         funcs.append(sp.lambdify(T, current, modules=_NUMPY_MODULES))
-    return InputSignal(stripped, expr, max_derivative, _tones(expr), tuple(funcs))
+    return InputSignal(text=stripped, expr=expr, max_derivative=max_derivative,
+                       tones=_tones(expr), _funcs=tuple(funcs))
 
 
 def _parse_expression(text: str) -> sp.Expr:
@@ -515,8 +517,8 @@ def _csv_input(path_text: str, max_derivative: int) -> InputSignal:
             return value
         return f
 
-    return InputSignal(f"csv:{path_text}", None, max_derivative, None,
-                       tuple(make(k) for k in range(max_derivative + 1)),
+    return InputSignal(text=f"csv:{path_text}", expr=None, max_derivative=max_derivative,
+                       tones=None, _funcs=tuple(make(k) for k in range(max_derivative + 1)),
                        _breaks=lambda t_end: t)
 
 

@@ -88,7 +88,7 @@ def _poles(num_p: np.ndarray, den_p: np.ndarray, num_c: np.ndarray, den_c: np.nd
     return np.sort_complex(np.asarray(control.poles(loop), dtype=complex))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class InertiaReversal(Result):
     """The ideal loop's theta'' coefficient with the model's own signs.
 
@@ -166,7 +166,7 @@ def inertia_reversal(mf: ModelFile) -> InertiaReversal:
                            plant_leading=float(den_p[0] * den_c[0]))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class LagRow(Result):
     """The loop with the controller divided by (tau s + 1)^lags.
 
@@ -229,13 +229,14 @@ def lagged_loops(mf: ModelFile, taus: tuple[float, ...] = LAG_TIME_CONSTANTS,
                 den = np.polymul(den, [tau, 1.0])
             gain = -f * num_p[0] / den_p[0] * num_c[0] / den_c[0]
             predicted = float(-(1.0 + gain) / tau) if k == 1 else None
-            rows.append(LagRow(float(tau), k, tuple(complex(p) for p in
-                                                    _poles(num_p, den_p, num_c, den, f)),
-                               predicted))
+            rows.append(LagRow(tau=float(tau), lags=k,
+                               poles=tuple(complex(p) for p in
+                                           _poles(num_p, den_p, num_c, den, f)),
+                               predicted=predicted))
     return rows
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class SignMargin(Result):
     """The loop with ``u = +(a s^2 + b s + c) theta`` (feedback +1) and its threshold on c.
 
@@ -361,7 +362,7 @@ def _static_series(mf: ModelFile) -> tuple[Fraction, Fraction, Fraction]:
     return c1, c2, c3
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class ControllerTrial(Result):
     """One PD-with-filter controller u = +(K_d s + K_p)/(tau_f s + 1) theta in Theorem 2.
 
@@ -380,7 +381,7 @@ class ControllerTrial(Result):
     bound: float
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Theorem2Obstruction(Result):
     """Why Theorem 2 cannot certify the cart-pole with a proper, stable linear controller.
 

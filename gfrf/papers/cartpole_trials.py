@@ -31,7 +31,7 @@ __all__ = ["LagSimulation", "DriveTrial", "LoopDrive", "lagged_simulation", "loo
            "has_physical_equation"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class LagSimulation(Result):
     """A run of the lagged nonlinear loop (eq (12), one lag tau) from rest at an angle.
 
@@ -178,7 +178,7 @@ def lagged_simulation(mf: ModelFile, tau: float, theta0: float = math.radians(5.
                          peak=float(size.max()))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class DriveTrial(Result):
     """One closed-loop run driven by a cosine reference (amplitude: of the reference r)."""
 
@@ -190,7 +190,7 @@ class DriveTrial(Result):
     blowup_time: float | None
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class LoopDrive(Result):
     """The ideal linear closed loop's frequency scales and cosine-driven runs.
 
@@ -291,7 +291,9 @@ def loop_drive(mf: ModelFile, angles_deg: tuple[float, ...] = (5.0, 10.0, 15.0),
             start = [math.radians(deg) * steady.real, -math.radians(deg) * omega * steady.imag]
             res = simulate(system, f"{amp!r}*cos({omega!r}*t)", t_end=t_end, rtol=1e-8,
                            atol=1e-11, blowup=blowup, initial=start)
-            trials.append(DriveTrial(eq, deg, amp, res.bounded, res.peak, res.blowup_time))
+            trials.append(DriveTrial(equation=eq, target_deg=deg, amplitude=amp,
+                                     bounded=res.bounded, peak=res.peak,
+                                     blowup_time=res.blowup_time))
     return LoopDrive(poles=poles,
                      resonant=bool(pairs),
                      omega=float(omega),

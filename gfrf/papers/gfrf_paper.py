@@ -61,7 +61,7 @@ ALPHA_MODELS = (("hanging_pendulum.toml", "hanging_pendulum_eq2.toml"),
 PAPER_CLOSED_LOOP = (614.0, 12554.0, 73.0)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class CheckRow(Result):
     """One printed quantity: paper value, our value, agreement and the reason."""
 
@@ -106,48 +106,50 @@ def _open_loop_rows(path: Path, section: str) -> list[CheckRow]:
     verdict = theorem1(model, order=3)
     rounded = 0.41 * maj.gains[0]
     rows = [
-        CheckRow(section, "rho_1 = ||H1||", paper["rho_1"], h1.upper,
-                 printed_match(paper["rho_1"], h1.upper),
-                 "" if printed_match(paper["rho_1"], h1.upper) else
+        CheckRow(section=section, quantity="rho_1 = ||H1||", paper=paper["rho_1"],
+                 ours=h1.upper, match=printed_match(paper["rho_1"], h1.upper),
+                 reason="" if printed_match(paper["rho_1"], h1.upper) else
                  f"exact sup of 1/|A(jw)| is {h1.upper:.6g}; the paper's own rho_3 = "
                  f"{paper['rho_3']} = 0.41 x {paper['rho_3'] / 0.41:.5g} implies "
                  f"{paper['rho_3'] / 0.41:.5g} (probable transcription error)"),
-        CheckRow(section, "rho_3 = |c3| sup|1/A| (cubic gain)", paper["rho_3"], rho3,
-                 printed_match(paper["rho_3"], rho3),
-                 f"the paper uses the rounded coefficient 0.41 of eq (6) (0.41 sup|1/A| = "
+        CheckRow(section=section, quantity="rho_3 = |c3| sup|1/A| (cubic gain)",
+                 paper=paper["rho_3"], ours=rho3, match=printed_match(paper["rho_3"], rho3),
+                 reason=f"the paper uses the rounded coefficient 0.41 of eq (6) (0.41 sup|1/A| = "
                  f"{rounded:.6g}); the model's coefficient is g/(6L) = "
                  f"{cubic.weight:.6g}"),
-        CheckRow(section, "||H3|| (true norm, for comparison with rho_3)", paper["rho_3"],
-                 h3.upper, False,
-                 f"rho_3 is not ||H3||: ||H3|| = |c3| ||H1||^3 sup|1/A| = {h3.upper:.6g} "
+        CheckRow(section=section, quantity="||H3|| (true norm, for comparison with rho_3)",
+                 paper=paper["rho_3"], ours=h3.upper, match=False,
+                 reason=f"rho_3 is not ||H3||: ||H3|| = |c3| ||H1||^3 sup|1/A| = {h3.upper:.6g} "
                  f"(bracket gap {h3.gap:.1e}), attained at (w_r, w_r, -w_r)"),
-        CheckRow(section, "theta_3", paper["theta_3"], theta[2],
-                 printed_match(paper["theta_3"], theta[2]), "theta_3 = rho_3; see rho_3"),
-        CheckRow(section, "theta_5", 0.0, theta[4], False,
-                 "E = rho_1 r + rho_3 E^3 gives theta_5 = 3 rho_3^2; the paper lists "
+        CheckRow(section=section, quantity="theta_3", paper=paper["theta_3"], ours=theta[2],
+                 match=printed_match(paper["theta_3"], theta[2]),
+                 reason="theta_3 = rho_3; see rho_3"),
+        CheckRow(section=section, quantity="theta_5", paper=0.0, ours=theta[4], match=False,
+                 reason="E = rho_1 r + rho_3 E^3 gives theta_5 = 3 rho_3^2; the paper lists "
                  "theta_5 = 0"),
-        CheckRow(section, "theta_6", paper["theta_6"], theta[5], False,
-                 "odd nonlinearity: every even order vanishes; the paper's theta_6 = "
+        CheckRow(section=section, quantity="theta_6", paper=paper["theta_6"], ours=theta[5],
+                 match=False,
+                 reason="odd nonlinearity: every even order vanishes; the paper's theta_6 = "
                  f"rho_3^2 = {paper['rho_3'] ** 2:.4g} is theta_5 / 3 at the wrong index"),
-        CheckRow(section, "series at r = 1", paper["series"],
-                 f"r* = {verdict.radius:.6g}: majorant diverges at r = 1 (verdict "
-                 f"{verdict.verdict})", "divergent" in paper["series"],
-                 "the paper's conclusion is reproduced only when it says divergent/"
+        CheckRow(section=section, quantity="series at r = 1", paper=paper["series"],
+                 ours=f"r* = {verdict.radius:.6g}: majorant diverges at r = 1 (verdict "
+                 f"{verdict.verdict})", match="divergent" in paper["series"],
+                 reason="the paper's conclusion is reproduced only when it says divergent/"
                  "undecided; convergence is certified for r < r* only"),
     ]
     if "peak_frequency_hz" in paper:
         f_peak = h1.argmax[0] / (2 * math.pi)
-        rows.append(CheckRow(section, "first-order peak frequency (Hz)",
-                             paper["peak_frequency_hz"], f_peak,
-                             printed_match(paper["peak_frequency_hz"], f_peak), ""))
+        rows.append(CheckRow(section=section, quantity="first-order peak frequency (Hz)",
+                             paper=paper["peak_frequency_hz"], ours=f_peak,
+                             match=printed_match(paper["peak_frequency_hz"], f_peak), reason=""))
         w = h1.argmax[0]
         at_paper = float(abs(kernel(model, 3)(w, 0.0, 0.0)))
-        rows.append(CheckRow(section, "third-order peaks at (0.25, 0, 0) Hz etc.",
-                             "(0.25, 0, 0), (-0.25, 0.25, 0.25), ...",
-                             f"max at {tuple(round(x / (2 * math.pi), 4) for x in h3.argmax)} "
-                             "Hz", False,
-                             f"|H3| at (f_r, 0, 0) is {at_paper:.4g}, the max {h3.lower:.6g} "
-                             "is at (f_r, f_r, -f_r) and permutations"))
+        rows.append(CheckRow(section=section, quantity="third-order peaks at (0.25, 0, 0) Hz etc.",
+                             paper="(0.25, 0, 0), (-0.25, 0.25, 0.25), ...",
+                             ours=f"max at {tuple(round(x / (2 * math.pi), 4) for x in h3.argmax)} "
+                             "Hz", match=False,
+                             reason=f"|H3| at (f_r, 0, 0) is {at_paper:.4g}, the max "
+                             f"{h3.lower:.6g} is at (f_r, f_r, -f_r) and permutations"))
     return rows
 
 
@@ -222,51 +224,62 @@ def _closed_loop_rows(path: Path) -> list[CheckRow]:
     lag = lagged_loops(mf, taus=(LAG_TIME_CONSTANTS[-1],), lags=(1,))[0]
     obstruction = theorem2_obstruction(mf, grid=())
     return [
-        CheckRow(section, "beta_1 = ||h1|| (L-inf, unstable plant)", 0.58, beta1.upper,
-                 printed_match(0.58, beta1.upper), "attained at w = 0"),
-        CheckRow(section, "h1(jw)", "39.3185/(-w^2 + 67.568)",
-                 f"{plant.linear_input[0]:g}/(w^2 + {-plant.linear_output[0]:g})", False,
-                 "s^2 - 67.568 at s = jw is -w^2 - 67.568; the printed form has a pole at "
+        CheckRow(section=section, quantity="beta_1 = ||h1|| (L-inf, unstable plant)",
+                 paper=0.58, ours=beta1.upper, match=printed_match(0.58, beta1.upper),
+                 reason="attained at w = 0"),
+        CheckRow(section=section, quantity="h1(jw)", paper="39.3185/(-w^2 + 67.568)",
+                 ours=f"{plant.linear_input[0]:g}/(w^2 + {-plant.linear_output[0]:g})",
+                 match=False,
+                 reason="s^2 - 67.568 at s = jw is -w^2 - 67.568; the printed form has a pole at "
                  "w = 8.22 rad/s and an infinite sup, yet the paper's beta_1 = 0.58 is the "
                  "sup of the correct form"),
-        CheckRow(section, "beta_3 = ||h3||", 2.56, list(bracket), False,
-                 f"certified bracket [{bracket[0]:.4g}, {bracket[1]:.4g}]; the paper's printed "
-                 f"h3 numerator 39.3185^3 (-19.66 w3^2 + 886) over its denominators gives "
+        CheckRow(section=section, quantity="beta_3 = ||h3||", paper=2.56, ours=list(bracket),
+                 match=False,
+                 reason=f"certified bracket [{bracket[0]:.4g}, {bracket[1]:.4g}]; the paper's "
+                 f"printed h3 numerator 39.3185^3 (-19.66 w3^2 + 886) over its denominators gives "
                  f"{paper_form:.3g} at w = 0, near 2.56, but it is not the GFRF of eq (16): the "
                  "theta^2 u term enters with h1^2 (not h1^3) and weight 1/3 when symmetrised"),
-        CheckRow(section, "lambda_1 = ||s1||", 0.1331, loop.controller_norm, False,
-                 "s1 = a s^2 + b s + c is improper, sup |s1(jw)| = inf; 0.1331 = c = |s1(0)|"),
-        CheckRow(section, "rho_1 = sup|(1 + h1 s1)^-1|", 0.0016, loop.sensitivity_peak, False,
-                 f"the sup is {loop.sensitivity_peak:.4g} at w = 0; 0.0016 ~ 1/614 is the limit "
-                 "w -> inf. The paper's own expression gives 67.568/73 = 0.926 at w = 0"),
-        CheckRow(section, "closed loop 614 s^2 + 12554 s + 73", list(PAPER_CLOSED_LOOP),
-                 (loop.characteristic * np.sign(loop.characteristic[0])).tolist(), False,
-                 "reproduced only by "
+        CheckRow(section=section, quantity="lambda_1 = ||s1||", paper=0.1331,
+                 ours=loop.controller_norm, match=False,
+                 reason="s1 = a s^2 + b s + c is improper, sup |s1(jw)| = inf; 0.1331 = c = "
+                 "|s1(0)|"),
+        CheckRow(section=section, quantity="rho_1 = sup|(1 + h1 s1)^-1|", paper=0.0016,
+                 ours=loop.sensitivity_peak, match=False,
+                 reason=f"the sup is {loop.sensitivity_peak:.4g} at w = 0; 0.0016 ~ 1/614 is the "
+                 "limit w -> inf. The paper's own expression gives 67.568/73 = 0.926 at w = 0"),
+        CheckRow(section=section, quantity="closed loop 614 s^2 + 12554 s + 73",
+                 paper=list(PAPER_CLOSED_LOOP),
+                 ours=(loop.characteristic * np.sign(loop.characteristic[0])).tolist(),
+                 match=False,
+                 reason="reproduced only by "
                  + "; ".join(f"h1 = {v['gain']:g}/({v['plant_denominator']}), feedback "
                              f"{v['feedback']:+d}, b = {v['b']:.5g}" for v in good)
                  + f" (b implied by 12554 is 12554/39.3185 = {12554 / 39.3185:.5g}, not "
                    "379.3; the plant sign of the section-5 h1(jw))"),
-        CheckRow(section, "characteristic polynomial s^2 + 20.45 s + 0.12",
-                 [1.0, 20.45, 0.12], monic.tolist(), False,
-                 "model's own signs (eq (13) plant, negative feedback, b = 379.3)"),
-        CheckRow(section, "closed-loop poles", [-20.45, -0.01],
-                 sorted(float(p.real) for p in loop.poles), False,
-                 f"stable with the model's own signs only because the improper a s^2 term "
+        CheckRow(section=section, quantity="characteristic polynomial s^2 + 20.45 s + 0.12",
+                 paper=[1.0, 20.45, 0.12], ours=monic.tolist(), match=False,
+                 reason="model's own signs (eq (13) plant, negative feedback, b = 379.3)"),
+        CheckRow(section=section, quantity="closed-loop poles", paper=[-20.45, -0.01],
+                 ours=sorted(float(p.real) for p in loop.poles), match=False,
+                 reason=f"stable with the model's own signs only because the improper a s^2 "
+                 f"term "
                  f"reverses the inertia: the closed-loop theta'' coefficient is 1 - "
                  f"{inertia.input_gain:g} x {inertia.a:g} = {inertia.coefficient:.6g}; with "
                  f"a lag 1/({lag.tau:g} s + 1) a pole moves to s = "
                  f"{lag.unstable[0].real:.6g}. The paper's polynomial itself has "
                  f"roots {np.round(np.roots([1, 20.45, 0.12]).real, 4).tolist()}"),
-        CheckRow(section, "theta_3", reading.printed, reading.kept, reading.matches_kept,
-                 f"Theorem 2's recursion as printed (prefactor rho_1 = {reading.rho1:g}) with "
-                 f"the paper's lambda_1 = {reading.lambda1:g}, phi_3 = {reading.phi3:g} "
+        CheckRow(section=section, quantity="theta_3", paper=reading.printed, ours=reading.kept,
+                 match=reading.matches_kept,
+                 reason=f"Theorem 2's recursion as printed (prefactor rho_1 = {reading.rho1:g}) "
+                 f"with the paper's lambda_1 = {reading.lambda1:g}, phi_3 = {reading.phi3:g} "
                  f"gives this value; the printed {reading.printed:g} is phi_3 lambda_1^3 = "
                  f"{reading.dropped:.4g}, i.e. rho_1 dropped (section 3's theta_3 = rho_3 "
                  "reads the same way); with the true lambda_1 = inf every theta_n (n >= 3) "
                  "is infinite"),
-        CheckRow(section, "verdict", "stable (Theorem 2)", "inconclusive", False,
-                 "Theorem 2 needs a proper controller; the linear closed loop is stable but "
-                 "lambda_1 = inf makes conditions 1 and 3 fail. No proper stable linear "
+        CheckRow(section=section, quantity="verdict", paper="stable (Theorem 2)",
+                 ours="inconclusive", match=False,
+                 reason="Theorem 2 needs a proper controller; the linear closed loop is stable "
+                 "but lambda_1 = inf makes conditions 1 and 3 fail. No proper stable linear "
                  "controller can do better: the theta-series converges only for reference "
                  f"sizes r < {obstruction.ceiling:.4g} (proof in "
                  "gfrf.papers.cartpole.theorem2_obstruction)"),
@@ -325,11 +338,12 @@ def coefficient_rows(path: str | Path) -> list[CheckRow]:
                        "39.3185/2 is 3/(2(4M+m)L): the factor m in eq (11) is a typo")
         # quote the printed coefficient with the sign it has in eq (12)
         signed = paper if printed[monomial] > 0 else -paper
-        rows.append(CheckRow(section, f"eq (12) coefficient of {monomial}", signed, value,
-                             match, reason))
-    rows.append(CheckRow(section, "eq (13) linear coefficient (vs eq (12))",
-                         mf.paper["linear_coefficient_in_eq13"], mf.paper["linear_coefficient"],
-                         False, "typo: eq (13) and section 5 print 67.568 where eq (12) and "
+        rows.append(CheckRow(section=section, quantity=f"eq (12) coefficient of {monomial}",
+                             paper=signed, ours=value, match=match, reason=reason))
+    rows.append(CheckRow(section=section, quantity="eq (13) linear coefficient (vs eq (12))",
+                         paper=mf.paper["linear_coefficient_in_eq13"],
+                         ours=mf.paper["linear_coefficient"], match=False,
+                         reason="typo: eq (13) and section 5 print 67.568 where eq (12) and "
                          "eq (16) print 67.578"))
     return rows
 
@@ -355,7 +369,7 @@ def paper_checks(models_dir: str | Path = MODELS_DIR) -> list[CheckRow]:
     return rows
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class AlphaRow(Result):
     """One hanging-pendulum file at the paper's r = 1: eq (6) (alpha = 1) or eq (2).
 
@@ -455,7 +469,7 @@ def alpha_variants(models_dir: str | Path = MODELS_DIR, tolerance: float = 1e-6,
     return rows
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class ThetaReading(Result):
     """The paper's printed theta_3 against Theorem 2's recursion with and without rho_1.
 

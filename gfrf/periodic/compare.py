@@ -192,7 +192,7 @@ def method_transition(method: str, eps: float, amplitude: float, branch: str = "
     if amplitude <= 0:
         raise ArgumentError(f"amplitude must be positive, got {amplitude}")
     t0 = time.perf_counter()
-    d = _delta(method, eps, amplitude, b, k, side, equation)
+    d = _delta(method, eps, amplitude=amplitude, branch=b, order=k, side=side, equation=equation)
     return TransitionResult(method=method,
                             eps=eps,
                             amplitude=amplitude,
@@ -350,7 +350,8 @@ def _method_amplitude(method: str, eps: float, delta: float, branch: str, order:
                       guess: float, side: str = "lower", equation: int = 4) -> float:
     """Amplitude at which ``method``'s transition curve passes through ``delta``."""
     def f(a: float) -> float:
-        return _delta(method, eps, a, branch, order, side, equation) - delta
+        return _delta(method, eps, amplitude=a, branch=branch, order=order, side=side,
+                      equation=equation) - delta
 
     grid = np.unique(np.clip(guess * np.array([0.25, 0.5, 0.8, 1.0, 1.25, 1.6, 2.0, 3.0]),
                              1e-6, 3.0))
@@ -417,7 +418,8 @@ def compare_periodic(method: str, eps: float, amplitude: float, branch: str = "1
     t0 = time.perf_counter()
     a_m = amplitude if delta is None else exact.amplitude
     if delta is not None and method != "exact":
-        a_m = _method_amplitude(method, eps, delta, b, k, exact.amplitude, side, equation)
+        a_m = _method_amplitude(method, eps, delta=delta, branch=b, order=k, guess=exact.amplitude,
+                                side=side, equation=equation)
     try:
         d_m, x_m = method_orbit(method, eps, a_m, b, t, k, side=side, equation=equation)
     except ArgumentError:

@@ -323,6 +323,17 @@ def trig_harmonic(expr: object, theta: object, k: int = 0, kind: str = "cos") ->
     ``exp(i theta) = z`` and reading off Laurent coefficients, so no symbolic
     integration or trigonometric simplification is involved.  ``kind="sin"`` gives the
     ``sin(k theta)`` coefficient.
+
+    Parameters
+    ----------
+    expr : sympy expression or float
+        A trigonometric polynomial in ``theta``.
+    theta : sympy.Symbol
+        The angle.
+    k : int, optional
+        The harmonic.
+    kind : {"cos", "sin"}, optional
+        Which coefficient.
     """
     import sympy as sp
 

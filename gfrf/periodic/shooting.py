@@ -260,7 +260,8 @@ def orbit_on_transition(eps: float, amplitude: float, branch: str = "0",
         raise ArgumentError(f"amplitude must be positive, got {amplitude}")
     if delta_guess is None:
         delta_guess = float(mathieu_transition(eps, branch))
-    return _newton(eps, delta_guess, amplitude, branch, truncation, "delta", tol, maxiter)
+    return _newton(eps, delta_guess, amp=amplitude, branch=branch, truncation=truncation,
+                   unknown="delta", tol=tol, maxiter=maxiter)
 
 
 def _checked(series: FourierOrbit, tol: float) -> PeriodicOrbit:
@@ -277,7 +278,8 @@ def _checked(series: FourierOrbit, tol: float) -> PeriodicOrbit:
                              shooting_residual=res,
                              iterations=series.iterations,
                              series=series)
-    return _newton(eps, delta, amp, b, series.truncation, "delta", tol, 30)
+    return _newton(eps, delta, amp=amp, branch=b, truncation=series.truncation, unknown="delta",
+                   tol=tol, maxiter=30)
 
 
 def transition_delta(eps: float, amplitude: float, branch: str = "0",
@@ -387,7 +389,8 @@ def orbit_at_delta(eps: float, delta: float, amplitude_guess: float, branch: str
     """
     if not 0 < amplitude_guess < math.pi:
         raise ArgumentError(f"amplitude guess must be in (0, pi), got {amplitude_guess}")
-    return _newton(eps, delta, amplitude_guess, branch, truncation, "amp", tol, maxiter)
+    return _newton(eps, delta, amp=amplitude_guess, branch=branch, truncation=truncation,
+                   unknown="amp", tol=tol, maxiter=maxiter)
 
 
 def transition_zero_eps(amplitude: float, branch: str = "1/4",

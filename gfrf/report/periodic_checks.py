@@ -106,7 +106,7 @@ def error_grid(branch: str, eps_values: tuple[float, ...], amplitudes: tuple[flo
                      side=side)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class ConclusionCheck(Result):
     """One conclusion of the paper tested on our numbers."""
 
@@ -138,9 +138,10 @@ def conclusion_checks(grid: ErrorGrid) -> list[ConclusionCheck]:
         ok = [_err(grid, lab, e, amax) > _err(grid, lab, e, amin) for e in grid.eps_values
               if np.isfinite(_err(grid, lab, e, amax))]
         out.append(ConclusionCheck(
-            f"(1) accuracy drops as the initial angle grows: {lab}",
-            f"max|dx| larger at x(0) = {amax} than at {amin} for {sum(ok)} of {len(ok)} eps",
-            bool(ok) and all(ok)))
+            claim=f"(1) accuracy drops as the initial angle grows: {lab}",
+            evidence=f"max|dx| larger at x(0) = {amax} than at {amin} for {sum(ok)} of "
+            f"{len(ok)} eps",
+            holds=bool(ok) and all(ok)))
     paper = ["perturbation, order 2 (paper)", "homotopy, order 2", "energy (48)",
              "averaging (58)"]
     mid = sorted(grid.amplitudes)[len(grid.amplitudes) // 2]
@@ -149,10 +150,10 @@ def conclusion_checks(grid: ErrorGrid) -> list[ConclusionCheck]:
         errs = [_err(grid, lab, e, mid) for lab in paper]
         ratio = max(errs) / min(errs)
         out.append(ConclusionCheck(
-            f"(3) for eps < 0.1 the four methods are about equally accurate (eps = {e}, "
+            claim=f"(3) for eps < 0.1 the four methods are about equally accurate (eps = {e}, "
             f"x(0) = {mid})",
-            ", ".join(f"{lab}: {num(v, 3)}" for lab, v in zip(paper, errs, strict=True))
-            + f"; largest/smallest = {num(ratio, 3)}", ratio < 10))
+            evidence=", ".join(f"{lab}: {num(v, 3)}" for lab, v in zip(paper, errs, strict=True))
+            + f"; largest/smallest = {num(ratio, 3)}", holds=ratio < 10))
     for e in [e for e in grid.eps_values if e > 0.1]:
         p, h_opt, en, av = (_err(grid, lab, e, mid) for lab in paper)
         h_paper = _paper_h_error(e, mid)
@@ -160,11 +161,11 @@ def conclusion_checks(grid: ErrorGrid) -> list[ConclusionCheck]:
             finite_he = [v for v in (h, en) if np.isfinite(v)]
             holds = bool(finite_he) and max(p, av) < min(finite_he)
             out.append(ConclusionCheck(
-                f"(3) for eps > 0.1 perturbation and averaging beat homotopy and energy "
+                claim=f"(3) for eps > 0.1 perturbation and averaging beat homotopy and energy "
                 f"(eps = {e}, x(0) = {mid}, paper orders, homotopy with {which})",
-                f"perturbation {num(p, 3)}, averaging {num(av, 3)}, homotopy {num(h, 3)}, "
+                evidence=f"perturbation {num(p, 3)}, averaging {num(av, 3)}, homotopy {num(h, 3)}, "
                 f"energy {num(en, 3) if np.isfinite(en) else 'no orbit ((48) has no root)'}",
-                holds))
+                holds=holds))
     return out
 
 

@@ -200,7 +200,7 @@ def compile_system(system: OdeSystem) -> tuple[ModuleType, float]:
     module = load_generated("fastsim", name, lambda cache: _module_source(system, cache))
     z = np.zeros(system.n_states)
     _rk4(module, z, np.ones(1, dtype=np.int64), np.full(1, 0.1),
-         np.zeros((3, system.n_inputs)), np.zeros((1, system.n_inputs)), 1, 1.0)
+         V=np.zeros((3, system.n_inputs)), VL=np.zeros((1, system.n_inputs)), steps=1, blowup=1.0)
     _plant_inputs(module, np.zeros((1, system.n_states)), np.zeros((1, system.n_inputs)))
     _MODULES[name] = module
     return module, time.perf_counter() - start
@@ -350,7 +350,7 @@ def _run(module: ModuleType, system: OdeSystem, signal: InputSignal, z0: np.ndar
     total = grid.steps
     steps = total if limit is None else min(total, limit)
     V, VL = grid.inputs(signal, system.n_inputs, steps)
-    Z, F, FL, done = _rk4(module, z0, grid.n, grid.h, V, VL, steps, blowup)
+    Z, F, FL, done = _rk4(module, z0, grid.n, grid.h, V, VL, steps=steps, blowup=blowup)
     blown = not abs(Z[done, 0]) < blowup
     last_good = grid.locate(np.array([done - 1 if blown else done]))[2][0]
     t_end = float(grid.edges[-1])
@@ -491,8 +491,8 @@ def simulate_fast(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end:
         runs agreeing to the tolerance (the message says by how much, and where).
     """
     if not numba_available():
-        result = integrate_scipy(system, signal, z0, t_end, t_eval, "dop853", rtol, atol,
-                                 blowup, max_evaluations)
+        result = integrate_scipy(system, signal, z0, t_end, t_eval, "dop853", rtol=rtol, atol=atol,
+                                 blowup=blowup, max_evaluations=max_evaluations)
         result.notes.append("numba is not installed (pip install 'gfrf[fast]'): the fast "
                             "path fell back to scipy DOP853 at the same tolerances")
         return result
@@ -511,7 +511,7 @@ def simulate_fast(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end:
         if grid.steps > MAX_STEPS:
             raise ArgumentError(f"dt = {dt:g} s needs more than MAX_STEPS = {MAX_STEPS} steps "
                                 f"over t_end = {t_end:g} s")
-        run = _run(module, system, signal, z0, grid, t_eval, blowup)
+        run = _run(module, system, signal, z0, grid, t_eval, blowup=blowup)
         if grid.max_step * rate > 2.5:
             notes.append(f"dt = {dt:g} s is beyond RK4's stability limit for the time scale "
                          f"1/{rate:.4g} s of the model: a blow-up may be numerical")
@@ -523,7 +523,7 @@ def simulate_fast(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end:
             raise ArgumentError(f"t_end = {t_end:g} s spans {t_end * rate:.3g} time scales "
                                 f"of the model: the automatic step needs more than MAX_STEPS "
                                 f"= {MAX_STEPS} RK4 steps; use a scipy method")
-        run = _run(module, system, signal, z0, grid, t_eval, blowup)
+        run = _run(module, system, signal, z0, grid, t_eval, blowup=blowup)
         accepted, unmet = False, ""
         for _ in range(_MAX_DOUBLINGS):
             if grid.steps > _MAX_GRID:
@@ -533,11 +533,11 @@ def simulate_fast(system: OdeSystem, signal: InputSignal, z0: np.ndarray, t_end:
             limit = 2 * run.steps + 16 if run.blown else finer.steps
             if min(limit, finer.steps) > MAX_STEPS:
                 break
-            fine = _run(module, system, signal, z0, finer, t_eval, blowup, limit)
+            fine = _run(module, system, signal, z0, finer, t_eval, blowup=blowup, limit=limit)
             if not fine.blown and fine.steps < finer.steps:  # survived: run it to t_end
                 if finer.steps > MAX_STEPS:
                     break
-                fine = _run(module, system, signal, z0, finer, t_eval, blowup)
+                fine = _run(module, system, signal, z0, finer, t_eval, blowup=blowup)
             grid = finer
             accepted = _agree(run, fine, fine.steps == grid.steps, rtol, atol, t_end)
             run, coarse = fine, run

@@ -145,7 +145,7 @@ class OdeSystem:
         return self._functions[key]
 
 
-@dataclass
+@dataclass(frozen=True, kw_only=True)
 class SimulationResult:
     """Output of :func:`simulate`.
 

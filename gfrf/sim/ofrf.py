@@ -446,7 +446,7 @@ def ofrf(data: Mapping[str, Any] | str | Path | ModelFile, parameter: str,
         raise ArgumentError(problem)
     try:
         with np.errstate(all="ignore"):
-            result = _evaluate(model, polys, tones, omega, order, parameter, value)
+            result = _evaluate(model, polys, tones, omega, order, parameter, value=value)
             checks = [*result.coefficients, result(value), *result.input_spectrum.values(),
                       *(g for g in result.nofrf().values() if g is not None)]
     except OverflowError:

@@ -33,6 +33,7 @@ import functools
 import math
 import time
 import warnings
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -227,11 +228,11 @@ def simulate(source: ModelFile | Model | OdeSystem, input: str | InputSignal | N
         result = simulate_fast(system, signal, z0, t_end, t_eval, blowup=blowup, dt=dt,
                                rtol=rtol, atol=atol, max_evaluations=max_evaluations)
     else:
-        result = integrate_scipy(system, signal, z0, t_end, t_eval, method, rtol, atol,
-                                 blowup, max_evaluations)
-    result.wall_time = time.perf_counter() - start - result.compile_time
-    result.notes = notes + result.notes
-    return result
+        result = integrate_scipy(system, signal, z0=z0, t_end=t_end, t_eval=t_eval, method=method,
+                                 rtol=rtol, atol=atol, blowup=blowup,
+                                 max_evaluations=max_evaluations)
+    return replace(result, wall_time=time.perf_counter() - start - result.compile_time,
+                   notes=notes + result.notes)
 
 
 def _check_work(system: OdeSystem, signal: InputSignal, t_end: float,

@@ -56,8 +56,8 @@ def _truncate(p: VolterraPrediction, order: int) -> VolterraPrediction:
     for c in p.components:
         row = {n: v for n, v in c.by_order.items() if n <= order}
         if row:
-            comps.append(Component(c.omega, sum(row.values()), row))
-    return VolterraPrediction(p.tones, order, tuple(comps))
+            comps.append(Component(omega=c.omega, value=sum(row.values()), by_order=row))
+    return VolterraPrediction(tones=p.tones, order=order, components=tuple(comps))
 
 
 def base_frequency(tones: Any, max_denominator: int = 1000) -> float:

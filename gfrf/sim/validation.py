@@ -267,7 +267,8 @@ def random_input(size: float, seed: int = 0, hold: float = 0.5,
     def f(t: Any) -> np.ndarray:
         return np.interp(t, times, values, period=knots * hold)
 
-    return InputSignal(f"random(r={size:g}, seed={seed})", None, 0, None, (f,),
+    return InputSignal(text=f"random(r={size:g}, seed={seed})", expr=None, max_derivative=0,
+                       tones=None, _funcs=(f,),
                        _breaks=lambda t_end: np.arange(1, int(t_end / hold) + 1) * hold)
 
 

@@ -71,7 +71,7 @@ MAX_PRODUCTS = 500_000
 _CHUNK = 20_000
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Component(Result):
     """One output frequency of a prediction: ``amplitude * cos(omega t + phase)``.
 
@@ -104,7 +104,7 @@ class Component(Result):
                              for n, v in self.by_order.items()}}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class VolterraPrediction(Result):
     """The order-N Volterra steady state of a multi-tone input (see module docstring).
 
@@ -436,7 +436,7 @@ def predict(model: Model, tones: Any, order: int, *, force: bool = False
                 keys.setdefault(key, max(float(total[start]), 0.0))
                 row = table.setdefault(key, {})
                 row[n] = row.get(n, 0j) + value
-    comps = tuple(Component(keys[key], sum(row.values()), row)
+    comps = tuple(Component(omega=keys[key], value=sum(row.values()), by_order=row)
                   for key, row in sorted(table.items()))
     bad = [c.omega for c in comps if not cmath.isfinite(c.value)]
     if bad:

@@ -55,7 +55,7 @@ def verdict(model: ModelFile | Model, order: int = 5, amplitude: float = 1.0,
     return theorem1(model.plant, order, amplitude, with_norms, proof, norms=norms)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Margin(Result):
     """Smallest (or largest) parameter value for which the certified verdict is ``stable``.
 
@@ -151,5 +151,6 @@ def parameter_margin(model_file: ModelFile, parameter: str, amplitude: float = 1
             hi = mid
         else:
             lo = mid
-    return Margin(parameter, hi if good_high else lo, "above" if good_high else "below",
-                  float(amplitude), current, tolerance)
+    return Margin(parameter=parameter, value=hi if good_high else lo,
+                  direction="above" if good_high else "below", amplitude=float(amplitude),
+                  current=current, tolerance=tolerance)

@@ -50,7 +50,7 @@ LINF_CLASS = ("every bounded input u(t) (L-infinity, any size), from any initial
               "contains Theorem 1's class (sums of tones, sum of amplitudes <= r) for every r")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Certificate(Result):
     """One proven lower side: stability for every input of ``input_class`` below ``radius``.
 
@@ -162,6 +162,7 @@ def energy_certificate(model: Model) -> Certificate | None:
               f"P of degree {d + 1} with leading coefficient {float(top):.6g} < 0 (bounded "
               "above), and V >= gamma*|x|^2 - C: every solution under a bounded input is "
               "bounded (signs checked in exact rational arithmetic)")
-    return Certificate(ENERGY_METHOD, math.inf, "exact", LINF_CLASS, detail,
-                       "bounded: every solution under every bounded input stays bounded "
+    return Certificate(method=ENERGY_METHOD, radius=math.inf, proof="exact",
+                       input_class=LINF_CLASS, detail=detail,
+                       property="bounded: every solution under every bounded input stays bounded "
                        "(from any initial state); not: returns to the equilibrium")

@@ -216,10 +216,11 @@ def local_energy_certificate(model: Model) -> Certificate | None:
                           f"{half[0]:.4g}, |y'| <= {half[1]:.4g}, V > level on that box's "
                           f"border) is invariant for |w| <= {w_try:.6g}: dV/dt < 0 on its "
                           "boundary, checked in Arb ball arithmetic on a box subdivision")
-                return Certificate(LOCAL_METHOD, U, "interval",
-                                   "every input u(t) with sup|u| <= U (L-infinity), from "
-                                   "rest; contains Theorem 1's class of size U", detail,
-                                   "bounded: every solution from rest stays in the "
+                return Certificate(method=LOCAL_METHOD, radius=U, proof="interval",
+                                   input_class="every input u(t) with sup|u| <= U "
+                                   "(L-infinity), from rest; contains Theorem 1's class of "
+                                   "size U", detail=detail,
+                                   property="bounded: every solution from rest stays in the "
                                    "invariant set {V <= level}; not: returns to the "
                                    "equilibrium")
     return None

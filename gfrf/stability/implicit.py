@@ -157,7 +157,7 @@ def implicit_form(model: ModelFile | Model) -> ImplicitLoop:
         entering nonlinearly or with a coefficient that vanishes at the equilibrium or
         depends on the input, or more than ``MAX_STATES`` states.
     """
-    mf = model if isinstance(model, ModelFile) else ModelFile(model)
+    mf = model if isinstance(model, ModelFile) else ModelFile(plant=model)
     plant = mf.plant
     if plant.is_discrete:
         raise StateFormError("a discrete plant has no implicit ODE form")

@@ -56,7 +56,7 @@ _ESCAPE = 1e6
 _DYADIC = 40
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class BoxResult:
     """A verified invariant box.
 

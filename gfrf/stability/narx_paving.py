@@ -82,7 +82,7 @@ _RUNS = 100
 _STEPS = 120
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class PavingResult:
     """A verified invariant paving.
 
@@ -345,7 +345,7 @@ def _closes(g: list[Poly], terms: list[Any], pieces: list[int], ny: int, U: floa
     ext = np.maximum(_extent(g, n, U)[:ny], 1e-9 + U)
     for span in _SPANS:
         R = span * ext
-        S = _search(terms, ny, n + 1, U, R, N, pieces)
+        S = _search(terms, ny, nv=n + 1, U=U, R=R, N=N, pieces=pieces)
         if S is not None:
             return R, S
     return None
@@ -409,16 +409,17 @@ def paving_certificate(system: PolySystem, start: float = 0.0) -> PavingResult |
     for T, X in _candidates(system):
         g = box_map(system, T, X)
         terms = _terms(g, ny)
-        lo, _, _ = _bracket(g, terms, _pieces(g, ny, nv, SCREEN_PIECES), ny, start,
-                            SCREEN_GRID, SCREEN_STEPS)
+        lo, _, _ = _bracket(g, terms, pieces=_pieces(g, ny, nv, SCREEN_PIECES), ny=ny, start=start,
+                            N=SCREEN_GRID, steps=SCREEN_STEPS)
         screened.append((lo, T, X, g, terms))
     lo, T, X, g, terms = max(screened, key=lambda t: t[0])
     if lo <= 0:
         return None
-    lo, _, _ = _bracket(g, terms, _pieces(g, ny, nv, MID_PIECES), ny, lo, MID_GRID,
-                        MID_STEPS)
+    lo, _, _ = _bracket(g, terms, pieces=_pieces(g, ny, nv, MID_PIECES), ny=ny, start=lo,
+                        N=MID_GRID, steps=MID_STEPS)
     pieces = _pieces(g, ny, nv, FINE_PIECES)
-    lo, _, R = _bracket(g, terms, pieces, ny, lo, FINE_GRID, BISECTIONS, lo * FINE_REACH)
+    lo, _, R = _bracket(g, terms, pieces=pieces, ny=ny, start=lo, N=FINE_GRID, steps=BISECTIONS,
+                        top=lo * FINE_REACH)
     if R is None:
         return None
     for k in range(_BACKOFF):
@@ -426,8 +427,8 @@ def paving_certificate(system: PolySystem, start: float = 0.0) -> PavingResult |
         if U <= 0:
             break
         Rq = [_outward(float(r), True) for r in R]
-        S = _search(terms, ny, nv, float(U), np.array([float(r) for r in Rq]), FINE_GRID,
-                    pieces)
+        S = _search(terms, ny, nv=nv, U=float(U), R=np.array([float(r) for r in Rq]), N=FINE_GRID,
+                    pieces=pieces)
         if S is None:
             continue
         cert = {"format": FORMAT, "kind": "narx-paving", "version": 1,

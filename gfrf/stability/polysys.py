@@ -30,7 +30,7 @@ from fractions import Fraction
 import numpy as np
 
 from gfrf.model.equation import Model, Term
-from gfrf.model.modelfile import Controller, ModelFile
+from gfrf.model.modelfile import Controller, ModelFile, resolve_model
 
 __all__ = ["Poly", "PolySystem", "state_form", "exact_coefficient", "exact_transfer_function",
            "exact_linear_polynomials",
@@ -472,7 +472,7 @@ def state_form(model: ModelFile | Model) -> PolySystem:
     StateFormError
         The model has no such state form (the message says why).
     """
-    mf = model if isinstance(model, ModelFile) else ModelFile(model)
+    mf = resolve_model(model)
     plant = mf.plant
     if plant.is_discrete:
         if mf.controller is not None:

@@ -19,7 +19,7 @@ __all__ = ["SosResult"]
 _ROUND = 2**36
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class SosResult:
     """A verified SOS certificate.
 

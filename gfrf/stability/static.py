@@ -56,7 +56,7 @@ MAX_TRACK_STEPS = 4000
 PRECISION = 128
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class StaticBound(Result):
     """A proven upper bound on the true radius of the norm series.
 
@@ -457,8 +457,9 @@ def _upper_of(p: dict[tuple[int, int], Fraction], variable: str,
                 mid = complex(sigma.mid())
                 s = complex(math.ldexp(mid.real, shift), math.ldexp(mid.imag, shift))
                 y0 = complex(math.ldexp(y0.real, shift), math.ldexp(y0.imag, shift))
-                return StaticBound(value, s, y0, exact,
-                                   f"static branch point {variable} = {_fmt(s)} (|{variable}| = "
+                return StaticBound(value=value, branch_point=s, double_root=y0, exact=exact,
+                                   detail=f"static branch point {variable} = {_fmt(s)} "
+                                   f"(|{variable}| = "
                                    f"{value:.6g}): the static branch y({variable}) folds at y = "
                                    f"{_fmt(y0)}, proven in ball arithmetic; {why}")
         return None

@@ -37,6 +37,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+from gfrf._results import proof_word
 from gfrf.bounds.branch_bound import DEFAULT_WORK, MAX_ORDER, box_work
 from gfrf.bounds.exact import format_roots, poles
 from gfrf.bounds.majorant import Majorant, Radius, majorant, plant_radius
@@ -45,7 +46,7 @@ from gfrf.bounds.rational import check_proof
 from gfrf.errors import ArgumentError
 from gfrf.kernels.recursion import check_order
 from gfrf.model.equation import Model
-from gfrf.stability.verdicts import Condition, Verdict, _label
+from gfrf.stability.verdicts import Condition, Verdict
 
 __all__ = ["theorem1", "NORM_LEVELS", "DEFAULT_NORMS"]
 
@@ -74,14 +75,14 @@ def _proper_condition(model: Model, maj: Majorant, what: str) -> Condition:
     """Condition 1: bounded kernels.  Improper H1 fails; an infinite majorant is undecided."""
     a, b = model.linear_output, model.linear_input
     if b and max(b) > max(a):
-        return Condition(f"{what}: proper rational kernels", False, math.inf,
-                         f"H1 improper: input derivative order {max(b)} > output order "
+        return Condition(name=f"{what}: proper rational kernels", passed=False, value=math.inf,
+                         detail=f"H1 improper: input derivative order {max(b)} > output order "
                          f"{max(a)}")
     if not maj.finite:
-        return Condition(f"{what}: proper rational kernels", None, math.inf,
-                         "not established: " + "; ".join(maj.reasons))
-    return Condition(f"{what}: proper rational kernels", True, None,
-                     "every H_n bounded by the finite certified majorant (hence proper on "
+        return Condition(name=f"{what}: proper rational kernels", passed=None, value=math.inf,
+                         detail="not established: " + "; ".join(maj.reasons))
+    return Condition(name=f"{what}: proper rational kernels", passed=True, value=None,
+                     detail="every H_n bounded by the finite certified majorant (hence proper on "
                      "the frequency axis)")
 
 
@@ -95,8 +96,9 @@ def _stability_condition(model: Model) -> tuple[Condition, str]:
     kind = "|z| < 1" if model.is_discrete else "Re s < 0"
     values = [complex(p) for p in report.roots]
     if report.stable:
-        return Condition("linear part A_1 stable", True, values,
-                         f"all poles have {kind} (exact test on the coefficients as written)"), ""
+        return Condition(name="linear part A_1 stable", passed=True, value=values,
+                         detail=f"all poles have {kind} (exact test on the coefficients as "
+                                f"written)"), ""
     if report.outside:
         detail = ("pole outside the stability region (exact test): the equilibrium is "
                   "unstable (Lyapunov's indirect method); Theorem 1 is inapplicable")
@@ -104,7 +106,7 @@ def _stability_condition(model: Model) -> tuple[Condition, str]:
         detail = ("pole on the stability boundary at "
                   + format_roots(report.boundary, "z" if model.is_discrete else "s")
                   + " (exact test): Theorem 1 is inapplicable")
-    return Condition("linear part A_1 stable", False, values, detail), \
+    return Condition(name="linear part A_1 stable", passed=False, value=values, detail=detail), \
         "unstable" if report.outside else "inconclusive"
 
 
@@ -297,17 +299,17 @@ def theorem1(model: Model, order: int = 5, amplitude: float = 1.0,
 
 def _series_condition(name: str, rad: Radius, amplitude: float, exact: bool,
                       est: str = "") -> Condition:
-    label = _label(rad.proof) if exact else "not certified"
+    label = proof_word(rad.proof) if exact else "not certified"
     if amplitude < rad.certified_below:
-        return Condition(name, True if exact else None, rad.value,
-                         f"majorant converges for r < r* = {rad.value:.6g} ({label}); "
+        return Condition(name=name, passed=True if exact else None, value=rad.value,
+                         detail=f"majorant converges for r < r* = {rad.value:.6g} ({label}); "
                          f"r = {amplitude:g} is inside{est}")
     if rad.value == 0.0:  # an infinite majorant entry: nothing certified, nothing refuted
-        return Condition(name, None, rad.value,
-                         f"not established: the majorant certifies no amplitude r > 0 "
+        return Condition(name=name, passed=None, value=rad.value,
+                         detail=f"not established: the majorant certifies no amplitude r > 0 "
                          f"(r* = 0: it has an infinite entry, see the H_n condition){est}")
-    return Condition(name, None, rad.value,
-                     f"not established: the majorant diverges for r >= r* = {rad.value:.6g} "
+    return Condition(name=name, passed=None, value=rad.value,
+                     detail=f"not established: the majorant diverges for r >= r* = {rad.value:.6g} "
                      f"({label}) and r = {amplitude:g} is outside{est}")
 
 
@@ -315,7 +317,7 @@ def _summary(result: str, theorem: int, rad: Radius, amplitude: float,
              conditions: tuple[Condition, ...], certified: bool) -> str:
     failed = [c.name for c in conditions if c.passed is False]
     open_ = [c.name for c in conditions if c.passed is None]
-    kind = _label(rad.proof) if certified else "estimated (not certified)"
+    kind = proof_word(rad.proof) if certified else "estimated (not certified)"
     text = (f"Theorem {theorem}: {result}. The {kind} norm series converges for every "
             f"input amplitude r < r* = {rad.value:.6g}; r = {amplitude:g} is "
             f"{'inside' if amplitude < rad.certified_below else 'outside'}.")

@@ -168,21 +168,24 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
     lam, rho1 = loop.controller_norm, loop.sensitivity_peak
     plant_proper = _proper_condition(plant, maj, "plant h_n")
     ctrl_ok = loop.controller_proper and math.isfinite(lam) and (cmaj is None or cmaj.finite)
-    c1 = Condition("plant h_n and controller s_n proper rational",
-                   False if not ctrl_ok or plant_proper.passed is False else plant_proper.passed,
-                   {"lambda_1": lam}, ("controller improper or unbounded: lambda_1 = "
-                                       f"{lam:g}; " if not ctrl_ok else "controller proper; ")
+    c1 = Condition(name="plant h_n and controller s_n proper rational",
+                   passed=(False if not ctrl_ok or plant_proper.passed is False
+                           else plant_proper.passed),
+                   value={"lambda_1": lam},
+                   detail=("controller improper or unbounded: lambda_1 = "
+                           f"{lam:g}; " if not ctrl_ok else "controller proper; ")
                    + plant_proper.detail)
-    c2 = Condition("linear closed loop L2 stable", loop.stable,
-                   [complex(p) for p in loop.poles],
-                   "characteristic polynomial " + _poly_text(loop.characteristic)
+    c2 = Condition(name="linear closed loop L2 stable", passed=loop.stable,
+                   value=[complex(p) for p in loop.poles],
+                   detail="characteristic polynomial " + _poly_text(loop.characteristic)
                    + ("" if loop.stable else "; " + "; ".join(loop.notes)))
     alpha = ([1.0] + [0.0] * (order - 1) if cmaj is None or not ctrl_ok else
              [float(m) / lam ** n for n, m in
               enumerate(cmaj.coefficients(order)[1:, 0], start=1)])
-    c3 = Condition("lambda_1 > 0 finite, lambda_n <= alpha_n lambda_1^n", ctrl_ok and lam > 0,
-                   {"lambda_1": lam, "alpha": alpha},
-                   "linear controller: lambda_n = alpha_n = 0 for n >= 2, phi_n = beta_n"
+    c3 = Condition(name="lambda_1 > 0 finite, lambda_n <= alpha_n lambda_1^n",
+                   passed=ctrl_ok and lam > 0,
+                   value={"lambda_1": lam, "alpha": alpha},
+                   detail="linear controller: lambda_n = alpha_n = 0 for n >= 2, phi_n = beta_n"
                    if cmaj is None else "alpha_n = M^c_n / lambda_1^n from the controller's "
                    "certified majorant M^c_n >= lambda_n")
     plant_rad = plant_radius(maj)
@@ -194,25 +197,25 @@ def theorem2(model_file: ModelFile, order: int = 5, amplitude: float = 1.0,
     if ctrl_ok:
         c_at_1 = lam_up if cmaj is None else _controller_output(cmaj)
         phi_ok = c_at_1 < plant_rad.certified_below
-        c4 = Condition("sum phi_m lambda_1^m converges", phi_ok if exact else None,
-                       {"controller_majorant_at_1": c_at_1, "plant_radius": plant_rad.value},
-                       f"the series is the plant majorant at amplitude C(1) = {c_at_1:.6g} "
+        c4 = Condition(name="sum phi_m lambda_1^m converges", passed=phi_ok if exact else None,
+                       value={"controller_majorant_at_1": c_at_1, "plant_radius": plant_rad.value},
+                       detail=f"the series is the plant majorant at amplitude C(1) = {c_at_1:.6g} "
                        f"(C = controller majorant; lambda_1 for a linear controller), "
                        f"plant radius {plant_rad.value:.6g} (units of the plant input u)")
         rad = _loop_radius(maj, lam_up, rho1_up, cmaj)
     else:
-        c4 = Condition("sum phi_m lambda_1^m converges", False, {"lambda_1": lam},
-                       "lambda_1 = inf: the series diverges from its second term")
+        c4 = Condition(name="sum phi_m lambda_1^m converges", passed=False, value={"lambda_1": lam},
+                       detail="lambda_1 = inf: the series diverges from its second term")
         rad = Radius(0.0, 0.0, None, proof=proof)  # r* = 0: a trivially valid lower end
     c5 = _series_condition("sum theta_n rho_1^n r^n converges", rad, amplitude, exact)
     literal = _literal_rho(loop)
-    c5 = Condition(c5.name, c5.passed if ctrl_ok else False,
-                   {"rho_1": rho1, "rho_1_literal": literal, "radius": rad.value},
-                   f"rho_1 = sup|(1 + h1 s1)^-1| = {rho1:.6g} at w = "
+    c5 = Condition(name=c5.name, passed=c5.passed if ctrl_ok else False,
+                   value={"rho_1": rho1, "rho_1_literal": literal, "radius": rad.value},
+                   detail=f"rho_1 = sup|(1 + h1 s1)^-1| = {rho1:.6g} at w = "
                    f"{loop.sensitivity_peak_omega:.4g} rad/s (the literal sup|(1 + h1) s1| "
                    f"= {literal:.4g}); " + c5.detail)
-    c6 = Condition("reference spectrum absolutely integrable", True, None,
-                   "hypothesis on the input, assumed; its size is the amplitude r")
+    c6 = Condition(name="reference spectrum absolutely integrable", passed=True, value=None,
+                   detail="hypothesis on the input, assumed; its size is the amplitude r")
     if ctrl_ok:
         phi = phi_series([row["majorant"] for row in rows], alpha, order)
         theta = theta_series(phi, lam, rho1, order)
@@ -348,7 +351,8 @@ def _loop_radius(maj: Majorant, lam: float, rho1: float,
         proof = "none"
     elif levels == {"interval"} and rad.solution is not None and 0 < rad.certified_below < math.inf:
         for z in _slack_candidates(step, rad.solution, rad.certified_below):
-            if _loop_proves(work, lam, rho1, cmaj, z, rad.certified_below, factor):
+            if _loop_proves(work, lam, rho1=rho1, cmaj=cmaj, z=z, r=rad.certified_below,
+                            factor=factor):
                 proof = "interval"
                 break
     solution = None

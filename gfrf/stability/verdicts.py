@@ -31,7 +31,7 @@ from gfrf.bounds.norms import Bound
 __all__ = ["Condition", "Verdict"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Condition(Result):
     """One hypothesis of a theorem: ``passed`` True, False, or None (not established)."""
 
@@ -41,7 +41,7 @@ class Condition(Result):
     detail: str
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Verdict(Result):
     """Outcome of Theorem 1 or 2 for one model and input amplitude.
 
@@ -129,7 +129,7 @@ class Verdict(Result):
         """What r* is, in words: its proof level, and for an unstable linear part that it
         bounds the series of L-infinity norms on the frequency axis (not H-infinity
         norms: ``gfrf norm`` says the same), so it is no stability radius."""
-        level = _label(self.radius_proof) if self.radius_certified else "estimate"
+        level = proof_word(self.radius_proof) if self.radius_certified else "estimate"
         if self.linear_stable is False:
             return (f"{level} for the series of L-infinity norms on the axis, not H-infinity: "
                     f"the linear part is unstable, so r* is no stability radius")
@@ -163,8 +163,3 @@ class Verdict(Result):
 
 
 _SERIES = {1: "norm series sum ||H_n|| r^n", 2: "loop series sum theta_n rho_1^n r^n"}
-
-
-def _label(proof: str) -> str:
-    """How a number at a level of proof is called in text."""
-    return proof_word(proof)

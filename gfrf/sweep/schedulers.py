@@ -25,6 +25,15 @@ class InlineExecutor(Executor):
     """Runs each task at submission, in this process: the set-up-free default."""
 
     def submit(self, fn: Any, /, *args: Any, **kwargs: Any) -> Future:
+        """Run ``fn(*args, **kwargs)`` now; its result or exception in a done future.
+
+        Parameters
+        ----------
+        fn : callable
+            The task.
+        *args, **kwargs
+            Its arguments.
+        """
         future: Future = Future()
         try:
             future.set_result(fn(*args, **kwargs))

@@ -186,13 +186,13 @@ def lower_side(mf: ModelFile, theorem_certificate: Certificate) -> LowerSide:
                       + f"; {sos.solves} SDPs (Clarabel), identity and Gram matrices "
                       "re-checked in exact rational arithmetic")
             files[SOS_METHOD] = sos.certificate
-            certs.append(Certificate(SOS_METHOD, sos.radius, "exact",
-                                     linf if sos.radius != float("inf") else
+            certs.append(Certificate(method=SOS_METHOD, radius=sos.radius, proof="exact",
+                                     input_class=linf if sos.radius != float("inf") else
                                      "every bounded input (L-infinity, any size)",
-                                     detail, sos.property))
+                                     detail=detail, property=sos.property))
         else:
-            certs.append(Certificate(SOS_METHOD, 0.0, "none", linf,
-                                     "not applicable: " + why_not))
+            certs.append(Certificate(method=SOS_METHOD, radius=0.0, proof="none", input_class=linf,
+                                     detail="not applicable: " + why_not))
     proven = [c for c in certs[1:] if c.proof in _LINF_PROOFS and c.radius > 0]
     best = max(proven, key=lambda c: c.radius, default=None)
     return LowerSide(certificates=tuple(certs), best=best, sos=sos, files=files)
@@ -217,8 +217,8 @@ def _implicit_lower(mf: ModelFile, theorem_certificate: Certificate) -> LowerSid
     cap = _static_cap(form)
     cert, work = region_certificate(form, cap) if cap is not None else (None, 0)
     if cert is None:
-        c = Certificate(REGION_METHOD, 0.0, "none", linf,
-                        f"not applicable: no polygon passed the exact check ({work} built)")
+        c = Certificate(method=REGION_METHOD, radius=0.0, proof="none", input_class=linf,
+                        detail=f"not applicable: no polygon passed the exact check ({work} built)")
         return LowerSide(certificates=(theorem_certificate, c), best=None,
                          input_class=linf, implicit=form)
     from fractions import Fraction
@@ -234,8 +234,9 @@ def _implicit_lower(mf: ModelFile, theorem_certificate: Certificate) -> LowerSid
               f" and |D| stays above {cert.get('level', 0)} |D(0)| on it ({work} polygons "
               "built; edges, simplicity "
               "and D re-checked in exact rational arithmetic)")
-    c = Certificate(REGION_METHOD, radius, "exact", linf, detail,
-                    "bounded: every solution from rest stays in the invariant polygon "
+    c = Certificate(method=REGION_METHOD, radius=radius, proof="exact", input_class=linf,
+                    detail=detail,
+                    property="bounded: every solution from rest stays in the invariant polygon "
                     "(not: returns to the equilibrium)")
     return LowerSide(certificates=(theorem_certificate, c), best=c,
                      files={REGION_METHOD: cert}, input_class=linf, implicit=form)

@@ -46,36 +46,36 @@ def narx_lower(system: PolySystem, input_class: str
 
     res = box_certificate(system)
     if res is None:
-        box = Certificate(BOX_METHOD, 0.0, "none", input_class,
-                          "not found: the box iteration escapes for every U tried")
+        box = Certificate(method=BOX_METHOD, radius=0.0, proof="none", input_class=input_class,
+                          detail="not found: the box iteration escapes for every U tried")
     else:
         c = res.certificate
         coords = "; ".join(f"s{i} in [{lo}, {hi}]"
                            for i, (lo, hi) in enumerate(zip(c["lo"], c["hi"], strict=True)))
         box = Certificate(
-            BOX_METHOD, res.radius, "exact", input_class,
-            f"{system.map_text()}; coordinates s = T(x) with an exact inverse; box {coords} "
+            method=BOX_METHOD, radius=res.radius, proof="exact", input_class=input_class,
+            detail=f"{system.map_text()}; coordinates s = T(x) with an exact inverse; box {coords} "
             f"maps into itself for every |u| <= {c['U']} (image enclosed on "
             f"{'x'.join(map(str, c['splits']))} cells in exact rational arithmetic); "
             + (f"every output stays within |y| <= {res.bound:.6g}; "
                if res.bound < float("inf") else "")
             + f"{res.work} box iterations",
-            _PROPERTY)
+            property=_PROPERTY)
     files = {} if res is None else {BOX_METHOD: res.certificate}
     if res is not None and res.radius == float("inf"):
-        return (Certificate(BOX_METHOD, res.radius, "exact",
-                            "every bounded input (L-infinity, any size)",
-                            box.detail + "; the recursion is linear, so the box scaled by t "
-                            "is invariant for every t * U", _PROPERTY),), files
+        return (Certificate(method=BOX_METHOD, radius=res.radius, proof="exact",
+                            input_class="every bounded input (L-infinity, any size)",
+                            detail=box.detail + "; the recursion is linear, so the box scaled by t "
+                            "is invariant for every t * U", property=_PROPERTY),), files
     pav = paving_certificate(system, res.radius if res is not None else 0.0)
     if pav is None:
         return (box,), files
     p = pav.certificate
     files[PAVING_METHOD] = p
     return (box, Certificate(
-        PAVING_METHOD, pav.radius, "exact", input_class,
-        f"{system.map_text()}; {pav.cells} cells of a {p['N']}-per-lag grid of the output "
+        method=PAVING_METHOD, radius=pav.radius, proof="exact", input_class=input_class,
+        detail=f"{system.map_text()}; {pav.cells} cells of a {p['N']}-per-lag grid of the output "
         f"coordinates times [-U, U] for the lagged inputs; the image of every cell for "
         f"every |u| <= {p['U']} is enclosed in exact rational arithmetic and covered by "
         f"cells of the paving; every output stays within |y| <= {pav.bound:.6g}",
-        _PROPERTY)), files
+        property=_PROPERTY)), files

@@ -158,8 +158,9 @@ class EscapeRunner:
         assert self.module is not None  # callers run the fast path only where it compiled
         z0 = np.zeros(self.system.n_states)
         with np.errstate(all="ignore"):
-            Z, _, _, done = _rk4(self.module, z0, np.array([steps], dtype=np.int64),
-                                 np.array([h]), V, V[-1:].copy(), steps, float(self.levels[0]))
+            Z, _, _, done = _rk4(self.module, z0, seg_n=np.array([steps], dtype=np.int64),
+                                 seg_h=np.array([h]), V=V, VL=V[-1:].copy(), steps=steps,
+                                 blowup=float(self.levels[0]))
         return self._escaped_states(Z[:done + 1], region)
 
     @property
@@ -244,9 +245,10 @@ class EscapeRunner:
 
             return run_signs(self.system, c, amplitude, self.samples, float(self.levels[0]))
         region = self.region(amplitude)
-        return run_switching(self.bang, self.system.n_states, c, amplitude, first_sign,  # type: ignore[arg-type]
-                             self.h, self.steps, self.levels,
-                             region.flags() if region is not None else (0.0, 0.0, 0.0))
+        return run_switching(self.bang, self.system.n_states, c=c,  # type: ignore[arg-type]
+                             amplitude=amplitude, first_sign=first_sign, h=self.h,
+                             steps=self.steps, level=self.levels,
+                             region=region.flags() if region is not None else (0.0, 0.0, 0.0))
 
     def _simulate(self, tones: list[Tone], rtol: float, region: EscapeRegion | None
                   ) -> float | None:
@@ -325,8 +327,9 @@ class EscapeRunner:
                                 float(self.levels[0]))
         region = self.region(amplitude)
         self.runs += len(CHECK_RTOLS)
-        return self._agreeing([replay(self.system, amplitude, first_sign, times, self.t_end,
-                                      self.levels, rtol, region) for rtol in CHECK_RTOLS])
+        return self._agreeing([replay(self.system, amplitude, first_sign=first_sign,
+                                      switch_times=times, t_end=self.t_end, level=self.levels,
+                                      rtol=rtol, region=region) for rtol in CHECK_RTOLS])
 
     @staticmethod
     def _agreeing(times: list[float | None]) -> float | None:

@@ -45,28 +45,24 @@ _LOWER_PROOF = {"exact": "interval", "interval": "interval", "float": "float"}
 #: The amplitude series conditions of Theorems 1 and 2 (r* is their radius).
 _SERIES_CONDITIONS = ("norm series sum ||H_n|| r^n converges",
                       "sum theta_n rho_1^n r^n converges")
-#: ``upper_method`` per witness kind.
+#: ``upper_method`` per witness kind of an open-loop model (the witness is the input u).
 UPPER_METHOD = {
     "switching": "falsifier: switching input u = +-U (sup|u| = U) from rest escapes",
     "chirp": "falsifier: chirp A cos(w0 t + k t^2) (sup|u| = A) from rest escapes",
     "tones": "falsifier: sum of tones switched on at t = 0 from rest escapes "
-             "(amplitude = sum of tone amplitudes)",
+             "(amplitude = sum of tone amplitudes)"}
+#: ``upper_method`` per witness kind of a loop u = C(r - y) (the witness is the reference
+#: r; ``implicit``: the plant-input signal d = C r of a loop with an improper controller).
+LOOP_UPPER_METHOD = {
+    "switching": "falsifier: switching reference r = +-U (sup|r| = U) from rest escapes",
+    "chirp": "falsifier: chirp A cos(w0 t + k t^2) (sup|r| = A) from rest escapes",
+    "tones": UPPER_METHOD["tones"],
     "implicit": "falsifier: switching plant-input signal d = +-U (sup|d| = U; d = C r) from "
                 "rest reaches the loop's breakdown level |D(y)| <= 1e-6 |D(0)|, where "
                 "y'' = -R/D is 1e6 times its scale"}
 
 
-def _upper_method(kind: str | None, closed: bool) -> str | None:
-    """:data:`UPPER_METHOD` of a witness kind; in a closed loop the input is the
-    reference r."""
-    method = UPPER_METHOD.get(kind or "")
-    if method is not None and closed:
-        method = method.replace("input u = +-U (sup|u| = U)", "reference r = +-U (sup|r| = U)"
-                                ).replace("(sup|u| = A)", "(sup|r| = A)")
-    return method
-
-
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Threshold:
     """Result of :func:`threshold` (the ``--json`` of ``gfrf threshold``: :meth:`to_dict`).
 
@@ -349,13 +345,13 @@ def threshold(model: ModelFile | Model, *, order: int = 5, prove: bool = True,
     # part, proper kernels, ...): a failed or open one leaves radius 0
     other = [c for c in v.conditions if c.name not in _SERIES_CONDITIONS]
     holds = all(c.passed is True for c in other)
-    theorem_cert = Certificate(f"theorem {v.theorem} (norm series radius r*)",
-                               float(v.radius) if holds else 0.0,
-                               v.radius_proof if v.radius_certified else "none",
-                               THEOREM_CLASS[v.theorem],
-                               "" if holds else "not applicable: " + "; ".join(
+    theorem_cert = Certificate(method=f"theorem {v.theorem} (norm series radius r*)",
+                               radius=float(v.radius) if holds else 0.0,
+                               proof=v.radius_proof if v.radius_certified else "none",
+                               input_class=THEOREM_CLASS[v.theorem],
+                               detail="" if holds else "not applicable: " + "; ".join(
                                    c.name for c in other if c.passed is not True),
-                               "the Volterra series converges (bounded, returns to the "
+                               property="the Volterra series converges (bounded, returns to the "
                                "equilibrium with the input)")
     side = lower_side(mf, theorem_cert)
     certs = list(side.certificates)
@@ -394,6 +390,7 @@ def threshold(model: ModelFile | Model, *, order: int = 5, prove: bool = True,
             from gfrf.twosided.enclose import enclose_witness
 
             enclosure = enclose_witness(mf if closed else mf.plant, falsification)
+    methods = LOOP_UPPER_METHOD if closed else UPPER_METHOD
     return Threshold(
         name=getattr(mf, "name", "") or "", lower=lower,
         lower_method=best.method if best else "none",
@@ -401,8 +398,8 @@ def threshold(model: ModelFile | Model, *, order: int = 5, prove: bool = True,
         upper_method=(None if upper is None
                       else "unstable equilibrium (exact pole location)"
                       if side.unstable is not None
-                      else UPPER_METHOD["implicit"] if d_witness is not None
-                      else _upper_method(falsification.kind, closed)
+                      else LOOP_UPPER_METHOD["implicit"] if d_witness is not None
+                      else methods.get(falsification.kind or "")
                       if falsification is not None else None),
         certificates=tuple(certs), falsification=falsification, enclosure=enclosure,
         static_bound=static_bound, theorem=v.theorem,

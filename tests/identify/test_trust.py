@@ -93,7 +93,7 @@ def test_noise_floor_from_repeated_periods_is_the_added_noise():
     noisy = y + sd * rng.standard_normal(y.size)
     assert input_period(u) == period
     n_train = int(0.75 * y.size)
-    floor, method = noise_floor(noisy, u, n_train, 2, [], [], 2)
+    floor, method = noise_floor(noisy, u, n_train, 2, [], [])
     truth = sd / np.std(noisy[n_train + 2:])
     assert method == "periods" and floor == pytest.approx(truth, rel=0.1)
 
@@ -108,7 +108,7 @@ def test_noise_floor_of_a_rich_predictor_is_near_the_output_noise():
         n_train = 3000
         truth = level * np.std(_narx(u)) / np.std(y[n_train + 2:])
         keys = candidate_keys(2, 2, 3)
-        floor, method = noise_floor(y, u, n_train, 2, keys, keys, 2)
+        floor, method = noise_floor(y, u, n_train, 2, keys, keys)
         assert method == "rich model" and 0.9 * truth < floor < 1.25 * truth
 
 

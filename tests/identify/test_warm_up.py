@@ -56,6 +56,6 @@ def test_the_noise_floor_of_a_lightly_damped_system_is_near_its_output_noise():
     u, x, white = _oscillator_samples(4000, 3)
     y = x + 0.05 * np.std(x) * white
     keys = candidate_keys(2, 2, 3)
-    floor, method = noise_floor(y, u, 3000, 2, keys, keys, 2)
+    floor, method = noise_floor(y, u, 3000, 2, keys, keys)
     truth = 0.05 * np.std(x) / np.std(y[3002:])
     assert method == "rich model" and 0.9 * truth < floor < 1.15 * truth

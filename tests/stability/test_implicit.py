@@ -81,7 +81,7 @@ def test_a_controller_with_dynamics_has_no_implicit_form() -> None:
     from gfrf.model.equation import parse_model
     from gfrf.model.modelfile import Controller, ModelFile
 
-    mf = ModelFile(parse_model("D(y,2) + y + y**2*D(y,2) = u"),
+    mf = ModelFile(plant=parse_model("D(y,2) + y + y**2*D(y,2) = u"),
                    controller=Controller(num=(1.0, 1.0), den=(1.0, 2.0)))
     with pytest.raises(StateFormError, match="dynamics"):
         implicit_form(mf)

@@ -155,7 +155,7 @@ def test_pi_loop_gets_a_finite_proven_lower() -> None:
     import gfrf
     from gfrf.model.modelfile import Controller, ModelFile
 
-    mf = ModelFile(parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"),
+    mf = ModelFile(plant=parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"),
                    controller=Controller(num=(0.5, 0.2), den=(1.0, 0.0)))
     t = gfrf.threshold(mf)
     assert 0 < t.lower < math.inf and t.lower_proof == "interval"

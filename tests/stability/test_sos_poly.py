@@ -149,7 +149,7 @@ def test_pi_loop_references_below_lower_stay_in_the_set() -> None:
     states y, y', the integral of r - y)."""
     from gfrf.model.modelfile import Controller, ModelFile
 
-    mf = ModelFile(parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"),
+    mf = ModelFile(plant=parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u"),
                    controller=Controller(num=(0.5, 0.2), den=(1.0, 0.0)))
     system = state_form(mf)
     res, _ = sos_certificate(system)

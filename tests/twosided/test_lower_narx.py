@@ -17,7 +17,8 @@ from gfrf.twosided.lower_narx import BOX_METHOD
 def test_narx_example_lower_is_the_exactly_checked_box_above_the_series_radius():
     # Theorem 1's r* of y[k] = 0.5y[k-1] - 0.2y[k-1]^2 u[k-2] + u[k-1] is sqrt(5)/4
     mf = resolve_model(MODELS / "narx_example.toml")
-    side = lower_side(mf, Certificate("theorem 1", 5**0.5 / 4, "interval", "tones"))
+    side = lower_side(mf, Certificate(method="theorem 1", radius=5**0.5 / 4, proof="interval",
+                                      input_class="tones"))
     assert side.best is not None and side.best.method == BOX_METHOD
     assert side.best.proof == "exact" and side.best.radius > 2.5 * 5**0.5 / 4
     # the falsifier's escape of this model is at 1.7109: the proof must stay below it

@@ -298,3 +298,15 @@ def test_threshold_is_answered_only_with_a_proven_lower_side(
                   upper=upper, upper_method=None if upper is None else "w", certificates=(),
                   unstable=unstable)
     assert t.answered is answered and t.to_dict()["answered"] is answered
+
+
+def test_a_loop_witness_method_names_the_reference_an_open_loop_the_input() -> None:
+    """The falsifier switches the input u of an open loop and the reference r of a loop
+    u = C(r - y): every witness kind has both texts, the same but for that signal."""
+    from gfrf.twosided.threshold import LOOP_UPPER_METHOD, UPPER_METHOD
+
+    assert set(UPPER_METHOD) <= set(LOOP_UPPER_METHOD)
+    for kind, text in UPPER_METHOD.items():
+        loop = LOOP_UPPER_METHOD[kind]
+        assert "input u" not in loop and "sup|u|" not in loop
+        assert loop.replace("reference r", "input u").replace("sup|r|", "sup|u|") == text
