@@ -30,13 +30,15 @@ from __future__ import annotations
 import math
 import re
 import sys
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+from fractions import Fraction
 from typing import Any
 
 import sympy as sp
 
 from gfrf._results import Result
 from gfrf.errors import ModelError
+from gfrf.model.exact import Written, as_fraction, coefficient_bounds, exact_value, float_as_written
 from gfrf.model.expr import MODEL_FUNCTIONS, UnknownNames, check_name, parse_expression
 from gfrf.model.limits import MAX_DEGREE, MAX_TEXT_LENGTH, Parsed, quote
 
@@ -64,7 +66,15 @@ class Term:
     u_orders : tuple of int
         Derivative orders or lags of the input factors, sorted.
     coefficient : float
-        The real coefficient.
+        The real coefficient (a double: estimates, kernels and simulation use it).
+    output, input : str
+        Names of the output and input signals.
+    discrete : bool
+        True for a NARX term (lags instead of derivatives).
+    written : Written, optional
+        The exact value of the coefficient as written in the model text (see
+        :mod:`gfrf.model.exact`); the proofs read it through :attr:`exact` and
+        :meth:`bounds`.
     """
 
     y_orders: tuple[int, ...]
@@ -73,6 +83,18 @@ class Term:
     output: str = field(default="y", compare=False)
     input: str = field(default="u", compare=False)
     discrete: bool = field(default=False, compare=False)
+    written: Written | None = field(default=None, compare=False, repr=False)
+
+    @property
+    def exact(self) -> Fraction | None:
+        """The exact rational coefficient of the model as written (the double's own value
+        for a coefficient that never was text); None when the written value is irrational."""
+        return exact_value(self.coefficient, self.written)
+
+    def bounds(self) -> tuple[Fraction, Fraction]:
+        """Rational ``(lo, hi)`` containing the coefficient as written (equal when it is
+        rational; see :func:`gfrf.model.exact.coefficient_bounds`)."""
+        return coefficient_bounds(self.coefficient, self.written)
 
     @property
     def degree(self) -> int:
@@ -290,7 +312,8 @@ def _truncate(expr: sp.Expr, atoms: list[sp.Symbol], order: int) -> sp.Expr:
 
 
 def _signal_expression(text: str, local: dict[str, sp.Expr | Parsed], output: str, input_: str,
-                       discrete: bool) -> tuple[sp.Expr, list[sp.Symbol], bool]:
+                       discrete: bool, exact: bool = False
+                       ) -> tuple[sp.Expr, list[sp.Symbol], bool]:
     """Left-hand side minus right-hand side in the atom symbols, the atoms present, and
     whether a signal sits inside a function or a denominator (truncation needed)."""
     lhs_text, rhs_text = _split_equation(text)
@@ -298,7 +321,7 @@ def _signal_expression(text: str, local: dict[str, sp.Expr | Parsed], output: st
                                           input_: _atom(input_, 0)}
     grammar: dict[str, Any] = {
         "names": names, "variables": (names[output], names[input_]),
-        "signals": (output, input_), "max_order": MAX_DERIVATIVE_ORDER,
+        "signals": (output, input_), "max_order": MAX_DERIVATIVE_ORDER, "exact": exact,
         "hints": {"t": "the equation depends explicitly on time t: only time-invariant "
                        "models have GFRFs"},
         ("lag" if discrete else "derivative"): _atom}
@@ -374,7 +397,8 @@ class ModelTypeError(ModelError, TypeError):
 
 def parse_model(text: str, *, sample_time: float | None = None, truncation: int | None = None,
                 parameters: dict[str, float] | None = None, output: str = "y",
-                input: str = "u") -> Model:
+                input: str = "u", exact_parameters: dict[str, sp.Expr] | None = None,
+                exact: bool = True) -> Model:
     """Parse a polynomial ODE (or NARX) equation into a :class:`Model`.
 
     Parameters
@@ -391,6 +415,14 @@ def parse_model(text: str, *, sample_time: float | None = None, truncation: int 
         Values of named constants used in the text (e.g. ``{"rho": 0.8}``).
     output, input : str
         Names of the output and input signals (default ``y`` and ``u``).
+    exact_parameters : dict, optional
+        The exact sympy values of the ``parameters`` as written (a model file's
+        ``"2.45/6"`` is 49/120); by default each float is read as its shortest decimal
+        (:func:`gfrf.model.exact.float_as_written`).
+    exact : bool
+        Also read the text with its decimals as exact rationals and record every
+        coefficient's exact value in :attr:`Term.written` (the proofs use it); False
+        skips that second reading (a text kept only for simulation).
 
     Returns
     -------
@@ -459,8 +491,47 @@ def parse_model(text: str, *, sample_time: float | None = None, truncation: int 
     elif truncation is not None:
         polynomial = _truncate(expr, atoms, truncation)
     terms = _collect_terms(polynomial, atoms, output, input, discrete, text)
+    if exact:
+        if exact_parameters is None:
+            exact_parameters = {k: sp.Rational(float_as_written(v)) for k, v in local.items()}
+        terms = _with_written(terms, text, exact_parameters, output, input, discrete, truncation)
     return Model(terms=terms, sample_time=sample_time, output=output, input=input,
                  text=text, truncation=truncation, physical=physical)
+
+
+def _with_written(terms: tuple[Term, ...], text: str, exact_parameters: dict[str, sp.Expr],
+                  output: str, input_: str, discrete: bool, truncation: int | None
+                  ) -> tuple[Term, ...]:
+    """``terms`` with the exact value of every coefficient as written (decimals read as
+    rationals); a monomial whose written coefficient is not zero but whose double is gets
+    a term of its own, and a text whose exact reading exceeds a limit gets no rational
+    values (the proofs then refuse, as for an irrational coefficient)."""
+    try:
+        expr, atoms, _ = _signal_expression(text, dict(exact_parameters), output, input_,
+                                            discrete, exact=True)
+        polynomial = _truncate(expr, atoms, truncation) if truncation else sp.expand(expr)
+        exact = {_monomial_orders(m, atoms, output): c
+                 for m, c in sp.Poly(polynomial, *atoms).terms()}
+    except ModelError:
+        return tuple(replace(t, written=Written(t.coefficient, None)) for t in terms)
+    if exact.get(((), ()), 0) != 0:
+        raise ModelError(f"the equation {quote(text)} as written has a constant term: "
+                         f"y = u = 0 must be an equilibrium")
+    out = []
+    for t in terms:
+        value = exact.pop((t.y_orders, t.u_orders), sp.Integer(0))
+        out.append(replace(t, written=Written(t.coefficient, as_fraction(value))))
+    for (y_orders, u_orders), value in exact.items():
+        if value == 0 or not y_orders + u_orders:
+            continue
+        double = float(value)
+        if not math.isfinite(double) or double == 0.0:
+            raise ModelError(f"the coefficient {value} of the equation {quote(text)} as "
+                             f"written has no double")
+        out.append(Term(y_orders=y_orders, u_orders=u_orders, coefficient=double,
+                        output=output, input=input_, discrete=discrete,
+                        written=Written(double, as_fraction(value))))
+    return tuple(sorted(out))
 
 
 def _check_truncation_work(expr: sp.Expr, atoms: list[sp.Symbol], truncation: int,

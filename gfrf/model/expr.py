@@ -147,7 +147,7 @@ def parse_expression(text: str, *, names: Mapping[str, sp.Expr | Parsed] | None 
                      lag: Callable[[str, int], sp.Expr] | None = None,
                      max_order: int = 20,
                      hints: Mapping[str, str] | None = None,
-                     series: bool = True) -> Parsed:
+                     series: bool = True, exact: bool = False) -> Parsed:
     """Parse ``text`` of the gfrf expression language into a sympy expression.
 
     Parameters
@@ -179,6 +179,11 @@ def parse_expression(text: str, *, names: Mapping[str, sp.Expr | Parsed] | None 
         :data:`~gfrf.model.limits.MAX_FUNCTION_CALLS`, and ``log`` of a variable is
         refused (``exp(n*log(X))`` would be ``X**n``).  False for input signals u(t),
         which are only differentiated and evaluated.
+    exact : bool
+        Read decimal literals as the exact rationals they write (``0.2`` is 1/5, ``2.45/6``
+        is 49/120) instead of as doubles: the expression is then the model as written,
+        for the exact and ball-arithmetic proofs (the doubles stay the path of estimates
+        and simulation).
 
     Returns
     -------
@@ -199,7 +204,7 @@ def parse_expression(text: str, *, names: Mapping[str, sp.Expr | Parsed] | None 
                    functions=MODEL_FUNCTIONS if functions is None else functions,
                    variables=frozenset(variables), derivative=derivative, lag=lag,
                    signals=tuple(signals), max_order=max_order, hints=hints or {},
-                   series=series)
+                   series=series, exact=exact)
     ctx.tokens = _tokenize(ctx)
     _check_names(ctx)
     node = _expression(ctx)
@@ -385,7 +390,7 @@ def _number(ctx: _Context, value: str, column: int) -> _Node:
     number = float(value)
     if not math.isfinite(number):
         raise ctx.fail(f"the number {value} is not finite in double precision", column)
-    return _Node(sp.Float(number))
+    return _Node(sp.Rational(value) if ctx.exact else sp.Float(number))
 
 
 def _name(ctx: _Context, value: str) -> _Node:

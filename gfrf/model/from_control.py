@@ -4,6 +4,11 @@
 polynomial nonlinearity, either in a feedback loop (``y = G (u - f(y))``) or in series
 before it (``y = G f(u)``).  The transfer function's coefficients are numbers; the
 equation text is generated here from numbers only and read by :func:`parse_model`.
+The coefficients of a python-control object are doubles, and the model they define is
+the one with those doubles: its terms carry no written decimal values, so the exact and
+ball-arithmetic proofs take every coefficient at its binary value
+(:attr:`gfrf.model.equation.Term.exact`), unlike a model written as text, where ``0.2``
+is 1/5.
 
 :func:`from_nlsys` recovers the polynomial model of a continuous ``control.nlsys``
 about an equilibrium.  Its right-hand side is Python code: it is only *evaluated*
@@ -215,7 +220,7 @@ def from_tf(G: Any, nonlinearity: Mapping[int, float] | Sequence[float], *,
     if not rhs:
         raise ArgumentError("the model has no input term (a zero series nonlinearity)")
     text = f"{' + '.join(lhs)} = {' + '.join(rhs)}"
-    return parse_model(text, sample_time=dt)
+    return parse_model(text, sample_time=dt, exact=False)
 
 
 def _call(sys: Any, which: str, x: np.ndarray, u: np.ndarray, size: int) -> np.ndarray:
@@ -343,4 +348,4 @@ def from_nlsys(sys: Any, x0: Sequence[float] | float = 0.0, u0: float = 0.0, *,
              for c, m in zip(coef, monomials, strict=True) if m and abs(c) > 1e-11 * size]
     if not terms:
         raise ModelError("the recovered right-hand side is zero")
-    return parse_model(f"{_d('y', n, False)} + {' + '.join(terms)} = 0")
+    return parse_model(f"{_d('y', n, False)} + {' + '.join(terms)} = 0", exact=False)

@@ -127,6 +127,7 @@ class _Context:
     max_order: int
     hints: Mapping[str, str]
     series: bool = True
+    exact: bool = False
     tokens: list[tuple[str, str, int]] = field(default_factory=list)
     pos: int = 0
     depth: int = 0

@@ -35,8 +35,8 @@ import os
 import re
 import stat
 import tomllib
-from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
+from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
@@ -46,8 +46,10 @@ from gfrf._data import MODELS_DIR
 from gfrf._results import Result
 from gfrf.errors import ModelError
 from gfrf.model.equation import Model, parse_model
-from gfrf.model.expr import UnknownNames, check_name, parse_expression
+from gfrf.model.exact import as_fraction
 from gfrf.model.limits import quote
+from gfrf.model.numbers import MAX_PARAMETERS, exact_number, parse_number
+from gfrf.model.numbers import parameter_table as _parameters
 
 __all__ = ["Controller", "ModelFile", "load_model", "model_from_dict", "read_table",
            "MAX_FILE_BYTES", "MAX_PARAMETERS", "MAX_CONTROLLER_COEFFICIENTS", "parse_number",
@@ -55,8 +57,6 @@ __all__ = ["Controller", "ModelFile", "load_model", "model_from_dict", "read_tab
 
 #: Largest model file accepted, in bytes (checked before reading it).
 MAX_FILE_BYTES = 256 * 1024
-#: Most entries of a ``[parameters]`` table.
-MAX_PARAMETERS = 500
 #: Most entries of a controller's ``num`` or ``den``.
 MAX_CONTROLLER_COEFFICIENTS = 64
 
@@ -80,12 +80,15 @@ class Controller(Result):
         -1 for negative feedback ``u = C(r - y)`` (default), +1 for ``u = C(r + y)``.
     name, source, description : str
         Free text.
+    written : tuple, optional
+        ``(num, den, exact num, exact den)``: the doubles and the exact values written in
+        the model file (see :meth:`exact_tf`).
 
     :meth:`to_dict` gives ``model`` as its ``equation`` and leaves out ``description``
     (free prose).
     """
 
-    _exclude = ("model", "description")
+    _exclude = ("model", "description", "written")
     _order = ("name", "source", "feedback", "num", "den", "equation")
 
     num: tuple[float, ...] | None = None
@@ -95,11 +98,30 @@ class Controller(Result):
     name: str = ""
     source: str = ""
     description: str = ""
+    written: tuple[tuple[float, ...], tuple[float, ...], tuple[Fraction | None, ...],
+                   tuple[Fraction | None, ...]] | None = field(default=None, repr=False,
+                                                               compare=False)
 
     @property
     def is_linear(self) -> bool:
         """True for a transfer-function controller."""
         return self.model is None
+
+    def exact_tf(self) -> tuple[tuple[Fraction | None, ...], tuple[Fraction | None, ...]]:
+        """``num`` and ``den`` as the exact rationals written in the model file (None for
+        an irrational entry); the doubles' own values when they were not written as text
+        or were changed since (a python-control controller: its doubles are the model).
+
+        Returns
+        -------
+        tuple
+            ``(num, den)``, highest power first.
+        """
+        num, den = self.num or (), self.den or ()
+        w = self.written
+        if w is None or (w[0], w[1]) != (num, den):
+            return tuple(Fraction(c) for c in num), tuple(Fraction(c) for c in den)
+        return w[2], w[3]
 
     def _computed(self) -> dict[str, Any]:
         return {"num": list(self.num) if self.num else None,
@@ -236,75 +258,6 @@ def _read_regular(p: Path) -> bytes:
     return data
 
 
-def parse_number(value: Any, key: str, parameters: Mapping[str, float]) -> float:
-    """A finite number from a TOML value: a number, or an expression text such as
-    ``"1/(m*L**2)"`` in the named ``parameters`` (parsed by :mod:`gfrf.model.expr`, never
-    evaluated as code).
-
-    Parameters
-    ----------
-    value : object
-        The TOML value: an int, a float or an expression text.
-    key : str
-        The key it was read from, for the message.
-    parameters : mapping of str to float
-        The names an expression may use, with their values.
-
-    Returns
-    -------
-    float
-        The finite value.
-
-    Raises
-    ------
-    ModelError
-        Not a number, unknown names, a non-real or non-finite value; the message names
-        ``key``.
-    """
-    if isinstance(value, bool):
-        raise ModelError(f"{key}: expected a number, got {value!r}")
-    if isinstance(value, (int, float)):
-        try:
-            result = float(value)
-        except OverflowError:
-            raise ModelError(f"{key}: the integer is too large for a float") from None
-    elif isinstance(value, str):
-        names = {k: sp.Float(v) for k, v in parameters.items()}
-        try:
-            expr = parse_expression(value, names=names).expr
-        except UnknownNames as exc:
-            raise ModelError(f"{key}: {quote(value)} uses unknown symbol(s) "
-                             f"{', '.join(exc.names)}") from None
-        except ModelError as exc:
-            raise ModelError(f"{key}: {exc}") from None
-        if not expr.is_number or not expr.is_real:
-            raise ModelError(f"{key}: {quote(value)} is not a real number")
-        try:
-            result = float(expr)
-        except OverflowError:
-            result = math.inf
-    else:
-        raise ModelError(f"{key}: expected a number or an expression, got {value!r}")
-    if not math.isfinite(result):
-        raise ModelError(f"{key}: {quote(str(value))} is not finite")
-    return result
-
-
-def _parameters(table: Any, where: str) -> dict[str, float]:
-    if table is None:
-        return {}
-    if not isinstance(table, dict):
-        raise ModelError(f"{where} must be a table of name = number")
-    if len(table) > MAX_PARAMETERS:
-        raise ModelError(f"{where} has {len(table)} entries, more than the limit "
-                         f"MAX_PARAMETERS = {MAX_PARAMETERS}")
-    values: dict[str, float] = {}
-    for name, value in table.items():
-        check_name(name, f"{where}: parameter name")
-        values[name] = parse_number(value, f"{where}.{name}", values)
-    return values
-
-
 def _text(data: dict[str, Any], key: str, where: str = "") -> str:
     value = data.get(key, "")
     if not isinstance(value, str):
@@ -339,19 +292,22 @@ def model_from_dict(data: dict[str, Any], path: str = "") -> ModelFile:
         raise ModelError(f"kind must be 'ode' or 'parametric', got {kind!r}")
     if "equation" not in data:
         raise ModelError("missing key 'equation'")
-    parameters = _parameters(data.get("parameters"), "parameters")
+    exact: dict[str, sp.Expr] = {}
+    parameters = _parameters(data.get("parameters"), "parameters", exact)
     sample_time = data.get("sample_time")
     if sample_time is not None:
         sample_time = parse_number(sample_time, "sample_time", parameters)
     common = {"truncation": data.get("truncation"), "parameters": parameters,
               "output": data.get("output", "y"), "input": data.get("input", "u")}
-    plant = parse_model(_text(data, "equation"), sample_time=sample_time, **common)
+    plant = parse_model(_text(data, "equation"), sample_time=sample_time,
+                        exact_parameters=exact, **common)
     if "physical_equation" in data:
         # Only the untruncated expression is kept; the truncation merely validates it.
         physical = parse_model(_text(data, "physical_equation"), sample_time=sample_time,
+                               exact=False,
                                **{**common, "truncation": common["truncation"] or 3})
         plant = replace(plant, physical=physical.physical)
-    controller = _controller(data.get("controller"), parameters, plant)
+    controller = _controller(data.get("controller"), parameters, plant, exact)
     paper = data.get("paper", {})
     if not isinstance(paper, dict):
         raise ModelError("paper must be a table")
@@ -360,7 +316,8 @@ def model_from_dict(data: dict[str, Any], path: str = "") -> ModelFile:
                      path=path, parameters=parameters, controller=controller, paper=paper)
 
 
-def _controller(table: Any, parameters: dict[str, float], plant: Model) -> Controller | None:
+def _controller(table: Any, parameters: dict[str, float], plant: Model,
+                exact: dict[str, sp.Expr]) -> Controller | None:
     if table is None:
         return None
     if not isinstance(table, dict):
@@ -369,7 +326,9 @@ def _controller(table: Any, parameters: dict[str, float], plant: Model) -> Contr
     if unknown:
         raise ModelError(f"unknown controller key(s) {', '.join(map(repr, unknown))}; "
                          f"allowed: {', '.join(sorted(_CONTROLLER_KEYS))}")
-    values = {**parameters, **_parameters(table.get("parameters"), "controller.parameters")}
+    exact = dict(exact)
+    values = {**parameters, **_parameters(table.get("parameters"), "controller.parameters",
+                                          exact)}
     _check_timebase(table, values, plant)
     feedback = table.get("feedback", -1)
     if feedback not in (-1, 1) or isinstance(feedback, bool):
@@ -380,7 +339,7 @@ def _controller(table: Any, parameters: dict[str, float], plant: Model) -> Contr
         raise ModelError("controller needs either num/den (a transfer function) or an "
                          "equation, not both and not neither")
     if has_tf:
-        coefficients = {}
+        coefficients, written = {}, {}
         for key in ("num", "den"):
             entries = table.get(key, [1])
             if not isinstance(entries, list) or not entries:
@@ -391,12 +350,14 @@ def _controller(table: Any, parameters: dict[str, float], plant: Model) -> Contr
                                  f"{MAX_CONTROLLER_COEFFICIENTS}")
             coefficients[key] = tuple(parse_number(v, f"controller.{key}", values)
                                       for v in entries)
+            written[key] = tuple(as_fraction(exact_number(v, exact)) for v in entries)
         if not any(coefficients["den"]):
             raise ModelError("controller.den is zero")
         return Controller(num=coefficients["num"], den=coefficients["den"], feedback=feedback,
-                          **text)
+                          written=(coefficients["num"], coefficients["den"], written["num"],
+                                   written["den"]), **text)
     model = parse_model(table["equation"], sample_time=plant.sample_time, parameters=values,
-                        output=plant.input, input=plant.output)
+                        output=plant.input, input=plant.output, exact_parameters=exact)
     return Controller(model=model, feedback=feedback, **text)
 
 

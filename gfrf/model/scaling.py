@@ -32,7 +32,8 @@ import math
 from fractions import Fraction
 from functools import lru_cache
 
-from gfrf.model.equation import Model
+from gfrf.model.equation import Model, Term
+from gfrf.model.exact import Written
 
 __all__ = ["normalized", "scale_of", "amplitude_scaled"]
 
@@ -58,7 +59,6 @@ def scale_of(model: Model) -> float:
     return math.ldexp(1.0, exponent - 1)
 
 
-@lru_cache(maxsize=256)
 def normalized(model: Model) -> Model:
     """``model`` with every coefficient divided by :func:`scale_of` (exactly).
 
@@ -71,10 +71,17 @@ def normalized(model: Model) -> Model:
     Model
         The same object when the scale is 1.
     """
+    # memoised per model and its written values (terms compare by their doubles only)
+    return _normalized(model, tuple(t.written for t in model.terms))
+
+
+@lru_cache(maxsize=256)
+def _normalized(model: Model, written: tuple[Written | None, ...]) -> Model:
     scale = scale_of(model)
     if scale == 1.0:
         return model
-    terms = tuple(dataclasses.replace(t, coefficient=t.coefficient / scale) for t in model.terms)
+    factor = 1 / Fraction(scale)
+    terms = tuple(_rescaled(t, t.coefficient / scale, factor) for t in model.terms)
     physical = model.physical
     if physical is not None:
         import sympy as sp
@@ -109,5 +116,16 @@ def amplitude_scaled(model: Model, shift: int) -> Model | None:
         if t.coefficient != 0.0 and (not math.isfinite(c) or abs(c) < 2.0 ** -1000
                                      or math.ldexp(c, -shift * (t.degree - 1)) != t.coefficient):
             return None
-        terms.append(dataclasses.replace(t, coefficient=c))
+        terms.append(_rescaled(t, c, Fraction(2) ** (shift * (t.degree - 1))))
     return dataclasses.replace(model, terms=tuple(terms), physical=None)
+
+
+def _rescaled(term: Term, coefficient: float, factor: Fraction) -> Term:
+    """``term`` with the new double ``coefficient`` = its double times ``factor`` (a power
+    of two, exact) and its written exact value scaled alike."""
+    written = term.written
+    if written is None or written.of != term.coefficient:
+        return dataclasses.replace(term, coefficient=coefficient, written=None)
+    value = None if written.value is None else written.value * factor
+    return dataclasses.replace(term, coefficient=coefficient,
+                               written=Written(coefficient, value))

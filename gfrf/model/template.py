@@ -16,6 +16,9 @@ The instantiated plant (and polynomial controller) has ``physical = None``: it s
 the GFRF criteria and simulations of the polynomial model.  The one structure a
 template cannot cover, a ``sample_time`` that depends on a swept parameter, raises
 :class:`TemplateUnsupported`; :func:`rebuild` (a full parse per point) covers it.
+A grid point's coefficients are the doubles its formulas evaluate to: they carry no
+written decimal values (:attr:`gfrf.model.equation.Term.exact` is the double's own value),
+so a proof at a grid point is about the model with those doubles.
 
 Examples
 --------

@@ -91,7 +91,9 @@ def _structure(model: Model) -> tuple[Fraction, Fraction, dict[int, Fraction], F
     a2 = c = b = Fraction(0)
     g: dict[int, Fraction] = {}
     for term in model.terms:
-        q = Fraction(term.coefficient)  # the exact value of the double the model holds
+        q = term.exact  # the exact value as written (0.2 is 1/5)
+        if q is None:
+            return f"the coefficient of {term.monomial()} as written is not rational"
         ys, us = term.y_orders, term.u_orders
         if not us and ys == (2,):
             a2 += q

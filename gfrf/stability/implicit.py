@@ -35,6 +35,8 @@ from gfrf.stability.polysys import (
     Poly,
     PolySystem,
     StateFormError,
+    exact_coefficient,
+    exact_transfer_function,
     padd,
     pmul,
     pscale,
@@ -122,12 +124,12 @@ class ImplicitLoop:
         return list(x[1:]) + [-Rv / Dv]
 
 
-def _term_poly(coefficient: float, y_orders: tuple[int, ...], u_count: int, u_poly: Poly,
+def _term_poly(coefficient: Fraction, y_orders: tuple[int, ...], u_count: int, u_poly: Poly,
                nv: int) -> Poly:
     k = [0] * nv
     for o in y_orders:
         k[o] += 1
-    p: Poly = {tuple(k): Fraction(coefficient)}
+    p: Poly = {tuple(k): coefficient}
     for _ in range(u_count):
         p = pmul(p, u_poly)
     return p
@@ -165,13 +167,13 @@ def implicit_form(model: ModelFile | Model) -> ImplicitLoop:
     if ctrl is not None:
         if not ctrl.is_linear:
             raise StateFormError("a polynomial controller equation (only transfer functions)")
-        den = [Fraction(c) for c in ctrl.den or ()]
+        num, den = exact_transfer_function(ctrl)
         while len(den) > 1 and den[0] == 0:
             den = den[1:]
         if len(den) != 1 or den[0] == 0:
             raise StateFormError("the controller has dynamics of its own (a denominator "
                                  "of degree >= 1): use the polynomial state form")
-        num = [Fraction(c) / den[0] for c in ctrl.num or ()]
+        num = [c / den[0] for c in num]
         gains = list(reversed(num))  # c_0, c_1, .., c_q
         fb = Fraction(ctrl.feedback)
     for t in plant.terms:
@@ -188,7 +190,7 @@ def implicit_form(model: ModelFile | Model) -> ImplicitLoop:
     # u = d + fb * sum_j c_j y^(j)   (u = C(r + fb y), d = C r)
     u_poly = padd(d_var, *({tuple(int(i == j) for i in range(nv)): fb * c}
                            for j, c in enumerate(gains) if c))
-    total = padd(*(_term_poly(t.coefficient, t.y_orders, len(t.u_orders), u_poly, nv)
+    total = padd(*(_term_poly(exact_coefficient(t), t.y_orders, len(t.u_orders), u_poly, nv)
                    for t in plant.terms))
     top = m
     if any(k[top] > 1 for k in total):

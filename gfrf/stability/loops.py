@@ -219,6 +219,35 @@ def characteristic_exact(plant: tuple[np.ndarray, np.ndarray],
     return _trimmed([d - feedback * n for d, n in zip(den, num, strict=True)])
 
 
+def _written_den(plant: Model) -> list[Fraction] | None:
+    """A(s) of the plant with its coefficients as written (None: one is irrational)."""
+    from gfrf.stability.polysys import exact_linear_polynomials
+
+    written = exact_linear_polynomials(plant)
+    return None if written is None else written[1]
+
+
+def _written_characteristic(model_file: ModelFile, sign: int) -> list[Fraction] | None:
+    """chi of the loop with the coefficients as written (``0.2`` is 1/5), for the exact
+    stability decision; None when one is irrational or the controller is polynomial."""
+    from gfrf.stability.polysys import (
+        StateFormError,
+        exact_linear_polynomials,
+        exact_transfer_function,
+    )
+
+    plant = exact_linear_polynomials(model_file.plant)
+    ctrl = model_file.controller
+    if plant is None or ctrl is None or not ctrl.is_linear:
+        return None
+    try:
+        num, den = exact_transfer_function(ctrl)
+    except StateFormError:
+        return None
+    chi = characteristic_exact(plant, (num, den), sign)  # type: ignore[arg-type]
+    return None if chi == [0] else chi
+
+
 def characteristic(plant: tuple[np.ndarray, np.ndarray], ctrl: tuple[np.ndarray, np.ndarray],
                    feedback: int) -> np.ndarray:
     """chi = D_P D_C - feedback * N_P N_C, highest power first, leading zeros trimmed.
@@ -284,7 +313,9 @@ class ClosedLoop(Result):
     sensitivity_peak_upper, controller_norm_upper : float
         Proven upper ends of the enclosures of rho_1 and lambda_1.
     characteristic_exact : tuple of Fraction
-        chi in exact rationals (highest power first), what ``stable`` is decided on.
+        chi in exact rationals (highest power first) of the coefficients' doubles;
+        ``stable``, ``outside`` and ``plant_stable`` are decided on the coefficients as
+        written (``0.2`` is 1/5; :attr:`gfrf.model.equation.Term.exact`).
     proof : str
         Level of the sups rho_1 and lambda_1 (:func:`gfrf.bounds.rational.rational_sup`);
         stability is decided exactly at every level.
@@ -385,7 +416,7 @@ def closed_loop(model_file: ModelFile, feedback: int | None = None,
         raise ArgumentError("the closed-loop characteristic polynomial D_P D_C - f N_P N_C is "
                             "identically zero")
     chi = np.array([float(c) for c in chi_exact])
-    report = poles(chi_exact)
+    report = poles(_written_characteristic(model_file, sign) or chi_exact)
     sens_num = _polymul(fractions(plant_poly[1]), fractions(ctrl_poly[1]))
     peak = rational_sup(sens_num, chi_exact, proof)
     lam = rational_sup(*ctrl_poly, proof=proof)
@@ -411,7 +442,8 @@ def closed_loop(model_file: ModelFile, feedback: int | None = None,
                       sensitivity_peak_omega=peak.omega,
                       controller_norm=lam.value,
                       controller_proper=_degree(ctrl_poly[0]) <= _degree(ctrl_poly[1]),
-                      plant_stable=poles(plant_poly[1]).stable,
+                      plant_stable=poles(_written_den(model_file.plant)
+                                         or plant_poly[1]).stable,
                       feedback=sign,
                       notes=tuple(notes),
                       outside=report.outside,

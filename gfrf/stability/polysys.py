@@ -5,7 +5,9 @@ The certificate engine (:mod:`gfrf.stability.sos`) works on a state-space system
     continuous:  x' = f(x, v),        discrete:  x[k+1] = f(x[k], v[k]),
 
 with f a vector of polynomials in the state x (n components) and the bounded input v
-(the last variable), every coefficient the exact rational value of the model's double.
+(the last variable), every coefficient the exact rational value written in the model
+text (``0.2`` is 1/5: :attr:`gfrf.model.equation.Term.exact`; a model built from doubles,
+e.g. from python-control, is its doubles).
 :func:`state_form` builds it from
 
 * a continuous model ``a_n D(y,n) + (terms in y .. D(y,n-1), u) = 0``: the companion
@@ -27,10 +29,12 @@ from fractions import Fraction
 
 import numpy as np
 
-from gfrf.model.equation import Model
-from gfrf.model.modelfile import ModelFile, resolve_model
+from gfrf.model.equation import Model, Term
+from gfrf.model.modelfile import Controller, ModelFile, resolve_model
 
-__all__ = ["Poly", "PolySystem", "state_form", "padd", "pmul", "pscale", "pdiff", "pcompose",
+__all__ = ["Poly", "PolySystem", "state_form", "exact_coefficient", "exact_transfer_function",
+           "exact_linear_polynomials",
+           "padd", "pmul", "pscale", "pdiff", "pcompose",
            "peval", "pdegree", "linear_poly"]
 
 Poly = dict[tuple[int, ...], Fraction]
@@ -267,8 +271,93 @@ class StateFormError(ValueError):
     """The model has no polynomial state form the engine handles (the reason is the text)."""
 
 
-def _frac(x: float) -> Fraction:
-    return Fraction(x)
+def exact_coefficient(term: Term) -> Fraction:
+    """The exact rational coefficient of ``term`` as written in the model text.
+
+    Parameters
+    ----------
+    term : Term
+        A model term.
+
+    Returns
+    -------
+    Fraction
+        :attr:`gfrf.model.equation.Term.exact` (the double's own value for a coefficient
+        that never was text).
+
+    Raises
+    ------
+    StateFormError
+        The written coefficient is irrational (``pi``, ``sqrt(2)``): the exact engine
+        needs rationals.
+    """
+    value = term.exact
+    if value is None:
+        raise StateFormError(f"the coefficient of {term.monomial()} as written is not "
+                             f"rational (the exact engine needs rational coefficients)")
+    return value
+
+
+def exact_linear_polynomials(model: Model) -> tuple[list[Fraction], list[Fraction]] | None:
+    """``(num, den)`` of H1 = -B/A with the exact coefficients as written.
+
+    The order of :func:`gfrf.bounds.majorant.linear_polynomials` (highest power first for
+    a continuous model, lowest power of q first for NARX), not normalised.
+
+    Parameters
+    ----------
+    model : Model
+        The plant model.
+
+    Returns
+    -------
+    tuple of list of Fraction, or None
+        None when a linear coefficient as written is irrational.
+    """
+    a: dict[int, Fraction] = {}
+    b: dict[int, Fraction] = {}
+    for t in model.terms:
+        if t.is_linear_output:
+            part, k = a, t.y_orders[0]
+        elif not t.y_orders and len(t.u_orders) == 1:
+            part, k = b, t.u_orders[0]
+        else:
+            continue
+        value = t.exact
+        if value is None:
+            return None
+        part[k] = part.get(k, Fraction(0)) + value
+    den = [a.get(k, Fraction(0)) for k in range(max(a, default=0) + 1)]
+    num = [-b.get(k, Fraction(0)) for k in range(max(b, default=0) + 1)]
+    if model.is_discrete:
+        return num, den
+    return num[::-1], den[::-1]
+
+
+def exact_transfer_function(ctrl: Controller) -> tuple[list[Fraction], list[Fraction]]:
+    """The exact ``(num, den)`` of a transfer-function controller as written.
+
+    Parameters
+    ----------
+    ctrl : Controller
+        A linear controller (from a model file: its written decimals; from python-control:
+        its doubles, which are then the model).
+
+    Returns
+    -------
+    tuple of list of Fraction
+        Highest power first.
+
+    Raises
+    ------
+    StateFormError
+        An entry is irrational.
+    """
+    num, den = ctrl.exact_tf()
+    if any(c is None for c in (*num, *den)):
+        raise StateFormError("a controller coefficient as written is not rational (the "
+                             "exact engine needs rational coefficients)")
+    return list(num), list(den)  # type: ignore[arg-type]
 
 
 def _continuous(model: Model) -> tuple[list[Poly], list[str], int]:
@@ -285,14 +374,14 @@ def _continuous(model: Model) -> tuple[list[Poly], list[str], int]:
         if n in t.y_orders:
             if t.y_orders != (n,) or t.u_orders:
                 raise StateFormError(f"the highest derivative enters nonlinearly ({t.monomial()})")
-            lead += _frac(t.coefficient)
+            lead += exact_coefficient(t)
             continue
         k = [0] * nv
         for o in t.y_orders:
             k[o] += 1
         k[n] = len(t.u_orders)
         key = tuple(k)
-        rest[key] = rest.get(key, Fraction(0)) + _frac(t.coefficient)
+        rest[key] = rest.get(key, Fraction(0)) + exact_coefficient(t)
     if lead == 0:
         raise StateFormError("the coefficient of the highest derivative is zero")
     f: list[Poly] = [linear_poly([Fraction(int(j == i + 1)) for j in range(n)], nv)
@@ -315,7 +404,7 @@ def _narx(model: Model) -> PolySystem:
         if 0 in t.y_orders:
             if t.y_orders != (0,) or t.u_orders:
                 raise StateFormError(f"y[k] enters nonlinearly ({t.monomial()})")
-            lead += _frac(t.coefficient)
+            lead += exact_coefficient(t)
             continue
         k = [0] * nv
         for o in t.y_orders:
@@ -323,7 +412,7 @@ def _narx(model: Model) -> PolySystem:
         for o in t.u_orders:
             k[n if o == 0 else ny + o - 1] += 1
         key = tuple(k)
-        rest[key] = rest.get(key, Fraction(0)) + _frac(t.coefficient)
+        rest[key] = rest.get(key, Fraction(0)) + exact_coefficient(t)
     if lead == 0:
         raise StateFormError("the coefficient of y[k] is zero")
     y_new = pscale({k: c for k, c in rest.items() if c}, -1 / lead)
@@ -406,8 +495,7 @@ def _close(plant: PolySystem, mf: ModelFile) -> PolySystem:
     assert ctrl is not None
     if not ctrl.is_linear:
         raise StateFormError("a polynomial controller (only transfer functions are closed)")
-    A, B, C, D = _controller_realisation([_frac(c) for c in ctrl.num or ()],
-                                         [_frac(c) for c in ctrl.den or ()])
+    A, B, C, D = _controller_realisation(*exact_transfer_function(ctrl))
     n, m = plant.n, len(A)
     nv = n + m + 1
     sign = Fraction(ctrl.feedback)

@@ -86,22 +86,27 @@ class StaticBound(Result):
                 "double_root": [self.double_root.real, self.double_root.imag]}
 
 
-def _static_terms(model: Model) -> dict[tuple[int, int], Fraction]:
-    """Coefficients {(i, j): c} of y^i u^j of the static equation P(y, u) = 0."""
+def _static_terms(model: Model) -> dict[tuple[int, int], Fraction] | None:
+    """Exact coefficients {(i, j): c} of y^i u^j of the static equation P(y, u) = 0, as
+    written in the model text (0.2 is 1/5); None when one of them is not rational."""
     out: dict[tuple[int, int], Fraction] = {}
     for t in model.terms:
         if not model.is_discrete and any(t.y_orders + t.u_orders):
             continue  # a derivative factor is zero at zero frequency
         key = (len(t.y_orders), len(t.u_orders))
-        out[key] = out.get(key, Fraction(0)) + Fraction(t.coefficient)
+        value = t.exact
+        if value is None:
+            return None
+        out[key] = out.get(key, Fraction(0)) + value
     return {k: v for k, v in out.items() if v != 0}
 
 
 def static_series(model: Model, n_max: int) -> list[Fraction]:
     """Exact Taylor coefficients c_0..c_{n_max} of the static branch y(u), y(0) = 0.
 
-    c_n = H_n(0, .., 0) (s = 0 or q = 1).  Returns an empty list when the static map
-    is not defined by the linear part (A(0) = 0: no finite static gain).
+    c_n = H_n(0, .., 0) (s = 0 or q = 1), of the model as written (decimals as exact
+    rationals).  Returns an empty list when the static map is not defined by the linear
+    part (A(0) = 0: no finite static gain) or a static coefficient as written is irrational.
 
     Parameters
     ----------
@@ -116,6 +121,8 @@ def static_series(model: Model, n_max: int) -> list[Fraction]:
         c_0..c_{n_max} (c_0 = 0), or ``[]``.
     """
     p = _static_terms(model)
+    if p is None:
+        return []
     a0 = p.get((1, 0), Fraction(0))
     if a0 == 0 or (0, 0) in p:  # no finite static gain, or a constant term (y(0) != 0)
         return []
@@ -361,10 +368,12 @@ def radius_upper(model: Model, shift: int = 0) -> StaticBound | None:
     Returns
     -------
     StaticBound or None
-        None when the static map has no finite gain (A(0) = 0), is linear, or no
+        None when the static map has no finite gain (A(0) = 0), is linear, has an
+        irrational coefficient as written, or no
         candidate branch point could be proven singular within the work budget.
     """
-    return _upper_of(_static_terms(model), "u", "||H_n|| >= |H_n(0,..,0)|", shift)
+    p = _static_terms(model)
+    return None if p is None else _upper_of(p, "u", "||H_n|| >= |H_n(0,..,0)|", shift)
 
 
 def loop_radius_upper(model: Model, gain: Fraction, feedback: int,
@@ -401,8 +410,11 @@ def loop_radius_upper(model: Model, gain: Fraction, feedback: int,
     >>> abs(b.value - 2 * 2 ** 0.5 * 1.001 ** 1.5 / (3 * 3 ** 0.5 * 0.001)) < 1e-9 * b.value
     True
     """
+    p = _static_terms(model)
+    if p is None:
+        return None
     loop: dict[tuple[int, int], Fraction] = {}
-    for (i, j), c in _static_terms(model).items():
+    for (i, j), c in p.items():
         for m in range(j + 1):  # (k r + k f y)^j = sum_m C(j, m) (k r)^m (k f y)^(j - m)
             key = (i + j - m, m)
             loop[key] = (loop.get(key, Fraction(0))

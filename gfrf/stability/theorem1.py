@@ -39,7 +39,7 @@ from typing import Any
 
 from gfrf._results import proof_word
 from gfrf.bounds.branch_bound import DEFAULT_WORK, MAX_ORDER, box_work
-from gfrf.bounds.exact import format_roots
+from gfrf.bounds.exact import format_roots, poles
 from gfrf.bounds.majorant import Majorant, Radius, majorant, plant_radius
 from gfrf.bounds.norms import Bound, kernel_norm, linear_poles
 from gfrf.bounds.rational import check_proof
@@ -87,13 +87,18 @@ def _proper_condition(model: Model, maj: Majorant, what: str) -> Condition:
 
 
 def _stability_condition(model: Model) -> tuple[Condition, str]:
-    """Condition 2, decided exactly (Routh's test in rationals, exact boundary roots)."""
-    report = linear_poles(model)
+    """Condition 2, decided exactly (Routh's test in rationals, exact boundary roots) on
+    A's coefficients as written (``0.2`` is 1/5; its doubles when one is irrational)."""
+    from gfrf.stability.polysys import exact_linear_polynomials
+
+    written = exact_linear_polynomials(model)
+    report = linear_poles(model) if written is None else poles(written[1], model.is_discrete)
     kind = "|z| < 1" if model.is_discrete else "Re s < 0"
     values = [complex(p) for p in report.roots]
     if report.stable:
         return Condition(name="linear part A_1 stable", passed=True, value=values,
-                         detail=f"all poles have {kind} (exact test on the given coefficients)"), ""
+                         detail=f"all poles have {kind} (exact test on the coefficients as "
+                                f"written)"), ""
     if report.outside:
         detail = ("pole outside the stability region (exact test): the equilibrium is "
                   "unstable (Lyapunov's indirect method); Theorem 1 is inapplicable")

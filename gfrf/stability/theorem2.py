@@ -273,10 +273,13 @@ def _loop_upper(model_file: ModelFile, wanted: bool,
         return None, "not computed (proof level 'interval' and norms on only)"
     if not controller.is_linear:
         return None, "not computed for a polynomial controller"
-    num, den = controller.num or (1.0,), controller.den or (1.0,)
+    num, den = controller.exact_tf()
+    num, den = num or (Fraction(1),), den or (Fraction(1),)
     if den[-1] == 0:
         return None, "C(0) is infinite (integral action): statically y = r, no fold"
-    bound = loop_radius_upper(model_file.plant, Fraction(num[-1]) / Fraction(den[-1]),
+    if num[-1] is None or den[-1] is None:
+        return None, "C(0) as written is irrational: not computed"
+    bound = loop_radius_upper(model_file.plant, num[-1] / den[-1],
                               controller.feedback, amplitude_shift(maj))
     if bound is None:
         return None, "no static branch point of the loop's static map proven"

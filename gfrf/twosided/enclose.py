@@ -39,7 +39,7 @@ from fractions import Fraction
 from typing import Any
 
 from gfrf._results import Result
-from gfrf.model.equation import Model
+from gfrf.model.equation import Model, Term
 from gfrf.model.modelfile import ModelFile
 from gfrf.twosided.lohner import LohnerSet, lohner_step
 
@@ -97,13 +97,43 @@ class Enclosure(Result):
     method: str = METHOD
 
 
-Monomials = list[tuple[Fraction, tuple[int, ...]]]
+#: (coefficient, exponents) pairs; a coefficient is exact, or rational bounds (lo, hi) of
+#: one computed from an irrational written coefficient.
+Monomials = list[tuple[Fraction | tuple[Fraction, Fraction], tuple[int, ...]]]
+
+
+def _quotient(t: Term, top: Term) -> Fraction | tuple[Fraction, Fraction] | None:
+    """-c/a of the written coefficients c of ``t`` and a of ``top``: exact when both are
+    rational, else rational bounds from :meth:`gfrf.model.equation.Term.bounds` (an
+    irrational coefficient's double widened by a relative 2^-50); None if a may be 0."""
+    c, a = t.exact, top.exact
+    if c is not None and a is not None:
+        return -c / a if a else None
+    (c_lo, c_hi), (a_lo, a_hi) = t.bounds(), top.bounds()
+    if a_lo <= 0 <= a_hi:
+        return None
+    ends = [-p / q for p in (c_lo, c_hi) for q in (a_lo, a_hi)]
+    return min(ends), max(ends)
+
+
+def _ball(q: Fraction | tuple[Fraction, Fraction]) -> Any:
+    """An Arb ball containing the exact coefficient or the bounds."""
+    from flint import arb, fmpq
+
+    if isinstance(q, tuple):
+        return arb(fmpq(q[0].numerator, q[0].denominator)).union(
+            arb(fmpq(q[1].numerator, q[1].denominator)))
+    return arb(fmpq(q.numerator, q.denominator))
 
 
 def flow(model: Model) -> tuple[int, Monomials] | None:
     """(n, monomials of y^(n)) with exponents over (y, ..., y^(n-1), u, u', ...), or None.
 
-    None: a discrete model, or y^(n) not in one linear term with a constant coefficient.
+    None: a discrete model, y^(n) not in one linear term with a constant coefficient, or
+    that coefficient zero as written.  The coefficients are the exact values written in
+    the model text (``0.2`` is 1/5, :attr:`gfrf.model.equation.Term.exact`; rational
+    bounds for an irrational one), so an enclosure built on them contains the solution
+    of the model as written.
 
     Parameters
     ----------
@@ -114,7 +144,7 @@ def flow(model: Model) -> tuple[int, Monomials] | None:
     -------
     tuple or None
         n, and the monomials of y^(n) as (coefficient, exponents) pairs with exact
-        rational coefficients.
+        rational coefficients (or rational bounds, see :data:`Monomials`).
     """
     if model.is_discrete or not model.terms:
         return None
@@ -124,18 +154,20 @@ def flow(model: Model) -> tuple[int, Monomials] | None:
     top = [t for t in model.terms if n in t.y_orders]
     if len(top) != 1 or top[0].y_orders != (n,) or top[0].u_orders:
         return None
-    a_n = Fraction(top[0].coefficient)
+    quotients = [_quotient(t, top[0]) for t in model.terms if t is not top[0]]
+    if any(q is None for q in quotients):
+        return None
     nu = 1 + max((max(t.u_orders, default=0) for t in model.terms), default=0)
     out: Monomials = []
-    for t in model.terms:
-        if t is top[0]:
+    for t, q in zip((t for t in model.terms if t is not top[0]), quotients, strict=True):
+        if q is None or (not isinstance(q, tuple) and q == 0):
             continue
         e = [0] * (n + nu)
         for o in t.y_orders:
             e[o] += 1
         for o in t.u_orders:
             e[n + o] += 1
-        out.append((-Fraction(t.coefficient) / a_n, tuple(e)))
+        out.append((q, tuple(e)))
     return n, out
 
 
@@ -167,7 +199,7 @@ def loop_flow(source: Any) -> tuple[int, list[Monomials], tuple[str, ...]] | Non
         return None
     if system.discrete:
         return None
-    rows = [[(q, tuple(k)) for k, q in sorted(p.items())] for p in system.f]
+    rows: list[Monomials] = [[(q, tuple(k)) for k, q in sorted(p.items())] for p in system.f]
     names = tuple(_derivative_name(int(s[4:-1])) if s.startswith("D(y,") else s
                   for s in system.states)
     return system.n, rows, names
@@ -192,7 +224,7 @@ class _Field:
 
     def __init__(self, n: int, rows: list[Monomials], tones: list[tuple[float, float, float]],
                  chirp: Any = None):
-        from flint import arb, fmpq
+        from flint import arb
 
         self.n, self.tones = n, tones
         width = max((len(e) for row in rows for _, e in row), default=n + 1)
@@ -203,8 +235,7 @@ class _Field:
             if len(row) == 1 and row[0][0] == 1 and sum(row[0][1]) == 1:
                 self.rows.append(row[0][1].index(1))
             else:
-                self.rows.append([(arb(fmpq(q.numerator, q.denominator)), e)
-                                  for q, e in row])
+                self.rows.append([(_ball(q), e) for q, e in row])
         self.u_const: Any = arb(0)
         self.chirp = None if chirp is None else (  # A, omega_0, 2k: balls of the exact values
             arb(chirp.amplitude), arb(chirp.omega_start),
@@ -461,17 +492,18 @@ def _escaped(X: list[Any], region: Any, levels: list[float], names: tuple[str, .
 
 def _narx(model: Model, f: Any) -> Enclosure | None:
     """The NARX recursion from rest under the witness in Arb balls (the proof)."""
-    from flint import arb, ctx, fmpq
+    from flint import arb, ctx
 
     top = [t for t in model.terms if 0 in t.y_orders]
     if len(top) != 1 or top[0].y_orders != (0,) or top[0].u_orders:
         return None
-    a0 = Fraction(top[0].coefficient)
     terms: list[tuple[Any, tuple[int, ...], tuple[int, ...]]] = []
     for t in model.terms:
         if t is not top[0]:
-            q = -Fraction(t.coefficient) / a0
-            terms.append((arb(fmpq(q.numerator, q.denominator)), t.y_orders, t.u_orders))
+            q = _quotient(t, top[0])
+            if q is None:
+                return None  # y[k]'s coefficient zero as written
+            terms.append((_ball(q), t.y_orders, t.u_orders))
     T = float(model.sample_time)  # type: ignore[arg-type]
     level = f.levels[0] if f.levels else math.inf
     n = int(math.ceil(1.5 * (f.t_escape or f.t_end) / T)) + 1

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import control
 import numpy as np
@@ -143,18 +144,25 @@ def _mp_max_real(chi: list) -> float:
 @pytest.mark.parametrize(("gain", "stable"), [(1e-20, True), (1e-14, False)])
 def test_cluster_loop_decided_exactly(gain: float, stable: bool) -> None:
     """numpy.roots of the float chi puts the stable 1e-20 loop's cluster at Re = +2.3e-6;
-    the exact chi (sympy-free: Fractions of the floats) and 60-digit roots say stable."""
+    the exact chi (sympy-free: Fractions) and 60-digit roots say stable.  The decision
+    and the poles are of the loop as written (decimals as exact rationals: the cluster
+    moves by 6e-11 from the loop of the doubles)."""
     from fractions import Fraction
 
     loop = closed_loop(model_from_dict(_cluster_loop(gain)))
-    # independent exact product of the float coefficients
-    plant, ctrl = [Fraction(c) for c in (1.0, 2e-6, 1.0)], [Fraction(c) for c in CLUSTER_C]
-    chi = [Fraction(0)] * 7
-    for i, a in enumerate(plant):
-        for k, b in enumerate(ctrl):
-            chi[i + k] += a * b
-    chi[-1] += Fraction(gain)
-    assert list(loop.characteristic_exact) == chi
+
+    def product(convert: Callable[[float], Fraction]) -> list[Fraction]:
+        """Independent exact chi of the coefficients read by ``convert``."""
+        plant, ctrl = [convert(c) for c in (1.0, 2e-6, 1.0)], [convert(c) for c in CLUSTER_C]
+        chi = [Fraction(0)] * 7
+        for i, a in enumerate(plant):
+            for k, b in enumerate(ctrl):
+                chi[i + k] += a * b
+        chi[-1] += convert(gain)
+        return chi
+
+    assert list(loop.characteristic_exact) == product(Fraction)  # of the doubles
+    chi = product(lambda c: Fraction(repr(c)))  # as written
     ref = _mp_max_real(chi)
     assert (ref < 0) is stable
     assert loop.stable is stable and loop.outside is (not stable)

@@ -34,15 +34,15 @@ def test_enclosure_holds_the_50_digit_taylor_solution_under_a_switching_input() 
     trace: list = []
     enclose_witness(model, f, trace=trace)
     assert trace and float(trace[-1][0].mid()) == pytest.approx(6.0)
-    # the model's coefficients as its doubles hold them: 2.45 theta - 0.40833 theta^3
-    cubic = -next(t.coefficient for t in model.terms if t.y_orders == (0, 0, 0))
+    # the model as written: g/L theta - g/(6L) theta^3 with g = 9.8 = 49/5 and L = 4, so
+    # 49/20 theta - 49/120 theta^3 (the input switches between the witness's doubles)
     with mp.workdps(50):
-        cubic = mp.mpf(cubic)
+        cubic = mp.mpf(49) / 120
         edges, z, sign = [0, 2.1, 4.3, 6.0], [mp.mpf(0), mp.mpf(0)], 1
         checked = 0
         for a, b in zip(edges[:-1], edges[1:], strict=True):
             u = sign * mp.mpf(0.94)
-            sol = mp.odefun(lambda t, y, u=u: [y[1], -mp.mpf(0.5) * y[1] - mp.mpf(2.45) * y[0]
+            sol = mp.odefun(lambda t, y, u=u: [y[1], -mp.mpf(0.5) * y[1] - mp.mpf("2.45") * y[0]
                                                + cubic * y[0] ** 3 + u], mp.mpf(a), z)
             for t, boxes in trace:
                 tm = mp.mpf(t.mid().str(60, radius=False))
@@ -192,8 +192,8 @@ def test_enclosure_holds_the_50_digit_taylor_solution_under_a_chirp() -> None:
     with mp.workdps(50):
         a, w0 = mp.mpf(0.5), mp.mpf(1.4)
         k = (mp.mpf(0.7) - w0) / (2 * mp.mpf(3.0))
-        sol = mp.odefun(lambda t, y: [y[1], -mp.mpf(0.2) * y[1] - 2 * y[0]
-                                      + mp.mpf(0.3) * y[0] ** 3 + a * mp.cos(w0 * t + k * t * t)],
+        sol = mp.odefun(lambda t, y: [y[1], -mp.mpf("0.2") * y[1] - 2 * y[0] + mp.mpf("0.3")
+                                      * y[0] ** 3 + a * mp.cos(w0 * t + k * t * t)],
                         0, [mp.mpf(0)] * 2)
         for t, boxes in trace:
             tm = mp.mpf(t.mid().str(60, radius=False))
@@ -225,3 +225,21 @@ def test_chirp_witness_escape_is_proven_and_not_at_090() -> None:
     assert proof is not None and proof.proven and proof.t_proven <= 1.01 * t_escape
     weaker = enclose_witness(model, witness(replace(chirp, amplitude=0.9 * chirp.amplitude)))
     assert weaker is not None and not weaker.proven
+
+
+def test_an_irrational_coefficient_is_enclosed_by_its_widened_double() -> None:
+    """y'' + (pi/10) y' + y - 0.3 y^3 = u, u = 0.6: pi has no rational value; the
+    enclosure, built on the double of pi/10 widened by a relative 2^-50, holds the
+    50-digit solution with pi itself."""
+    model = parse_model("D(y,2) + pi/10*D(y) + y - 0.3*y**3 = u")
+    f = _witness("switching", 0.6, 1.0, first_sign=1, switch_times=[])
+    trace: list = []
+    enclose_witness(model, f, trace=trace)
+    assert len(trace) >= 3
+    with mp.workdps(50):
+        sol = mp.odefun(lambda t, y: [y[1], -mp.pi / 10 * y[1] - y[0]
+                                      + mp.mpf("0.3") * y[0] ** 3 + mp.mpf(0.6)],
+                        0, [mp.mpf(0)] * 2)
+        for t, boxes in trace:
+            ref = sol(mp.mpf(t.mid().str(60, radius=False)))
+            assert all(_contains(x, r) for x, r in zip(boxes[:2], ref, strict=True))

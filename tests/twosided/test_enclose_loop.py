@@ -9,6 +9,7 @@ witness scaled by 0.9, which must not be proven.
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from pathlib import Path
 
 import mpmath as mp
@@ -29,13 +30,14 @@ LEAD = {"equation": PLANT, "controller": {"num": [2.0, 1.0], "den": [1.0, 2.0]}}
 
 
 def _plant(y: mp.mpf, v: mp.mpf, u: mp.mpf) -> mp.mpf:
-    """y'' of the plant, with its coefficients as the model's doubles hold them."""
-    return -mp.mpf(0.2) * v - y + mp.mpf(0.3) * y ** 3 + u
+    """y'' of the plant as written (0.2 is 1/5 and 0.3 is 3/10, not the doubles)."""
+    return -mp.mpf("0.2") * v - y + mp.mpf("0.3") * y ** 3 + u
 
 
 def test_pi_loop_enclosure_holds_the_50_digit_taylor_solution_under_a_switching_reference(
         ) -> None:
-    """r = +-0.3 switching at 1 s; the PI state z' = e = r - y, u = 0.5 e + 0.2 z."""
+    """r = +-0.3 switching at 1 s; the PI state z' = e = r - y, u = 0.5 e + 0.2 z (the
+    controller's 0.2 as written, 1/5; the reference the witness's double 0.3)."""
     f = _witness("switching", 0.3, 2.4, first_sign=1, switch_times=[1.0])
     trace: list = []
     proof = enclose_witness(model_from_dict(PI), f, trace=trace)
@@ -48,7 +50,7 @@ def test_pi_loop_enclosure_holds_the_50_digit_taylor_solution_under_a_switching_
 
             def rhs(t: mp.mpf, x: list, r: mp.mpf = r) -> list:
                 e = r - x[0]
-                return [x[1], _plant(x[0], x[1], mp.mpf(0.5) * e + mp.mpf(0.2) * x[2]), e]
+                return [x[1], _plant(x[0], x[1], mp.mpf(0.5) * e + mp.mpf("0.2") * x[2]), e]
 
             sol = mp.odefun(rhs, mp.mpf(a), z)
             for t, boxes in trace:
@@ -59,6 +61,36 @@ def test_pi_loop_enclosure_holds_the_50_digit_taylor_solution_under_a_switching_
                     checked += 1
             z, sign = sol(mp.mpf(b)), -sign
         assert checked == len(trace)
+
+
+def _pi_loop(c1: mp.mpf, c3: mp.mpf, ki: mp.mpf, r: mp.mpf) -> Callable[..., list]:
+    """The PI loop y'' = -c1 y' - y + c3 y^3 + u, u = 0.5 e + ki z, z' = e = r - y."""
+    def rhs(t: mp.mpf, x: list) -> list:
+        e = r - x[0]
+        return [x[1], -c1 * x[1] - x[0] + c3 * x[0] ** 3 + mp.mpf(0.5) * e + ki * x[2], e]
+    return rhs
+
+
+def test_pi_loop_enclosure_is_of_the_written_model_not_of_its_doubles() -> None:
+    """The boxes are tight enough to tell 1/5 from the double 0.2: over the first second
+    of r = 0.3 every box holds the 50-digit solution of the loop as written, and some box
+    misses the solution of the loop whose coefficients are the doubles."""
+    f = _witness("switching", 0.3, 2.4, first_sign=1, switch_times=[1.0])
+    trace: list = []
+    enclose_witness(model_from_dict(PI), f, trace=trace)
+    times = [(t, boxes) for t, boxes in trace if float(t.mid()) <= 1.0]
+    assert len(times) >= 3
+    with mp.workdps(50):
+        solutions = []
+        for c1, c3, ki in (("0.2", "0.3", "0.2"), (0.2, 0.3, 0.2)):
+            sol = mp.odefun(_pi_loop(mp.mpf(c1), mp.mpf(c3), mp.mpf(ki), mp.mpf(0.3)), 0,
+                            [mp.mpf(0)] * 3)
+            solutions.append([all(_contains(x, v) for x, v in
+                                  zip(boxes[:3], sol(mp.mpf(t.mid().str(60, radius=False))),
+                                      strict=True)) for t, boxes in times])
+    written, doubles = solutions
+    assert all(written)
+    assert not all(doubles)
 
 
 @pytest.mark.slow
