@@ -226,6 +226,11 @@ def _add(a: _Value | None, b: _Value) -> _Value:
     ratio: complex | float = b[0] / a[0]
     if b[1] != a[1]:  # j*(b's array) in a's power: times j or -j
         ratio = ratio * (1j if b[1] > a[1] else -1j)
+    if a[2] is None and b[2] is None:  # two constants: one constant (an array only if complex)
+        total = 1.0 + ratio
+        if isinstance(total, complex):
+            return a[0], a[1], np.asarray(total)
+        return a[0] * total, a[1], None
     x = 1.0 if a[2] is None else a[2]
     y = 1.0 if b[2] is None else b[2]
     if ratio == 1.0:
@@ -351,6 +356,7 @@ def evaluate_subsets(gen: Any, n: int, xs: list[Any]) -> np.ndarray:
         return np.zeros(np.broadcast_shapes(*(np.shape(v) for v in xs)), dtype=np.complex128)
     c, p, array = y[full]
     scale = c / math.factorial(n) * (1j if p else 1.0)
-    if array is None:  # a constant kernel (no frequency in it)
-        return np.full(np.broadcast_shapes(*(np.shape(v) for v in xs)), scale)
+    shape = np.broadcast_shapes(*(np.shape(v) for v in xs))
+    if array is None or np.shape(array) != shape:  # a constant kernel (no frequency in it)
+        return np.full(shape, scale * (1.0 if array is None else array))
     return scale * array

@@ -24,7 +24,7 @@ from fractions import Fraction
 
 from gfrf.stability.implicit import SINGULAR_LEVEL, ImplicitLoop
 from gfrf.stability.implicit_check import polygon_parts
-from gfrf.twosided.enclose import Enclosure
+from gfrf.twosided.enclose import Enclosure, Monomials
 
 __all__ = ["enclose_implicit_witness", "ORDER", "MAX_STEPS", "SCALE", "METHOD"]
 
@@ -108,11 +108,10 @@ def enclose_implicit_witness(form: ImplicitLoop, amplitude: float, first_sign: i
         return None
     y_level = max(finite)
     k = Fraction(1) / (q0 * SCALE)
-    Row = list[tuple[Fraction, tuple[int, ...]]]
-    row_y: Row = [(c * k, (i, 1, 0, 0)) for (i, _), c in q.items()]
-    row_v: Row = [(c * k, (i, j, 0, 0)) for (i, j), c in r0.items()]
+    row_y: Monomials = [(c * k, (i, 1, 0, 0)) for (i, _), c in q.items()]
+    row_v: Monomials = [(c * k, (i, j, 0, 0)) for (i, j), c in r0.items()]
     row_v += [(c * k, (i, j, 0, 1)) for (i, j), c in r1.items()]
-    row_t: Row = [(c * k, (i, 0, 0, 0)) for (i, _), c in q.items()]
+    row_t: Monomials = [(c * k, (i, 0, 0, 0)) for (i, _), c in q.items()]
     rows = [row_y, row_v, row_t]
     horizon = 1.5 * _rescaled_time(form, amplitude * first_sign, t_escape)
     old = ctx.prec, ctx.cap

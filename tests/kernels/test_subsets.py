@@ -131,3 +131,15 @@ def test_a_compiled_kernel_in_memory_or_on_disk_leaves_the_numpy_values_unchange
     warm = k(*w)
     assert cold.tobytes() == warm.tobytes()
     assert np.max(np.abs(compiled - cold) / np.abs(cold)) <= 1e-12
+
+
+@pytest.mark.parametrize(("equation", "at", "expected"), [
+    ("y = u + 0.5*u**2", (1.0, 2.0), 0.5),
+    ("y + 0.5*y**2 = u", (0.5, 1.0, 2.0), 0.5),  # y = sqrt(1 + 2u) - 1 = u - u^2/2 + u^3/2 - 5u^4/8
+    ("y + 0.5*y**2 = u", (0.5, 1.0, 2.0, 3.0), -0.625),
+    ("2*y + y*u = u", (1.0, 2.0), -0.25),  # y = u/2 - y u/2
+    ("y + y**2 = u**2", (0.5, 1.0), 1.0),
+])
+def test_a_static_model_sums_constant_products_to_its_power_series(equation, at, expected):
+    value = kernel(parse_model(equation), len(at))(*at)
+    assert value == pytest.approx(expected, rel=1e-14)
