@@ -234,6 +234,16 @@ def test_h5_bracket_of_a_short_search_contains_the_random_search_sup(h5_peak) ->
     assert numeric(*np.array(r.argmax)[:, None])[0] == pytest.approx(r.lower, rel=1e-9)
 
 
+@pytest.mark.slow
+def test_h5_search_closes_to_1e3_and_brackets_the_random_search_sup(h5_peak) -> None:
+    """Given the work (60,000 boxes, about 20 s), the H5 search closes the gap to 1e-3
+    around the sup that dense random sampling polished by scipy's Nelder-Mead finds."""
+    model, numeric, peak, value = h5_peak
+    r = branch_and_bound(model, 5, tol=1e-3, max_boxes=60_000)
+    assert r.converged and r.upper - r.lower <= 1e-3 * r.upper
+    assert r.lower <= value * (1 + 1e-9) and value <= r.upper * (1 + 1e-12)
+
+
 def test_upper_end_never_rises_with_more_boxes() -> None:
     """A child's bound is at most its parent's, so a longer search (which passes through
     the shorter one's state) ends with an upper end no higher."""
