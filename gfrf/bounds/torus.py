@@ -25,7 +25,7 @@ the same bounds on each of ``_CELLS`` cells of one period (each cell widened by 
 of its width, which covers the rounding of the cell index), and the sup over an
 interval is the largest cell bound it meets (a sparse table of maxima: O(1) per
 interval).  A cell's bounds are also taken from the Taylor series of r and m at its
-centre (degree 7, exact recurrences) with Cauchy's bound of the eighth derivative on a
+centre (degree 11, exact recurrences) with Cauchy's bound of the twelfth derivative on a
 strip |Im sigma| <= Y where |a| stays away from 0 (:meth:`InverseTrig._strip`): within
 0.2 % of the true sups, where the quotient-rule bounds of the third derivatives are
 1.5-6x above them.  Every interval gets the smaller of the two bounds.
@@ -51,7 +51,7 @@ _POINT_RTOL = 1e-5
 #: Cells per period of the tables of sups (see the module docstring).
 _CELLS = 4096
 #: Degree of the Taylor series of r and m at a cell's centre (``InverseTrig._series_bounds``).
-_SERIES_DEGREE = 8
+_SERIES_DEGREE = 12
 #: Relative margin for the rounding of those series' coefficients (double precision, a
 #: few dozen operations each).
 _SERIES_RTOL = 1e-9
