@@ -11,7 +11,9 @@ recursion of H_n (the code of :func:`gfrf.kernels.compiled.kernel_source`, evalu
 Sums add, products follow Leibniz's rule (``D_k(ab) <= sum_i C(k,i) D_i(a) D_{k-i}(b)``)
 and every result is intersected with its Taylor form at the centre (``D_0 <= |q| +
 sum |g_i| r_i + 1/2 sum |h_ij| r_i r_j + D_3 / 6`` and likewise for ``D_1``, ``D_2``),
-so the bounds stay close to the true derivatives.  Each factor 1/A(j sigma_B),
+and D_0, D_1 and the remainder R below with Lagrange's forms of D_2 (``|q| + sum |g_i|
+r_i + D_2 / 2``, ``sum |g_i| r_i + D_2``, ``(D_2 + sum |h_ij| r_i r_j) / 2``), so the
+bounds stay close to the true derivatives.  Each factor 1/A(j sigma_B),
 sigma_B the sum of a block's frequencies, gets the exact extrema over the interval of
 sigma_B of |A| and of the numerators of its first three derivatives (stationary points
 isolated once in Arb), so a box straddling a resonance is bounded by the resonance
@@ -39,12 +41,16 @@ fast on a box while its modulus stays 1.  A jet of a NARX kernel therefore stand
 env(w) exp(j phi . (w - c)): ``phase`` holds the carrier phi per box (-T on q_i's own
 coordinate), the value, derivatives and bounds D_k are the envelope's.  The variables
 are exact carriers with a constant envelope (D_1 = D_2 = D_3 = 0), products add
-carriers, and a sum of two terms on different carriers keeps, per box, the carrier of
-the term with the larger D_0 and multiplies the other envelope by exp(j delta . (w - c))
-(delta the difference; its D_k are (sum |delta_i| r_i)^k).  |H_n| = |env|, so the three
-bounds below apply to the envelope unchanged, and they no longer pay for the phase
-turns of the q_i (the identified example's H3 closes to 1e-3 in 1,800 boxes instead of
-6,200).
+carriers, and a sum of two terms on carriers p_a and p_b takes, per box, the carrier
+lam p_a + (1 - lam) p_b with lam = D_0(a) / (D_0(a) + D_0(b)) (0 or 1 when below 0.1 or
+above 0.9) and multiplies each envelope by exp(j delta . (w - c)), delta the difference
+of its carrier from that one (a turn, whose D_k are (sum |delta_i| r_i)^k and whose
+remainder is cubic in that sum: two half turns leave a quarter of one whole turn's).
+|H_n| = |env|, so the three bounds below apply to the envelope unchanged, and they no
+longer pay for the phase turns of the q_i.  Measured on the identified example's H5 at
+boxes of side 2 pi / 32 in theta = w T: the bound over the sampled sup 1.96 with the
+weighted carrier, 2.47 with the larger term's; its search to 1e-3 from the known lower
+end 55,000 boxes instead of 168,000.
 
 Taylor models (discrete-time models).  A NARX jet also carries R (column 4 of ``d``): a
 bound over the box of |q - P|, P its quadratic Taylor polynomial at the centre (the
@@ -279,10 +285,13 @@ class Jet:
         d3 = self.d[:, 3]
         rest = np.where(np.isnan(self.d[:, 4]), np.inf, self.d[:, 4])
         rest = np.where(rest < np.inf, np.fmin(rest, d3 / 6), rest)
-        self.d[:, 4] = rest
         with np.errstate(invalid="ignore", over="ignore"):
-            forms = np.stack([np.abs(self.v) + first + 0.5 * second + np.fmin(rest, d3 / 6),
-                              first + second + 0.5 * d3, second + d3], axis=1)
+            d2 = np.fmin(self.d[:, 2], second + d3)
+            forms = np.stack([np.abs(self.v) + first + np.fmin(0.5 * second + np.fmin(rest, d3 / 6),
+                                                               0.5 * d2),
+                              first + np.fmin(second + 0.5 * d3, d2), d2], axis=1)
+            # a Taylor model's remainder is also at most D_2 / 2 + second / 2 (Lagrange)
+            self.d[:, 4] = np.where(rest < np.inf, np.fmin(rest, 0.5 * (d2 + second)), rest)
         self.d[:, :3] = np.fmin(self.d[:, :3], forms)
         return self
 
@@ -326,8 +335,9 @@ class Jet:
                           names, self.boxes, phase=phase)
 
     def _aligned(self, other: Jet) -> tuple[Jet, Jet, np.ndarray | None]:
-        """Both terms of a sum on one carrier: per box the larger term's (by D_0); the
-        other's envelope turns by the difference (:meth:`_rotated`)."""
+        """Both terms of a sum on one carrier: per box their mean weighted by D_0 (the
+        larger term's when its weight exceeds 0.9); each envelope turns by the difference
+        (:meth:`_rotated`)."""
         names = _union(self.names, other.names)[0]
         pa, pb = self.carrier(names), other.carrier(names)
         if pa is None and pb is None or pa is not None and pb is not None and \
@@ -336,7 +346,12 @@ class Jet:
         size = self.v.shape[0]
         pa = np.zeros((size, len(names))) if pa is None else pa
         pb = np.zeros((size, len(names))) if pb is None else pb
-        target = np.where((self.d[:, 0] >= other.d[:, 0])[:, None], pa, pb)
+        sa, sb = self.d[:, 0], other.d[:, 0]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            weight = np.where(sa + sb > 0, sa / (sa + sb), 1.0)
+        weight = np.where(np.isfinite(weight), weight, (sa >= sb).astype(float))
+        weight = np.where(weight > 0.9, 1.0, np.where(weight < 0.1, 0.0, weight))
+        target = weight[:, None] * pa + (1.0 - weight[:, None]) * pb
         a, b = self.embedded(names), other.embedded(names)
         return a._rotated(pa - target, names), b._rotated(pb - target, names), target
 

@@ -24,6 +24,14 @@ def _abs(z):
 
 
 @njit(cache=True, inline="always")
+def _fmin(x, y):
+    """The smaller of x and y, ignoring a NaN (as numpy.fmin)."""
+    if x != x or y < x:
+        return y
+    return x
+
+
+@njit(cache=True, inline="always")
 def _tighten(k, v, g, h, d, r):
     n = r.shape[1]
     first = 0.0
@@ -39,22 +47,17 @@ def _tighten(k, v, g, h, d, r):
         rest = np.inf
     if rest < np.inf and d3 / 6.0 < rest:  # R = inf: no Taylor model (kept as it is)
         rest = d3 / 6.0
+    d2 = _fmin(d[k, 2], second + d3)
+    if rest < np.inf:  # a Taylor model's remainder is also at most (D_2 + second) / 2
+        rest = _fmin(rest, 0.5 * (d2 + second))
     d[k, 4] = rest
-    forms = (abs(v[k]) + first + 0.5 * second + min(rest, d3 / 6.0),
-             first + second + 0.5 * d3, second + d3)
+    forms = (abs(v[k]) + first + _fmin(0.5 * second + min(rest, d3 / 6.0), 0.5 * d2),
+             first + _fmin(second + 0.5 * d3, d2), d2)
     for m in range(3):
         if forms[m] < d[k, m]:  # NaN forms keep the propagated bound
             d[k, m] = forms[m]
         if d[k, m] != d[k, m]:
             d[k, m] = np.inf
-
-
-@njit(cache=True, inline="always")
-def _fmin(x, y):
-    """The smaller of x and y, ignoring a NaN (as numpy.fmin)."""
-    if x != x or y < x:
-        return y
-    return x
 
 
 @njit(cache=True, inline="always")
