@@ -46,7 +46,7 @@ import numpy as np
 from gfrf._results import Result, markdown_table, short_repr
 from gfrf.bounds.exact import format_roots, fractions, poles
 from gfrf.bounds.majorant import linear_polynomials
-from gfrf.bounds.rational import rational_sup
+from gfrf.bounds.rational import SupResult, rational_sup
 from gfrf.errors import ArgumentError
 from gfrf.model.equation import Model
 from gfrf.model.modelfile import Controller, ModelFile
@@ -248,6 +248,35 @@ def _written_characteristic(model_file: ModelFile, sign: int) -> list[Fraction] 
     return None if chi == [0] else chi
 
 
+def _written_sups(model_file: ModelFile, sign: int) -> tuple[SupResult, SupResult] | None:
+    """Proven (rho_1, lambda_1) of the loop as written (``0.2`` is 1/5); None when a linear
+    coefficient as written is irrational."""
+    from gfrf.stability.polysys import (
+        StateFormError,
+        exact_linear_polynomials,
+        exact_transfer_function,
+    )
+
+    plant = exact_linear_polynomials(model_file.plant)
+    ctrl = model_file.controller
+    written: tuple[list[Fraction], list[Fraction]] | None = None
+    if ctrl is not None and ctrl.is_linear:
+        try:
+            written = exact_transfer_function(ctrl)
+        except StateFormError:
+            written = None
+    elif ctrl is not None:
+        written = exact_linear_polynomials(ctrl.model)  # type: ignore[arg-type]
+    if plant is None or written is None:
+        return None
+    chi = characteristic_exact(plant, written, sign)  # type: ignore[arg-type]
+    if chi == [0]:
+        raise ArgumentError("the closed-loop characteristic polynomial D_P D_C - f N_P N_C "
+                            "as written is identically zero")
+    peak = rational_sup(_polymul(fractions(plant[1]), fractions(written[1])), chi)
+    return peak, rational_sup(*written)
+
+
 def characteristic(plant: tuple[np.ndarray, np.ndarray], ctrl: tuple[np.ndarray, np.ndarray],
                    feedback: int) -> np.ndarray:
     """chi = D_P D_C - feedback * N_P N_C, highest power first, leading zeros trimmed.
@@ -418,11 +447,22 @@ def closed_loop(model_file: ModelFile, feedback: int | None = None,
     chi = np.array([float(c) for c in chi_exact])
     report = poles(_written_characteristic(model_file, sign) or chi_exact)
     sens_num = _polymul(fractions(plant_poly[1]), fractions(ctrl_poly[1]))
-    peak = rational_sup(sens_num, chi_exact, proof)
-    lam = rational_sup(*ctrl_poly, proof=proof)
+    written = _written_sups(model_file, sign) if proof == "interval" else None
+    if written is not None:  # proven for the loop as written
+        peak, lam = written
+    else:  # the doubles: float and estimate levels, or no enclosure at the interval level
+        level = "float" if proof == "interval" else proof
+        peak, lam = rational_sup(sens_num, chi_exact, level), rational_sup(*ctrl_poly,
+                                                                           proof=level)
+        if proof == "interval":
+            why = ("a linear coefficient of the loop as written is irrational: no proven "
+                   "enclosure (the value is that of the doubles, proof level 'float')")
+            peak, lam = (replace(res, lower=0.0, upper=math.inf, reason=why, exact=False)
+                         for res in (peak, lam))
     notes = []
     if lam.reason:
-        notes.append(f"controller norm lambda_1 = inf: {lam.reason}")
+        notes.append(f"controller norm lambda_1 "
+                     f"{'= inf' if lam.value == math.inf else 'not proven'}: {lam.reason}")
     if not report.stable:
         where = ("poles with Re s > 0: " + format_roots([p for p in report.roots
                                                           if p.real > 0])
