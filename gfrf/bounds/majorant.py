@@ -69,7 +69,8 @@ from gfrf.model.equation import Model
 from gfrf.model.scaling import normalized
 
 __all__ = ["Majorant", "MajorantTerm", "Radius", "majorant", "radius", "plant_radius",
-           "linear_polynomials", "written_polynomials", "linear_sup", "certify"]
+           "linear_polynomials", "written_polynomials", "written_intervals", "linear_sup",
+           "certify"]
 
 
 @dataclass(frozen=True, kw_only=True, repr=False)
@@ -368,11 +369,22 @@ def linear_polynomials(model: Model) -> tuple[np.ndarray, np.ndarray]:
     return num[::-1], den[::-1]
 
 
-def _written_intervals(model: Model) -> tuple[list[tuple[Fraction, Fraction]],
-                                               list[tuple[Fraction, Fraction]]]:
+def written_intervals(model: Model) -> tuple[list[tuple[Fraction, Fraction]],
+                                              list[tuple[Fraction, Fraction]]]:
     """(num, den) of H1 = -B/A of the normalised model as rational intervals containing
     the coefficients as written (:meth:`gfrf.model.equation.Term.bounds`), in the order
-    of :func:`linear_polynomials`."""
+    of :func:`linear_polynomials`.
+
+    Parameters
+    ----------
+    model : Model
+        The plant model.
+
+    Returns
+    -------
+    tuple of list of tuple of Fraction
+        ``(num, den)``, each coefficient as ``(lo, hi)`` (equal for a rational one).
+    """
     model = normalized(model)
     a: dict[int, tuple[Fraction, Fraction]] = {}
     b: dict[int, tuple[Fraction, Fraction]] = {}
@@ -409,7 +421,7 @@ def written_polynomials(model: Model) -> tuple[list[Fraction], list[Fraction]] |
     tuple of list of Fraction, or None
         None when a linear coefficient as written is irrational.
     """
-    num, den = _written_intervals(model)
+    num, den = written_intervals(model)
     if any(lo != hi for lo, hi in (*num, *den)):
         return None
     return [lo for lo, _ in num], [lo for lo, _ in den]
@@ -440,7 +452,7 @@ def linear_sup(model: Model, proof: str = "interval", ell: int = 0,
     """
     discrete = model.is_discrete
     if check_proof(proof) == "interval":
-        num_w, den_w = _written_intervals(model)
+        num_w, den_w = written_intervals(model)
         one = (Fraction(1), Fraction(1))
         top = _shift([one] if inverse else num_w, ell, discrete, (Fraction(0), Fraction(0)))
         return enclosed_sup(top, den_w, model.sample_time if discrete else None)

@@ -201,3 +201,23 @@ def test_controller_norm_proven_for_the_written_rationals() -> None:
                           "controller": {"num": [1.0], "den": [0.1, 0.3]}})
     upper = Fraction(closed_loop(mf).controller_norm_upper)
     assert Fraction(10, 3) <= upper <= Fraction(10, 3) * (1 + Fraction(1, 10**15))
+
+
+def test_sensitivity_peak_enclosed_for_an_irrational_damping() -> None:
+    # rho_1 = sup |(s^2 + c s + 1) / (s^2 + c s + 2)|, c = pi/10: in x = w^2 the ratio
+    # ((1 - x)^2 + c^2 x) / ((2 - x)^2 + c^2 x), maximised by mpmath at 50 digits
+    import mpmath
+
+    mf = model_from_dict({"equation": "D(y,2) + pi/10*D(y) + y = u",
+                          "controller": {"num": [1.0], "den": [1.0]}})
+    loop = closed_loop(mf)
+    with mpmath.workdps(50):
+        c = mpmath.pi / 10
+
+        def ratio(x: mpmath.mpf) -> mpmath.mpf:
+            return ((1 - x) ** 2 + c * c * x) / ((2 - x) ** 2 + c * c * x)
+
+        start = max((mpmath.mpf(i) / 100 for i in range(400)), key=ratio)
+        peak = mpmath.sqrt(ratio(mpmath.findroot(lambda x: mpmath.diff(ratio, x), start)))
+        assert loop.sensitivity_peak_upper >= peak
+        assert loop.sensitivity_peak_upper <= peak * (1 + 1e-12)
