@@ -37,14 +37,16 @@ def test_radius_scales_exactly(s: float) -> None:
 
 
 def test_radius_power_of_four_bitwise() -> None:
-    """A coefficient scaled by 4^k gives r* exactly 2^-k times the old one."""
+    """A coefficient scaled by 4^k gives r* exactly 2^-k times the old one (the scaled
+    coefficient written exactly: 0.5 times powers 4**15 and 4**(k mod 15))."""
     from gfrf.bounds.majorant import majorant, plant_radius
     from gfrf.model.equation import parse_model
 
     base = plant_radius(majorant(parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u")))
     for k in (-60, -7, 3, 45, 90):
-        c3 = 0.5 * 4.0 ** k
-        rad = plant_radius(majorant(parse_model(f"D(y,2) + 0.2*D(y) + y + {c3!r}*y**3 = u")))
+        op = "*" if k > 0 else "/"
+        c3 = "0.5" + f"{op}4**15" * (abs(k) // 15) + f"{op}4**{abs(k) % 15}"
+        rad = plant_radius(majorant(parse_model(f"D(y,2) + 0.2*D(y) + y + {c3}*y**3 = u")))
         assert rad.value == math.ldexp(base.value, -k)
         assert rad.certified_below == math.ldexp(base.certified_below, -k)
 

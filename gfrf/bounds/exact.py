@@ -285,14 +285,14 @@ def _report(p: Any) -> PoleReport:
     return PoleReport(False, outside, boundary, roots)
 
 
-def poles(coefficients: Sequence[float] | np.ndarray, discrete: bool = False) -> PoleReport:
+def poles(coefficients: Sequence[Any] | np.ndarray, discrete: bool = False) -> PoleReport:
     """Exact location of the roots of a polynomial (highest power first).
 
     Parameters
     ----------
     coefficients : array_like
         Continuous: A(s), highest power of s first.  Discrete: z^L A(1/z), highest
-        power of z first.
+        power of z first.  Floats (at their exact values) or Fractions.
     discrete : bool
         Boundary |z| = 1 instead of Re s = 0.
 

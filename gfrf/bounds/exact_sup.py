@@ -121,9 +121,14 @@ def _sup_squared(n: Any, d: Any, x_min: Fraction = Fraction(0)) -> tuple[Any, An
     candidate (inf for the limit).  The precision doubles until the enclosure is
     narrower than 2^-60 relative.
     """
+    return _sup_x(_abs2_in_x(n), _abs2_in_x(d), x_min)
+
+
+def _sup_x(p: Any, q: Any, x_min: Fraction = Fraction(0)) -> tuple[Any, Any, float]:
+    """As :func:`_sup_squared` for the polynomials ``p`` and ``q`` in x themselves (fmpq_poly,
+    deg p <= deg q, q > 0 on x >= x_min)."""
     flint = _flint()
     x_min = flint.fmpq(x_min.numerator, x_min.denominator)
-    p, q = _abs2_in_x(n), _abs2_in_x(d)
     s = p.derivative() * q - p * q.derivative()
     if s.degree() >= 0:
         at_min = flint.fmpq_poly([-x_min, 1])
@@ -451,14 +456,15 @@ class SupBeyond:
             return _up(flint.arb(best.upper()).sqrt())
 
 
-def discrete_sup_abs(num: Sequence[float] | np.ndarray, den: Sequence[float] | np.ndarray,
+def discrete_sup_abs(num: Sequence[Any] | np.ndarray, den: Sequence[Any] | np.ndarray,
                      sample_time: float, method: str = "interval") -> ExactSup:
     """Proven enclosure of sup over w in [0, pi/T] of |N(q)/D(q)|, q = exp(-j w T).
 
     Parameters
     ----------
     num, den : array_like
-        Coefficients of powers of q, lowest power first (as lags appear).
+        Coefficients of powers of q, lowest power first (as lags appear): floats (at
+        their exact values) or Fractions.
     sample_time : float
         T in seconds (only converts the argmax to rad/s).
     method : {"interval", "float"}
@@ -469,14 +475,20 @@ def discrete_sup_abs(num: Sequence[float] | np.ndarray, den: Sequence[float] | n
     ExactSup
         ``omega`` in rad/s; ``cancelled`` lists common roots in q.
     """
-    n_high = fractions(list(reversed(np.atleast_1d(np.asarray(num, dtype=float)).tolist())))
-    d_high = fractions(list(reversed(np.atleast_1d(np.asarray(den, dtype=float)).tolist())))
+    n_high, d_high = fractions(_reversed(num)), fractions(_reversed(den))
     res = _sup_discrete(tuple(n_high), tuple(d_high), _method(method))
     if math.isfinite(res.omega):
         return ExactSup(res.lower, res.upper, res.value, res.omega / sample_time, res.reason,
                         res.cancelled)
     return ExactSup(res.lower, res.upper, res.value, math.pi / sample_time, res.reason,
                     res.cancelled)
+
+
+def _reversed(coefficients: Sequence[Any] | np.ndarray) -> list[Any]:
+    """Coefficients in reverse order: Fractions and ints kept, anything else as floats."""
+    if isinstance(coefficients, list | tuple):
+        return list(reversed(coefficients))
+    return list(reversed(np.atleast_1d(np.asarray(coefficients, dtype=float)).tolist()))
 
 
 @lru_cache(maxsize=1024)

@@ -49,6 +49,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from fractions import Fraction
 from typing import Any
 
 import numpy as np
@@ -57,12 +58,19 @@ from gfrf._results import Result
 from gfrf.bounds.exact import arb_upper
 from gfrf.bounds.fixed_point import Radius, certify, radius
 from gfrf.bounds.radius_scaling import scaled_plant_radius
-from gfrf.bounds.rational import SupResult, check_proof, discrete_rational_sup, rational_sup
+from gfrf.bounds.rational import (
+    SupResult,
+    check_proof,
+    discrete_rational_sup,
+    enclosed_sup,
+    rational_sup,
+)
 from gfrf.model.equation import Model
 from gfrf.model.scaling import normalized
 
 __all__ = ["Majorant", "MajorantTerm", "Radius", "majorant", "radius", "plant_radius",
-           "linear_polynomials", "certify"]
+           "linear_polynomials", "written_polynomials", "written_intervals", "linear_sup",
+           "certify"]
 
 
 @dataclass(frozen=True, kw_only=True, repr=False)
@@ -361,17 +369,114 @@ def linear_polynomials(model: Model) -> tuple[np.ndarray, np.ndarray]:
     return num[::-1], den[::-1]
 
 
-def _sup(model: Model, num: np.ndarray, den: np.ndarray, proof: str) -> SupResult:
+def written_intervals(model: Model) -> tuple[list[tuple[Fraction, Fraction]],
+                                              list[tuple[Fraction, Fraction]]]:
+    """(num, den) of H1 = -B/A of the normalised model as rational intervals containing
+    the coefficients as written (:meth:`gfrf.model.equation.Term.bounds`), in the order
+    of :func:`linear_polynomials`.
+
+    Parameters
+    ----------
+    model : Model
+        The plant model.
+
+    Returns
+    -------
+    tuple of list of tuple of Fraction
+        ``(num, den)``, each coefficient as ``(lo, hi)`` (equal for a rational one).
+    """
+    model = normalized(model)
+    a: dict[int, tuple[Fraction, Fraction]] = {}
+    b: dict[int, tuple[Fraction, Fraction]] = {}
+    for t in model.terms:
+        if t.is_linear_output:
+            part, k, sign = a, t.y_orders[0], 1
+        elif not t.y_orders and len(t.u_orders) == 1:
+            part, k, sign = b, t.u_orders[0], -1
+        else:
+            continue
+        lo, hi = t.bounds()
+        lo, hi = (lo, hi) if sign > 0 else (-hi, -lo)
+        old = part.get(k, (Fraction(0), Fraction(0)))
+        part[k] = (old[0] + lo, old[1] + hi)
+    zero = (Fraction(0), Fraction(0))
+    den = [a.get(k, zero) for k in range(max(a, default=0) + 1)]
+    num = [b.get(k, zero) for k in range(max(b, default=0) + 1)]
     if model.is_discrete:
-        return discrete_rational_sup(num, den, model.sample_time, proof)  # type: ignore[arg-type]
-    return rational_sup(num, den, proof)
+        return num, den
+    return num[::-1], den[::-1]
 
 
-def _shift(coefficients: np.ndarray, ell: int, discrete: bool) -> np.ndarray:
+def written_polynomials(model: Model) -> tuple[list[Fraction], list[Fraction]] | None:
+    """(num, den) of H1 = -B/A of the normalised model with the coefficients as written
+    (``0.2`` is 1/5), in the order of :func:`linear_polynomials`.
+
+    Parameters
+    ----------
+    model : Model
+        The plant model.
+
+    Returns
+    -------
+    tuple of list of Fraction, or None
+        None when a linear coefficient as written is irrational.
+    """
+    num, den = written_intervals(model)
+    if any(lo != hi for lo, hi in (*num, *den)):
+        return None
+    return [lo for lo, _ in num], [lo for lo, _ in den]
+
+
+def linear_sup(model: Model, proof: str = "interval", ell: int = 0,
+               inverse: bool = False) -> SupResult:
+    """sup |s^ell H1| (or sup |s^ell / A| with ``inverse``) over the axis or the circle.
+
+    At ``proof = "interval"`` it is proven for the model as written (decimals as exact
+    rationals, an irrational coefficient as an interval: :func:`enclosed_sup`); the
+    float and estimate levels use the doubles.
+
+    Parameters
+    ----------
+    model : Model
+        The plant model.
+    proof : {"interval", "float", "none"}
+        Level of proof (:func:`gfrf.bounds.rational.rational_sup`).
+    ell : int, optional
+        The power of s (of q for a NARX model) multiplying the numerator.
+    inverse : bool, optional
+        1/A instead of H1 = -B/A.
+
+    Returns
+    -------
+    SupResult
+    """
+    discrete = model.is_discrete
+    if check_proof(proof) == "interval":
+        num_w, den_w = written_intervals(model)
+        one = (Fraction(1), Fraction(1))
+        top = _shift([one] if inverse else num_w, ell, discrete, (Fraction(0), Fraction(0)))
+        return enclosed_sup(top, den_w, model.sample_time if discrete else None)
+    num, den = linear_polynomials(model)
+    shifted = _shift([1.0] if inverse else list(num), ell, discrete, 0.0)
+    if discrete:
+        return discrete_rational_sup(np.array(shifted), den, model.sample_time,  # type: ignore[arg-type]
+                                     proof)
+    return rational_sup(np.array(shifted), den, proof)
+
+
+def _shift(coefficients: list[Any], ell: int, discrete: bool, zero: Any) -> list[Any]:
     """Multiply by s^ell (continuous, highest first) or q^ell (discrete, lowest first)."""
     if discrete:
-        return np.concatenate([np.zeros(ell), coefficients])
-    return np.concatenate([coefficients, np.zeros(ell)])
+        return [zero] * ell + coefficients
+    return coefficients + [zero] * ell
+
+
+def _weight_upper(term: Any) -> float:
+    """The smallest float >= |c| for every value c of the term's coefficient as written."""
+    lo, hi = term.bounds()
+    top = max(abs(lo), abs(hi))
+    value = float(top)
+    return math.nextafter(value, math.inf) if Fraction(value) < top else value
 
 
 def majorant(model: Model, proof: str = "interval") -> Majorant:
@@ -390,7 +495,6 @@ def majorant(model: Model, proof: str = "interval") -> Majorant:
     """
     check_proof(proof)
     model = normalized(model)
-    num, den = linear_polynomials(model)
     discrete = model.is_discrete
     nonlinear = model.nonlinear_terms
     powers = tuple(sorted({0, *(ell for t in nonlinear for ell in t.y_orders)}))
@@ -398,8 +502,8 @@ def majorant(model: Model, proof: str = "interval") -> Majorant:
     linear, gains = {}, {}
     exact = True
     for ell in powers:
-        h1 = _sup(model, _shift(num, ell, discrete), den, proof)
-        inv_a = _sup(model, _shift(np.ones(1), ell, discrete), den, proof)
+        h1 = linear_sup(model, proof, ell)
+        inv_a = linear_sup(model, proof, ell, inverse=True)
         linear[ell], gains[ell] = h1.upper, inv_a.upper
         exact = exact and h1.exact and inv_a.exact
         for name, res in ((f"sup|s^{ell} H1|", h1), (f"sup|s^{ell}/A|", inv_a)):
@@ -411,7 +515,8 @@ def majorant(model: Model, proof: str = "interval") -> Majorant:
         unbounded = not discrete and any(k > 0 for k in t.u_orders)
         if unbounded:
             reasons.append(f"term {t}: an input derivative factor has sup |j w|^k = inf")
-        terms.append(MajorantTerm(weight=math.inf if unbounded else abs(t.coefficient),
+        weight = _weight_upper(t) if proof == "interval" else abs(t.coefficient)
+        terms.append(MajorantTerm(weight=math.inf if unbounded else weight,
                                   q=len(t.u_orders), y_orders=t.y_orders, text=str(t)))
     return Majorant(powers=powers,
                     linear=linear,

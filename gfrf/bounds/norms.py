@@ -75,8 +75,8 @@ from gfrf.bounds.branch_bound import (
 from gfrf.bounds.budget import kernel_operations
 from gfrf.bounds.exact import PoleReport, format_roots, poles
 from gfrf.bounds.local_search import SEARCH_WORK, local_search
-from gfrf.bounds.majorant import linear_polynomials, majorant
-from gfrf.bounds.rational import check_proof, discrete_rational_sup, rational_sup
+from gfrf.bounds.majorant import linear_polynomials, linear_sup, majorant, written_polynomials
+from gfrf.bounds.rational import check_proof
 from gfrf.errors import ArgumentError
 from gfrf.kernels.recursion import kernel
 from gfrf.model.equation import Model
@@ -205,7 +205,7 @@ def linear_poles(model: Model) -> PoleReport:
     """
     # For a NARX model den is A's coefficients, lowest power of q first; in z = 1/q the
     # polynomial z^L A(1/z) has those same coefficients, highest power of z first.
-    _, den = linear_polynomials(model)
+    _, den = written_polynomials(model) or linear_polynomials(model)  # as written if rational
     return poles(den, model.is_discrete)
 
 
@@ -259,11 +259,11 @@ def h1_norm(model: Model, proof: str = "interval", cross_check: bool = False) ->
         notes.append(f"linear part not asymptotically stable ({where}, exact test): the value "
                      "is the L-infinity norm on the frequency axis, not an H-infinity norm")
     if model.is_discrete:
-        sup = discrete_rational_sup(num, den, model.sample_time, proof)  # type: ignore[arg-type]
+        sup = linear_sup(model, proof)  # proof "interval": the model as written
         method = ("exact rational algebra on the unit circle (Cayley map) + "
                   + _stationary_text(proof))
     else:
-        sup = rational_sup(num, den, proof)
+        sup = linear_sup(model, proof)
         method = "exact rational algebra + " + _stationary_text(proof)
     reference = None
     if cross_check and stable and math.isfinite(sup.upper):

@@ -16,6 +16,10 @@ A discrete-time function of the backward shift q = exp(-j*omega*T) is mapped to 
 imaginary axis by the Cayley map q = (1 + s) / (1 - s) and handled the same way (a
 pole at z = -1 or anywhere on the unit circle is decided exactly).
 
+:func:`enclosed_sup` does the same for coefficients known only to lie in rational
+intervals (a coefficient written as ``pi``): the exact sup at the midpoints, widened by
+a perturbation bound that holds for every coefficient in the intervals.
+
 Examples
 --------
 >>> s = rational_sup([1.0], [1.0, 0.05, 2.45])
@@ -30,6 +34,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from fractions import Fraction
 from typing import Any
 
 import numpy as np
@@ -39,7 +44,10 @@ from gfrf.bounds.exact_sup import ExactSup, discrete_sup_abs, sup_abs
 from gfrf.errors import ArgumentError
 
 __all__ = ["SupResult", "PROOF_LEVELS", "check_proof", "rational_sup",
-           "discrete_rational_sup"]
+           "discrete_rational_sup", "enclosed_sup"]
+
+#: Rational bounds ``(lo, hi)`` of one coefficient.
+Interval = tuple[Fraction, Fraction]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -152,7 +160,7 @@ def rational_sup(num: np.ndarray | Sequence[Any], den: np.ndarray | Sequence[Any
     return _result(sup_abs(num, den, _method(proof)), "s", proof)
 
 
-def discrete_rational_sup(num: np.ndarray | list[float], den: np.ndarray | list[float],
+def discrete_rational_sup(num: np.ndarray | Sequence[Any], den: np.ndarray | Sequence[Any],
                           sample_time: float, proof: str = "interval") -> SupResult:
     """Sup over omega in [0, pi/T] of |N(q)/D(q)|, q = exp(-j*omega*T), as a proven enclosure.
 
@@ -160,7 +168,8 @@ def discrete_rational_sup(num: np.ndarray | list[float], den: np.ndarray | list[
     ----------
     num, den : array_like
         Coefficients of powers of q, *lowest* power first (``[c0, c1, ...]`` means
-        c0 + c1 q + ...), as lags appear in a NARX model.
+        c0 + c1 q + ...), as lags appear in a NARX model: floats (at their exact
+        values) or Fractions.
     sample_time : float
         T in seconds.
     proof : {"interval", "float", "none"}
@@ -171,3 +180,93 @@ def discrete_rational_sup(num: np.ndarray | list[float], den: np.ndarray | list[
     SupResult
     """
     return _result(discrete_sup_abs(num, den, sample_time, _method(proof)), "q", proof)
+
+
+def enclosed_sup(num: Sequence[Interval], den: Sequence[Interval],
+                 sample_time: float | None = None) -> SupResult:
+    """Proven enclosure of the sup of |N/D| for every N, D with coefficients in intervals.
+
+    Equal ends everywhere: :func:`rational_sup` (or :func:`discrete_rational_sup`) on
+    those exact values.  Otherwise, with N0, D0 the midpoint polynomials and R_N, R_D
+    the radii: on the axis |N - N0| <= sum_k r_k |w|^k and, by Cauchy-Schwarz,
+    (sum_k r_k |w|^k)^2 <= K sum_k r_k^2 w^(2k) (K nonzero radii), a polynomial in
+    x = w^2; its proven sup over |D0(j w)|^2 gives b^2 (c^2 for D), so that for c < 1
+    every sup lies in [(lower0 - b) / (1 + c), (upper0 + b) / (1 - c)] around the exact
+    sup [lower0, upper0] of |N0/D0|.  On the unit circle |N - N0| <= sum r_k and b =
+    sum r_k sup|1/D0|.  Where D0 has a root on the boundary, N0/D0 is improper or
+    c >= 1, there is no enclosure: ``lower = 0``, ``upper = inf`` with the reason.
+
+    Parameters
+    ----------
+    num, den : sequence of tuple of Fraction
+        ``(lo, hi)`` of every coefficient, in the order of :func:`rational_sup`
+        (highest power of s first) or, with ``sample_time``, of
+        :func:`discrete_rational_sup` (lowest power of q first).
+    sample_time : float, optional
+        T in seconds of a discrete-time function; None for s.
+
+    Returns
+    -------
+    SupResult
+        ``proof = "interval"``.
+    """
+    mid_n = [(lo + hi) / 2 for lo, hi in num]
+    mid_d = [(lo + hi) / 2 for lo, hi in den]
+    base = (rational_sup(mid_n, mid_d) if sample_time is None else
+            discrete_rational_sup(mid_n, mid_d, sample_time))
+    rad_n = [(hi - lo) / 2 for lo, hi in num]
+    rad_d = [(hi - lo) / 2 for lo, hi in den]
+    if not any(rad_n) and not any(rad_d):
+        return base
+    variable = "s" if sample_time is None else "q"
+    if not math.isfinite(base.upper):
+        return SupResult(value=math.inf, omega=base.omega, reason=(
+            "a coefficient as written is irrational and the function at its double has no "
+            f"finite sup ({base.reason}): no enclosure"), lower=0.0, upper=math.inf,
+            cancelled=base.cancelled, variable=variable)
+    import flint
+
+    from gfrf.bounds.exact import _PREC, _down, _precision, _up
+
+    with _precision(_PREC):
+        if sample_time is None:
+            b, c = _radius_ratio(rad_n, mid_d), _radius_ratio(rad_d, mid_d)
+        else:
+            inverse = flint.arb(discrete_rational_sup([Fraction(1)], mid_d, sample_time).upper)
+            b = inverse * flint.arb(_fmpq(sum(rad_n, Fraction(0))))
+            c = inverse * flint.arb(_fmpq(sum(rad_d, Fraction(0))))
+        if not (b.is_finite() and c.is_finite() and c < 1):
+            return SupResult(value=math.inf, omega=base.omega, reason=(
+                "a coefficient as written is irrational and its interval may move a root of "
+                "the denominator onto the boundary: no enclosure"), lower=0.0,
+                upper=math.inf, cancelled=base.cancelled, variable=variable)
+        upper = (flint.arb(base.upper) + b) / (1 - c)
+        lower = (flint.arb(base.lower) - b) / (1 + c)
+        return SupResult(value=base.value, omega=base.omega, lower=max(0.0, _down(lower)),
+                         upper=_up(upper), cancelled=base.cancelled, variable=variable)
+
+
+def _fmpq(value: Fraction) -> Any:
+    import flint
+
+    return flint.fmpq(value.numerator, value.denominator)
+
+
+def _radius_ratio(radii: Sequence[Fraction], den: Sequence[Fraction]) -> Any:
+    """An arb upper bound of sup over real w of (sum_k r_k |w|^k) / |D(j w)| (highest
+    power first; D has no root on the axis), inf where the ratio is unbounded."""
+    import flint
+
+    from gfrf.bounds.exact import _qpoly
+    from gfrf.bounds.exact_sup import _abs2_in_x, _sup_x
+
+    low = list(reversed(radii))
+    count = sum(1 for r in low if r)
+    top = flint.fmpq_poly([_fmpq(count * r * r) for r in low])
+    q = _abs2_in_x(_qpoly(list(den)))
+    if top.degree() < 0:
+        return flint.arb(0)
+    if top.degree() > q.degree():
+        return flint.arb(math.inf)
+    _, upper, _ = _sup_x(top, q)
+    return flint.arb(upper).sqrt()

@@ -8,10 +8,10 @@ complex balls (python-flint ``acb``) by the recursion of :mod:`gfrf.kernels.recu
 
 P_m summed over the same term assignments (ordered set partitions with their weights
 for the symmetric kernel, compositions for the asymmetric one) as
-:class:`gfrf.kernels.recursion.GFRFGenerator`, with every model coefficient taken at the exact
-binary value of its float (``Fraction(c)``, not the short decimal that ``Kernel.expr``
-shows) and every frequency at its exact float value, so the ball encloses the kernel
-of the model as stored.  A discrete model uses q_i = exp(-j w_i T) as a ball.
+:class:`gfrf.kernels.recursion.GFRFGenerator`, with every model coefficient taken as
+written (``0.2`` is 1/5, :meth:`gfrf.model.equation.Term.bounds`; an irrational one as a
+ball around its double) and every frequency at its exact float value, so the ball
+encloses the kernel of the model as written.  A discrete model uses q_i = exp(-j w_i T) as a ball.
 :func:`witness_bound` turns |H_n| into float ends rounded outward.
 
 Examples
@@ -36,6 +36,8 @@ from gfrf.bounds.exact import arb_lower, arb_upper
 from gfrf.errors import ArgumentError
 from gfrf.kernels.recursion import generator
 from gfrf.model.equation import Model
+from gfrf.model.exact import Written
+from gfrf.model.scaling import normalized
 
 __all__ = ["WitnessBound", "kernel_ball", "witness_bound"]
 
@@ -44,9 +46,10 @@ _PRECISIONS = (128, 512)
 #: Relative width of the enclosure below which a witness counts as proven to its digits.
 WIDTH = 1e-10
 
-# One assignment of a term: exact coefficient x weight, output blocks with their
-# derivative orders (lags), input slots with theirs.
-_Step = tuple[Fraction, tuple[tuple[tuple[int, ...], int], ...], tuple[tuple[int, int], ...]]
+# One assignment of a term: bounds of the coefficient as written x weight, output blocks
+# with their derivative orders (lags), input slots with theirs.
+_Step = tuple[tuple[Fraction, Fraction], tuple[tuple[tuple[int, ...], int], ...],
+              tuple[tuple[int, int], ...]]
 
 
 @dataclass(frozen=True)
@@ -69,18 +72,25 @@ class WitnessBound:
     precision: int
 
 
-@lru_cache(maxsize=256)
 def _steps(model: Model, m: int, symmetric: bool) -> tuple[_Step, ...]:
-    """Every term assignment of order ``m`` (memoised per model, order and kind)."""
+    """Every term assignment of order ``m`` (memoised per model, its written values, order
+    and kind: models compare by their doubles only)."""
+    return _written_steps(model, tuple(t.written for t in model.terms), m, symmetric)
+
+
+@lru_cache(maxsize=256)
+def _written_steps(model: Model, written: tuple[Written | None, ...], m: int,
+                   symmetric: bool) -> tuple[_Step, ...]:
     gen = generator(model)
     steps = []
     if gen.structurally_nonzero(m):
-        for term in gen.model.terms:
+        for term in normalized(model).terms:
             if term.is_linear_output:
                 continue
+            lo, hi = term.bounds()
             for weight, y_blocks, u_slots in gen._assignments(term, m, symmetric):
-                coefficient = Fraction(term.coefficient) * Fraction(int(weight.p), int(weight.q))
-                steps.append((coefficient,
+                factor = Fraction(int(weight.p), int(weight.q))
+                steps.append(((lo * factor, hi * factor),
                               tuple(zip((tuple(b) for b in y_blocks), term.y_orders,
                                         strict=True)),
                               tuple(zip(u_slots, term.u_orders, strict=True))))
@@ -106,21 +116,20 @@ def kernel_ball(model: Model, n: int, omegas: Sequence[float], symmetric: bool =
     Returns
     -------
     flint.acb
-        A ball that contains the exact value of the kernel of ``model`` (coefficients
-        at their binary float values); non-finite if A(sum) may vanish there.
+        A ball that contains the exact value of the kernel of ``model`` as written
+        (:meth:`gfrf.model.equation.Term.bounds`); non-finite if A(sum) may vanish there.
     """
     import flint
 
     if len(omegas) != n or not all(math.isfinite(float(w)) for w in omegas):
         raise ArgumentError(f"H{n} needs {n} finite angular frequencies (rad/s), got {omegas!r}")
-    gen = generator(model)
-    norm = gen.model
+    norm = normalized(model)
     discrete = norm.is_discrete
     saved = flint.ctx.prec
     flint.ctx.prec = precision
     try:
-        linear = [(flint.arb(flint.fmpq(*Fraction(t.coefficient).as_integer_ratio())),
-                   t.y_orders[0]) for t in norm.terms if t.is_linear_output]
+        linear = [(_ball(t.bounds()), t.y_orders[0]) for t in norm.terms
+                  if t.is_linear_output]
         if discrete:
             step = flint.arb(flint.fmpq(*Fraction(norm.sample_time).as_integer_ratio()))
             xs = [flint.acb(0, -flint.arb(float(w)) * step).exp() for w in omegas]
@@ -147,8 +156,7 @@ def kernel_ball(model: Model, n: int, omegas: Sequence[float], symmetric: bool =
             if k not in memo:
                 numerator = flint.acb(0)
                 for coefficient, y_parts, u_parts in _steps(model, len(block), symmetric):
-                    product = flint.acb(flint.arb(flint.fmpq(coefficient.numerator,
-                                                             coefficient.denominator)))
+                    product = flint.acb(_ball(coefficient))
                     for sub, order in y_parts:
                         inner = tuple(block[j] for j in sub)
                         product *= value(inner)
@@ -168,6 +176,14 @@ def kernel_ball(model: Model, n: int, omegas: Sequence[float], symmetric: bool =
         return value(tuple(range(n)))
     finally:
         flint.ctx.prec = saved
+
+
+def _ball(bounds: tuple[Fraction, Fraction]) -> Any:
+    """The Arb ball of the rational interval ``bounds`` (exact ends rounded outward)."""
+    import flint
+
+    lo, hi = (flint.arb(flint.fmpq(c.numerator, c.denominator)) for c in bounds)
+    return lo if bounds[0] == bounds[1] else lo.union(hi)
 
 
 def witness_bound(model: Model, n: int, omegas: Sequence[float],

@@ -45,10 +45,11 @@ import numpy as np
 
 from gfrf._results import Result, markdown_table, short_repr
 from gfrf.bounds.exact import format_roots, fractions, poles
-from gfrf.bounds.majorant import linear_polynomials
-from gfrf.bounds.rational import rational_sup
+from gfrf.bounds.majorant import linear_polynomials, written_intervals
+from gfrf.bounds.rational import Interval, SupResult, enclosed_sup, rational_sup
 from gfrf.errors import ArgumentError
 from gfrf.model.equation import Model
+from gfrf.model.exact import Written, coefficient_bounds
 from gfrf.model.modelfile import Controller, ModelFile
 
 if TYPE_CHECKING:  # python-control (~1 s to import) is imported where a tf is built
@@ -248,6 +249,54 @@ def _written_characteristic(model_file: ModelFile, sign: int) -> list[Fraction] 
     return None if chi == [0] else chi
 
 
+def _written_sups(model_file: ModelFile, sign: int) -> tuple[SupResult, SupResult]:
+    """Proven (rho_1, lambda_1) of the loop as written (``0.2`` is 1/5; an irrational
+    coefficient as its double widened by a relative 2^-50): sups over rational intervals
+    of the coefficients of D_P D_C / chi and N_C / D_C (:func:`enclosed_sup`)."""
+    plant = written_intervals(model_file.plant)
+    ctrl = _controller_intervals(model_file.controller)  # type: ignore[arg-type]
+    den = _interval_polymul(plant[1], ctrl[1])
+    chi = _interval_add(den, _interval_polymul(plant[0], ctrl[0]), -sign)
+    while len(chi) > 1 and chi[0] == (0, 0):
+        chi = chi[1:]
+    if chi == [(0, 0)]:
+        raise ArgumentError("the closed-loop characteristic polynomial D_P D_C - f N_P N_C "
+                            "as written is identically zero")
+    return enclosed_sup(den, chi), enclosed_sup(*ctrl)
+
+
+def _controller_intervals(ctrl: Controller) -> tuple[list[Interval], list[Interval]]:
+    """(N_C, D_C) of the controller as rational intervals, highest power first."""
+    if not ctrl.is_linear:
+        return written_intervals(ctrl.model)  # type: ignore[arg-type]
+    num, den = ctrl.exact_tf()
+    doubles = (ctrl.num or (), ctrl.den or ())
+    return tuple(  # type: ignore[return-value]
+        [coefficient_bounds(c, Written(c, v)) for c, v in zip(d, w, strict=True)] or
+        [(Fraction(1), Fraction(1))] for d, w in zip(doubles, (num, den), strict=True))
+
+
+def _interval_polymul(a: list[Interval], b: list[Interval]) -> list[Interval]:
+    """Product of polynomials with interval coefficients (exact rational interval ends)."""
+    out = [(Fraction(0), Fraction(0))] * (len(a) + len(b) - 1)
+    for i, (alo, ahi) in enumerate(a):
+        for j, (blo, bhi) in enumerate(b):
+            ends = (alo * blo, alo * bhi, ahi * blo, ahi * bhi)
+            lo, hi = out[i + j]
+            out[i + j] = (lo + min(ends), hi + max(ends))
+    return out
+
+
+def _interval_add(a: list[Interval], b: list[Interval], factor: int) -> list[Interval]:
+    """a + factor * b (factor +-1) for interval polynomials, highest power first."""
+    size = max(len(a), len(b))
+    zero = (Fraction(0), Fraction(0))
+    a = [zero] * (size - len(a)) + a
+    b = [zero] * (size - len(b)) + b
+    return [(x[0] + y[0], x[1] + y[1]) if factor > 0 else (x[0] - y[1], x[1] - y[0])
+            for x, y in zip(a, b, strict=True)]
+
+
 def characteristic(plant: tuple[np.ndarray, np.ndarray], ctrl: tuple[np.ndarray, np.ndarray],
                    feedback: int) -> np.ndarray:
     """chi = D_P D_C - feedback * N_P N_C, highest power first, leading zeros trimmed.
@@ -418,11 +467,15 @@ def closed_loop(model_file: ModelFile, feedback: int | None = None,
     chi = np.array([float(c) for c in chi_exact])
     report = poles(_written_characteristic(model_file, sign) or chi_exact)
     sens_num = _polymul(fractions(plant_poly[1]), fractions(ctrl_poly[1]))
-    peak = rational_sup(sens_num, chi_exact, proof)
-    lam = rational_sup(*ctrl_poly, proof=proof)
+    if proof == "interval":  # proven for the loop as written
+        peak, lam = _written_sups(model_file, sign)
+    else:
+        peak, lam = rational_sup(sens_num, chi_exact, proof), rational_sup(*ctrl_poly,
+                                                                           proof=proof)
     notes = []
     if lam.reason:
-        notes.append(f"controller norm lambda_1 = inf: {lam.reason}")
+        notes.append(f"controller norm lambda_1 "
+                     f"{'= inf' if lam.lower == math.inf else 'not enclosed'}: {lam.reason}")
     if not report.stable:
         where = ("poles with Re s > 0: " + format_roots([p for p in report.roots
                                                           if p.real > 0])

@@ -97,7 +97,7 @@ def _unstable(mf: ModelFile, system: Any) -> str | None:
         from fractions import Fraction
 
         chi = [Fraction(int(c.p), int(c.q)) for c in coeffs]
-        report = poles(chi, discrete=system.discrete)  # type: ignore[arg-type]
+        report = poles(chi, discrete=system.discrete)
         what = "linear closed loop" if mf.controller is not None else "linear part"
     elif mf.controller is not None and not mf.plant.is_discrete:
         from gfrf.stability.loops import closed_loop

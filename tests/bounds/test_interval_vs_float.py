@@ -105,11 +105,12 @@ LIGHT = "D(y,2) + 1e-9*D(y) + y + 0.1*y**3 = u"
 
 def _light_closed_forms() -> tuple[mp.mpf, mp.mpf]:
     """||H3|| = |c3| beta^4 (beta = ||H1|| = sup|1/A|) and the majorant radius
-    r* = 2 / (3 beta sqrt(3 |c3| beta)) of X = beta r + |c3| beta X^3, at 50 digits."""
+    r* = 2 / (3 beta sqrt(3 |c3| beta)) of X = beta r + |c3| beta X^3, at 50 digits, for
+    the model as written (1e-9 and 0.1 are the rationals 1/10^9 and 1/10)."""
     with mp.workdps(DIGITS):
-        b = mp.mpf(1e-9)
+        b = mp.mpf(1) / 10 ** 9
         beta = 1 / (b * mp.sqrt(1 - b * b / 4))
-        c3 = mp.mpf(0.1)
+        c3 = mp.mpf(1) / 10
         return c3 * beta ** 4, 2 / (3 * beta * mp.sqrt(3 * c3 * beta))
 
 

@@ -45,7 +45,7 @@ def test_float_proof_lower_end_is_attained_on_clustered_poles() -> None:
     """Two resonances 5e-7 rad/s apart, damping 2e-5: the float |H2| at the maximiser is
     off by ~1e-6 (cancellation in A(j w)); the lower end is the witness proven in balls,
     at most |H2(argmax)| from mpmath at 50 digits, and the upper end is finite."""
-    coefficients = [1.0, 4e-05, 2.0000010004, 4.000002e-05, 1.000001]
+    coefficients = ["1", "4e-05", "2.0000010004", "4.000002e-05", "1.000001"]  # as written
     text = ("D(y,4) + 4e-05*D(y,3) + 2.0000010004*D(y,2) + 4.000002e-05*D(y) + 1.000001*y "
             "+ 0.4*y**2 = u")
     b = kernel_norm(parse_model(text), 2, proof="float")

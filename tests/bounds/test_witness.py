@@ -1,7 +1,7 @@
 """Proven witness points: |H_n| at the lower end's frequency vector in ball arithmetic.
 
-References are mpmath at 50 digits on closed forms written from the model's stored
-float coefficients (taken at their exact binary values): Duffing-type and hanging
+References are mpmath at 50 digits on closed forms written from the model's
+coefficients as written (``0.41`` is 41/100, not its double): Duffing-type and hanging
 pendulum H3 = -c3 H1(s1) H1(s2) H1(s3) / A(s1+s2+s3), and the NARX example's H3.
 """
 
@@ -47,14 +47,24 @@ def _contains(ball: object, value: mp.mpc) -> bool:
         return within(re_lo, mp.re(value), re_hi) and within(im_lo, mp.im(value), im_hi)
 
 
-def _cubic_h3(model: Model, w: tuple[float, ...], c3: mp.mpf | None = None) -> mp.mpc:
-    """-c3 H1(s1)H1(s2)H1(s3)/A(s1+s2+s3), H1 = -B/A, from the stored terms at 50 digits."""
+def _mp(value: Fraction | float) -> mp.mpf:
+    """A Fraction or a float exactly as an mpmath number (at the working precision)."""
+    value = Fraction(value)
+    return mp.mpf(value.numerator) / value.denominator
+
+
+def _cubic_h3(model: Model, w: tuple[float, ...], c3: mp.mpf | None = None,
+              binary: bool = False) -> mp.mpc:
+    """-c3 H1(s1)H1(s2)H1(s3)/A(s1+s2+s3), H1 = -B/A, at 50 digits from the coefficients as
+    written (``binary``: from their doubles)."""
+    def value(t: object) -> mp.mpf:
+        return _mp(t.coefficient if binary else t.exact)  # type: ignore[attr-defined]
+
     with mp.workdps(50):
-        linear = [(mp.mpf(t.coefficient), t.y_orders[0]) for t in model.terms
-                  if t.is_linear_output]
-        gain = next(mp.mpf(t.coefficient) for t in model.terms if t.y_orders == ())
+        linear = [(value(t), t.y_orders[0]) for t in model.terms if t.is_linear_output]
+        gain = next(value(t) for t in model.terms if t.y_orders == ())
         if c3 is None:
-            c3 = next(mp.mpf(t.coefficient) for t in model.terms if t.y_orders == (0, 0, 0))
+            c3 = next(value(t) for t in model.terms if t.y_orders == (0, 0, 0))
 
         def a(s: mp.mpc) -> mp.mpc:
             return sum(c * s ** k for c, k in linear)
@@ -76,14 +86,14 @@ def test_h3_ball_contains_mpmath_closed_form(text: str) -> None:
         assert hi - lo <= abs(hi) * Fraction(1, 10**30)  # 128 bits: a tight ball
 
 
-def test_ball_is_of_the_binary_coefficients_not_the_decimal_ones() -> None:
-    """0.4083333333333333 (the pendulum's g/6L) is not 49/120, which Kernel.expr shows."""
+def test_ball_is_of_the_written_coefficients_not_their_doubles() -> None:
+    """The pendulum's g/6L as written is 49/120, not its double 0.4083333333333333."""
     model = load_model(MODELS / "hanging_pendulum.toml").plant
     ball = kernel_ball(model, 3, POINT)
     assert _contains(ball, _cubic_h3(model, POINT))
     with mp.workdps(50):
-        decimal = _cubic_h3(model, POINT, c3=-mp.mpf(49) / 120)
-    assert not _contains(ball, decimal)
+        assert _contains(ball, _cubic_h3(model, POINT, c3=-mp.mpf(49) / 120))
+        assert not _contains(ball, _cubic_h3(model, POINT, binary=True))
 
 
 def test_narx_h3_ball_contains_mpmath_closed_form() -> None:
@@ -98,7 +108,7 @@ def test_narx_h3_ball_contains_mpmath_closed_form() -> None:
 
         total = sum(q[i] ** 2 * mp.fprod(q[j] * h1(q[j]) for j in range(3) if j != i)
                     for i in range(3))
-        h3 = -mp.mpf(0.2) / 3 * total / (1 - mp.mpf(0.5) * q[0] * q[1] * q[2])
+        h3 = -mp.mpf(2) / 10 / 3 * total / (1 - mp.mpf(0.5) * q[0] * q[1] * q[2])
     assert _contains(kernel_ball(model, 3, POINT), h3)
 
 

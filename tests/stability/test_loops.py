@@ -4,11 +4,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from fractions import Fraction
 
 import control
 import numpy as np
 import pytest
 
+from gfrf.bounds.rational import rational_sup
 from gfrf.errors import ArgumentError
 from gfrf.model.modelfile import load_model, model_from_dict
 from gfrf.papers.gfrf_paper import loop_sign_variants
@@ -179,3 +181,43 @@ def test_cluster_loop_verdict_is_not_unstable() -> None:
     v = theorem2(model_from_dict(_cluster_loop(1e-20)), order=1, amplitude=1e-3)
     assert v.verdict != "unstable"
     assert v.conditions[1].passed is True
+
+
+
+def test_sensitivity_peak_proven_for_the_loop_as_written() -> None:
+    # plant s^2 + c s + 1 with c = 0.1 + 0.2 - 0.3: 0 as written, 5.55e-17 in doubles;
+    # the static controller 1 gives chi = s^2 + c s + 2: poles on the axis as written
+    mf = model_from_dict({"equation": "D(y,2) + (0.1+0.2-0.3)*D(y) + y = u",
+                          "controller": {"num": [1.0], "den": [1.0]}})
+    doubles = rational_sup([1.0, 0.1 + 0.2 - 0.3, 1.0], [1.0, 0.1 + 0.2 - 0.3, 2.0])
+    assert math.isfinite(doubles.upper)  # what a proof on the doubles would claim
+    loop = closed_loop(mf)
+    assert loop.sensitivity_peak_upper == math.inf and not loop.stable
+
+
+def test_controller_norm_proven_for_the_written_rationals() -> None:
+    # lambda_1 = sup |1 / (0.1 s + 0.3)| = 1 / 0.3 = 10/3 at w = 0 as written
+    mf = model_from_dict({"equation": "D(y,2) + D(y) + 2*y = u",
+                          "controller": {"num": [1.0], "den": [0.1, 0.3]}})
+    upper = Fraction(closed_loop(mf).controller_norm_upper)
+    assert Fraction(10, 3) <= upper <= Fraction(10, 3) * (1 + Fraction(1, 10**15))
+
+
+def test_sensitivity_peak_enclosed_for_an_irrational_damping() -> None:
+    # rho_1 = sup |(s^2 + c s + 1) / (s^2 + c s + 2)|, c = pi/10: in x = w^2 the ratio
+    # ((1 - x)^2 + c^2 x) / ((2 - x)^2 + c^2 x), maximised by mpmath at 50 digits
+    import mpmath
+
+    mf = model_from_dict({"equation": "D(y,2) + pi/10*D(y) + y = u",
+                          "controller": {"num": [1.0], "den": [1.0]}})
+    loop = closed_loop(mf)
+    with mpmath.workdps(50):
+        c = mpmath.pi / 10
+
+        def ratio(x: mpmath.mpf) -> mpmath.mpf:
+            return ((1 - x) ** 2 + c * c * x) / ((2 - x) ** 2 + c * c * x)
+
+        start = max((mpmath.mpf(i) / 100 for i in range(400)), key=ratio)
+        peak = mpmath.sqrt(ratio(mpmath.findroot(lambda x: mpmath.diff(ratio, x), start)))
+        assert loop.sensitivity_peak_upper >= peak
+        assert loop.sensitivity_peak_upper <= peak * (1 + 1e-12)
