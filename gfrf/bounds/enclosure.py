@@ -206,14 +206,16 @@ class _Boxes:
         value, slope, curve = (np.asarray(x, complex) for x in point(sigma, error))
         sups = bounds(sigma - rho, sigma + rho)
         m = len(names)
+        spread = self.radii(names).sum(axis=1)  # g and h are constant over the block
         with np.errstate(invalid="ignore", over="ignore"):
+            forms = (np.abs(slope) * spread, np.abs(curve) * spread * spread)
             d = _safe(sups * rho[:, None] ** np.arange(4))
         rest = d[:, 3:] / 6 if self.sample_time is not None else np.full((sigma.size, 1), np.inf)
         # Lagrange's remainder of the quadratic Taylor polynomial; the forms (set by tighten)
         d = np.hstack([d, rest, np.zeros((sigma.size, 2))])
         return Jet(value, np.repeat(slope[:, None], m, axis=1),
                    np.repeat(np.repeat(curve[:, None, None], m, axis=1), m, axis=2),
-                   d, names, self).tighten()
+                   d, names, self).tighten(forms)
 
 
 @lru_cache(maxsize=4096)
@@ -287,9 +289,10 @@ class Jet:
         second = np.einsum("kij,ki,kj->k", np.abs(self.h), r, r)
         return first, second
 
-    def tighten(self) -> Jet:
-        """Intersect D_0, D_1, D_2 with the Taylor forms at the centre."""
-        first, second = self.forms()
+    def tighten(self, forms: tuple[np.ndarray, np.ndarray] | None = None) -> Jet:
+        """Intersect D_0, D_1, D_2 with the Taylor forms at the centre (``forms``: those
+        of :meth:`forms` when known)."""
+        first, second = self.forms() if forms is None else forms
         d3 = self.d[:, 3]
         rest = np.where(np.isnan(self.d[:, 4]), np.inf, self.d[:, 4])
         rest = np.where(rest < np.inf, np.fmin(rest, d3 / 6), rest)
@@ -323,8 +326,11 @@ class Jet:
         return Jet(self.v, g, h, self.d, names, self.boxes, phase=self.carrier(names))
 
     def _scaled(self, c: complex) -> Jet:
+        if self.pure:  # g = h = 0 (never written in place: shared)
+            return Jet(c * self.v, self.g, self.h, abs(c) * self.d, self.names, self.boxes,
+                       phase=self.phase, pure=True)
         return Jet(c * self.v, c * self.g, c * self.h, abs(c) * self.d, self.names,
-                   self.boxes, phase=self.phase, pure=self.pure)
+                   self.boxes, phase=self.phase)
 
     def __neg__(self) -> Jet:
         return self._scaled(-1.0)
