@@ -580,7 +580,8 @@ def _evaluate(kernel_code: Callable[..., Any], boxes: _Boxes,
     signs = np.array(np.meshgrid(*([[-1.0, 1.0]] * n), indexing="ij")).reshape(n, -1)
     _, second = h.forms()
     with np.errstate(invalid="ignore", over="ignore"):
-        vertex = np.abs(h.v[:, None] + (h.g * radius) @ signs).max(axis=1)
+        # einsum, not a matrix product: no BLAS threads (they spin on an idle core)
+        vertex = np.abs(h.v[:, None] + np.einsum("ki,ij->kj", h.g * radius, signs)).max(axis=1)
         affine = _safe(vertex + 0.5 * second + np.fmin(h.d[:, 3] / 6, h.d[:, 4]))
         bound = np.minimum(np.minimum(h.d[:, 0], affine), _modulus_bound(h))
         # centre values accepted with a relative error up to _POINT_RTOL per factor
