@@ -91,11 +91,13 @@ class _Count:
 
     ``phase`` mirrors the carrier of a NARX jet (:class:`gfrf.bounds.enclosure.Jet`): a
     sum of two terms on different carriers costs two more products (the turns that
-    align them).
+    align them).  ``pure`` marks a pure carrier (a NARX variable, a product or scaling
+    of them): a product with one is a scaling of the other jet and counts nothing.
     """
 
-    def __init__(self, tally: list[int], phase: tuple[int, ...] = ()) -> None:
-        self.tally, self.phase = tally, phase
+    def __init__(self, tally: list[int], phase: tuple[int, ...] = (), pure: bool = False
+                 ) -> None:
+        self.tally, self.phase, self.pure = tally, phase, pure
 
     def _op(self, other: object = None) -> _Count:
         self.tally[0] += 1
@@ -107,10 +109,15 @@ class _Count:
         return self
 
     def _product(self, other: object = None) -> _Count:
-        self.tally[0] += 1
-        if isinstance(other, _Count) and other.phase:
-            return _Count(self.tally, tuple(sorted(self.phase + other.phase)))
-        return self
+        if not isinstance(other, _Count):  # a scaling
+            self.tally[0] += 1
+            return self
+        if not (self.pure or other.pure):
+            self.tally[0] += 1
+        if other.phase:
+            return _Count(self.tally, tuple(sorted(self.phase + other.phase)),
+                          self.pure and other.pure)
+        return _Count(self.tally, self.phase, self.pure and other.pure)
 
     __add__ = __radd__ = __sub__ = __rsub__ = _sum
     __mul__ = __rmul__ = _product
@@ -133,7 +140,7 @@ def _operations(gen: GFRFGenerator, n: int, symmetric: bool, discrete: bool = Fa
         tally[0] += 4
         return _Count(tally)
 
-    _compiled(gen, n, symmetric)[0]([_Count(tally, (i,) if discrete else ())
+    _compiled(gen, n, symmetric)[0]([_Count(tally, (i,), True) if discrete else _Count(tally)
                                      for i in range(n)], inv_a)
     return max(tally[0], 1)
 

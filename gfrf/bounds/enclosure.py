@@ -113,6 +113,10 @@ def _fused_kernels() -> Any:
 
 #: Binomial coefficients C(k, i), k <= 3.
 _BINOMIAL = ((1,), (1, 1), (1, 2, 1), (1, 3, 3, 1))
+#: Columns of a jet's ``d``: the bounds D_0..D_3, the remainder R and the forms at the
+#: centre (sum |g_i| r_i, sum |h_ij| r_i r_j; upper bounds of them after a scaling), kept
+#: so that a product reads its operands' forms instead of recomputing them.
+_COLUMNS = 7
 
 
 class _Boxes:
@@ -159,13 +163,13 @@ class _Boxes:
         if self.sample_time is not None:
             t = self.sample_time
             q = np.exp(-1j * t * self.c[:, i])  # q_c exp(-j T delta): a carrier, no envelope
-            d = np.zeros((size, 5))  # exact: remainder R = 0
+            d = np.zeros((size, _COLUMNS))  # exact: remainder R = 0
             d[:, 0] = 1.0
             return Jet(q, np.zeros((size, 1), complex), np.zeros((size, 1, 1), complex), d,
-                       (i,), self, phase=np.full((size, 1), -t))
-        d = np.zeros((size, 5))
+                       (i,), self, phase=np.full((size, 1), -t), pure=True)
+        d = np.zeros((size, _COLUMNS))
         d[:, 0] = np.abs(self.c[:, i]) + self.r[:, i]
-        d[:, 1] = self.r[:, i]
+        d[:, 1] = d[:, 5] = self.r[:, i]
         d[:, 4] = np.inf  # continuous models: no Taylor-model remainder
         return Jet(1j * self.c[:, i], np.full((size, 1), 1j), np.zeros((size, 1, 1), complex),
                    d, (i,), self)
@@ -202,13 +206,16 @@ class _Boxes:
         value, slope, curve = (np.asarray(x, complex) for x in point(sigma, error))
         sups = bounds(sigma - rho, sigma + rho)
         m = len(names)
+        spread = self.radii(names).sum(axis=1)  # g and h are constant over the block
         with np.errstate(invalid="ignore", over="ignore"):
+            forms = (np.abs(slope) * spread, np.abs(curve) * spread * spread)
             d = _safe(sups * rho[:, None] ** np.arange(4))
         rest = d[:, 3:] / 6 if self.sample_time is not None else np.full((sigma.size, 1), np.inf)
-        d = np.hstack([d, rest])  # Lagrange's remainder of the quadratic Taylor polynomial
+        # Lagrange's remainder of the quadratic Taylor polynomial; the forms (set by tighten)
+        d = np.hstack([d, rest, np.zeros((sigma.size, 2))])
         return Jet(value, np.repeat(slope[:, None], m, axis=1),
                    np.repeat(np.repeat(curve[:, None, None], m, axis=1), m, axis=2),
-                   d, names, self).tighten()
+                   d, names, self).tighten(forms)
 
 
 @lru_cache(maxsize=4096)
@@ -229,13 +236,13 @@ class Jet:
     (the others are zero), so products of low-order factors stay small.
     """
 
-    __slots__ = ("v", "g", "h", "d", "names", "boxes", "phase")
+    __slots__ = ("v", "g", "h", "d", "names", "boxes", "phase", "pure")
 
     def __init__(self, v: np.ndarray, g: np.ndarray, h: np.ndarray, d: np.ndarray,
-                 names: tuple[int, ...], boxes: _Boxes, phase: np.ndarray | None = None
-                 ) -> None:
+                 names: tuple[int, ...], boxes: _Boxes, phase: np.ndarray | None = None,
+                 pure: bool = False) -> None:
         self.v, self.g, self.h, self.d, self.names, self.boxes = v, g, h, d, names, boxes
-        self.phase = phase
+        self.phase, self.pure = phase, pure
 
     def carrier(self, names: tuple[int, ...]) -> np.ndarray | None:
         """The carrier over ``names`` (a superset of the jet's), None when it is zero.
@@ -258,7 +265,10 @@ class Jet:
         return out
 
     def _rotated(self, delta: np.ndarray, names: tuple[int, ...]) -> Jet:
-        """The envelope times exp(j delta . (w - c)) over ``names`` (its carrier dropped)."""
+        """The envelope times exp(j delta . (w - c)) over ``names`` (its carrier dropped;
+        the jet itself where every delta is 0)."""
+        if not delta.any():
+            return self
         fused = self.boxes.fused
         if fused is not None:  # the jet is on ``names`` already (see _aligned)
             return Jet(*fused.jet_turn(self.v, self.g, self.h, self.d, delta,
@@ -268,7 +278,7 @@ class Jet:
         s = np.sum(np.abs(delta) * r, axis=1)
         turn = Jet(np.ones(size, complex), 1j * delta,
                    -(delta[:, :, None] * delta[:, None, :]).astype(complex),
-                   np.stack([np.ones(size), s, s * s, s ** 3, s ** 3 / 6], axis=1), names,
+                   np.stack([np.ones(size), s, s * s, s ** 3, s ** 3 / 6, s, s * s], axis=1), names,
                    self.boxes)
         return Jet(self.v, self.g, self.h, self.d, self.names, self.boxes) * turn
 
@@ -279,9 +289,10 @@ class Jet:
         second = np.einsum("kij,ki,kj->k", np.abs(self.h), r, r)
         return first, second
 
-    def tighten(self) -> Jet:
-        """Intersect D_0, D_1, D_2 with the Taylor forms at the centre."""
-        first, second = self.forms()
+    def tighten(self, forms: tuple[np.ndarray, np.ndarray] | None = None) -> Jet:
+        """Intersect D_0, D_1, D_2 with the Taylor forms at the centre (``forms``: those
+        of :meth:`forms` when known)."""
+        first, second = self.forms() if forms is None else forms
         d3 = self.d[:, 3]
         rest = np.where(np.isnan(self.d[:, 4]), np.inf, self.d[:, 4])
         rest = np.where(rest < np.inf, np.fmin(rest, d3 / 6), rest)
@@ -293,6 +304,7 @@ class Jet:
             # a Taylor model's remainder is also at most D_2 / 2 + second / 2 (Lagrange)
             self.d[:, 4] = np.where(rest < np.inf, np.fmin(rest, 0.5 * (d2 + second)), rest)
         self.d[:, :3] = np.fmin(self.d[:, :3], forms)
+        self.d[:, 5], self.d[:, 6] = first, second
         return self
 
     def embedded(self, names: tuple[int, ...]) -> Jet:
@@ -314,6 +326,9 @@ class Jet:
         return Jet(self.v, g, h, self.d, names, self.boxes, phase=self.carrier(names))
 
     def _scaled(self, c: complex) -> Jet:
+        if self.pure:  # g = h = 0 (never written in place: shared)
+            return Jet(c * self.v, self.g, self.h, abs(c) * self.d, self.names, self.boxes,
+                       phase=self.phase, pure=True)
         return Jet(c * self.v, c * self.g, c * self.h, abs(c) * self.d, self.names,
                    self.boxes, phase=self.phase)
 
@@ -384,6 +399,8 @@ class Jet:
         names = _union(self.names, other.names)[0]
         pa, pb = self.carrier(names), other.carrier(names)
         phase = pb if pa is None else pa if pb is None else pa + pb
+        if self.pure or other.pure:
+            return self._carried(other, names, phase)
         names, fused = self._fused("jet_mul", other, phase)
         if fused is not None:
             return fused
@@ -400,6 +417,18 @@ class Jet:
                    self.boxes, phase=phase).tighten()
 
     __rmul__ = __mul__
+
+    def _carried(self, other: Jet, names: tuple[int, ...], phase: np.ndarray | None) -> Jet:
+        """Product with a pure carrier (constant envelope: g = h = 0, D_1..D_3 = R = 0):
+        the other envelope times that constant c, whose D_k and R scale by D_0 >= |c|
+        (Leibniz's rule and the product's remainder with those zeros), so the product
+        needs no new bounds."""
+        pure, jet = (self, other) if self.pure else (other, self)
+        jet = jet.embedded(names)
+        c, scale = pure.v, pure.d[:, 0]
+        return Jet(jet.v * c, jet.g * c[:, None], jet.h * c[:, None, None],
+                   _safe(jet.d * scale[:, None]), names, self.boxes, phase=phase,
+                   pure=jet.pure)
 
     def __pow__(self, k: int) -> Jet:
         if not (isinstance(k, int) and k >= 1):
@@ -426,7 +455,7 @@ def _remainder(a: Jet, b: Jet) -> np.ndarray:
 def _constant(c: complex, boxes: _Boxes) -> Jet:
     """The constant ``c`` as a jet over no coordinates (exact: remainder 0)."""
     size = boxes.c.shape[0]
-    d = np.zeros((size, 5))
+    d = np.zeros((size, _COLUMNS))
     d[:, 0] = abs(c)
     return Jet(np.full(size, complex(c)), np.zeros((size, 0), complex),
                np.zeros((size, 0, 0), complex), d, (), boxes)
@@ -440,7 +469,7 @@ def _modulus_bound(h: Jet) -> np.ndarray:
     f0 = np.abs(h.v) ** 2
     grad = 2 * np.real(vc[:, None] * h.g)
     hess = 2 * np.real(np.conj(h.g)[:, :, None] * h.g[:, None, :] + vc[:, None, None] * h.h)
-    d0, d1, d2, d3, rest = h.d.T
+    d0, d1, d2, d3, rest = h.d.T[:5]
     remainder = (2 * d0 * d3 + 6 * d1 * d2) / 6
     off = np.abs(hess) * (1 - np.eye(n))
     diagonal = np.maximum(np.einsum("kii->ki", hess), 0.0)
@@ -545,13 +574,14 @@ def _evaluate(kernel_code: Callable[..., Any], boxes: _Boxes,
     if not isinstance(h, Jet):  # a constant kernel
         h = Jet(np.full(centre.shape[0], complex(h)), np.zeros((centre.shape[0], 0), complex),
                 np.zeros((centre.shape[0], 0, 0), complex),
-                np.tile([abs(complex(h)), 0.0, 0.0, 0.0, 0.0], (centre.shape[0], 1)), (),
+                np.tile([abs(complex(h))] + [0.0] * (_COLUMNS - 1), (centre.shape[0], 1)), (),
                 boxes)
     h = h.embedded(tuple(range(n)))
     signs = np.array(np.meshgrid(*([[-1.0, 1.0]] * n), indexing="ij")).reshape(n, -1)
     _, second = h.forms()
     with np.errstate(invalid="ignore", over="ignore"):
-        vertex = np.abs(h.v[:, None] + (h.g * radius) @ signs).max(axis=1)
+        # einsum, not a matrix product: no BLAS threads (they spin on an idle core)
+        vertex = np.abs(h.v[:, None] + np.einsum("ki,ij->kj", h.g * radius, signs)).max(axis=1)
         affine = _safe(vertex + 0.5 * second + np.fmin(h.d[:, 3] / 6, h.d[:, 4]))
         bound = np.minimum(np.minimum(h.d[:, 0], affine), _modulus_bound(h))
         # centre values accepted with a relative error up to _POINT_RTOL per factor

@@ -58,30 +58,20 @@ def _tighten(k, v, g, h, d, r):
             d[k, m] = forms[m]
         if d[k, m] != d[k, m]:
             d[k, m] = np.inf
+    d[k, 5] = first
+    d[k, 6] = second
 
 
 @njit(cache=True, inline="always")
-def _forms(k, g, h, idx, r):
-    """(sum |g_p| r_p, 1/2 sum |h_pq| r_p r_q) of one operand over its coordinates ``idx``."""
-    first = 0.0
-    second = 0.0
-    for p in range(idx.size):
-        rp = r[k, idx[p]]
-        first += _abs(g[k, p]) * rp
-        for q in range(idx.size):
-            second += _abs(h[k, p, q]) * rp * r[k, idx[q]]
-    return first, 0.5 * second
-
-
-@njit(cache=True, inline="always")
-def _remainder(k, av, ag, ah, ad, ia, bv, bg, bh, bd, ib, r):
+def _remainder(k, av, ad, bd):
     """Taylor-model remainder of a product: the degree-3 and -4 terms of the product of the
-    quadratic parts, plus R_a sup|b| + sup|P_a| R_b (inf when either remainder is)."""
+    quadratic parts, plus R_a sup|b| + sup|P_a| R_b (inf when either remainder is), from
+    the operands' forms (columns 5 and 6 of ``d``)."""
     ra, rb = ad[k, 4], bd[k, 4]
     if not (ra < np.inf and rb < np.inf):
         return np.inf
-    a1, a2 = _forms(k, ag, ah, ia, r)
-    b1, b2 = _forms(k, bg, bh, ib, r)
+    a1, a2 = ad[k, 5], 0.5 * ad[k, 6]
+    b1, b2 = bd[k, 5], 0.5 * bd[k, 6]
     sup_a = _fmin(abs(av[k]) + a1 + a2, ad[k, 0] + ra)
     out = a1 * b2 + a2 * b1 + a2 * b2
     if ra > 0.0:  # an exact operand (R = 0) adds nothing, whatever the other's sup
@@ -123,7 +113,7 @@ def jet_mul(av, ag, ah, ad, ia, bv, bg, bh, bd, ib, r):
     v = np.empty(size, np.complex128)
     g = np.zeros((size, m), np.complex128)
     h = np.zeros((size, m, m), np.complex128)
-    d = np.empty((size, 5))
+    d = np.empty((size, 7))
     for k in range(size):
         a0, b0 = av[k], bv[k]
         v[k] = a0 * b0
@@ -149,7 +139,7 @@ def jet_mul(av, ag, ah, ad, ia, bv, bg, bh, bd, ib, r):
         for j in range(4):
             if d[k, j] != d[k, j]:
                 d[k, j] = np.inf
-        d[k, 4] = _remainder(k, av, ag, ah, ad, ia, bv, bg, bh, bd, ib, r)
+        d[k, 4] = _remainder(k, av, ad, bd)
         _tighten(k, v, g, h, d, r)
     return v, g, h, d
 
@@ -162,7 +152,7 @@ def jet_turn(av, ag, ah, ad, delta, r):
     v = av.copy()
     g = np.empty((size, m), np.complex128)
     h = np.empty((size, m, m), np.complex128)
-    d = np.empty((size, 5))
+    d = np.empty((size, 7))
     for k in range(size):
         s = 0.0
         for i in range(m):
@@ -185,13 +175,7 @@ def jet_turn(av, ag, ah, ad, delta, r):
                 d[k, j] = np.inf
         ra = ad[k, 4]
         if ra < np.inf:
-            a1 = 0.0
-            a2 = 0.0
-            for i in range(m):
-                a1 += _abs(ag[k, i]) * r[k, i]
-                for j in range(m):
-                    a2 += _abs(ah[k, i, j]) * r[k, i] * r[k, j]
-            a2 *= 0.5
+            a1, a2 = ad[k, 5], 0.5 * ad[k, 6]
             out = a1 * s * s / 2 + a2 * s + a2 * s * s / 2 + ra
             if s > 0.0:
                 out += _fmin(abs(a0) + a1 + a2, x0 + ra) * s ** 3 / 6
