@@ -290,8 +290,13 @@ class Jet:
         return first, second
 
     def tighten(self, forms: tuple[np.ndarray, np.ndarray] | None = None) -> Jet:
-        """Intersect D_0, D_1, D_2 with the Taylor forms at the centre (``forms``: those
-        of :meth:`forms` when known)."""
+        """Intersect D_0, D_1, D_2 with the Taylor forms at the centre, in place.
+
+        Parameters
+        ----------
+        forms : tuple of numpy.ndarray, optional
+            The first- and second-order Taylor sums of :meth:`forms`, when already known.
+        """
         first, second = self.forms() if forms is None else forms
         d3 = self.d[:, 3]
         rest = np.where(np.isnan(self.d[:, 4]), np.inf, self.d[:, 4])

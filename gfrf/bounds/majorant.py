@@ -369,8 +369,8 @@ def linear_polynomials(model: Model) -> tuple[np.ndarray, np.ndarray]:
     return num[::-1], den[::-1]
 
 
-def written_intervals(model: Model) -> tuple[list[tuple[Fraction, Fraction]],
-                                              list[tuple[Fraction, Fraction]]]:
+def written_intervals(model: Model, *, normalize: bool = True
+                      ) -> tuple[list[tuple[Fraction, Fraction]], list[tuple[Fraction, Fraction]]]:
     """(num, den) of H1 = -B/A of the normalised model as rational intervals containing
     the coefficients as written (:meth:`gfrf.model.equation.Term.bounds`), in the order
     of :func:`linear_polynomials`.
@@ -379,13 +379,17 @@ def written_intervals(model: Model) -> tuple[list[tuple[Fraction, Fraction]],
     ----------
     model : Model
         The plant model.
+    normalize : bool
+        Take the normalised model (:func:`gfrf.model.scaling.normalized`, the same H1);
+        False: the coefficients exactly as the model has them.
 
     Returns
     -------
     tuple of list of tuple of Fraction
         ``(num, den)``, each coefficient as ``(lo, hi)`` (equal for a rational one).
     """
-    model = normalized(model)
+    if normalize:
+        model = normalized(model)
     a: dict[int, tuple[Fraction, Fraction]] = {}
     b: dict[int, tuple[Fraction, Fraction]] = {}
     for t in model.terms:
@@ -407,7 +411,8 @@ def written_intervals(model: Model) -> tuple[list[tuple[Fraction, Fraction]],
     return num[::-1], den[::-1]
 
 
-def written_polynomials(model: Model) -> tuple[list[Fraction], list[Fraction]] | None:
+def written_polynomials(model: Model, *, normalize: bool = True
+                        ) -> tuple[list[Fraction], list[Fraction]] | None:
     """(num, den) of H1 = -B/A of the normalised model with the coefficients as written
     (``0.2`` is 1/5), in the order of :func:`linear_polynomials`.
 
@@ -415,13 +420,16 @@ def written_polynomials(model: Model) -> tuple[list[Fraction], list[Fraction]] |
     ----------
     model : Model
         The plant model.
+    normalize : bool
+        Take the normalised model (the same H1); False: the coefficients exactly as the
+        model has them.
 
     Returns
     -------
     tuple of list of Fraction, or None
         None when a linear coefficient as written is irrational.
     """
-    num, den = written_intervals(model)
+    num, den = written_intervals(model, normalize=normalize)
     if any(lo != hi for lo, hi in (*num, *den)):
         return None
     return [lo for lo, _ in num], [lo for lo, _ in den]

@@ -45,7 +45,7 @@ import numpy as np
 
 from gfrf._results import Result, markdown_table, short_repr
 from gfrf.bounds.exact import format_roots, fractions, poles
-from gfrf.bounds.majorant import linear_polynomials, written_intervals
+from gfrf.bounds.majorant import linear_polynomials, written_intervals, written_polynomials
 from gfrf.bounds.rational import Interval, SupResult, enclosed_sup, rational_sup
 from gfrf.errors import ArgumentError
 from gfrf.model.equation import Model
@@ -222,22 +222,16 @@ def characteristic_exact(plant: tuple[np.ndarray, np.ndarray],
 
 def _written_den(plant: Model) -> list[Fraction] | None:
     """A(s) of the plant with its coefficients as written (None: one is irrational)."""
-    from gfrf.stability.polysys import exact_linear_polynomials
-
-    written = exact_linear_polynomials(plant)
+    written = written_polynomials(plant, normalize=False)
     return None if written is None else written[1]
 
 
 def _written_characteristic(model_file: ModelFile, sign: int) -> list[Fraction] | None:
     """chi of the loop with the coefficients as written (``0.2`` is 1/5), for the exact
     stability decision; None when one is irrational or the controller is polynomial."""
-    from gfrf.stability.polysys import (
-        StateFormError,
-        exact_linear_polynomials,
-        exact_transfer_function,
-    )
+    from gfrf.stability.polysys import StateFormError, exact_transfer_function
 
-    plant = exact_linear_polynomials(model_file.plant)
+    plant = written_polynomials(model_file.plant, normalize=False)
     ctrl = model_file.controller
     if plant is None or ctrl is None or not ctrl.is_linear:
         return None

@@ -33,7 +33,6 @@ from gfrf.model.equation import Model, Term
 from gfrf.model.modelfile import Controller, ModelFile, resolve_model
 
 __all__ = ["Poly", "PolySystem", "state_form", "exact_coefficient", "exact_transfer_function",
-           "exact_linear_polynomials",
            "padd", "pmul", "pscale", "pdiff", "pcompose",
            "peval", "pdegree", "linear_poly"]
 
@@ -296,42 +295,6 @@ def exact_coefficient(term: Term) -> Fraction:
         raise StateFormError(f"the coefficient of {term.monomial()} as written is not "
                              f"rational (the exact engine needs rational coefficients)")
     return value
-
-
-def exact_linear_polynomials(model: Model) -> tuple[list[Fraction], list[Fraction]] | None:
-    """``(num, den)`` of H1 = -B/A with the exact coefficients as written.
-
-    The order of :func:`gfrf.bounds.majorant.linear_polynomials` (highest power first for
-    a continuous model, lowest power of q first for NARX), not normalised.
-
-    Parameters
-    ----------
-    model : Model
-        The plant model.
-
-    Returns
-    -------
-    tuple of list of Fraction, or None
-        None when a linear coefficient as written is irrational.
-    """
-    a: dict[int, Fraction] = {}
-    b: dict[int, Fraction] = {}
-    for t in model.terms:
-        if t.is_linear_output:
-            part, k = a, t.y_orders[0]
-        elif not t.y_orders and len(t.u_orders) == 1:
-            part, k = b, t.u_orders[0]
-        else:
-            continue
-        value = t.exact
-        if value is None:
-            return None
-        part[k] = part.get(k, Fraction(0)) + value
-    den = [a.get(k, Fraction(0)) for k in range(max(a, default=0) + 1)]
-    num = [-b.get(k, Fraction(0)) for k in range(max(b, default=0) + 1)]
-    if model.is_discrete:
-        return num, den
-    return num[::-1], den[::-1]
 
 
 def exact_transfer_function(ctrl: Controller) -> tuple[list[Fraction], list[Fraction]]:

@@ -89,9 +89,9 @@ def _proper_condition(model: Model, maj: Majorant, what: str) -> Condition:
 def _stability_condition(model: Model) -> tuple[Condition, str]:
     """Condition 2, decided exactly (Routh's test in rationals, exact boundary roots) on
     A's coefficients as written (``0.2`` is 1/5; its doubles when one is irrational)."""
-    from gfrf.stability.polysys import exact_linear_polynomials
+    from gfrf.bounds.majorant import written_polynomials
 
-    written = exact_linear_polynomials(model)
+    written = written_polynomials(model, normalize=False)
     report = linear_poles(model) if written is None else poles(written[1], model.is_discrete)
     kind = "|z| < 1" if model.is_discrete else "Re s < 0"
     values = [complex(p) for p in report.roots]
