@@ -26,8 +26,8 @@ Examples
 >>> from gfrf.model.equation import parse_model
 >>> from gfrf.bounds.majorant import majorant
 >>> a = scaled_plant_radius(majorant(parse_model("D(y,2) + 0.2*D(y) + y + 0.5*y**3 = u")))
->>> c3 = 0.5 * 4.0 ** 40
->>> b = scaled_plant_radius(majorant(parse_model(f"D(y,2) + 0.2*D(y) + y + {c3!r}*y**3 = u")))
+>>> c3 = 2 ** 79  # 0.5 * 4**40, written out exactly (proofs use the coefficients as written)
+>>> b = scaled_plant_radius(majorant(parse_model(f"D(y,2) + 0.2*D(y) + y + {c3}*y**3 = u")))
 >>> a.value == b.value * 2.0 ** 40, b.proof
 (True, 'interval')
 """
