@@ -47,7 +47,7 @@ def test_budget_limited_bracket_identical_under_load() -> None:
     quiet = branch_and_bound(m, 5, max_boxes=12_000)
     with cpu_load():
         loaded = branch_and_bound(m, 5, max_boxes=12_000)
-    assert not quiet.converged and quiet.boxes >= 12_000
+    assert not quiet.converged and 11_000 < quiet.boxes <= 12_000  # stopped by the budget
     assert quiet.lower < quiet.upper
     assert _bits(quiet) == _bits(loaded)
 
